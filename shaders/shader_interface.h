@@ -1,0 +1,71 @@
+// Shared by C++ and GLSL: workgroup sizes and push-constant layouts of every compute stage, so
+// that the host computes dispatch counts from the same constants the shaders declare.
+#ifndef FDMSURF_SHADER_INTERFACE_H
+#define FDMSURF_SHADER_INTERFACE_H
+
+#ifdef __cplusplus
+#include <cstdint>
+namespace fdmsurf::detail::shader {
+using uint = std::uint32_t;
+#define FDM_CONST inline constexpr uint
+#else
+#define FDM_CONST const uint
+#endif
+
+// Density: one invocation per grid point, 3D workgroups.
+FDM_CONST kDensityGroupX = 8;
+FDM_CONST kDensityGroupY = 8;
+FDM_CONST kDensityGroupZ = 4;
+
+// Spectral mask: one invocation per complex coefficient of the half spectrum.
+FDM_CONST kMaskGroupX = 64;
+FDM_CONST kMaskGroupY = 4;
+
+// Marching cubes: one invocation per owned grid point, 1D blocks (2D dispatch of blocks).
+FDM_CONST kMcBlock = 256;
+// Block-sum scan: one workgroup.
+FDM_CONST kScanGroup = 1024;
+
+// Filter shapes (SpectralMaskPush::shape).
+FDM_CONST kFilterIdeal = 0;
+FDM_CONST kFilterGaussian = 1;
+
+struct DensityPush {
+    float origin_x, origin_y, origin_z, spacing;  // grid point (0,0,0) and spacing, Å
+    uint nx, ny, nz, pitch;                       // points per axis; floats per x row
+    float bin_origin_x, bin_origin_y, bin_origin_z, bin_size;
+    uint bin_nx, bin_ny, bin_nz, max_shell;
+    float inv_sigma2;  // 1/σ²
+    float pi_cut;      // power distance beyond which G < cut · T: the density is 0 there
+    float r2_max;      // largest r² among atoms
+    float level_t;     // T
+};
+
+struct SpectralMaskPush {
+    uint nx, ny, nz, cx;      // real grid size; complex values per x row (nx/2+1)
+    float fx, fy, fz;         // frequency step per axis: 1 / (n · h), 1/Å
+    float cutoff;             // f_c, 1/Å
+    float scale;              // 1 / (nx·ny·nz): the inverse FFT's normalisation
+    uint shape;               // kFilterIdeal or kFilterGaussian
+};
+
+struct McPush {
+    float origin_x, origin_y, origin_z, spacing;  // position of buffer point (0,0,0), Å
+    uint nx, ny, nz, pitch;  // points in the field buffer; floats per x row
+    uint z_begin, z_end;     // points of planes [z_begin, z_end] are processed; cells start on
+                             // planes [z_begin, z_end), so the buffer holds planes to z_end
+    uint blocks_x;           // workgroups along x of the 2D dispatch of blocks
+    float iso;               // iso-level
+    uint owned_points;       // nx * ny * (z_end - z_begin + 1)
+};
+
+struct ScanPush {
+    uint count;  // number of uvec2 block sums
+};
+
+#ifdef __cplusplus
+}  // namespace fdmsurf::detail::shader
+#endif
+#undef FDM_CONST
+
+#endif

@@ -1,0 +1,67 @@
+// Structure input: atoms (centres and radii, Å) read from PDB, mmCIF, PQR or XYZR.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace fdmsurf {
+
+enum class StructureFormat { Auto, Pdb, Mmcif, Pqr, Xyzr };
+
+// Atoms as plain arrays. xyz holds 3 floats per atom (Å); radius one float per atom (Å, > 0).
+// element holds the upper-case element symbol ("C", "FE"); empty for XYZR input.
+struct Atoms {
+    std::vector<float> xyz;
+    std::vector<float> radius;
+    std::vector<std::string> element;
+    std::size_t size() const { return radius.size(); }
+    bool empty() const { return radius.empty(); }
+};
+
+// Selection rules for PDB and mmCIF (PQR and XYZR are taken as they are, line by line).
+struct ReadOptions {
+    StructureFormat format = StructureFormat::Auto;  // Auto: from the extension, then the content
+    int model = 1;                 // 1-based model number (the n-th model in the file)
+    bool keep_waters = false;      // HOH/WAT/DOD... residues
+    bool keep_hydrogens = false;   // H and D atoms
+    bool keep_ligands = true;      // HETATM residues other than water
+};
+
+// What the reader did, for the summary and for warnings.
+struct StructureInfo {
+    StructureFormat format = StructureFormat::Auto;  // the format actually read
+    std::size_t atoms_in_file = 0;   // atom records in the selected model, before selection
+    std::size_t waters_skipped = 0;
+    std::size_t hydrogens_skipped = 0;
+    std::size_t ligands_skipped = 0;
+    std::size_t altlocs_skipped = 0;  // atoms dropped because another alternate location was kept
+    std::size_t models_in_file = 0;
+    std::vector<std::string> warnings;  // one line each (unknown elements, ...)
+};
+
+struct Structure {
+    Atoms atoms;
+    StructureInfo info;
+};
+
+// Reads a structure file; .gz files are decompressed. Throws Error (Io, Format, EmptySelection)
+// with a message that names the file and, where it can, the line.
+Structure read_structure(const std::string& path, const ReadOptions& options = {});
+
+// Same as read_structure, from text in memory (no gzip). `name` is used in messages and, with
+// format Auto, for the extension.
+Structure read_structure_from_memory(std::string_view data, const std::string& name,
+                                     const ReadOptions& options = {});
+
+// Van der Waals radius (Å) used for an element symbol (case-insensitive), or a negative value
+// for an unknown element. Table: Bondi (1964) where Bondi gives one, else gemmi's table
+// (see docs/structure.md).
+float vdw_radius(std::string_view element);
+// The radius given to atoms of unknown element (with a warning).
+constexpr float kUnknownElementRadius = 1.80f;
+
+const char* to_string(StructureFormat format) noexcept;
+
+}  // namespace fdmsurf

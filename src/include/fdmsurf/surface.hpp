@@ -1,0 +1,119 @@
+// The surface pipeline: atoms in, triangle mesh out, through Vulkan compute (Giard & Macq 2010).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "fdmsurf/mesh.hpp"
+#include "fdmsurf/structure.hpp"
+
+namespace fdmsurf {
+
+enum class SurfaceKind {
+    Ses,  // solvent excluded: filtered density (FDM)
+    Vdw,  // van der Waals: union of atom balls, no filter
+    Sas,  // solvent accessible: union of balls of radius r + probe, no filter
+};
+
+enum class FilterShape {
+    Ideal,     // the paper's spherical mask: keep |f| <= cutoff
+    Gaussian,  // H(f) = 2^-(|f| / cutoff)^2
+};
+
+struct SurfaceOptions {
+    SurfaceKind surface = SurfaceKind::Ses;
+    float spacing = 0.5f;   // grid spacing h, Å (> 0)
+    float probe = 1.4f;     // solvent probe radius r_s, Å (>= 0)
+    float cutoff = 0.0f;    // filter cut-off f_c, 1/Å; 0: 1 / (4 probe)
+    float sigma = 3.0f;     // Gaussian width σ, Å (> 0)
+    float level = 1.0f;     // iso-level as a multiple of T (the density is T on each vdW sphere)
+    FilterShape filter = FilterShape::Ideal;
+    float padding = -1.0f;  // empty space around the Gaussian support, Å; < 0: one filter
+                            // wavelength (1/f_c) for ses, 1 Å otherwise
+    float density_cut = 1e-4f;  // G_i is taken as 0 where it falls below density_cut * T
+};
+
+// Where the grid sits: point (i, j, k) is at origin + h * (i, j, k).
+struct GridInfo {
+    std::array<float, 3> origin{};
+    float spacing = 0.0f;
+    std::array<std::uint32_t, 3> dims{};  // points along x, y, z
+    std::uint32_t slabs = 1;              // > 1 when processed in overlapping parts
+    float cutoff = 0.0f;                  // filter cut-off used (1/Å), 0 for vdw and sas
+};
+
+struct StageTime {
+    std::string name;  // "density", "fft-forward", ...
+    double ms = 0.0;
+    bool gpu = false;  // measured with GPU timestamps (else host clock)
+};
+
+struct SurfaceResult {
+    Mesh mesh;
+    GridInfo grid;
+    std::vector<StageTime> times;
+    std::vector<std::string> warnings;
+};
+
+struct DeviceInfo {
+    std::uint32_t index = 0;
+    std::string name;
+    std::string type;          // "discrete GPU", "CPU", ...
+    std::string driver;        // driver name and version
+    std::string api_version;   // "1.3.230"
+    bool usable = false;
+    std::string reason;        // why it is not usable, when usable is false
+    std::uint64_t max_storage_buffer_range = 0;
+    std::uint64_t device_memory = 0;  // bytes in the largest device-local heap
+};
+
+struct EngineOptions {
+    // Device: empty = the first usable one (discrete GPU first); a number = that index; else a
+    // case-insensitive substring of the device name.
+    std::string device;
+    // Enable VK_LAYER_KHRONOS_validation and collect its messages (validation_messages()).
+    bool validation = false;
+    // Override of maxStorageBufferRange, bytes; 0 = the device's. Tests lower it to force the
+    // processing of a grid in slabs.
+    std::uint64_t max_buffer_range = 0;
+};
+
+namespace detail { struct EngineImpl; }
+
+// Owns the Vulkan instance, device, pipelines and FFT plans; reuse it for many surfaces.
+// Not thread-safe: one make_surface at a time.
+class Engine {
+public:
+    explicit Engine(const EngineOptions& options = {});
+    ~Engine();
+    Engine(Engine&&) noexcept;
+    Engine& operator=(Engine&&) noexcept;
+    Engine(const Engine&) = delete;
+    Engine& operator=(const Engine&) = delete;
+
+    // Throws Error (InvalidArgument, EmptySelection, DeviceLimit, Vulkan, Fft).
+    SurfaceResult make_surface(const Atoms& atoms, const SurfaceOptions& options = {});
+
+    const DeviceInfo& device() const;
+    // Validation-layer messages (warnings and errors) seen since the last call; cleared by it.
+    std::vector<std::string> take_validation_messages();
+
+    detail::EngineImpl& impl() { return *impl_; }
+
+private:
+    std::unique_ptr<detail::EngineImpl> impl_;
+};
+
+// All physical devices with the reason each is or is not usable. Throws Error(NoDevice) when
+// the Vulkan loader or any driver is missing.
+std::vector<DeviceInfo> list_devices();
+
+// Checks options and returns the effective cut-off (1/Å); throws Error(InvalidArgument).
+float effective_cutoff(const SurfaceOptions& options);
+
+const char* to_string(SurfaceKind kind) noexcept;
+
+}  // namespace fdmsurf
