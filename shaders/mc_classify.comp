@@ -1,0 +1,25 @@
+// Marching cubes, pass 1: per owned point, the crossed edges it owns (one vertex each) and the
+// triangles of the cell it starts; per block of points, the two sums.
+#version 450
+#extension GL_GOOGLE_include_directive : require
+layout(local_size_x = 256) in;
+layout(std430, binding = 0) readonly buffer Field { float field[]; };
+layout(std430, binding = 1) writeonly buffer Counts { uint counts[]; };
+layout(std430, binding = 2) writeonly buffer BlockSums { uvec2 block_sums[]; };
+#define MC_TABLES_BINDING 3
+#include "mc_common.glsl"
+
+void main() {
+    uint i = point_index();
+    uvec2 n = uvec2(0u);
+    if (i < pc.owned_points) {
+        uvec3 p = point_coords(i);
+        n.x = bitCount(crossed_edges(p));
+        n.y = mc_tri_count[cube_index(p)];
+        counts[i] = n.x;
+    }
+    uvec2 total;
+    workgroup_exclusive_scan(n, total);
+    if (gl_LocalInvocationID.x == 0u)
+        block_sums[gl_WorkGroupID.y * pc.blocks_x + gl_WorkGroupID.x] = total;
+}

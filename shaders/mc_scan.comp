@@ -1,0 +1,35 @@
+// Marching cubes, pass 2: exclusive prefix sum of the per-block (vertex, triangle) counts in one
+// workgroup; each invocation scans a contiguous chunk. Writes the totals.
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "shader_interface.h"
+layout(local_size_x = kScanGroup) in;
+layout(std430, binding = 0) buffer BlockSums { uvec2 block_sums[]; };
+layout(std430, binding = 1) writeonly buffer Totals { uvec2 totals[]; };
+layout(push_constant) uniform Push { ScanPush pc; };
+
+shared uvec2 partial[kScanGroup];
+
+void main() {
+    uint t = gl_LocalInvocationID.x;
+    uint chunk = (pc.count + kScanGroup - 1u) / kScanGroup;
+    uint begin = min(t * chunk, pc.count);
+    uint end = min(begin + chunk, pc.count);
+    uvec2 sum = uvec2(0u);
+    for (uint i = begin; i < end; ++i) sum += block_sums[i];
+    partial[t] = sum;
+    barrier();
+    for (uint offset = 1u; offset < kScanGroup; offset <<= 1) {
+        uvec2 add = t >= offset ? partial[t - offset] : uvec2(0u);
+        barrier();
+        partial[t] += add;
+        barrier();
+    }
+    uvec2 running = partial[t] - sum;
+    for (uint i = begin; i < end; ++i) {
+        uvec2 v = block_sums[i];
+        block_sums[i] = running;
+        running += v;
+    }
+    if (t == kScanGroup - 1u) totals[0] = partial[t];
+}

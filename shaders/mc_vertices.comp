@@ -1,0 +1,58 @@
+// Marching cubes, pass 3: one vertex per crossed owned edge, at the linear interpolation of the
+// iso-level, with the normal -grad(rho) interpolated from central differences. Replaces each
+// point's count with the index of its first vertex, for pass 4.
+#version 450
+#extension GL_GOOGLE_include_directive : require
+layout(local_size_x = 256) in;
+layout(std430, binding = 0) readonly buffer Field { float field[]; };
+layout(std430, binding = 1) buffer Counts { uint counts[]; };
+layout(std430, binding = 2) readonly buffer BlockSums { uvec2 block_sums[]; };
+layout(std430, binding = 3) writeonly buffer Vertices { float vertices[]; };  // pos, normal
+#include "mc_common.glsl"
+
+vec3 gradient(uvec3 p) {
+    uvec3 lo = uvec3(max(ivec3(p) - 1, ivec3(0)));
+    uvec3 hi = min(p + 1u, uvec3(pc.nx, pc.ny, pc.nz) - 1u);
+    vec3 g;
+    g.x = (value_at(hi.x, p.y, p.z) - value_at(lo.x, p.y, p.z)) / (float(hi.x - lo.x) * pc.spacing);
+    g.y = (value_at(p.x, hi.y, p.z) - value_at(p.x, lo.y, p.z)) / (float(hi.y - lo.y) * pc.spacing);
+    g.z = (value_at(p.x, p.y, hi.z) - value_at(p.x, p.y, lo.z)) / (float(hi.z - lo.z) * pc.spacing);
+    return g;
+}
+
+void main() {
+    uint i = point_index();
+    uint bits = 0u;
+    uvec3 p = uvec3(0u);
+    if (i < pc.owned_points) {
+        p = point_coords(i);
+        bits = crossed_edges(p);
+    }
+    uvec2 total;
+    uvec2 local_offset = workgroup_exclusive_scan(uvec2(bitCount(bits), 0u), total);
+    if (i >= pc.owned_points) return;
+    uint block = gl_WorkGroupID.y * pc.blocks_x + gl_WorkGroupID.x;
+    uint v = block_sums[block].x + local_offset.x;
+    counts[i] = v;
+    vec3 origin = vec3(pc.origin_x, pc.origin_y, pc.origin_z);
+    float v0 = value_at(p.x, p.y, p.z);
+    vec3 g0 = gradient(p);
+    for (uint axis = 0u; axis < 3u; ++axis) {
+        if ((bits & (1u << axis)) == 0u) continue;
+        uvec3 e = uvec3(axis == 0u ? 1u : 0u, axis == 1u ? 1u : 0u, axis == 2u ? 1u : 0u);
+        uvec3 q = p + e;
+        float v1 = value_at(q.x, q.y, q.z);
+        float t = clamp((pc.iso - v0) / (v1 - v0), 0.001, 0.999);
+        vec3 pos = origin + pc.spacing * (vec3(p) + t * vec3(e));
+        vec3 g = (1.0 - t) * g0 + t * gradient(q);
+        float len = length(g);
+        vec3 n = len > 1e-20 ? -g / len : (v0 >= pc.iso ? vec3(e) : -vec3(e));
+        vertices[6u * v + 0u] = pos.x;
+        vertices[6u * v + 1u] = pos.y;
+        vertices[6u * v + 2u] = pos.z;
+        vertices[6u * v + 3u] = n.x;
+        vertices[6u * v + 4u] = n.y;
+        vertices[6u * v + 5u] = n.z;
+        ++v;
+    }
+}

@@ -1,0 +1,216 @@
+// The fdmsurf program: a structure file in, its molecular-surface mesh out (see --help).
+#include <chrono>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <new>
+#include <string>
+#include <system_error>
+#include <vector>
+
+#include "cli/options.hpp"
+#include "cli/summary.hpp"
+#include "fdmsurf/fdmsurf.hpp"
+
+namespace {
+
+using namespace fdmsurf;
+using namespace fdmsurf::cli;
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// Messages go to stderr one per line, whatever the library put in them.
+std::string one_line(std::string text) {
+    for (char& c : text) {
+        if (c == '\n' || c == '\r') c = ' ';
+    }
+    return text;
+}
+
+void print_error(const std::string& message) {
+    std::fprintf(stderr, "fdmsurf: error: %s\n", one_line(message).c_str());
+}
+
+void print_warning(const std::string& message) {
+    std::fprintf(stderr, "fdmsurf: warning: %s\n", one_line(message).c_str());
+}
+
+std::string format_bytes(std::uint64_t bytes) {
+    char text[64];
+    std::snprintf(text, sizeof text, " (%.2f GiB)", static_cast<double>(bytes) / (1 << 30));
+    return format_count(bytes) + " bytes" + text;
+}
+
+int list_devices_command() {
+    static const char* const kHint =
+        "no usable Vulkan device; on a machine without a GPU, install mesa-vulkan-drivers for "
+        "the lavapipe CPU device\n";
+    std::vector<DeviceInfo> devices;
+    try {
+        devices = list_devices();
+    } catch (const Error& e) {
+        if (e.code() != ErrorCode::NoDevice) throw;
+        std::printf("no Vulkan device: %s\n%s", one_line(e.what()).c_str(), kHint);
+        return kExitOk;
+    }
+    bool any_usable = false;
+    for (const DeviceInfo& d : devices) {
+        any_usable = any_usable || d.usable;
+        std::printf("device %u: %s\n", d.index, d.name.c_str());
+        std::printf("  type                   %s\n", d.type.c_str());
+        std::printf("  driver                 %s\n", d.driver.c_str());
+        std::printf("  vulkan                 %s\n", d.api_version.c_str());
+        std::printf("  usable                 %s\n",
+                    d.usable ? "yes" : ("no: " + one_line(d.reason)).c_str());
+        std::printf("  maxStorageBufferRange  %s\n",
+                    format_bytes(d.max_storage_buffer_range).c_str());
+        std::printf("  memory                 %s\n", format_bytes(d.device_memory).c_str());
+    }
+    if (devices.empty()) std::printf("no Vulkan device found\n");
+    if (!any_usable) std::fputs(kHint, stdout);
+    return kExitOk;
+}
+
+// Adds the path to a message that does not name it already.
+std::string naming(const std::string& path, const std::string& message) {
+    if (message.find(path) != std::string::npos) return message;
+    return "'" + path + "': " + message;
+}
+
+// Everything about OUTPUT that can be known before any work: its format, and that its folder
+// exists, so that a typo costs no GPU time.
+MeshFormat check_output(const std::string& output) {
+    MeshFormat format = MeshFormat::Auto;
+    try {
+        format = mesh_format_for_path(output);
+    } catch (const Error& e) {
+        throw Error(e.code(), naming(output, e.what()));
+    }
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::path parent = fs::path(output).parent_path();
+    if (!parent.empty() && !fs::is_directory(parent, ec)) {
+        const bool exists = fs::exists(parent, ec);
+        throw Error(ErrorCode::Io, "cannot write '" + output + "': '" + parent.string() +
+                                       (exists ? "' is not a folder" : "' does not exist"));
+    }
+    if (fs::is_directory(output, ec)) {
+        throw Error(ErrorCode::Io, "cannot write '" + output + "': it is a folder");
+    }
+    return format;
+}
+
+// Prints the validation layer's messages; returns how many there were.
+std::size_t report_validation(Engine& engine) {
+    const std::vector<std::string> messages = engine.take_validation_messages();
+    for (const std::string& m : messages) {
+        std::fprintf(stderr, "fdmsurf: validation: %s\n", one_line(m).c_str());
+    }
+    return messages.size();
+}
+
+int run(const CliOptions& options) {
+    const auto start = Clock::now();
+    const std::string& input = options.inputs.front();
+    RunReport report;
+    auto warn = [&report](const std::string& message) {
+        print_warning(message);
+        report.warnings.push_back(message);
+    };
+
+    // Option checks that need neither the structure nor the device come first.
+    const MeshFormat format = check_output(options.output);
+    const float cutoff = effective_cutoff(options.surface);
+    if (auto message = coarse_spacing_warning(options.surface, cutoff)) warn(*message);
+
+    auto t = Clock::now();
+    const Structure structure = read_structure(input, options.read);
+    report.times.push_back({"parse", ms_since(t), false});
+    for (const std::string& message : structure.info.warnings) warn(message);
+
+    t = Clock::now();
+    Engine engine(options.engine);
+    report.times.push_back({"init", ms_since(t), false});
+
+    SurfaceResult result;
+    try {
+        result = engine.make_surface(structure.atoms, options.surface);
+    } catch (...) {
+        // The layer's messages often explain a Vulkan failure: show them before the error.
+        if (options.engine.validation) {
+            try {
+                report_validation(engine);
+            } catch (...) {
+            }
+        }
+        throw;
+    }
+    for (const std::string& message : result.warnings) warn(message);
+    report.times.insert(report.times.end(), result.times.begin(), result.times.end());
+
+    // A run the validation layer complained about writes nothing: its output is suspect.
+    if (options.engine.validation) {
+        if (const std::size_t count = report_validation(engine); count != 0) {
+            print_error("the Vulkan validation layer reported " + std::to_string(count) +
+                        " message(s); no output written");
+            return kExitValidation;
+        }
+    }
+
+    t = Clock::now();
+    write_mesh(result.mesh, options.output, format);
+    report.times.push_back({"write", ms_since(t), false});
+
+    report.stats = compute_stats(result.mesh);
+    report.closed_manifold = report.stats.is_closed_manifold();
+    report.version = version();
+    report.input = input;
+    report.output = options.output;
+    report.surface = options.surface.surface;
+    report.model = options.read.model;
+    report.info = structure.info;
+    report.atoms_used = structure.atoms.size();
+    report.grid = result.grid;
+    report.device = engine.device().name;
+    report.total_ms = ms_since(start);
+
+    if (options.json) {
+        std::printf("%s\n", json_summary(report).c_str());
+    } else if (!options.quiet) {
+        std::fputs(text_summary(report).c_str(), stdout);
+    }
+    return kExitOk;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    try {
+        const CliOptions options = parse_args(std::vector<std::string>(argv + 1, argv + argc));
+        if (options.help) {
+            std::fputs(usage_text().c_str(), stdout);
+            return kExitOk;
+        }
+        if (options.version) {
+            std::printf("fdmsurf %s\n", version());
+            return kExitOk;
+        }
+        if (options.list_devices) return list_devices_command();
+        return run(options);
+    } catch (const Error& e) {
+        print_error(e.what());
+        return exit_code_for(e.code());
+    } catch (const std::bad_alloc&) {
+        print_error("out of host memory");
+        return kExitFailure;
+    } catch (const std::exception& e) {
+        print_error(e.what());
+        return kExitFailure;
+    } catch (...) {
+        print_error("unknown exception");
+        return kExitFailure;
+    }
+}

@@ -1,0 +1,438 @@
+// Hand-written argument parser of the fdmsurf program, its --help text and its exit codes.
+#include "cli/options.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <string_view>
+#include <system_error>
+
+namespace fdmsurf::cli {
+namespace {
+
+using fdmsurf::Error;
+using fdmsurf::ErrorCode;
+
+enum class Opt {
+    Output,
+    Surface,
+    Spacing,
+    Probe,
+    Cutoff,
+    Sigma,
+    Level,
+    Filter,
+    Padding,
+    Model,
+    Waters,
+    Hydrogens,
+    NoLigands,
+    Format,
+    Device,
+    ListDevices,
+    Stats,
+    Quiet,
+    Validation,
+    Help,
+    Version,
+};
+
+struct OptionSpec {
+    std::string_view name;   // long form, with the dashes
+    std::string_view alias;  // short form or empty
+    Opt id;
+    bool takes_value;
+    bool numeric;  // a value that may start with '-' (a negative number, rejected later)
+};
+
+constexpr std::array<OptionSpec, 21> kOptions{{
+    {"--output", "-o", Opt::Output, true, false},
+    {"--surface", "", Opt::Surface, true, false},
+    {"--spacing", "", Opt::Spacing, true, true},
+    {"--probe", "", Opt::Probe, true, true},
+    {"--cutoff", "", Opt::Cutoff, true, true},
+    {"--sigma", "", Opt::Sigma, true, true},
+    {"--level", "", Opt::Level, true, true},
+    {"--filter", "", Opt::Filter, true, false},
+    {"--padding", "", Opt::Padding, true, true},
+    {"--model", "", Opt::Model, true, true},
+    {"--waters", "", Opt::Waters, false, false},
+    {"--hydrogens", "", Opt::Hydrogens, false, false},
+    {"--no-ligands", "", Opt::NoLigands, false, false},
+    {"--format", "", Opt::Format, true, false},
+    {"--device", "", Opt::Device, true, false},
+    {"--list-devices", "", Opt::ListDevices, false, false},
+    {"--stats", "", Opt::Stats, true, false},
+    {"--quiet", "", Opt::Quiet, false, false},
+    {"--validation", "", Opt::Validation, false, false},
+    {"--help", "-h", Opt::Help, false, false},
+    {"--version", "", Opt::Version, false, false},
+}};
+
+[[noreturn]] void fail(const std::string& message) {
+    throw Error(ErrorCode::InvalidArgument, message);
+}
+
+const OptionSpec* find_option(std::string_view name) {
+    for (const OptionSpec& spec : kOptions) {
+        if (name == spec.name || (!spec.alias.empty() && name == spec.alias)) return &spec;
+    }
+    return nullptr;
+}
+
+std::size_t edit_distance(std::string_view a, std::string_view b) {
+    std::vector<std::size_t> row(b.size() + 1);
+    for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (std::size_t i = 1; i <= a.size(); ++i) {
+        std::size_t diagonal = row[0];
+        row[0] = i;
+        for (std::size_t j = 1; j <= b.size(); ++j) {
+            const std::size_t above = row[j];
+            row[j] =
+                std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+            diagonal = above;
+        }
+    }
+    return row[b.size()];
+}
+
+[[noreturn]] void fail_unknown_option(std::string_view name) {
+    const OptionSpec* closest = nullptr;
+    std::size_t best = 3;  // suggest only near misses (typos), not unrelated options
+    for (const OptionSpec& spec : kOptions) {
+        const std::size_t d = edit_distance(name, spec.name);
+        if (d < best) {
+            best = d;
+            closest = &spec;
+        }
+    }
+    std::string message = "unknown option '" + std::string(name) + "'";
+    if (closest != nullptr) message += " (did you mean " + std::string(closest->name) + "?)";
+    fail(message + "; see fdmsurf --help");
+}
+
+std::string lower(std::string_view text) {
+    std::string out(text);
+    for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return out;
+}
+
+// A number in plain decimal or exponent notation, finite, nothing after it.
+float parse_float(std::string_view option, const std::string& text) {
+    std::string_view digits = text;
+    if (!digits.empty() && digits.front() == '+') digits.remove_prefix(1);
+    float value = 0.0f;
+    const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
+    if (ec == std::errc::result_out_of_range) {
+        fail("option " + std::string(option) + ": '" + text + "' is out of range");
+    }
+    if (ec != std::errc() || end != digits.data() + digits.size() || digits.empty()) {
+        fail("option " + std::string(option) + ": '" + text + "' is not a number");
+    }
+    if (!std::isfinite(value)) {
+        fail("option " + std::string(option) + ": '" + text + "' is not a finite number");
+    }
+    return value;
+}
+
+int parse_int(std::string_view option, const std::string& text) {
+    std::string_view digits = text;
+    if (!digits.empty() && digits.front() == '+') digits.remove_prefix(1);
+    int value = 0;
+    const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
+    if (ec == std::errc::result_out_of_range) {
+        fail("option " + std::string(option) + ": '" + text + "' is out of range");
+    }
+    if (ec != std::errc() || end != digits.data() + digits.size() || digits.empty()) {
+        fail("option " + std::string(option) + ": '" + text + "' is not a whole number");
+    }
+    return value;
+}
+
+// Range checks name the option and echo the value as the user typed it.
+void require(bool ok, std::string_view option, std::string_view condition,
+             const std::string& text) {
+    if (!ok) {
+        fail("option " + std::string(option) + " must be " + std::string(condition) + " (got " +
+             text + ")");
+    }
+}
+
+template <class Enum, std::size_t N>
+Enum parse_choice(std::string_view option, const std::string& text,
+                  const std::array<std::pair<std::string_view, Enum>, N>& choices,
+                  std::string_view what, std::string_view expected) {
+    const std::string key = lower(text);
+    for (const auto& [name, value] : choices) {
+        if (key == name) return value;
+    }
+    fail("unknown " + std::string(what) + " '" + text + "' for " + std::string(option) +
+         " (expected " + std::string(expected) + ")");
+}
+
+constexpr std::array<std::pair<std::string_view, SurfaceKind>, 3> kSurfaces{
+    {{"ses", SurfaceKind::Ses}, {"vdw", SurfaceKind::Vdw}, {"sas", SurfaceKind::Sas}}};
+constexpr std::array<std::pair<std::string_view, FilterShape>, 2> kFilters{
+    {{"ideal", FilterShape::Ideal}, {"gaussian", FilterShape::Gaussian}}};
+constexpr std::array<std::pair<std::string_view, StructureFormat>, 5> kFormats{
+    {{"pdb", StructureFormat::Pdb},
+     {"cif", StructureFormat::Mmcif},
+     {"mmcif", StructureFormat::Mmcif},
+     {"pqr", StructureFormat::Pqr},
+     {"xyzr", StructureFormat::Xyzr}}};
+constexpr std::array<std::pair<std::string_view, bool>, 2> kStats{
+    {{"json", true}, {"text", false}}};
+
+void apply_value(CliOptions& o, const OptionSpec& spec, std::string_view name,
+                 const std::string& text) {
+    SurfaceOptions& s = o.surface;
+    switch (spec.id) {
+        case Opt::Output:
+            o.output = text;
+            break;
+        case Opt::Surface:
+            s.surface = parse_choice(name, text, kSurfaces, "surface kind", "ses, vdw or sas");
+            break;
+        case Opt::Spacing:
+            s.spacing = parse_float(name, text);
+            require(s.spacing > 0.0f, name, "> 0 Å", text);
+            break;
+        case Opt::Probe:
+            s.probe = parse_float(name, text);
+            require(s.probe >= 0.0f, name, ">= 0 Å", text);
+            break;
+        case Opt::Cutoff:
+            s.cutoff = parse_float(name, text);
+            require(s.cutoff >= 0.0f, name, ">= 0 1/Å", text);
+            break;
+        case Opt::Sigma:
+            s.sigma = parse_float(name, text);
+            require(s.sigma > 0.0f, name, "> 0 Å", text);
+            break;
+        case Opt::Level:
+            s.level = parse_float(name, text);
+            require(s.level > 0.0f, name, "> 0", text);
+            break;
+        case Opt::Filter:
+            s.filter = parse_choice(name, text, kFilters, "filter", "ideal or gaussian");
+            break;
+        case Opt::Padding:
+            s.padding = parse_float(name, text);
+            require(s.padding >= 0.0f, name, ">= 0 Å", text);
+            break;
+        case Opt::Model:
+            o.read.model = parse_int(name, text);
+            require(o.read.model >= 1, name, ">= 1", text);
+            break;
+        case Opt::Format:
+            o.read.format =
+                parse_choice(name, text, kFormats, "input format", "pdb, cif, pqr or xyzr");
+            break;
+        case Opt::Device:
+            o.engine.device = text;
+            break;
+        case Opt::Stats:
+            o.json = parse_choice(name, text, kStats, "--stats format", "json or text");
+            break;
+        default:
+            fail("internal: option " + std::string(name) + " takes no value");
+    }
+}
+
+void apply_flag(CliOptions& o, const OptionSpec& spec) {
+    switch (spec.id) {
+        case Opt::Waters:
+            o.read.keep_waters = true;
+            break;
+        case Opt::Hydrogens:
+            o.read.keep_hydrogens = true;
+            break;
+        case Opt::NoLigands:
+            o.read.keep_ligands = false;
+            break;
+        case Opt::ListDevices:
+            o.list_devices = true;
+            break;
+        case Opt::Quiet:
+            o.quiet = true;
+            break;
+        case Opt::Validation:
+            o.engine.validation = true;
+            break;
+        case Opt::Help:
+            o.help = true;
+            break;
+        case Opt::Version:
+            o.version = true;
+            break;
+        default:
+            fail("internal: option " + std::string(spec.name) + " needs a value");
+    }
+}
+
+// Whether the argument after a value-taking option is another option rather than its value
+// (`-o --quiet`). Numeric options accept "-1" as a value so that the range check can name it.
+bool looks_like_option(const std::string& arg, bool numeric) {
+    if (arg.size() < 2 || arg[0] != '-') return false;
+    if (arg[1] == '-') return true;
+    return !numeric;
+}
+
+}  // namespace
+
+CliOptions parse_args(const std::vector<std::string>& args) {
+    CliOptions o;
+    bool options_done = false;
+    for (std::size_t i = 0; i < args.size(); ++i) {
+        const std::string& arg = args[i];
+        if (options_done || arg.size() < 2 || arg[0] != '-') {
+            o.inputs.push_back(arg);
+            continue;
+        }
+        if (arg == "--") {
+            options_done = true;
+            continue;
+        }
+        std::string name = arg;
+        std::optional<std::string> inline_value;
+        if (arg.starts_with("--")) {
+            if (const auto eq = arg.find('='); eq != std::string::npos) {
+                name = arg.substr(0, eq);
+                inline_value = arg.substr(eq + 1);
+            }
+        }
+        const OptionSpec* spec = find_option(name);
+        if (spec == nullptr) fail_unknown_option(name);
+        if (!spec->takes_value) {
+            if (inline_value) fail("option " + name + " takes no value");
+            apply_flag(o, *spec);
+            continue;
+        }
+        std::string value;
+        if (inline_value) {
+            value = *inline_value;
+        } else if (i + 1 < args.size() && !looks_like_option(args[i + 1], spec->numeric)) {
+            value = args[++i];
+        }
+        if (value.empty()) fail("option " + name + " needs a value");
+        apply_value(o, *spec, name, value);
+    }
+
+    if (o.help || o.version || o.list_devices) return o;
+    if (o.inputs.empty()) fail("missing INPUT, the structure file to read; see fdmsurf --help");
+    if (o.inputs.size() > 1) {
+        std::string list;
+        for (const std::string& input : o.inputs) {
+            list += (list.empty() ? "'" : ", '") + input + "'";
+        }
+        fail("more than one INPUT (" + list + "): fdmsurf reads exactly one structure per run");
+    }
+    if (o.output.empty()) fail("missing -o OUTPUT, the mesh file to write (.ply or .obj)");
+    return o;
+}
+
+std::string usage_text() {
+    return R"(Usage: fdmsurf INPUT -o OUTPUT [options]
+       fdmsurf --list-devices | --help | --version
+
+Writes the molecular surface of INPUT (PDB, mmCIF, PQR or XYZR; .gz accepted) as
+a triangle mesh to OUTPUT (binary .ply or .obj, by its extension), computed on a
+Vulkan device with the Filtered Density Map method (Giard & Macq 2010).
+Options take their value as `--name value` or `--name=value`.
+
+Surface:
+  --surface ses|vdw|sas  solvent excluded (filtered density), van der Waals or
+                         solvent accessible surface (default ses)
+  --spacing H            grid spacing, Å (> 0, default 0.5)
+  --probe R              solvent probe radius, Å (>= 0, default 1.4)
+  --cutoff F             filter cut-off, 1/Å (>= 0; default 0: 1/(4 R), that is
+                         0.179 for R = 1.4); ses only
+  --sigma S              Gaussian width σ of each atom's density, Å (> 0, default 3)
+  --level L              iso-level in units of T, the density on each atom's
+                         van der Waals sphere (> 0, default 1)
+  --filter ideal|gaussian  filter shape: the ideal spherical low-pass of the paper
+                         or a Gaussian 2^-(|f|/F)^2 (default ideal)
+  --padding P            empty space around the atoms, Å (>= 0; default one filter
+                         wavelength 1/F for ses, 1 Å for vdw and sas)
+
+Input:
+  --format pdb|cif|pqr|xyzr  input format (default: from the extension, then the
+                         content)
+  --model N              model to read, 1-based (default 1)
+  --waters               keep water molecules (default: left out)
+  --hydrogens            keep hydrogen atoms (default: left out)
+  --no-ligands           leave out HETATM residues other than water (default: kept)
+
+Device:
+  --device INDEX|NAME    Vulkan device: an index from --list-devices or part of
+                         its name (default: the first usable one, discrete first)
+  --list-devices         list the Vulkan devices, whether each is usable and why
+                         not, then exit (no INPUT needed)
+  --validation           enable the Vulkan validation layer; any message it
+                         reports makes the run fail (exit code 5, no output)
+
+Output:
+  -o, --output OUTPUT    the mesh file to write: .ply (binary) or .obj
+  --stats json|text      summary on stdout as one JSON object or as text
+                         (default text)
+  --quiet                no text summary (warnings still go to stderr; --stats
+                         json still prints its JSON)
+  -h, --help             print this help and exit
+  --version              print the version and exit
+
+Exit codes:
+  0  success
+  1  unexpected failure (a bug in fdmsurf)
+  2  invalid command line or option value, unknown output extension
+  3  input or output error: unreadable or malformed structure, no atoms
+     selected, output file or folder not writable
+  4  device error: no usable Vulkan device (on a machine without a GPU install
+     mesa-vulkan-drivers), job too large for the device, Vulkan or VkFFT failure
+  5  --validation: the Vulkan validation layer reported messages
+)";
+}
+
+int exit_code_for(ErrorCode code) noexcept {
+    switch (code) {
+        case ErrorCode::InvalidArgument:
+            return kExitUsage;
+        case ErrorCode::Io:
+        case ErrorCode::Format:
+        case ErrorCode::EmptySelection:
+            return kExitInput;
+        case ErrorCode::NoDevice:
+        case ErrorCode::DeviceLimit:
+        case ErrorCode::Vulkan:
+        case ErrorCode::Fft:
+            return kExitDevice;
+        case ErrorCode::Internal:
+            return kExitFailure;
+    }
+    return kExitFailure;
+}
+
+const char* surface_name(SurfaceKind kind) noexcept {
+    for (const auto& [name, value] : kSurfaces) {
+        if (value == kind) return name.data();
+    }
+    return "unknown";
+}
+
+std::optional<std::string> coarse_spacing_warning(const SurfaceOptions& options, float cutoff) {
+    if (options.surface != SurfaceKind::Ses || !(cutoff > 0.0f)) return std::nullopt;
+    // Above the Nyquist limit of the grid the low-pass filter removes nothing: the surface is
+    // then the sampled density's, not the filtered one. The tolerance keeps h = 2 r_s quiet.
+    const double limit = 1.0 / (2.0 * static_cast<double>(cutoff));
+    if (static_cast<double>(options.spacing) <= limit * (1.0 + 1e-5)) return std::nullopt;
+    char text[256];
+    std::snprintf(text, sizeof text,
+                  "spacing %g Å is too coarse for the filter cut-off %.3g 1/Å "
+                  "(needs h <= 1/(2 f_c) = %.3g Å)",
+                  static_cast<double>(options.spacing), static_cast<double>(cutoff), limit);
+    return std::string(text);
+}
+
+}  // namespace fdmsurf::cli

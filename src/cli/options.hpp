@@ -1,0 +1,53 @@
+// Command-line options of the fdmsurf program: parsed into the library's option structs.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "fdmsurf/error.hpp"
+#include "fdmsurf/structure.hpp"
+#include "fdmsurf/surface.hpp"
+
+namespace fdmsurf::cli {
+
+struct CliOptions {
+    std::vector<std::string> inputs;  // exactly one unless help, version or list_devices
+    std::string output;
+    fdmsurf::ReadOptions read;
+    fdmsurf::SurfaceOptions surface;
+    fdmsurf::EngineOptions engine;
+    bool list_devices = false;
+    bool quiet = false;  // no text summary; warnings still go to stderr
+    bool json = false;   // --stats json: the summary as one JSON object on stdout
+    bool help = false;
+    bool version = false;
+};
+
+// Parses the arguments after the program name. `--name value` and `--name=value` are both
+// accepted; `--` ends the options. Throws Error(InvalidArgument) naming the offending option.
+// With --help, --version or --list-devices no INPUT or -o is required.
+CliOptions parse_args(const std::vector<std::string>& args);
+
+// The --help text: usage, every option with its unit and default, the exit codes.
+std::string usage_text();
+
+// Process exit codes (documented in --help).
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitFailure = 1;     // anything else (Internal, unexpected exceptions)
+inline constexpr int kExitUsage = 2;       // InvalidArgument
+inline constexpr int kExitInput = 3;       // Io, Format, EmptySelection
+inline constexpr int kExitDevice = 4;      // NoDevice, DeviceLimit, Vulkan, Fft
+inline constexpr int kExitValidation = 5;  // --validation and the layer reported messages
+
+int exit_code_for(fdmsurf::ErrorCode code) noexcept;
+
+// The name the command line uses for a surface kind ("ses", "vdw", "sas").
+const char* surface_name(fdmsurf::SurfaceKind kind) noexcept;
+
+// The warning for a grid too coarse for the ses filter to act (h > 1/(2 f_c)), given the
+// effective cut-off f_c (1/Å); nothing for vdw and sas or when the spacing is fine enough.
+std::optional<std::string> coarse_spacing_warning(const fdmsurf::SurfaceOptions& options,
+                                                  float cutoff);
+
+}  // namespace fdmsurf::cli

@@ -1,0 +1,181 @@
+// The run summary of the fdmsurf program, as text or as one JSON object (--stats json).
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "cli/json.hpp"
+#include "cli/options.hpp"
+#include "fdmsurf/mesh.hpp"
+#include "fdmsurf/structure.hpp"
+#include "fdmsurf/surface.hpp"
+
+namespace fdmsurf::cli {
+
+// Everything the summary shows, gathered by main; plain data so that it is testable without a
+// device.
+struct RunReport {
+    std::string version;
+    std::string input;
+    std::string output;
+    SurfaceKind surface = SurfaceKind::Ses;
+    int model = 1;
+    StructureInfo info;
+    std::size_t atoms_used = 0;
+    GridInfo grid;
+    MeshStats stats;
+    bool closed_manifold = false;  // stats.is_closed_manifold()
+    std::string device;
+    std::vector<StageTime> times;  // in order of execution; repeated names are summed
+    double total_ms = 0.0;
+    std::vector<std::string> warnings;  // every warning printed to stderr
+};
+
+// Sums the times of stages that share a name (one per slab, say), keeping the first order.
+inline std::vector<StageTime> merge_times(const std::vector<StageTime>& times) {
+    std::vector<StageTime> merged;
+    for (const StageTime& t : times) {
+        auto it = merged.begin();
+        while (it != merged.end() && it->name != t.name) ++it;
+        if (it == merged.end()) {
+            merged.push_back(t);
+        } else {
+            it->ms += t.ms;
+            it->gpu = it->gpu || t.gpu;
+        }
+    }
+    return merged;
+}
+
+// `value` with `decimals` digits after the point and commas between thousands: 12,345.6.
+inline std::string format_grouped(double value, int decimals) {
+    if (!std::isfinite(value)) return value != value ? "nan" : (value > 0 ? "inf" : "-inf");
+    char buffer[64];
+    std::snprintf(buffer, sizeof buffer, "%.*f", decimals, std::fabs(value));
+    std::string digits(buffer);
+    const std::size_t point = digits.find('.');
+    std::string integer = digits.substr(0, point);
+    const std::string fraction = point == std::string::npos ? "" : digits.substr(point);
+    std::string grouped;
+    for (std::size_t i = 0; i < integer.size(); ++i) {
+        if (i != 0 && (integer.size() - i) % 3 == 0) grouped += ',';
+        grouped += integer[i];
+    }
+    // No "-0.0": the sign only when a digit shown is not zero.
+    const bool negative =
+        std::signbit(value) && digits.find_first_not_of("0.") != std::string::npos;
+    return (negative ? "-" : "") + grouped + fraction;
+}
+
+inline std::string format_count(std::uint64_t value) {
+    return format_grouped(static_cast<double>(value), 0);
+}
+
+inline std::string format_general(double value, int precision = 3) {
+    char buffer[64];
+    std::snprintf(buffer, sizeof buffer, "%.*g", precision, value);
+    return buffer;
+}
+
+inline std::string text_summary(const RunReport& r) {
+    std::string s =
+        "fdmsurf " + r.version + ": " + surface_name(r.surface) + " surface of " + r.input + "\n";
+    const StructureInfo& info = r.info;
+    s += "  atoms        " + format_count(r.atoms_used) + " used (" +
+         format_count(info.atoms_in_file) + " in file; " + format_count(info.waters_skipped) +
+         " waters, " + format_count(info.hydrogens_skipped) + " hydrogens, ";
+    if (info.ligands_skipped != 0) s += format_count(info.ligands_skipped) + " ligand atoms, ";
+    s += format_count(info.altlocs_skipped) + " altlocs left out";
+    if (info.models_in_file > 1) {
+        s += "; model " + std::to_string(r.model) + " of " + format_count(info.models_in_file);
+    }
+    s += ")\n";
+
+    const GridInfo& g = r.grid;
+    s += "  grid         " + std::to_string(g.dims[0]) + " x " + std::to_string(g.dims[1]) + " x " +
+         std::to_string(g.dims[2]) + " points, spacing " + format_general(g.spacing) + " Å, ";
+    s += g.cutoff > 0.0f ? "cut-off " + format_general(g.cutoff) + " 1/Å" : "no filter";
+    if (g.slabs > 1) s += ", " + std::to_string(g.slabs) + " slabs";
+    s += "\n";
+
+    const MeshStats& m = r.stats;
+    s += "  mesh         " + format_count(m.vertices) + " vertices, " + format_count(m.triangles) +
+         " triangles, " + format_count(m.pieces) + " piece(s)";
+    if (m.closed_pieces != m.pieces) s += " (" + format_count(m.closed_pieces) + " closed)";
+    s += ", closed manifold: ";
+    if (r.closed_manifold) {
+        s += "yes";
+    } else {
+        s += "no (" + format_count(m.boundary_edges) + " boundary edges, " +
+             format_count(m.nonmanifold_edges) + " non-manifold edges)";
+    }
+    s += "\n";
+    s += "  area         " + format_grouped(m.area, 1) + " Å²\n";
+    s += "  volume       " + format_grouped(m.volume, 1) + " Å³\n";
+    s += "  device       " + r.device + "\n";
+    s += "  time (ms)    ";
+    for (const StageTime& t : merge_times(r.times)) {
+        s += t.name + " " + format_grouped(t.ms, 1) + (t.gpu ? " (gpu)" : "") + " | ";
+    }
+    s += "total " + format_grouped(r.total_ms, 1) + "\n";
+    s += "  output       " + r.output + "\n";
+    return s;
+}
+
+// One line, no trailing newline.
+inline std::string json_summary(const RunReport& r) {
+    JsonWriter w;
+    w.begin_object();
+    w.member("version", r.version);
+    w.member("input", r.input);
+    w.member("output", r.output);
+    w.member("surface", surface_name(r.surface));
+    w.member("model", r.model);
+    w.member("atoms_used", r.atoms_used);
+    w.member("atoms_in_file", r.info.atoms_in_file);
+    w.member("models_in_file", r.info.models_in_file);
+    w.member("waters_skipped", r.info.waters_skipped);
+    w.member("hydrogens_skipped", r.info.hydrogens_skipped);
+    w.member("altlocs_skipped", r.info.altlocs_skipped);
+    w.member("ligands_skipped", r.info.ligands_skipped);
+
+    w.key("grid").begin_object();
+    w.key("dims").begin_array();
+    for (std::uint32_t d : r.grid.dims) w.value(d);
+    w.end_array();
+    w.member("spacing", r.grid.spacing);
+    w.key("origin").begin_array();
+    for (float o : r.grid.origin) w.value(o);
+    w.end_array();
+    w.member("cutoff", r.grid.cutoff);
+    w.member("slabs", r.grid.slabs);
+    w.end_object();
+
+    const MeshStats& m = r.stats;
+    w.member("vertices", m.vertices);
+    w.member("triangles", m.triangles);
+    w.member("pieces", m.pieces);
+    w.member("closed_pieces", m.closed_pieces);
+    w.member("boundary_edges", m.boundary_edges);
+    w.member("nonmanifold_edges", m.nonmanifold_edges);
+    w.member("closed_manifold", r.closed_manifold);
+    w.member("area", m.area);
+    w.member("volume", m.volume);
+    w.member("device", r.device);
+
+    w.key("times").begin_object();
+    for (const StageTime& t : merge_times(r.times)) w.member(t.name, t.ms);
+    w.end_object();
+    w.member("total_ms", r.total_ms);
+
+    w.key("warnings").begin_array();
+    for (const std::string& warning : r.warnings) w.value(warning);
+    w.end_array();
+    w.end_object();
+    return w.str();
+}
+
+}  // namespace fdmsurf::cli

@@ -1,0 +1,26 @@
+// Embedded SPIR-V words (generated headers from cmake/FdmsurfShaders.cmake).
+#include "core/shaders.hpp"
+
+#include "fdmsurf/error.hpp"
+#include "fdmsurf_generated/shaders/density.spv.h"
+#include "fdmsurf_generated/shaders/mc_classify.spv.h"
+#include "fdmsurf_generated/shaders/mc_scan.spv.h"
+#include "fdmsurf_generated/shaders/mc_triangles.spv.h"
+#include "fdmsurf_generated/shaders/mc_vertices.spv.h"
+#include "fdmsurf_generated/shaders/spectral_mask.spv.h"
+
+namespace fdmsurf::detail {
+
+ShaderCode shader_code(Shader shader) {
+    switch (shader) {
+        case Shader::Density: return {density_spv, sizeof(density_spv)};
+        case Shader::SpectralMask: return {spectral_mask_spv, sizeof(spectral_mask_spv)};
+        case Shader::McClassify: return {mc_classify_spv, sizeof(mc_classify_spv)};
+        case Shader::McScan: return {mc_scan_spv, sizeof(mc_scan_spv)};
+        case Shader::McVertices: return {mc_vertices_spv, sizeof(mc_vertices_spv)};
+        case Shader::McTriangles: return {mc_triangles_spv, sizeof(mc_triangles_spv)};
+    }
+    throw Error(ErrorCode::Internal, "unknown shader");
+}
+
+}  // namespace fdmsurf::detail

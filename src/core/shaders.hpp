@@ -1,0 +1,18 @@
+// The SPIR-V of every compute stage, compiled from shaders/ at build time and embedded here.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+namespace fdmsurf::detail {
+
+struct ShaderCode {
+    const std::uint32_t* words;
+    std::size_t bytes;
+};
+
+enum class Shader { Density, SpectralMask, McClassify, McScan, McVertices, McTriangles };
+
+ShaderCode shader_code(Shader shader);
+
+}  // namespace fdmsurf::detail

@@ -1,0 +1,160 @@
+// Spectral filter (Giard & Macq 2010; ALGORITHM.md §3) on VkFFT; VkFFT's C result codes become
+// fdmsurf::Error here and nowhere else.
+#include "filter/spectral_filter.hpp"
+
+#include <mutex>
+#include <string>
+
+#include "core/shaders.hpp"
+#include "filter/vkfft_compat.hpp"
+#include "shader_interface.h"
+#include "vulkan/buffer.hpp"
+#include "vulkan/check.hpp"
+#include "vulkan/commands.hpp"
+#include "vulkan/context.hpp"
+
+namespace fdmsurf::detail {
+namespace {
+
+std::mutex g_glslang_mutex;
+int g_glslang_users = 0;
+
+void check_fft(VkFFTResult r, const char* what) {
+    if (r != VKFFT_SUCCESS)
+        throw Error(ErrorCode::Fft, std::string("VkFFT ") + what + " failed with VkFFTResult " +
+                                        std::to_string(static_cast<int>(r)),
+                    static_cast<int>(r));
+}
+
+}  // namespace
+
+void glslang_acquire() {
+    std::lock_guard<std::mutex> lock(g_glslang_mutex);
+    if (g_glslang_users++ == 0 && !glslang_initialize_process())
+        throw Error(ErrorCode::Fft, "glslang_initialize_process failed");
+}
+
+void glslang_release() {
+    std::lock_guard<std::mutex> lock(g_glslang_mutex);
+    if (--g_glslang_users == 0) glslang_finalize_process();
+}
+
+struct FftPlan {
+    VkFFTApplication app{};
+    VkFFTConfiguration config{};
+    VkPhysicalDevice physical = VK_NULL_HANDLE;
+    VkDevice device = VK_NULL_HANDLE;
+    VkQueue queue = VK_NULL_HANDLE;
+    VkCommandPool pool = VK_NULL_HANDLE;
+    VkFence fence = VK_NULL_HANDLE;
+    // VkFFT rebinds its descriptors only when the *address* of the VkBuffer it is given changes,
+    // and keeps that address. So the handle lives here, in one of two slots: a new buffer goes
+    // into the other slot, whose address differs, and both addresses stay valid.
+    VkBuffer slots[2] = {VK_NULL_HANDLE, VK_NULL_HANDLE};
+    int current = 0;
+    std::uint64_t buffer_size = 0;
+    VkBuffer* bind(VkBuffer buffer) {
+        if (slots[current] != buffer) {
+            current ^= 1;
+            slots[current] = buffer;
+        }
+        return &slots[current];
+    }
+    bool initialised = false;
+    ~FftPlan() {
+        if (initialised) deleteVkFFT(&app);
+    }
+};
+
+SpectralFilter::SpectralFilter(Context& ctx) : ctx_(ctx) {
+    ShaderCode code = shader_code(Shader::SpectralMask);
+    mask_ = ComputePipeline(ctx, code.words, code.bytes, 1, sizeof(shader::SpectralMaskPush),
+                            "spectral_mask");
+    VkCommandPoolCreateInfo pool{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+    pool.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+    pool.queueFamilyIndex = ctx.queue_family();
+    FDM_VK_CHECK(vkCreateCommandPool(ctx.device(), &pool, nullptr, &pool_));
+    VkFenceCreateInfo fence{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    VkResult r = vkCreateFence(ctx.device(), &fence, nullptr, &fence_);
+    if (r != VK_SUCCESS) {
+        vkDestroyCommandPool(ctx.device(), pool_, nullptr);
+        FDM_VK_CHECK(r);
+    }
+}
+
+SpectralFilter::~SpectralFilter() {
+    plans_.clear();
+    if (fence_) vkDestroyFence(ctx_.device(), fence_, nullptr);
+    if (pool_) vkDestroyCommandPool(ctx_.device(), pool_, nullptr);
+}
+
+FftPlan& SpectralFilter::plan_for(const std::array<std::uint32_t, 3>& dims, const Buffer& field) {
+    auto it = plans_.find(dims);
+    if (it != plans_.end()) return *it->second;
+    auto plan = std::make_unique<FftPlan>();
+    plan->physical = ctx_.physical_device();
+    plan->device = ctx_.device();
+    plan->queue = ctx_.queue();
+    plan->pool = pool_;
+    plan->fence = fence_;
+    plan->slots[0] = field.handle();
+    plan->buffer_size = std::uint64_t(2) * (dims[0] / 2 + 1) * dims[1] * dims[2] * sizeof(float);
+    VkFFTConfiguration& c = plan->config;
+    c.FFTdim = 3;
+    c.size[0] = dims[0];
+    c.size[1] = dims[1];
+    c.size[2] = dims[2];
+    c.physicalDevice = &plan->physical;
+    c.device = &plan->device;
+    c.queue = &plan->queue;
+    c.commandPool = &plan->pool;
+    c.fence = &plan->fence;
+    c.isCompilerInitialized = 1;  // glslang_acquire() did it, process-wide
+    c.performR2C = 1;
+    c.normalize = 0;  // the mask pass scales by 1/N
+    c.buffer = &plan->slots[0];
+    c.bufferSize = &plan->buffer_size;
+    check_fft(initializeVkFFT(&plan->app, plan->config), "plan creation");
+    plan->initialised = true;
+    FftPlan& ref = *plan;
+    plans_.emplace(dims, std::move(plan));
+    return ref;
+}
+
+void SpectralFilter::record(Commands& cmds, const Buffer& field, const GridPlan& plan,
+                            FilterShape shape) {
+    const auto& d = plan.info.dims;
+    FftPlan& fft = plan_for({d[0], d[1], d[2]}, field);
+    VkCommandBuffer cmd = cmds.handle();
+    VkFFTLaunchParams launch{};
+    launch.commandBuffer = &cmd;
+    launch.buffer = fft.bind(field.handle());
+    launch.inputBuffer = launch.buffer;
+    launch.outputBuffer = launch.buffer;
+    check_fft(VkFFTAppend(&fft.app, -1, &launch), "forward transform");
+    cmds.mark("fft-forward");
+    cmds.barrier_compute();
+
+    shader::SpectralMaskPush push{};
+    push.nx = d[0];
+    push.ny = d[1];
+    push.nz = d[2];
+    push.cx = d[0] / 2 + 1;
+    push.fx = 1.0f / (d[0] * plan.info.spacing);
+    push.fy = 1.0f / (d[1] * plan.info.spacing);
+    push.fz = 1.0f / (d[2] * plan.info.spacing);
+    push.cutoff = plan.info.cutoff;
+    push.scale = static_cast<float>(1.0 / (double(d[0]) * d[1] * d[2]));
+    push.shape = shape == FilterShape::Gaussian ? shader::kFilterGaussian : shader::kFilterIdeal;
+    cmds.dispatch(mask_, {whole(field)}, &push,
+                  (push.cx + shader::kMaskGroupX - 1) / shader::kMaskGroupX,
+                  (d[1] + shader::kMaskGroupY - 1) / shader::kMaskGroupY, d[2]);
+    cmds.mark("mask");
+    cmds.barrier_compute();
+
+    check_fft(VkFFTAppend(&fft.app, 1, &launch), "inverse transform");
+    cmds.mark("fft-inverse");
+    cmds.barrier_compute();
+}
+
+}  // namespace fdmsurf::detail

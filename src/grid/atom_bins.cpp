@@ -1,0 +1,83 @@
+// Counting sort of atoms into bins, and a breadth-first Chebyshev distance to non-empty bins.
+#include "grid/atom_bins.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+
+namespace fdmsurf::detail {
+
+AtomBins bin_atoms(const Atoms& atoms, const GridPlan& plan) {
+    AtomBins bins;
+    float r_max = 0.0f;
+    for (float r : atoms.radius) r_max = std::max(r_max, r + plan.density.radius_add);
+    bins.r2_max = r_max * r_max;
+    // With bins of r_max + 0.5 Å, a point inside the van der Waals surface (pi <= 0) is certified
+    // after the 27 nearest bins: farther atoms have pi >= (s-1)^2 b^2 - r_max^2 > 0.
+    bins.size = r_max + 0.5f;
+    const GridInfo& g = plan.info;
+    for (int a = 0; a < 3; ++a) {
+        bins.origin[a] = g.origin[a];
+        float extent = (g.dims[a] - 1) * g.spacing;
+        bins.dims[a] = std::max<std::uint32_t>(1, static_cast<std::uint32_t>(std::floor(extent / bins.size)) + 1);
+    }
+    float reach = std::sqrt(plan.density.pi_cut + bins.r2_max);
+    bins.max_shell = static_cast<std::uint32_t>(std::ceil(reach / bins.size)) + 1;
+
+    const std::size_t n = atoms.size();
+    std::vector<std::uint32_t> bin_of(n);
+    bins.start.assign(bins.bin_count() + 1, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+        std::uint32_t c[3];
+        for (int a = 0; a < 3; ++a) {
+            float f = std::floor((atoms.xyz[3 * i + a] - bins.origin[a]) / bins.size);
+            c[a] = static_cast<std::uint32_t>(std::clamp(f, 0.0f, float(bins.dims[a] - 1)));
+        }
+        bin_of[i] = (c[2] * bins.dims[1] + c[1]) * bins.dims[0] + c[0];
+        ++bins.start[bin_of[i] + 1];
+    }
+    for (std::size_t b = 0; b < bins.bin_count(); ++b) bins.start[b + 1] += bins.start[b];
+    bins.atoms.resize(4 * n);
+    std::vector<std::uint32_t> fill(bins.start.begin(), bins.start.end() - 1);
+    for (std::size_t i = 0; i < n; ++i) {
+        std::uint32_t slot = fill[bin_of[i]]++;
+        float r = atoms.radius[i] + plan.density.radius_add;
+        bins.atoms[4 * slot + 0] = atoms.xyz[3 * i + 0];
+        bins.atoms[4 * slot + 1] = atoms.xyz[3 * i + 1];
+        bins.atoms[4 * slot + 2] = atoms.xyz[3 * i + 2];
+        bins.atoms[4 * slot + 3] = r * r;
+    }
+
+    // Multi-source BFS over 26-neighbours gives the Chebyshev distance in bins.
+    const std::uint32_t cap = bins.max_shell + 1;
+    bins.first_shell.assign(bins.bin_count(), cap);
+    std::deque<std::uint32_t> queue;
+    for (std::uint32_t b = 0; b < bins.bin_count(); ++b)
+        if (bins.start[b + 1] > bins.start[b]) {
+            bins.first_shell[b] = 0;
+            queue.push_back(b);
+        }
+    const int nx = int(bins.dims[0]), ny = int(bins.dims[1]), nz = int(bins.dims[2]);
+    while (!queue.empty()) {
+        std::uint32_t b = queue.front();
+        queue.pop_front();
+        std::uint32_t d = bins.first_shell[b];
+        if (d + 1 >= cap) continue;
+        int x = int(b % bins.dims[0]), y = int((b / bins.dims[0]) % bins.dims[1]),
+            z = int(b / (bins.dims[0] * bins.dims[1]));
+        for (int dz = -1; dz <= 1; ++dz)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    int X = x + dx, Y = y + dy, Z = z + dz;
+                    if (X < 0 || Y < 0 || Z < 0 || X >= nx || Y >= ny || Z >= nz) continue;
+                    std::uint32_t nb = std::uint32_t((Z * ny + Y) * nx + X);
+                    if (bins.first_shell[nb] > d + 1) {
+                        bins.first_shell[nb] = d + 1;
+                        queue.push_back(nb);
+                    }
+                }
+    }
+    return bins;
+}
+
+}  // namespace fdmsurf::detail

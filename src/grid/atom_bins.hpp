@@ -1,0 +1,29 @@
+// Atoms sorted into a coarse grid of bins, so the density pass visits only nearby atoms.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "fdmsurf/structure.hpp"
+#include "grid/grid_plan.hpp"
+
+namespace fdmsurf::detail {
+
+struct AtomBins {
+    float origin[3] = {0, 0, 0};
+    float size = 0.0f;                 // bin edge, Å
+    std::uint32_t dims[3] = {0, 0, 0};
+    std::uint32_t max_shell = 0;       // shells beyond this hold only atoms with pi > pi_cut
+    float r2_max = 0.0f;
+    std::vector<float> atoms;          // x, y, z, r² per atom, grouped by bin
+    std::vector<std::uint32_t> start;  // bin b holds atoms[start[b] .. start[b+1])
+    // Chebyshev distance (in bins) from each bin to the nearest non-empty bin, capped at
+    // max_shell + 1: the density pass starts its shell search there.
+    std::vector<std::uint32_t> first_shell;
+    std::size_t bin_count() const { return std::size_t(dims[0]) * dims[1] * dims[2]; }
+};
+
+// Bins covering the grid of `plan`; radii get plan.density.radius_add.
+AtomBins bin_atoms(const Atoms& atoms, const GridPlan& plan);
+
+}  // namespace fdmsurf::detail

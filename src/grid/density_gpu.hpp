@@ -1,0 +1,28 @@
+// The density pass on the GPU: bins the atoms on the host, then one compute dispatch.
+#pragma once
+
+#include "grid/atom_bins.hpp"
+#include "grid/grid_plan.hpp"
+#include "vulkan/buffer.hpp"
+#include "vulkan/pipeline.hpp"
+#include "vulkan/transfer.hpp"
+
+namespace fdmsurf::detail {
+
+class Commands;
+class Context;
+
+class DensityPass {
+public:
+    explicit DensityPass(Context& ctx);
+    // Records the density of `bins` into `field` (plan's layout). Uploads go to `arena`.
+    void record(Commands& cmds, StagingArena& arena, const AtomBins& bins, const GridPlan& plan,
+                const Buffer& field);
+
+private:
+    Context& ctx_;
+    ComputePipeline pipeline_;
+    Buffer atoms_, start_, first_shell_;
+};
+
+}  // namespace fdmsurf::detail

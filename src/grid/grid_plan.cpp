@@ -1,0 +1,117 @@
+// Grid placement: the atoms' Gaussian support plus a guard band, sized for the FFT.
+#include "grid/grid_plan.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "fdmsurf/error.hpp"
+
+namespace fdmsurf {
+
+const char* to_string(SurfaceKind kind) noexcept {
+    switch (kind) {
+        case SurfaceKind::Ses: return "ses";
+        case SurfaceKind::Vdw: return "vdw";
+        case SurfaceKind::Sas: return "sas";
+    }
+    return "?";
+}
+
+float effective_cutoff(const SurfaceOptions& o) {
+    auto bad = [](const std::string& what) { throw Error(ErrorCode::InvalidArgument, what); };
+    if (!std::isfinite(o.spacing) || o.spacing <= 0.0f)
+        bad("spacing must be a positive number of Å (got " + std::to_string(o.spacing) + ")");
+    if (!std::isfinite(o.probe) || o.probe < 0.0f)
+        bad("probe radius must be >= 0 Å (got " + std::to_string(o.probe) + ")");
+    if (!std::isfinite(o.sigma) || o.sigma <= 0.0f)
+        bad("sigma must be a positive number of Å (got " + std::to_string(o.sigma) + ")");
+    if (!std::isfinite(o.cutoff) || o.cutoff < 0.0f)
+        bad("cut-off must be >= 0 1/Å (got " + std::to_string(o.cutoff) + ")");
+    if (!std::isfinite(o.level) || o.level <= 0.0f)
+        bad("level must be a positive multiple of T (got " + std::to_string(o.level) + ")");
+    if (!(o.density_cut > 0.0f && o.density_cut < 1.0f))
+        bad("density cut must lie in (0, 1)");
+    if (o.surface != SurfaceKind::Ses) return 0.0f;
+    if (o.cutoff > 0.0f) return o.cutoff;
+    if (o.probe <= 0.0f)
+        bad("a ses surface needs probe > 0 or an explicit --cutoff (probe 0 is the vdw surface)");
+    return 1.0f / (4.0f * o.probe);
+}
+
+}  // namespace fdmsurf
+
+namespace fdmsurf::detail {
+
+std::uint32_t fft_friendly_size(std::uint32_t n, bool even) {
+    for (std::uint32_t m = std::max<std::uint32_t>(n, 2);; ++m) {
+        if (even && (m & 1)) continue;
+        std::uint32_t r = m;
+        for (std::uint32_t p : {2u, 3u, 5u, 7u})
+            while (r % p == 0) r /= p;
+        if (r == 1) return m;
+    }
+}
+
+GridPlan plan_grid(const Atoms& atoms, const SurfaceOptions& options) {
+    GridPlan plan;
+    const float cutoff = effective_cutoff(options);
+    if (atoms.empty()) throw Error(ErrorCode::EmptySelection, "no atoms to build a surface from");
+    if (atoms.xyz.size() != atoms.size() * 3)
+        throw Error(ErrorCode::InvalidArgument, "atoms: xyz must hold 3 floats per radius");
+    const float h = options.spacing;
+    plan.filtered = options.surface == SurfaceKind::Ses;
+    plan.density.sigma = options.sigma;
+    plan.density.level_t = 1.0f;
+    plan.density.pi_cut = options.sigma * options.sigma * std::log(1.0f / options.density_cut);
+    plan.density.radius_add = options.surface == SurfaceKind::Sas ? options.probe : 0.0f;
+    plan.iso = options.level * plan.density.level_t;
+    plan.info.spacing = h;
+    plan.info.cutoff = cutoff;
+
+    float padding = options.padding;
+    if (padding < 0.0f) padding = plan.filtered ? 1.0f / cutoff : 1.0f;
+    double lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = std::numeric_limits<double>::max();
+        hi[a] = -lo[a];
+    }
+    for (std::size_t i = 0; i < atoms.size(); ++i) {
+        float r = atoms.radius[i] + plan.density.radius_add;
+        if (!(r > 0.0f) || !std::isfinite(r))
+            throw Error(ErrorCode::InvalidArgument,
+                        "atom " + std::to_string(i + 1) + " has radius " + std::to_string(r));
+        // ses: the whole Gaussian support enters the filter; vdw and sas only need the balls.
+        double reach = plan.filtered ? std::sqrt(double(r) * r + plan.density.pi_cut) : r;
+        for (int a = 0; a < 3; ++a) {
+            double c = atoms.xyz[3 * i + a];
+            if (!std::isfinite(c))
+                throw Error(ErrorCode::InvalidArgument,
+                            "atom " + std::to_string(i + 1) + " has a non-finite coordinate");
+            lo[a] = std::min(lo[a], c - reach);
+            hi[a] = std::max(hi[a], c + reach);
+        }
+    }
+    for (int a = 0; a < 3; ++a) {
+        lo[a] -= padding + 2.0 * h;  // two more points keep the surface off the border
+        hi[a] += padding + 2.0 * h;
+        double points = std::ceil((hi[a] - lo[a]) / h) + 1.0;
+        if (points > 65536.0)
+            throw Error(ErrorCode::DeviceLimit,
+                        "the grid would have " + std::to_string(static_cast<long long>(points)) +
+                            " points along one axis at spacing " + std::to_string(h) +
+                            " Å; use a coarser --spacing");
+        std::uint32_t n = static_cast<std::uint32_t>(points);
+        // VkFFT 1.2.26 is only right for sizes with factors 2, 3, 5, 7 (NOTES.md), and wants
+        // the contiguous R2C axis even.
+        n = plan.filtered ? fft_friendly_size(n, a == 0) : std::max<std::uint32_t>(n, 2);
+        plan.info.dims[a] = n;
+        double extra = (n - 1) * double(h) - (hi[a] - lo[a]);
+        plan.info.origin[a] = static_cast<float>(lo[a] - extra / 2.0);
+    }
+    plan.pitch = plan.filtered ? 2 * (plan.info.dims[0] / 2 + 1) : plan.info.dims[0];
+    return plan;
+}
+
+}  // namespace fdmsurf::detail

@@ -1,0 +1,39 @@
+// Where the density grid sits and how big it is: padding, FFT-friendly sizes, density parameters.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "fdmsurf/structure.hpp"
+#include "fdmsurf/surface.hpp"
+
+namespace fdmsurf::detail {
+
+// The density of ALGORITHM.md §2: rho(p) = T exp(-pi(p) / sigma^2), pi the power distance,
+// taken as 0 where pi > pi_cut (G below density_cut * T).
+struct DensityParams {
+    float sigma = 3.0f;
+    float level_t = 1.0f;  // T
+    float pi_cut = 0.0f;   // sigma^2 ln(1 / density_cut)
+    float radius_add = 0.0f;  // added to every radius (the probe, for sas)
+};
+
+struct GridPlan {
+    GridInfo info;
+    std::uint32_t pitch = 0;     // floats per x row in the field buffer: 2 (nx/2 + 1)
+    bool filtered = false;       // ses: FFT low-pass
+    DensityParams density;
+    float iso = 1.0f;            // iso-level of the field, absolute
+    std::size_t points() const {
+        return std::size_t(info.dims[0]) * info.dims[1] * info.dims[2];
+    }
+    std::size_t field_floats() const { return std::size_t(pitch) * info.dims[1] * info.dims[2]; }
+};
+
+// Smallest n' >= n whose prime factors are 2, 3, 5 and 7 only (and even if `even`).
+std::uint32_t fft_friendly_size(std::uint32_t n, bool even);
+
+// Validates `options` (throws Error(InvalidArgument)) and places the grid around the atoms.
+GridPlan plan_grid(const Atoms& atoms, const SurfaceOptions& options);
+
+}  // namespace fdmsurf::detail

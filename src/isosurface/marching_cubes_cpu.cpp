@@ -1,0 +1,170 @@
+// CPU reference of marching cubes (Lorensen & Cline, SIGGRAPH 1987), the model the GPU copies.
+//
+// Every float expression here is written in the order the shader evaluates it, so that the two
+// agree on vertex order exactly and on values up to the GPU's division and sqrt rounding.
+#include "isosurface/marching_cubes_cpu.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "fdmsurf/error.hpp"
+#include "fdmsurf_generated/mc_tables.hpp"
+
+namespace fdmsurf::detail {
+namespace {
+
+struct Point {
+    std::uint32_t c[3];
+};
+
+Point step(Point q, int axis) {
+    ++q.c[axis];
+    return q;
+}
+
+float value(const FieldView& f, Point q) { return f.at(q.c[0], q.c[1], q.c[2]); }
+
+// Central differences inside, one-sided at the buffer border, so the normal exists everywhere the
+// field does; a slab's border planes are interior points of the buffer and use central ones.
+void gradient(const FieldView& f, Point q, float h, float g[3]) {
+    const std::uint32_t size[3] = {f.nx, f.ny, f.nz};
+    for (int a = 0; a < 3; ++a) {
+        const std::uint32_t c = q.c[a];
+        if (size[a] < 2) {
+            g[a] = 0.0f;
+        } else if (c == 0) {
+            g[a] = (value(f, step(q, a)) - value(f, q)) / h;
+        } else if (c + 1 == size[a]) {
+            Point m = q;
+            --m.c[a];
+            g[a] = (value(f, q) - value(f, m)) / h;
+        } else {
+            Point m = q;
+            --m.c[a];
+            g[a] = (value(f, step(q, a)) - value(f, m)) / (2.0f * h);
+        }
+    }
+}
+
+void check_arguments(const FieldView& f, const McParams& p) {
+    auto fail = [](const std::string& why) {
+        throw Error(ErrorCode::InvalidArgument, "marching cubes: " + why);
+    };
+    if (f.data == nullptr || f.nx == 0 || f.ny == 0 || f.nz == 0) fail("empty grid");
+    if (f.pitch < f.nx) fail("row pitch smaller than nx");
+    if (p.z_begin > p.z_end || p.z_end >= f.nz) {
+        fail("z range [" + std::to_string(p.z_begin) + ", " + std::to_string(p.z_end) +
+             "] outside the grid's " + std::to_string(f.nz) + " planes");
+    }
+    if (!(p.spacing > 0.0f) || !std::isfinite(p.spacing)) fail("spacing must be positive");
+}
+
+}  // namespace
+
+Mesh marching_cubes_cpu(const FieldView& f, const McParams& p) {
+    check_arguments(f, p);
+    const float iso = p.iso;
+    const float h = p.spacing;
+    const std::uint32_t planes = p.z_end - p.z_begin + 1;
+    const std::size_t point_count = std::size_t(f.nx) * f.ny * planes;
+    auto point_id = [&](Point q) {
+        return (std::size_t(q.c[2] - p.z_begin) * f.ny + q.c[1]) * f.nx + q.c[0];
+    };
+    auto inside = [&](Point q) { return value(f, q) >= iso; };
+    auto owns = [&](Point q, int axis) {
+        return axis == 0 ? q.c[0] + 1 < f.nx : axis == 1 ? q.c[1] + 1 < f.ny : q.c[2] < p.z_end;
+    };
+
+    // Pass 1: vertices in point order. first_vertex and crossed_mask let pass 2 find the vertex
+    // of any edge without a hash map, as the GPU does after its prefix sum over per-point counts.
+    Mesh mesh;
+    std::vector<std::uint32_t> first_vertex(point_count);
+    std::vector<std::uint8_t> crossed_mask(point_count);
+    std::size_t vertex_count = 0;
+    Point q{};
+    for (q.c[2] = p.z_begin; q.c[2] <= p.z_end; ++q.c[2]) {
+        for (q.c[1] = 0; q.c[1] < f.ny; ++q.c[1]) {
+            for (q.c[0] = 0; q.c[0] < f.nx; ++q.c[0]) {
+                const std::size_t id = point_id(q);
+                if (vertex_count > std::numeric_limits<std::uint32_t>::max() - 3) {
+                    throw Error(ErrorCode::InvalidArgument,
+                                "marching cubes: more than 2^32 vertices; use smaller slabs");
+                }
+                first_vertex[id] = std::uint32_t(vertex_count);
+                std::uint8_t mask = 0;
+                const float v0 = value(f, q);
+                for (int a = 0; a < 3; ++a) {
+                    if (!owns(q, a)) continue;
+                    const Point r = step(q, a);
+                    const float v1 = value(f, r);
+                    if ((v0 >= iso) == (v1 >= iso)) continue;
+                    mask |= std::uint8_t(1u << a);
+                    ++vertex_count;
+
+                    // The clamp keeps vertices of edges that share a corner apart, so that no
+                    // triangle collapses when the iso value hits a grid value exactly.
+                    float t = (iso - v0) / (v1 - v0);
+                    t = std::min(std::max(t, 0.001f), 0.999f);
+                    for (int k = 0; k < 3; ++k) {
+                        float c = float(q.c[k]);
+                        if (k == a) c = c + t;
+                        mesh.positions.push_back(p.origin[k] + h * c);
+                    }
+
+                    float g0[3], g1[3], g[3];
+                    gradient(f, q, h, g0);
+                    gradient(f, r, h, g1);
+                    for (int k = 0; k < 3; ++k) g[k] = (1.0f - t) * g0[k] + t * g1[k];
+                    const float len = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+                    for (int k = 0; k < 3; ++k) {
+                        // Density rises into the molecule, so -g points out of it. Without a
+                        // gradient, the edge itself says which way is out: from its inside end.
+                        float n;
+                        if (len < 1e-20f) {
+                            n = k != a ? 0.0f : (v0 >= iso ? 1.0f : -1.0f);
+                        } else {
+                            n = -g[k] / len;
+                        }
+                        mesh.normals.push_back(n);
+                    }
+                }
+                crossed_mask[id] = mask;
+            }
+        }
+    }
+
+    // Pass 2: triangles in cell order, each edge resolved to the vertex its owner point emitted.
+    if (f.nx < 2 || f.ny < 2) return mesh;
+    for (q.c[2] = p.z_begin; q.c[2] < p.z_end; ++q.c[2]) {
+        for (q.c[1] = 0; q.c[1] + 1 < f.ny; ++q.c[1]) {
+            for (q.c[0] = 0; q.c[0] + 1 < f.nx; ++q.c[0]) {
+                unsigned cube = 0;
+                for (unsigned c = 0; c < 8; ++c) {
+                    const Point corner{
+                        {q.c[0] + (c & 1), q.c[1] + ((c >> 1) & 1), q.c[2] + ((c >> 2) & 1)}};
+                    if (inside(corner)) cube |= 1u << c;
+                }
+                const int triangles = mc::kTriCount[cube];
+                for (int i = 0; i < 3 * triangles; ++i) {
+                    const int e = mc::kTriEdges[cube][i];
+                    const int axis = mc::kEdgeAxis[e];
+                    const Point owner{{q.c[0] + mc::kEdgeOwner[e][0], q.c[1] + mc::kEdgeOwner[e][1],
+                                       q.c[2] + mc::kEdgeOwner[e][2]}};
+                    const std::size_t id = point_id(owner);
+                    const unsigned before = crossed_mask[id] & ((1u << axis) - 1u);
+                    const unsigned offset = (before & 1u) + ((before >> 1) & 1u);
+                    if (!((crossed_mask[id] >> axis) & 1u)) {
+                        throw Error(ErrorCode::Internal, "marching cubes: table edge not crossed");
+                    }
+                    mesh.indices.push_back(first_vertex[id] + offset);
+                }
+            }
+        }
+    }
+    return mesh;
+}
+
+}  // namespace fdmsurf::detail

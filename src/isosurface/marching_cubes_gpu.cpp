@@ -1,0 +1,147 @@
+// Marching-cubes dispatches (shaders/mc_*.comp): sizes come from a counting pass and a prefix
+// sum, so no fixed cap can drop triangles.
+#include "isosurface/marching_cubes_gpu.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <string>
+
+#include "core/shaders.hpp"
+#include "fdmsurf_generated/mc_tables.hpp"
+#include "fdmsurf/error.hpp"
+#include "shader_interface.h"
+#include "vulkan/commands.hpp"
+#include "vulkan/context.hpp"
+
+namespace fdmsurf::detail {
+namespace {
+
+void check_binding(const Context& ctx, std::uint64_t bytes, const char* what) {
+    std::uint64_t limit = ctx.limits().max_storage_buffer_range;
+    if (bytes > limit)
+        throw Error(ErrorCode::DeviceLimit,
+                    std::string(what) + " needs " + std::to_string(bytes >> 20) +
+                        " MiB in one storage buffer, more than the device's maxStorageBufferRange (" +
+                        std::to_string(limit >> 20) + " MiB); use a coarser --spacing");
+}
+
+}  // namespace
+
+MarchingCubesPass::MarchingCubesPass(Context& ctx) : ctx_(ctx) {
+    auto make = [&](Shader s, std::uint32_t bindings, std::uint32_t push, const char* name) {
+        ShaderCode code = shader_code(s);
+        return ComputePipeline(ctx, code.words, code.bytes, bindings, push, name);
+    };
+    classify_ = make(Shader::McClassify, 4, sizeof(shader::McPush), "mc_classify");
+    scan_ = make(Shader::McScan, 2, sizeof(shader::ScanPush), "mc_scan");
+    vertices_ = make(Shader::McVertices, 4, sizeof(shader::McPush), "mc_vertices");
+    triangles_ = make(Shader::McTriangles, 5, sizeof(shader::McPush), "mc_triangles");
+}
+
+GpuMesh MarchingCubesPass::run(Commands& cmds, StagingArena& arena, const Buffer& field,
+                               std::uint32_t nx, std::uint32_t ny, std::uint32_t nz,
+                               std::uint32_t pitch, const McParams& params) {
+    if (params.z_end >= nz || params.z_begin > params.z_end || nx < 2 || ny < 2)
+        throw Error(ErrorCode::Internal, "marching cubes: bad slab range");
+    const std::uint64_t points = std::uint64_t(nx) * ny * (params.z_end - params.z_begin + 1);
+    if (points >= (1ull << 32) - shader::kMcBlock)
+        throw Error(ErrorCode::DeviceLimit, "marching cubes: more than 2^32 grid points in one part");
+    const std::uint64_t blocks = (points + shader::kMcBlock - 1) / shader::kMcBlock;
+    check_binding(ctx_, points * 4, "marching cubes (per-point counts)");
+    const std::uint32_t max_x = ctx_.limits().max_workgroup_count[0];
+    shader::McPush push{};
+    push.origin_x = params.origin[0];
+    push.origin_y = params.origin[1];
+    push.origin_z = params.origin[2];
+    push.spacing = params.spacing;
+    push.nx = nx;
+    push.ny = ny;
+    push.nz = nz;
+    push.pitch = pitch;
+    push.z_begin = params.z_begin;
+    push.z_end = params.z_end;
+    push.blocks_x = static_cast<std::uint32_t>(std::min<std::uint64_t>(blocks, max_x));
+    push.iso = params.iso;
+    push.owned_points = static_cast<std::uint32_t>(points);
+    const std::uint32_t blocks_y =
+        static_cast<std::uint32_t>((blocks + push.blocks_x - 1) / push.blocks_x);
+
+    if (!tables_) {
+        // Same layout as McTables in shaders/mc_common.glsl.
+        std::vector<std::int32_t> words;
+        for (int c = 0; c < 256; ++c) words.push_back(mc::kTriCount[c]);
+        for (int c = 0; c < 256; ++c)
+            for (int k = 0; k < 3 * mc::kMaxTriangles; ++k) words.push_back(mc::kTriEdges[c][k]);
+        tables_ = upload_buffer(ctx_, cmds, arena, words.data(), words.size() * 4, "mc_tables");
+        cmds.barrier_compute();
+    }
+    Buffer counts(ctx_, points * 4, MemoryUse::Device, "mc_counts");
+    Buffer block_sums(ctx_, blocks * 8, MemoryUse::Device, "mc_block_sums");
+    Buffer totals(ctx_, 8, MemoryUse::Device, "mc_totals");
+    cmds.dispatch(classify_, {whole(field), whole(counts), whole(block_sums), whole(tables_)}, &push, push.blocks_x,
+                  blocks_y);
+    cmds.mark("mc-count");
+    cmds.barrier_compute();
+    shader::ScanPush scan{static_cast<std::uint32_t>(blocks)};
+    cmds.dispatch(scan_, {whole(block_sums), whole(totals)}, &scan, 1);
+    cmds.mark("mc-scan");
+    cmds.barrier_compute();
+    const Buffer& totals_host = readback_buffer(ctx_, cmds, arena, totals, 8, "mc_totals_readback");
+    cmds.barrier_to_host();
+    cmds.submit_and_wait();
+    std::vector<StageTime> first = cmds.stage_times();
+
+    totals_host.invalidate();
+    std::uint32_t total[2];
+    std::memcpy(total, totals_host.mapped(), sizeof(total));
+    GpuMesh mesh;
+    mesh.vertex_count = total[0];
+    mesh.triangle_count = total[1];
+    check_binding(ctx_, std::uint64_t(total[0]) * 24, "the vertex buffer");
+    check_binding(ctx_, std::uint64_t(total[1]) * 12, "the index buffer");
+    mesh.vertices = Buffer(ctx_, std::uint64_t(total[0]) * 24, MemoryUse::Device, "mesh_vertices");
+    mesh.indices = Buffer(ctx_, std::uint64_t(total[1]) * 12, MemoryUse::Device, "mesh_indices");
+
+    cmds.begin();
+    if (total[0] > 0) {
+        cmds.dispatch(vertices_, {whole(field), whole(counts), whole(block_sums), whole(mesh.vertices)},
+                      &push, push.blocks_x, blocks_y);
+        cmds.barrier_compute();
+    }
+    if (total[1] > 0)
+        cmds.dispatch(triangles_, {whole(field), whole(counts), whole(block_sums), whole(mesh.indices),
+                                    whole(tables_)},
+                      &push, push.blocks_x, blocks_y);
+    cmds.mark("mc-emit");
+    cmds.barrier_compute();
+    cmds.submit_and_wait();
+    first.insert(first.end(), cmds.stage_times().begin(), cmds.stage_times().end());
+    times_ = std::move(first);
+    return mesh;
+}
+
+Mesh MarchingCubesPass::read_back(Commands& cmds, const GpuMesh& gpu) {
+    StagingArena arena;
+    cmds.begin();
+    std::size_t vbytes = std::size_t(gpu.vertex_count) * 24, ibytes = std::size_t(gpu.triangle_count) * 12;
+    const Buffer& v = readback_buffer(ctx_, cmds, arena, gpu.vertices, vbytes, "vertices_readback");
+    const Buffer& i = readback_buffer(ctx_, cmds, arena, gpu.indices, ibytes, "indices_readback");
+    cmds.barrier_to_host();
+    cmds.mark("read-back");
+    cmds.submit_and_wait();
+    v.invalidate();
+    i.invalidate();
+    Mesh mesh;
+    mesh.positions.resize(std::size_t(gpu.vertex_count) * 3);
+    mesh.normals.resize(std::size_t(gpu.vertex_count) * 3);
+    const float* src = static_cast<const float*>(v.mapped());
+    for (std::size_t k = 0; k < gpu.vertex_count; ++k) {
+        std::memcpy(&mesh.positions[3 * k], src + 6 * k, 12);
+        std::memcpy(&mesh.normals[3 * k], src + 6 * k + 3, 12);
+    }
+    mesh.indices.resize(std::size_t(gpu.triangle_count) * 3);
+    if (ibytes) std::memcpy(mesh.indices.data(), i.mapped(), ibytes);
+    return mesh;
+}
+
+}  // namespace fdmsurf::detail

@@ -1,0 +1,47 @@
+// Marching cubes on the GPU: count, scan, then emit vertices and triangles into exact-size buffers.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "fdmsurf/surface.hpp"
+
+#include "fdmsurf/mesh.hpp"
+#include "isosurface/marching_cubes_cpu.hpp"
+#include "vulkan/buffer.hpp"
+#include "vulkan/pipeline.hpp"
+#include "vulkan/transfer.hpp"
+
+namespace fdmsurf::detail {
+
+class Commands;
+class Context;
+
+struct GpuMesh {
+    Buffer vertices;  // 6 floats per vertex: position (Å), outward unit normal
+    Buffer indices;   // 3 uint32 per triangle
+    std::uint32_t vertex_count = 0;
+    std::uint32_t triangle_count = 0;
+};
+
+class MarchingCubesPass {
+public:
+    explicit MarchingCubesPass(Context& ctx);
+    // Records the counting passes into `cmds` (already begun, after the field's producer) and
+    // submits; then records and submits the emission. `field` has `pitch` floats per row and
+    // nz planes; the result stays on the device.
+    GpuMesh run(Commands& cmds, StagingArena& arena, const Buffer& field, std::uint32_t nx,
+                std::uint32_t ny, std::uint32_t nz, std::uint32_t pitch, const McParams& params);
+    // Copies a GpuMesh to the host.
+    Mesh read_back(Commands& cmds, const GpuMesh& mesh);
+    // Stage times of the submissions of the last run().
+    const std::vector<StageTime>& stage_times() const { return times_; }
+
+private:
+    Context& ctx_;
+    std::vector<StageTime> times_;
+    ComputePipeline classify_, scan_, vertices_, triangles_;
+    Buffer tables_;  // triangle counts and edges per cube case (uploaded on first use)
+};
+
+}  // namespace fdmsurf::detail

@@ -1,0 +1,36 @@
+// A file written under a temporary name and renamed into place, so no partial file is left.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace fdmsurf::detail {
+
+// Opens a new temporary file next to `path`; write() buffers, commit() flushes, closes and
+// renames it onto `path`. Destroyed without commit(), it removes the temporary file. Every
+// failure throws Error(Io, "cannot write <path>: <reason>"). Not copyable.
+class AtomicFile {
+public:
+    explicit AtomicFile(std::string path);
+    ~AtomicFile();
+    AtomicFile(const AtomicFile&) = delete;
+    AtomicFile& operator=(const AtomicFile&) = delete;
+
+    void write(const void* data, std::size_t size);
+    void write(const std::string& text) { write(text.data(), text.size()); }
+    void commit();
+
+private:
+    void flush();
+    [[noreturn]] void fail(int error_number);
+
+    std::string path_;
+    std::string temp_path_;
+    int fd_ = -1;
+    std::vector<char> buffer_;
+    std::size_t used_ = 0;
+    bool committed_ = false;
+};
+
+}  // namespace fdmsurf::detail

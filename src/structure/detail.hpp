@@ -1,0 +1,66 @@
+// Internals of the structure-input stage, shared by its source files (not installed).
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "fdmsurf/error.hpp"
+#include "fdmsurf/structure.hpp"
+
+namespace fdmsurf::detail {
+
+// --- text_input.cpp: bytes in, checked text out ---
+
+// The whole file; gzip data (by its magic bytes, whatever the name) is decompressed.
+// Throws Error(Io) when the file cannot be read, Error(Format) for a broken gzip stream.
+std::string load_file(const std::string& path);
+
+// Rejects empty input and binary data, naming `name`. Throws Error(Format).
+void check_text(std::string_view data, const std::string& name);
+
+bool is_gzip(std::string_view data);
+
+// Extension first (".gz" stripped), then the content; throws Error(Format) when neither tells.
+StructureFormat detect_format(std::string_view text, const std::string& name);
+
+// Splits text into lines without their "\n" or "\r\n", numbered from 1.
+class LineReader {
+public:
+    explicit LineReader(std::string_view text) : rest_(text) {}
+    bool next(std::string_view& line);
+    std::size_t number() const { return number_; }
+
+private:
+    std::string_view rest_;
+    std::size_t number_ = 0;
+    bool done_ = false;
+};
+
+// Whitespace-separated fields of a line.
+std::vector<std::string_view> split_fields(std::string_view line);
+std::string_view trim(std::string_view s);
+bool iequals(std::string_view a, std::string_view b);
+
+enum class NumberStatus { Ok, NotNumber, NotFinite };
+// The whole of `s` must be one decimal number (a leading '+' allowed, no spaces).
+NumberStatus parse_number(std::string_view s, double& value);
+
+[[noreturn]] void fail_format(const std::string& message);
+// " at line N", the tail of messages about one line.
+std::string at_line(std::size_t line);
+
+// --- radii.cpp ---
+
+// Upper-case symbol of a known element ("C", "FE"), or "" when `symbol` names none.
+std::string known_element(std::string_view symbol);
+
+// --- read_gemmi.cpp and read_plain.cpp: one reader per format; `text` passed check_text ---
+
+Structure read_pdb_or_mmcif(const std::string& text, const std::string& name,
+                            StructureFormat format, const ReadOptions& options);
+Structure read_pqr(std::string_view text, const std::string& name);
+Structure read_xyzr(std::string_view text, const std::string& name);
+
+}  // namespace fdmsurf::detail

@@ -1,0 +1,270 @@
+// PDB and mmCIF through gemmi, with our own checks where gemmi is lenient; selection and radii.
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <gemmi/cif.hpp>
+#include <gemmi/mmcif.hpp>
+#include <gemmi/pdb.hpp>
+#include <gemmi/polyheur.hpp>
+#include <map>
+#include <new>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "structure/detail.hpp"
+
+namespace fdmsurf::detail {
+
+namespace {
+
+// gemmi matches record names case-insensitively on their first four letters.
+bool is_atom_record(std::string_view line) {
+    return line.size() >= 4 &&
+           (iequals(line.substr(0, 4), "ATOM") || iequals(line.substr(0, 4), "HETA"));
+}
+
+// END (not ENDMDL) ends gemmi's reading, so the checks stop there too.
+bool is_end_record(std::string_view line) {
+    return line.size() >= 3 && iequals(line.substr(0, 3), "END") &&
+           (line.size() == 3 || std::isspace(static_cast<unsigned char>(line[3])));
+}
+
+// gemmi reads coordinates unchecked (a bad field becomes 0) and rejects short lines without
+// naming the file, so every ATOM/HETATM record is checked here first.
+void check_pdb_records(std::string_view text, const std::string& name) {
+    static const char* const kAxis[] = {"x", "y", "z"};
+    LineReader lines(text);
+    std::string_view line;
+    while (lines.next(line)) {
+        if (is_end_record(line)) break;
+        if (!is_atom_record(line)) continue;
+        std::string record = iequals(line.substr(0, 4), "ATOM") ? "ATOM" : "HETATM";
+        if (line.size() < 54)
+            fail_format(name + ": truncated " + record + " record" + at_line(lines.number()) +
+                        " (" + std::to_string(line.size()) +
+                        " columns; x, y, z need columns 31-54)");
+        for (int i = 0; i < 3; ++i) {
+            std::string_view field = line.substr(30 + 8 * i, 8);
+            std::string columns = std::to_string(31 + 8 * i) + "-" + std::to_string(38 + 8 * i);
+            double value = 0.0;
+            NumberStatus status = parse_number(trim(field), value);
+            if (status == NumberStatus::Ok && !std::isfinite(static_cast<float>(value)))
+                status = NumberStatus::NotFinite;
+            if (status != NumberStatus::Ok)
+                fail_format(
+                    name + ": " +
+                    (status == NumberStatus::NotNumber ? "non-numeric " : "NaN or infinite ") +
+                    kAxis[i] + " coordinate '" + std::string(field) + "' (columns " + columns +
+                    ")" + at_line(lines.number()));
+        }
+    }
+}
+
+// gemmi silently makes no atoms when one of the _atom_site columns it needs is missing.
+void check_cif_columns(gemmi::cif::Document& doc, const std::string& name) {
+    if (doc.blocks.empty()) fail_format(name + ": no data block (not an mmCIF file)");
+    static const char* const kRequired[] = {
+        "id",      "type_symbol", "label_alt_id", "label_asym_id",  "Cartn_x",
+        "Cartn_y", "Cartn_z",     "occupancy",    "B_iso_or_equiv", "auth_seq_id"};
+    const gemmi::cif::Block& block = doc.blocks[0];
+    std::string missing;
+    std::size_t found = 0;
+    for (const char* tag : kRequired) {
+        if (block.has_tag(std::string("_atom_site.") + tag))
+            ++found;
+        else
+            missing += std::string(missing.empty() ? "" : ", ") + tag;
+    }
+    if (found == 0) fail_format(name + ": no _atom_site table (no atoms)");
+    if (!missing.empty())
+        fail_format(name + ": _atom_site lacks column(s) " + missing + " (needed to read atoms)");
+}
+
+// Element symbols as the file writes them, by "residue atom": gemmi keeps only the parsed
+// element, and the unknown-element warning should name what the file says.
+using SymbolMap = std::unordered_map<std::string, std::string>;
+
+SymbolMap pdb_symbols(std::string_view text) {
+    SymbolMap symbols;
+    LineReader lines(text);
+    std::string_view line;
+    while (lines.next(line)) {
+        if (is_end_record(line)) break;
+        if (!is_atom_record(line)) continue;
+        std::string key =
+            std::string(trim(line.substr(17, 3))) + ' ' + std::string(trim(line.substr(12, 4)));
+        symbols.emplace(key, line.size() > 76 ? trim(line.substr(76, 2)) : "");
+    }
+    return symbols;
+}
+
+SymbolMap cif_symbols(gemmi::cif::Block& block) {
+    SymbolMap symbols;
+    gemmi::cif::Table table = block.find(
+        "_atom_site.",
+        {"type_symbol", "?auth_comp_id", "?label_comp_id", "?auth_atom_id", "?label_atom_id"});
+    if (table.length() == 0) return symbols;
+    const int comp = table.first_of(1, 2);  // auth_ names first, as gemmi reads them
+    const int atom = table.first_of(3, 4);
+    if (!table.has_column(comp) || !table.has_column(atom)) return symbols;
+    for (auto row : table)
+        symbols.emplace(gemmi::cif::as_string(row[comp]) + ' ' + gemmi::cif::as_string(row[atom]),
+                        gemmi::cif::as_string(row[0]));
+    return symbols;
+}
+
+struct UnknownElement {
+    std::size_t count = 0;
+    std::string example;  // "atom NAME in residue RES"
+};
+
+std::string counted(std::size_t n, const std::string& noun) {
+    return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
+}
+
+std::string unknown_warning(const std::string& name, const std::string& symbol,
+                            const UnknownElement& u) {
+    char radius[16];
+    std::snprintf(radius, sizeof radius, "%.2f", static_cast<double>(kUnknownElementRadius));
+    std::string what = symbol.empty() ? "no element symbol (e.g. " + u.example + ")"
+                                      : "unknown element '" + symbol + "'";
+    return name + ": " + what + " for " + counted(u.count, "atom") + "; radius " + radius +
+           " A used";
+}
+
+std::string empty_selection_message(const std::string& name, int model, const StructureInfo& info) {
+    std::string removed;
+    auto add = [&](std::size_t n, const char* noun, const char* option) {
+        if (n) removed += (removed.empty() ? "" : ", ") + counted(n, noun) + option;
+    };
+    add(info.altlocs_skipped, "alternate location", "");
+    add(info.waters_skipped, "water atom", " (keep_waters)");
+    add(info.ligands_skipped, "ligand atom", " (keep_ligands)");
+    add(info.hydrogens_skipped, "hydrogen", " (keep_hydrogens)");
+    return name + ": no atoms left after selection (model " + std::to_string(model) + " has " +
+           counted(info.atoms_in_file, "atom") + (removed.empty() ? "" : "; removed: " + removed) +
+           ")";
+}
+
+// gemmi reports problems as std::runtime_error (and the odd logic_error): rethrow as ours.
+template <typename F>
+void with_gemmi(const std::string& name, F&& f) {
+    try {
+        f();
+    } catch (const Error&) {
+        throw;
+    } catch (const std::bad_alloc&) {
+        throw;
+    } catch (const std::exception& e) {
+        std::string what = e.what();
+        fail_format(what.starts_with(name) ? what : name + ": " + what);
+    }
+}
+
+}  // namespace
+
+Structure read_pdb_or_mmcif(const std::string& text_in, const std::string& name,
+                            StructureFormat format, const ReadOptions& options) {
+    // gemmi wants a newline after the last record to count its columns right.
+    std::string text_nl;
+    if (text_in.back() != '\n') text_nl = text_in + '\n';
+    const std::string& text = text_nl.empty() ? text_in : text_nl;
+
+    gemmi::Structure st;
+    gemmi::cif::Document doc;
+    with_gemmi(name, [&] {
+        if (format == StructureFormat::Pdb) {
+            check_pdb_records(text, name);
+            st = gemmi::read_pdb_from_memory(text.data(), text.size(), name);
+        } else {
+            doc = gemmi::cif::read_memory(text.data(), text.size(), name.c_str());
+            check_cif_columns(doc, name);
+            st = gemmi::make_structure(doc);
+        }
+        // Entity types tell modified residues inside a chain (HETATM MSE) from ligands.
+        gemmi::add_entity_types(st, false);
+    });
+
+    std::size_t atoms_total = 0;
+    for (const gemmi::Model& m : st.models)
+        for (const gemmi::Chain& c : m.chains)
+            for (const gemmi::Residue& r : c.residues) atoms_total += r.atoms.size();
+    if (atoms_total == 0)
+        fail_format(name + ": no atoms (no " +
+                    (format == StructureFormat::Pdb ? "ATOM/HETATM records" : "_atom_site rows") +
+                    ")");
+
+    Structure out;
+    StructureInfo& info = out.info;
+    info.format = format;
+    info.models_in_file = st.models.size();
+    if (static_cast<std::size_t>(options.model) > st.models.size())
+        throw Error(ErrorCode::InvalidArgument, name + ": model " + std::to_string(options.model) +
+                                                    " requested, but the file has " +
+                                                    std::to_string(st.models.size()) + " model" +
+                                                    (st.models.size() == 1 ? "" : "s"));
+    const gemmi::Model& model = st.models[static_cast<std::size_t>(options.model - 1)];
+
+    SymbolMap symbols;
+    bool symbols_read = false;
+    std::map<std::string, UnknownElement> unknown;
+    Atoms& atoms = out.atoms;
+    for (const gemmi::Chain& chain : model.chains) {
+        std::unordered_set<std::string> seen_altloc;  // "seqid atom" of alternate locations kept
+        for (const gemmi::Residue& res : chain.residues) {
+            bool water = res.is_water() || res.entity_type == gemmi::EntityType::Water;
+            bool ligand =
+                !water && res.het_flag == 'H' && res.entity_type != gemmi::EntityType::Polymer;
+            for (const gemmi::Atom& atom : res.atoms) {
+                ++info.atoms_in_file;
+                const gemmi::Position& p = atom.pos;
+                // mmCIF values that are not numbers ('?', text, nan) come out of gemmi as NaN.
+                if (!std::isfinite(static_cast<float>(p.x)) ||
+                    !std::isfinite(static_cast<float>(p.y)) ||
+                    !std::isfinite(static_cast<float>(p.z)))
+                    fail_format(name + ": non-numeric, NaN or infinite coordinates for atom " +
+                                std::to_string(atom.serial) + " (" + chain.name + "/" + res.name +
+                                " " + res.seqid.str() + "/" + atom.name + ")");
+                if (atom.altloc != '\0' &&
+                    !seen_altloc.insert(res.seqid.str() + ' ' + atom.name).second) {
+                    ++info.altlocs_skipped;
+                } else if (water && !options.keep_waters) {
+                    ++info.waters_skipped;
+                } else if (ligand && !options.keep_ligands) {
+                    ++info.ligands_skipped;
+                } else if (atom.is_hydrogen() && !options.keep_hydrogens) {
+                    ++info.hydrogens_skipped;
+                } else {
+                    float r = vdw_radius(atom.element.name());
+                    if (r <= 0.0f) {
+                        if (!symbols_read) {
+                            symbols = format == StructureFormat::Pdb ? pdb_symbols(text)
+                                                                     : cif_symbols(doc.blocks[0]);
+                            symbols_read = true;
+                        }
+                        auto it = symbols.find(res.name + ' ' + atom.name);
+                        std::string symbol = it == symbols.end() ? "" : it->second;
+                        for (char& c : symbol) c = static_cast<char>(std::toupper(c));
+                        UnknownElement& u = unknown[symbol];
+                        if (u.count++ == 0)
+                            u.example = "atom " + atom.name + " in residue " + res.name;
+                        r = kUnknownElementRadius;
+                    }
+                    atoms.xyz.insert(atoms.xyz.end(),
+                                     {static_cast<float>(p.x), static_cast<float>(p.y),
+                                      static_cast<float>(p.z)});
+                    atoms.radius.push_back(r);
+                    atoms.element.emplace_back(atom.element == gemmi::El::X ? "X"
+                                                                            : atom.element.uname());
+                }
+            }
+        }
+    }
+    for (const auto& [symbol, u] : unknown)
+        info.warnings.push_back(unknown_warning(name, symbol, u));
+    if (atoms.empty())
+        throw Error(ErrorCode::EmptySelection, empty_selection_message(name, options.model, info));
+    return out;
+}
+
+}  // namespace fdmsurf::detail

@@ -1,0 +1,109 @@
+// PQR and XYZR readers: whitespace-separated lines that carry their own radii.
+#include <cctype>
+#include <cmath>
+
+#include "structure/detail.hpp"
+
+namespace fdmsurf::detail {
+
+namespace {
+
+const char* const kAxis[] = {"x", "y", "z"};
+
+// One numeric field; `what` names it in the message ("x coordinate", "radius").
+double number_field(std::string_view field, const char* what, const std::string& name,
+                    std::size_t line) {
+    double value = 0.0;
+    switch (parse_number(field, value)) {
+        case NumberStatus::Ok:
+            break;
+        case NumberStatus::NotNumber:
+            fail_format(name + ": non-numeric " + what + " '" + std::string(field) + "'" +
+                        at_line(line));
+        case NumberStatus::NotFinite:
+            fail_format(name + ": NaN or infinite " + what + " '" + std::string(field) + "'" +
+                        at_line(line));
+    }
+    // Values beyond float range would become infinite in Atoms.
+    if (!std::isfinite(static_cast<float>(value)))
+        fail_format(name + ": " + what + " '" + std::string(field) + "' out of range" +
+                    at_line(line));
+    return value;
+}
+
+void add_atom(Atoms& atoms, const std::vector<std::string_view>& xyzr, const std::string& name,
+              std::size_t line) {
+    for (int i = 0; i < 3; ++i) {
+        std::string what = std::string(kAxis[i]) + " coordinate";
+        atoms.xyz.push_back(static_cast<float>(number_field(xyzr[i], what.c_str(), name, line)));
+    }
+    double r = number_field(xyzr[3], "radius", name, line);
+    if (r <= 0.0)
+        fail_format(name + ": radius " + std::string(xyzr[3]) + " is not > 0" + at_line(line));
+    atoms.radius.push_back(static_cast<float>(r));
+}
+
+// PQR has no element column. Atom names start with the element, except ions, whose residue
+// name is their element ("ZN ZN", "CL CL"): only there a two-letter symbol is taken.
+std::string pqr_element(std::string_view atom_name, std::string_view residue_name) {
+    while (!atom_name.empty() && std::isdigit(static_cast<unsigned char>(atom_name[0])))
+        atom_name.remove_prefix(1);
+    if (atom_name.size() <= 2 && iequals(atom_name, residue_name)) {
+        std::string ion = known_element(atom_name);
+        if (!ion.empty()) return ion;
+    }
+    std::string element = known_element(atom_name.substr(0, 1));
+    return element.empty() ? "X" : element;
+}
+
+Structure finish(Structure s, StructureFormat format, const std::string& name, const char* what) {
+    if (s.atoms.empty()) fail_format(name + ": no atoms (no " + what + " lines)");
+    s.info.format = format;
+    s.info.atoms_in_file = s.atoms.size();
+    s.info.models_in_file = 1;
+    return s;
+}
+
+}  // namespace
+
+// PQR: ATOM/HETATM serial name resName [chainID] resSeq x y z charge radius. The chain is
+// optional and fields are not in fixed columns, so x y z and radius are counted from the end.
+Structure read_pqr(std::string_view text, const std::string& name) {
+    Structure s;
+    LineReader lines(text);
+    std::string_view line;
+    while (lines.next(line)) {
+        std::vector<std::string_view> f = split_fields(line);
+        if (f.empty() || !(iequals(f[0], "ATOM") || iequals(f[0], "HETATM"))) continue;
+        if (f.size() < 10)
+            fail_format(name + ": too few fields for a PQR atom" + at_line(lines.number()) + " (" +
+                        std::to_string(f.size()) +
+                        "; expected: record serial name resName [chain] resSeq x y z charge "
+                        "radius)");
+        std::size_t n = f.size();
+        number_field(f[n - 2], "charge", name, lines.number());
+        add_atom(s.atoms, {f[n - 5], f[n - 4], f[n - 3], f[n - 1]}, name, lines.number());
+        s.atoms.element.push_back(pqr_element(f[2], f[3]));
+    }
+    return finish(std::move(s), StructureFormat::Pqr, name, "ATOM/HETATM");
+}
+
+// XYZR (MSMS): "x y z r" and optionally more fields, which are ignored.
+Structure read_xyzr(std::string_view text, const std::string& name) {
+    Structure s;
+    LineReader lines(text);
+    std::string_view line;
+    while (lines.next(line)) {
+        std::string_view t = trim(line);
+        if (t.empty() || t[0] == '#') continue;
+        std::vector<std::string_view> f = split_fields(t);
+        if (f.size() < 4)
+            fail_format(name + ": too few fields for an XYZR atom" + at_line(lines.number()) +
+                        " (" + std::to_string(f.size()) + "; expected: x y z radius)");
+        add_atom(s.atoms, f, name, lines.number());
+        s.atoms.element.emplace_back();  // XYZR has no element; kept parallel to radius
+    }
+    return finish(std::move(s), StructureFormat::Xyzr, name, "'x y z r'");
+}
+
+}  // namespace fdmsurf::detail

@@ -1,0 +1,226 @@
+// Getting structure text: file reading, gunzip, sanity checks, format detection, line helpers.
+#include <zlib.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <climits>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <new>
+
+#include "structure/detail.hpp"
+
+namespace fdmsurf::detail {
+
+namespace {
+
+std::string lower(std::string_view s) {
+    std::string out(s);
+    for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return out;
+}
+
+bool ends_with(std::string_view s, std::string_view suffix) {
+    return s.size() >= suffix.size() && s.substr(s.size() - suffix.size()) == suffix;
+}
+
+bool istarts_with(std::string_view s, std::string_view prefix) {
+    return s.size() >= prefix.size() && iequals(s.substr(0, prefix.size()), prefix);
+}
+
+std::string read_bytes(const std::string& path) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec))
+        throw Error(ErrorCode::Io, path + ": cannot open (it is a directory)");
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw Error(ErrorCode::Io, path + ": cannot open (" + std::strerror(errno) + ")");
+    std::string bytes;
+    char buffer[1 << 16];
+    while (in.read(buffer, sizeof buffer) || in.gcount() > 0)
+        bytes.append(buffer, static_cast<std::size_t>(in.gcount()));
+    if (in.bad()) throw Error(ErrorCode::Io, path + ": read error");
+    return bytes;
+}
+
+// Own inflate loop rather than gemmi's MaybeGzipped: gzread treats a stream that ends early as
+// a short file, and we want "truncated" to be an error, not a silently shorter structure.
+std::string gunzip(std::string_view gz, const std::string& name) {
+    z_stream zs{};
+    if (inflateInit2(&zs, 16 + MAX_WBITS) != Z_OK)
+        throw Error(ErrorCode::Internal, name + ": zlib inflateInit2 failed");
+    struct Guard {
+        z_stream* zs;
+        ~Guard() { inflateEnd(zs); }
+    } guard{&zs};
+
+    std::string out;
+    std::size_t in_pos = 0;
+    bool at_member_end = false;
+    for (;;) {
+        if (zs.avail_in == 0 && in_pos < gz.size()) {
+            // avail_in is 32-bit: feed large inputs in pieces.
+            std::size_t piece = std::min<std::size_t>(gz.size() - in_pos, 1u << 30);
+            zs.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(gz.data() + in_pos));
+            zs.avail_in = static_cast<uInt>(piece);
+            in_pos += piece;
+        }
+        if (at_member_end) {
+            // Concatenated members are legal gzip; anything else after the end is ignored.
+            if (zs.avail_in < 2 ||
+                !is_gzip(std::string_view(reinterpret_cast<const char*>(zs.next_in), zs.avail_in)))
+                break;
+            inflateReset(&zs);
+            at_member_end = false;
+        }
+        std::size_t old_size = out.size();
+        std::size_t chunk = std::max<std::size_t>(1u << 18, gz.size());
+        out.resize(old_size + chunk);
+        zs.next_out = reinterpret_cast<Bytef*>(out.data() + old_size);
+        zs.avail_out = static_cast<uInt>(chunk);
+        int ret = inflate(&zs, Z_NO_FLUSH);
+        out.resize(old_size + chunk - zs.avail_out);
+        if (ret == Z_STREAM_END) {
+            at_member_end = true;
+        } else if (ret == Z_MEM_ERROR) {
+            throw std::bad_alloc();
+        } else if (ret == Z_DATA_ERROR || ret == Z_NEED_DICT || ret == Z_STREAM_ERROR) {
+            fail_format(name + ": corrupt gzip data (" + (zs.msg ? zs.msg : "inflate failed") +
+                        ")");
+        } else if (zs.avail_in == 0 && in_pos == gz.size() && zs.avail_out != 0) {
+            // inflate wanted more input and there is none.
+            fail_format(name + ": truncated gzip stream (the compressed data ends early)");
+        }
+    }
+    return out;
+}
+
+bool is_text_byte(unsigned char c) {
+    return c >= 0x20 ? c != 0x7f && c < 0x80
+                     : (c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f');
+}
+
+StructureFormat format_from_name(const std::string& name) {
+    std::string n = lower(name);
+    if (ends_with(n, ".gz")) n.resize(n.size() - 3);
+    if (ends_with(n, ".pdb") || ends_with(n, ".ent")) return StructureFormat::Pdb;
+    if (ends_with(n, ".cif") || ends_with(n, ".mmcif")) return StructureFormat::Mmcif;
+    if (ends_with(n, ".pqr")) return StructureFormat::Pqr;
+    if (ends_with(n, ".xyzr")) return StructureFormat::Xyzr;
+    return StructureFormat::Auto;
+}
+
+StructureFormat format_from_content(std::string_view text) {
+    LineReader lines(text);
+    std::string_view line;
+    bool first = true;
+    while (lines.next(line)) {
+        std::string_view t = trim(line);
+        if (t.empty() || t[0] == '#') continue;
+        // mmCIF: the first real line opens a data block.
+        if (first && istarts_with(t, "data_")) return StructureFormat::Mmcif;
+        first = false;
+        if (line.starts_with("ATOM") || line.starts_with("HETATM") || line.starts_with("HEADER"))
+            return StructureFormat::Pdb;
+    }
+    return StructureFormat::Auto;
+}
+
+}  // namespace
+
+void fail_format(const std::string& message) { throw Error(ErrorCode::Format, message); }
+
+std::string at_line(std::size_t line) { return " at line " + std::to_string(line); }
+
+bool is_gzip(std::string_view data) {
+    return data.size() >= 2 && static_cast<unsigned char>(data[0]) == 0x1f &&
+           static_cast<unsigned char>(data[1]) == 0x8b;
+}
+
+std::string load_file(const std::string& path) {
+    std::string bytes = read_bytes(path);
+    return is_gzip(bytes) ? gunzip(bytes, path) : bytes;
+}
+
+void check_text(std::string_view data, const std::string& name) {
+    if (data.empty()) fail_format(name + ": empty file");
+    if (is_gzip(data))
+        fail_format(name +
+                    " is not a text structure file (gzip-compressed data; read the file "
+                    "with read_structure, which decompresses it)");
+    // A NUL anywhere would also cut C-string based parsing short, so it is rejected outright.
+    bool binary = std::memchr(data.data(), '\0', data.size()) != nullptr;
+    std::string_view head = data.substr(0, 4096);
+    auto non_text = std::count_if(head.begin(), head.end(), [](char c) {
+        return !is_text_byte(static_cast<unsigned char>(c));
+    });
+    // Bytes >= 0x80 count as non-text, so the threshold leaves room for UTF-8 in a header.
+    if (binary || non_text * 10 > static_cast<long>(head.size()))
+        fail_format(name + " is not a text structure file (binary data)");
+    if (trim(data).empty()) fail_format(name + ": empty file (only white space)");
+}
+
+StructureFormat detect_format(std::string_view text, const std::string& name) {
+    StructureFormat format = format_from_name(name);
+    if (format == StructureFormat::Auto) format = format_from_content(text);
+    if (format == StructureFormat::Auto)
+        fail_format(name + ": unknown format (expected .pdb, .cif, .pqr or .xyzr)");
+    return format;
+}
+
+bool LineReader::next(std::string_view& line) {
+    if (done_ || rest_.empty()) return false;
+    std::size_t end = rest_.find('\n');
+    if (end == std::string_view::npos) {
+        line = rest_;
+        rest_ = {};
+        done_ = true;
+    } else {
+        line = rest_.substr(0, end);
+        rest_.remove_prefix(end + 1);
+    }
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    ++number_;
+    return true;
+}
+
+std::vector<std::string_view> split_fields(std::string_view line) {
+    std::vector<std::string_view> fields;
+    std::size_t i = 0;
+    while (i < line.size()) {
+        while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+        std::size_t start = i;
+        while (i < line.size() && !std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+        if (i > start) fields.push_back(line.substr(start, i - start));
+    }
+    return fields;
+}
+
+std::string_view trim(std::string_view s) {
+    while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
+    while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
+    return s;
+}
+
+bool iequals(std::string_view a, std::string_view b) {
+    return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
+               return std::tolower(static_cast<unsigned char>(x)) ==
+                      std::tolower(static_cast<unsigned char>(y));
+           });
+}
+
+NumberStatus parse_number(std::string_view s, double& value) {
+    if (s.size() > 1 && s[0] == '+' && s[1] != '-') s.remove_prefix(1);
+    if (s.empty()) return NumberStatus::NotNumber;
+    auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), value);
+    if (end != s.data() + s.size()) return NumberStatus::NotNumber;
+    if (ec == std::errc::result_out_of_range) return NumberStatus::NotFinite;
+    if (ec != std::errc()) return NumberStatus::NotNumber;
+    // from_chars accepts "nan" and "inf": numbers, but not usable ones.
+    return std::isfinite(value) ? NumberStatus::Ok : NumberStatus::NotFinite;
+}
+
+}  // namespace fdmsurf::detail

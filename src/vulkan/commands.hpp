@@ -1,0 +1,72 @@
+// Recording and submitting compute work: dispatches, the barriers we need, copies, timestamps.
+#pragma once
+
+#include <vulkan/vulkan.h>
+
+#include <cstdint>
+#include <initializer_list>
+#include <string>
+#include <vector>
+
+#include "fdmsurf/surface.hpp"
+
+namespace fdmsurf::detail {
+
+class Buffer;
+class ComputePipeline;
+class Context;
+
+struct BufferRange {
+    VkBuffer buffer = VK_NULL_HANDLE;
+    VkDeviceSize offset = 0;
+    VkDeviceSize range = VK_WHOLE_SIZE;
+};
+BufferRange whole(const Buffer& b);
+
+// One command buffer, reused: begin(), record, submit_and_wait(). Owns its pool, fence,
+// descriptor pool and timestamp query pool.
+class Commands {
+public:
+    explicit Commands(Context& ctx);
+    ~Commands();
+    Commands(const Commands&) = delete;
+    Commands& operator=(const Commands&) = delete;
+
+    void begin();
+    void dispatch(const ComputePipeline& pipeline, std::initializer_list<BufferRange> buffers,
+                  const void* push, std::uint32_t gx, std::uint32_t gy = 1, std::uint32_t gz = 1);
+    // Compute writes visible to later compute reads and writes.
+    void barrier_compute();
+    // Compute writes visible to transfer, then transfer writes visible to the host.
+    void copy(const Buffer& src, const Buffer& dst, VkDeviceSize bytes, VkDeviceSize src_offset = 0,
+              VkDeviceSize dst_offset = 0);
+    void barrier_to_host();
+    void barrier_host_to_compute();
+    // Marks the end of a stage named `name` (GPU timestamp when the queue has them).
+    void mark(const char* name);
+    // Submits and waits on the fence with a finite timeout; throws on VK_TIMEOUT.
+    void submit_and_wait(std::uint64_t timeout_ns = 600ull * 1000 * 1000 * 1000);
+    // Stage times of the last submission, from timestamps or host clocks.
+    const std::vector<StageTime>& stage_times() const { return times_; }
+
+    VkCommandBuffer handle() const { return cmd_; }
+    VkCommandPool pool() const { return pool_; }
+    VkFence fence() const { return fence_; }
+
+private:
+    void release();
+    Context& ctx_;
+    VkCommandPool pool_ = VK_NULL_HANDLE;
+    VkCommandBuffer cmd_ = VK_NULL_HANDLE;
+    VkFence fence_ = VK_NULL_HANDLE;
+    VkDescriptorPool descriptors_ = VK_NULL_HANDLE;
+    VkQueryPool queries_ = VK_NULL_HANDLE;
+    std::uint32_t query_count_ = 0;
+    std::vector<std::string> marks_;
+    std::vector<StageTime> times_;
+    double begin_host_ms_ = 0;
+};
+
+double now_ms();
+
+}  // namespace fdmsurf::detail

@@ -1,0 +1,37 @@
+// Uploads and read-backs: direct through mapped memory on unified-memory devices (lavapipe),
+// staged copies on discrete GPUs.
+#include "vulkan/transfer.hpp"
+
+#include <cstring>
+
+#include "vulkan/commands.hpp"
+#include "vulkan/context.hpp"
+
+namespace fdmsurf::detail {
+
+Buffer upload_buffer(Context& ctx, Commands& cmds, StagingArena& arena, const void* data,
+                     std::size_t bytes, const char* name) {
+    Buffer dst(ctx, bytes, MemoryUse::Device, name);
+    if (bytes == 0) return dst;
+    if (dst.host_visible()) {
+        std::memcpy(dst.mapped(), data, bytes);
+        dst.flush();
+        return dst;
+    }
+    Buffer staging(ctx, bytes, MemoryUse::Upload, name);
+    std::memcpy(staging.mapped(), data, bytes);
+    staging.flush();
+    cmds.copy(staging, dst, bytes);
+    arena.buffers.push_back(std::move(staging));
+    return dst;
+}
+
+const Buffer& readback_buffer(Context& ctx, Commands& cmds, StagingArena& arena, const Buffer& src,
+                              std::size_t bytes, const char* name) {
+    if (src.host_visible()) return src;
+    arena.buffers.emplace_back(ctx, bytes, MemoryUse::Readback, name);
+    cmds.copy(src, arena.buffers.back(), bytes);
+    return arena.buffers.back();
+}
+
+}  // namespace fdmsurf::detail

@@ -1,0 +1,330 @@
+// Tests of the command-line parser: every option, both value spellings, every rejected input.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "cli/options.hpp"
+
+namespace {
+
+using fdmsurf::Error;
+using fdmsurf::ErrorCode;
+using fdmsurf::FilterShape;
+using fdmsurf::StructureFormat;
+using fdmsurf::SurfaceKind;
+using fdmsurf::cli::CliOptions;
+using fdmsurf::cli::parse_args;
+
+// The arguments of a normal run followed by `extra`.
+CliOptions parse_with(std::vector<std::string> extra) {
+    std::vector<std::string> args{"in.pdb", "-o", "out.ply"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return parse_args(args);
+}
+
+// The message of the InvalidArgument error that parse_args throws, or a failure.
+std::string parse_error(const std::vector<std::string>& args) {
+    try {
+        parse_args(args);
+    } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ErrorCode::InvalidArgument) << e.what();
+        return e.what();
+    }
+    ADD_FAILURE() << "no error thrown";
+    return {};
+}
+
+std::string parse_error_with(std::vector<std::string> extra) {
+    std::vector<std::string> args{"in.pdb", "-o", "out.ply"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return parse_error(args);
+}
+
+bool contains(const std::string& text, const std::string& part) {
+    return text.find(part) != std::string::npos;
+}
+
+TEST(CliOptions, DefaultsAreTheLibraryDefaults) {
+    const CliOptions o = parse_args({"in.pdb", "-o", "out.ply"});
+    ASSERT_EQ(o.inputs.size(), 1u);
+    EXPECT_EQ(o.inputs[0], "in.pdb");
+    EXPECT_EQ(o.output, "out.ply");
+    const fdmsurf::SurfaceOptions s;
+    EXPECT_EQ(o.surface.surface, s.surface);
+    EXPECT_EQ(o.surface.spacing, s.spacing);
+    EXPECT_EQ(o.surface.probe, s.probe);
+    EXPECT_EQ(o.surface.cutoff, s.cutoff);
+    EXPECT_EQ(o.surface.sigma, s.sigma);
+    EXPECT_EQ(o.surface.level, s.level);
+    EXPECT_EQ(o.surface.filter, s.filter);
+    EXPECT_EQ(o.surface.padding, s.padding);
+    const fdmsurf::ReadOptions r;
+    EXPECT_EQ(o.read.format, r.format);
+    EXPECT_EQ(o.read.model, r.model);
+    EXPECT_EQ(o.read.keep_waters, r.keep_waters);
+    EXPECT_EQ(o.read.keep_hydrogens, r.keep_hydrogens);
+    EXPECT_EQ(o.read.keep_ligands, r.keep_ligands);
+    EXPECT_TRUE(o.engine.device.empty());
+    EXPECT_FALSE(o.engine.validation);
+    EXPECT_FALSE(o.list_devices);
+    EXPECT_FALSE(o.quiet);
+    EXPECT_FALSE(o.json);
+    EXPECT_FALSE(o.help);
+    EXPECT_FALSE(o.version);
+}
+
+TEST(CliOptions, OutputSpellings) {
+    EXPECT_EQ(parse_args({"in.pdb", "-o", "a.obj"}).output, "a.obj");
+    EXPECT_EQ(parse_args({"-o", "a.obj", "in.pdb"}).output, "a.obj");
+    EXPECT_EQ(parse_args({"in.pdb", "--output", "b.ply"}).output, "b.ply");
+    EXPECT_EQ(parse_args({"in.pdb", "--output=c.ply"}).output, "c.ply");
+    EXPECT_EQ(parse_args({"in.pdb", "--output=d=e.ply"}).output, "d=e.ply");
+}
+
+TEST(CliOptions, SurfaceKinds) {
+    EXPECT_EQ(parse_with({"--surface", "ses"}).surface.surface, SurfaceKind::Ses);
+    EXPECT_EQ(parse_with({"--surface", "vdw"}).surface.surface, SurfaceKind::Vdw);
+    EXPECT_EQ(parse_with({"--surface=sas"}).surface.surface, SurfaceKind::Sas);
+    EXPECT_EQ(parse_with({"--surface", "SES"}).surface.surface, SurfaceKind::Ses);
+}
+
+TEST(CliOptions, NumericOptionsInBothSpellings) {
+    const CliOptions a = parse_with({"--spacing", "0.25", "--probe", "1.2", "--cutoff", "0.2",
+                                     "--sigma", "2.5", "--level", "0.8", "--padding", "4"});
+    EXPECT_FLOAT_EQ(a.surface.spacing, 0.25f);
+    EXPECT_FLOAT_EQ(a.surface.probe, 1.2f);
+    EXPECT_FLOAT_EQ(a.surface.cutoff, 0.2f);
+    EXPECT_FLOAT_EQ(a.surface.sigma, 2.5f);
+    EXPECT_FLOAT_EQ(a.surface.level, 0.8f);
+    EXPECT_FLOAT_EQ(a.surface.padding, 4.0f);
+    const CliOptions b = parse_with(
+        {"--spacing=0.75", "--probe=0", "--cutoff=0", "--sigma=1e1", "--level=+2", "--padding=0"});
+    EXPECT_FLOAT_EQ(b.surface.spacing, 0.75f);
+    EXPECT_FLOAT_EQ(b.surface.probe, 0.0f);
+    EXPECT_FLOAT_EQ(b.surface.cutoff, 0.0f);
+    EXPECT_FLOAT_EQ(b.surface.sigma, 10.0f);
+    EXPECT_FLOAT_EQ(b.surface.level, 2.0f);
+    EXPECT_FLOAT_EQ(b.surface.padding, 0.0f);
+}
+
+TEST(CliOptions, LastValueWins) {
+    EXPECT_FLOAT_EQ(parse_with({"--spacing", "1", "--spacing=0.3"}).surface.spacing, 0.3f);
+}
+
+TEST(CliOptions, Filters) {
+    EXPECT_EQ(parse_with({"--filter", "ideal"}).surface.filter, FilterShape::Ideal);
+    EXPECT_EQ(parse_with({"--filter=gaussian"}).surface.filter, FilterShape::Gaussian);
+}
+
+TEST(CliOptions, Model) {
+    EXPECT_EQ(parse_with({"--model", "3"}).read.model, 3);
+    EXPECT_EQ(parse_with({"--model=1"}).read.model, 1);
+}
+
+TEST(CliOptions, SelectionFlags) {
+    const CliOptions o = parse_with({"--waters", "--hydrogens", "--no-ligands"});
+    EXPECT_TRUE(o.read.keep_waters);
+    EXPECT_TRUE(o.read.keep_hydrogens);
+    EXPECT_FALSE(o.read.keep_ligands);
+}
+
+TEST(CliOptions, Formats) {
+    EXPECT_EQ(parse_with({"--format", "pdb"}).read.format, StructureFormat::Pdb);
+    EXPECT_EQ(parse_with({"--format", "cif"}).read.format, StructureFormat::Mmcif);
+    EXPECT_EQ(parse_with({"--format", "mmcif"}).read.format, StructureFormat::Mmcif);
+    EXPECT_EQ(parse_with({"--format", "pqr"}).read.format, StructureFormat::Pqr);
+    EXPECT_EQ(parse_with({"--format=xyzr"}).read.format, StructureFormat::Xyzr);
+}
+
+TEST(CliOptions, DeviceByIndexOrName) {
+    EXPECT_EQ(parse_with({"--device", "1"}).engine.device, "1");
+    EXPECT_EQ(parse_with({"--device=llvmpipe"}).engine.device, "llvmpipe");
+    EXPECT_EQ(parse_with({"--device", "NVIDIA GeForce"}).engine.device, "NVIDIA GeForce");
+}
+
+TEST(CliOptions, OutputFlags) {
+    const CliOptions o = parse_with({"--stats", "json", "--quiet", "--validation"});
+    EXPECT_TRUE(o.json);
+    EXPECT_TRUE(o.quiet);
+    EXPECT_TRUE(o.engine.validation);
+    EXPECT_TRUE(parse_with({"--stats=json"}).json);
+    EXPECT_FALSE(parse_with({"--stats=json", "--stats", "text"}).json);
+}
+
+TEST(CliOptions, HelpVersionAndListDevicesNeedNoInput) {
+    EXPECT_TRUE(parse_args({"--help"}).help);
+    EXPECT_TRUE(parse_args({"-h"}).help);
+    EXPECT_TRUE(parse_args({"--version"}).version);
+    EXPECT_TRUE(parse_args({"--list-devices"}).list_devices);
+    EXPECT_TRUE(parse_args({"in.pdb", "--help"}).help);
+}
+
+TEST(CliOptions, DoubleDashEndsOptions) {
+    const CliOptions o = parse_args({"-o", "out.ply", "--", "-strange name.pdb"});
+    ASSERT_EQ(o.inputs.size(), 1u);
+    EXPECT_EQ(o.inputs[0], "-strange name.pdb");
+}
+
+TEST(CliOptions, UnknownOptionSuggestsHelp) {
+    const std::string message = parse_error_with({"--bogus"});
+    EXPECT_TRUE(contains(message, "unknown option '--bogus'")) << message;
+    EXPECT_TRUE(contains(message, "--help")) << message;
+    EXPECT_TRUE(contains(parse_error_with({"-x"}), "'-x'"));
+    EXPECT_TRUE(contains(parse_error_with({"--bogus=1"}), "'--bogus'"));
+}
+
+TEST(CliOptions, UnknownOptionNearAKnownOneIsCorrected) {
+    const std::string message = parse_error_with({"--spaceing", "1"});
+    EXPECT_TRUE(contains(message, "did you mean --spacing?")) << message;
+    EXPECT_FALSE(contains(parse_error_with({"--zzzzzzzz"}), "did you mean"));
+}
+
+TEST(CliOptions, MissingValue) {
+    for (const char* option :
+         {"--spacing", "--probe", "--cutoff", "--sigma", "--level", "--padding", "--model",
+          "--surface", "--filter", "--format", "--device", "--stats", "--output"}) {
+        const std::string message = parse_error_with({option});
+        EXPECT_TRUE(contains(message, std::string(option) + " needs a value")) << message;
+    }
+    EXPECT_TRUE(contains(parse_error({"in.pdb", "-o"}), "-o needs a value"));
+    EXPECT_TRUE(contains(parse_error_with({"--spacing="}), "--spacing needs a value"));
+    // The next option is not taken as the value.
+    EXPECT_TRUE(contains(parse_error({"in.pdb", "-o", "--quiet"}), "-o needs a value"));
+    EXPECT_TRUE(contains(parse_error_with({"--spacing", "--quiet"}), "needs a value"));
+    EXPECT_TRUE(contains(parse_error_with({"--device", "-h"}), "needs a value"));
+}
+
+TEST(CliOptions, FlagWithValue) {
+    const std::string message = parse_error_with({"--quiet=yes"});
+    EXPECT_TRUE(contains(message, "--quiet takes no value")) << message;
+}
+
+TEST(CliOptions, NonNumeric) {
+    for (const char* value : {"abc", "1.5x", "0x10", " 1", "1 ", "--", "1e", "."}) {
+        const std::string message = parse_error_with({std::string("--spacing=") + value});
+        EXPECT_TRUE(contains(message, "--spacing")) << message;
+        EXPECT_TRUE(contains(message, "not a number")) << message;
+    }
+    EXPECT_TRUE(contains(parse_error_with({"--probe", "one"}), "'one' is not a number"));
+    EXPECT_TRUE(contains(parse_error_with({"--model", "1.5"}), "not a whole number"));
+    EXPECT_TRUE(contains(parse_error_with({"--model", "two"}), "not a whole number"));
+}
+
+TEST(CliOptions, NanAndInfinity) {
+    for (const char* option :
+         {"--spacing", "--probe", "--cutoff", "--sigma", "--level", "--padding"}) {
+        for (const char* value : {"nan", "NaN", "inf", "-inf", "infinity"}) {
+            const std::string message = parse_error_with({option, value});
+            EXPECT_TRUE(contains(message, option)) << message;
+            EXPECT_TRUE(contains(message, "not a finite number")) << message;
+        }
+    }
+}
+
+TEST(CliOptions, OutOfRangeNumbers) {
+    EXPECT_TRUE(contains(parse_error_with({"--spacing", "1e40"}), "out of range"));
+    EXPECT_TRUE(contains(parse_error_with({"--model", "99999999999"}), "out of range"));
+}
+
+TEST(CliOptions, RangeChecks) {
+    struct Case {
+        const char* option;
+        const char* value;
+        const char* condition;
+    };
+    for (const Case& c : {Case{"--spacing", "0", "> 0"}, Case{"--spacing", "-0.5", "> 0"},
+                          Case{"--probe", "-1", ">= 0"}, Case{"--sigma", "0", "> 0"},
+                          Case{"--sigma", "-3", "> 0"}, Case{"--cutoff", "-0.1", ">= 0"},
+                          Case{"--model", "0", ">= 1"}, Case{"--model", "-2", ">= 1"},
+                          Case{"--level", "0", "> 0"}, Case{"--padding", "-1", ">= 0"}}) {
+        const std::string message = parse_error_with({c.option, c.value});
+        EXPECT_TRUE(contains(message, std::string(c.option) + " must be " + c.condition))
+            << message;
+        EXPECT_TRUE(contains(message, std::string("got ") + c.value)) << message;
+        // The same with the `=` spelling.
+        EXPECT_TRUE(
+            contains(parse_error_with({std::string(c.option) + "=" + c.value}), " must be "));
+    }
+}
+
+TEST(CliOptions, UnknownChoices) {
+    const std::string surface = parse_error_with({"--surface", "xyz"});
+    EXPECT_TRUE(contains(surface, "unknown surface kind 'xyz'")) << surface;
+    EXPECT_TRUE(contains(surface, "ses, vdw or sas")) << surface;
+    EXPECT_TRUE(contains(parse_error_with({"--filter", "box"}), "unknown filter 'box'"));
+    EXPECT_TRUE(contains(parse_error_with({"--format", "xyz"}), "unknown input format 'xyz'"));
+    EXPECT_TRUE(contains(parse_error_with({"--stats", "yaml"}), "'yaml'"));
+}
+
+TEST(CliOptions, MissingInput) {
+    EXPECT_TRUE(contains(parse_error({"-o", "out.ply"}), "missing INPUT"));
+    EXPECT_TRUE(contains(parse_error({}), "missing INPUT"));
+}
+
+TEST(CliOptions, MissingOutput) {
+    EXPECT_TRUE(contains(parse_error({"in.pdb"}), "missing -o OUTPUT"));
+}
+
+TEST(CliOptions, MoreThanOneInput) {
+    const std::string message = parse_error({"a.pdb", "b.pdb", "-o", "out.ply"});
+    EXPECT_TRUE(contains(message, "more than one INPUT")) << message;
+    EXPECT_TRUE(contains(message, "'a.pdb', 'b.pdb'")) << message;
+}
+
+TEST(CliOptions, HelpNamesEveryOptionAndExitCode) {
+    const std::string help = fdmsurf::cli::usage_text();
+    for (const char* option :
+         {"--surface",   "--spacing",    "--probe",      "--cutoff", "--sigma",
+          "--level",     "--filter",     "--padding",    "--model",  "--waters",
+          "--hydrogens", "--no-ligands", "--format",     "--device", "--list-devices",
+          "--stats",     "--quiet",      "--validation", "--help",   "--version",
+          "-o"}) {
+        EXPECT_TRUE(contains(help, option)) << option;
+    }
+    for (const char* text : {"Exit codes", "default 0.5", "default 1.4", "default 3", "Å", "1/Å",
+                             "  2  ", "  3  ", "  4  ", "  5  "}) {
+        EXPECT_TRUE(contains(help, text)) << text;
+    }
+}
+
+TEST(CliExitCodes, OnePerErrorClass) {
+    using fdmsurf::cli::exit_code_for;
+    EXPECT_EQ(exit_code_for(ErrorCode::InvalidArgument), 2);
+    EXPECT_EQ(exit_code_for(ErrorCode::Io), 3);
+    EXPECT_EQ(exit_code_for(ErrorCode::Format), 3);
+    EXPECT_EQ(exit_code_for(ErrorCode::EmptySelection), 3);
+    EXPECT_EQ(exit_code_for(ErrorCode::NoDevice), 4);
+    EXPECT_EQ(exit_code_for(ErrorCode::DeviceLimit), 4);
+    EXPECT_EQ(exit_code_for(ErrorCode::Vulkan), 4);
+    EXPECT_EQ(exit_code_for(ErrorCode::Fft), 4);
+    EXPECT_EQ(exit_code_for(ErrorCode::Internal), 1);
+}
+
+TEST(CliOptions, SurfaceNamesRoundTrip) {
+    for (SurfaceKind kind : {SurfaceKind::Ses, SurfaceKind::Vdw, SurfaceKind::Sas}) {
+        const std::string name = fdmsurf::cli::surface_name(kind);
+        EXPECT_EQ(parse_with({"--surface", name}).surface.surface, kind) << name;
+    }
+}
+
+TEST(CliCoarseSpacing, WarnsAboveTheNyquistLimitOfTheFilter) {
+    using fdmsurf::cli::coarse_spacing_warning;
+    fdmsurf::SurfaceOptions s;
+    s.probe = 1.4f;
+    const float cutoff = 1.0f / (4.0f * s.probe);  // limit 1/(2 f_c) = 2 r_s = 2.8 Å
+    s.spacing = 2.8f;
+    EXPECT_FALSE(coarse_spacing_warning(s, cutoff));
+    s.spacing = 3.0f;
+    const auto warning = coarse_spacing_warning(s, cutoff);
+    ASSERT_TRUE(warning);
+    EXPECT_TRUE(contains(*warning, "spacing 3 Å is too coarse")) << *warning;
+    EXPECT_TRUE(contains(*warning, "needs h <= 1/(2 f_c) = 2.8 Å")) << *warning;
+    EXPECT_TRUE(contains(*warning, "0.179 1/Å")) << *warning;
+    s.surface = SurfaceKind::Vdw;
+    EXPECT_FALSE(coarse_spacing_warning(s, 0.0f));
+    s.surface = SurfaceKind::Sas;
+    EXPECT_FALSE(coarse_spacing_warning(s, cutoff));
+}
+
+}  // namespace

@@ -1,0 +1,166 @@
+// Tests of the run summary (text and --stats json) on a made-up report: no device needed.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "cli/json_check.hpp"
+#include "cli/summary.hpp"
+
+namespace {
+
+using fdmsurf::StageTime;
+using fdmsurf::cli::format_grouped;
+using fdmsurf::cli::RunReport;
+using fdmsurf_cli_test::JsonValue;
+using fdmsurf_cli_test::parse_json;
+
+RunReport example_report() {
+    RunReport r;
+    r.version = "0.1.0";
+    r.input = "data/1crn.pdb";
+    r.output = "out \"1\".ply";
+    r.info.atoms_in_file = 327;
+    r.info.models_in_file = 1;
+    r.atoms_used = 327;
+    r.grid.dims = {96, 90, 84};
+    r.grid.spacing = 0.5f;
+    r.grid.origin = {-1.5f, 2.0f, 3.25f};
+    r.grid.cutoff = 0.178571f;
+    r.stats.vertices = 41234;
+    r.stats.triangles = 82464;
+    r.stats.pieces = 1;
+    r.stats.closed_pieces = 1;
+    r.stats.area = 2312.44;
+    r.stats.volume = 4650.06;
+    r.closed_manifold = true;
+    r.device = "llvmpipe (LLVM 15.0.6, 256 bits)";
+    r.times = {{"parse", 3.1, false},
+               {"density", 60.0, true},
+               {"fft-forward", 20.0, true},
+               {"density", 60.4, true},
+               {"write", 12.0, false}};
+    r.total_ms = 812.3;
+    r.warnings = {"unknown element 'Xx' at line 7\tgiven 1.8 Å"};
+    return r;
+}
+
+bool contains(const std::string& text, const std::string& part) {
+    return text.find(part) != std::string::npos;
+}
+
+TEST(CliSummary, GroupsThousands) {
+    EXPECT_EQ(format_grouped(0.0, 0), "0");
+    EXPECT_EQ(format_grouped(999.0, 0), "999");
+    EXPECT_EQ(format_grouped(1000.0, 0), "1,000");
+    EXPECT_EQ(format_grouped(1234567.0, 0), "1,234,567");
+    EXPECT_EQ(format_grouped(2312.44, 1), "2,312.4");
+    EXPECT_EQ(format_grouped(-4650.06, 1), "-4,650.1");
+    EXPECT_EQ(format_grouped(-0.01, 1), "0.0");
+    EXPECT_EQ(format_grouped(-0.5, 1), "-0.5");
+    EXPECT_EQ(format_grouped(999999.96, 1), "1,000,000.0");
+}
+
+TEST(CliSummary, MergesRepeatedStages) {
+    const auto merged = fdmsurf::cli::merge_times(example_report().times);
+    ASSERT_EQ(merged.size(), 4u);
+    EXPECT_EQ(merged[1].name, "density");
+    EXPECT_DOUBLE_EQ(merged[1].ms, 120.4);
+    EXPECT_TRUE(merged[1].gpu);
+    EXPECT_EQ(merged[3].name, "write");
+}
+
+TEST(CliSummary, TextShowsEveryLine) {
+    const std::string text = fdmsurf::cli::text_summary(example_report());
+    for (const char* line :
+         {"fdmsurf 0.1.0: ses surface of data/1crn.pdb\n",
+          "  atoms        327 used (327 in file; 0 waters, 0 hydrogens, 0 altlocs left out)\n",
+          "  grid         96 x 90 x 84 points, spacing 0.5 Å, cut-off 0.179 1/Å\n",
+          "  mesh         41,234 vertices, 82,464 triangles, 1 piece(s), closed manifold: yes\n",
+          "  area         2,312.4 Å²\n", "  volume       4,650.1 Å³\n",
+          "  device       llvmpipe (LLVM 15.0.6, 256 bits)\n",
+          "  time (ms)    parse 3.1 | density 120.4 (gpu) | fft-forward 20.0 (gpu) | write 12.0 | "
+          "total 812.3\n",
+          "  output       out \"1\".ply\n"}) {
+        EXPECT_TRUE(contains(text, line)) << line << "\nin:\n" << text;
+    }
+}
+
+TEST(CliSummary, TextShowsWhatIsMissingFromAnOpenMesh) {
+    RunReport r = example_report();
+    r.surface = fdmsurf::SurfaceKind::Vdw;
+    r.grid.cutoff = 0.0f;
+    r.grid.slabs = 3;
+    r.stats.pieces = 3;
+    r.stats.closed_pieces = 2;
+    r.stats.boundary_edges = 12;
+    r.closed_manifold = false;
+    r.info.ligands_skipped = 5;
+    r.info.models_in_file = 20;
+    r.model = 2;
+    const std::string text = fdmsurf::cli::text_summary(r);
+    EXPECT_TRUE(contains(text, "vdw surface of")) << text;
+    EXPECT_TRUE(contains(text, "no filter, 3 slabs")) << text;
+    EXPECT_TRUE(contains(text,
+                         "3 piece(s) (2 closed), closed manifold: no (12 boundary edges, "
+                         "0 non-manifold edges)"))
+        << text;
+    EXPECT_TRUE(contains(text, "5 ligand atoms")) << text;
+    EXPECT_TRUE(contains(text, "model 2 of 20")) << text;
+}
+
+TEST(CliSummary, JsonIsOneValidObjectWithEveryKey) {
+    const std::string json = fdmsurf::cli::json_summary(example_report());
+    EXPECT_EQ(json.find('\n'), std::string::npos);
+    const auto value = parse_json(json);
+    ASSERT_TRUE(value) << json;
+    ASSERT_EQ(value->type, JsonValue::Type::Object);
+    for (const char* key : {"input",
+                            "output",
+                            "surface",
+                            "atoms_used",
+                            "atoms_in_file",
+                            "waters_skipped",
+                            "hydrogens_skipped",
+                            "altlocs_skipped",
+                            "ligands_skipped",
+                            "grid",
+                            "vertices",
+                            "triangles",
+                            "pieces",
+                            "closed_pieces",
+                            "boundary_edges",
+                            "nonmanifold_edges",
+                            "area",
+                            "volume",
+                            "device",
+                            "times",
+                            "total_ms",
+                            "warnings"}) {
+        EXPECT_NE(value->find(key), nullptr) << key;
+    }
+    EXPECT_EQ(value->find("output")->string, "out \"1\".ply");
+    EXPECT_EQ(value->find("surface")->string, "ses");
+    EXPECT_EQ(value->find("vertices")->number, 41234);
+    EXPECT_EQ(value->find("closed_pieces")->number, 1);
+    EXPECT_EQ(value->find("closed_manifold")->boolean, true);
+    EXPECT_DOUBLE_EQ(value->find("area")->number, 2312.44);
+
+    const JsonValue& grid = *value->find("grid");
+    for (const char* key : {"dims", "spacing", "origin", "cutoff", "slabs"}) {
+        EXPECT_NE(grid.find(key), nullptr) << key;
+    }
+    ASSERT_EQ(grid.find("dims")->array.size(), 3u);
+    EXPECT_EQ(grid.find("dims")->array[2].number, 84);
+    EXPECT_EQ(grid.find("origin")->array[2].number, 3.25);
+    EXPECT_EQ(grid.find("spacing")->number, 0.5);
+
+    const JsonValue& times = *value->find("times");
+    ASSERT_EQ(times.object.size(), 4u);  // no duplicate keys: repeated stages are summed
+    EXPECT_DOUBLE_EQ(times.find("density")->number, 120.4);
+    EXPECT_DOUBLE_EQ(value->find("total_ms")->number, 812.3);
+
+    ASSERT_EQ(value->find("warnings")->array.size(), 1u);
+    EXPECT_EQ(value->find("warnings")->array[0].string, example_report().warnings[0]);
+}
+
+}  // namespace
