@@ -121,10 +121,10 @@ int run(const CliOptions& options) {
         report.warnings.push_back(message);
     };
 
-    // Option checks that need neither the structure nor the device come first.
+    // Option checks that need neither the structure nor the device come first. The warning
+    // for a spacing too coarse for the filter comes from the engine, with result.warnings.
     const MeshFormat format = check_output(options.output);
-    const float cutoff = effective_cutoff(options.surface);
-    if (auto message = coarse_spacing_warning(options.surface, cutoff)) warn(*message);
+    effective_cutoff(options.surface);
 
     auto t = Clock::now();
     const Structure structure = read_structure(input, options.read);

@@ -6,7 +6,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
-#include <cstdio>
+#include <optional>
 #include <string_view>
 #include <system_error>
 
@@ -419,20 +419,6 @@ const char* surface_name(SurfaceKind kind) noexcept {
         if (value == kind) return name.data();
     }
     return "unknown";
-}
-
-std::optional<std::string> coarse_spacing_warning(const SurfaceOptions& options, float cutoff) {
-    if (options.surface != SurfaceKind::Ses || !(cutoff > 0.0f)) return std::nullopt;
-    // Above the Nyquist limit of the grid the low-pass filter removes nothing: the surface is
-    // then the sampled density's, not the filtered one. The tolerance keeps h = 2 r_s quiet.
-    const double limit = 1.0 / (2.0 * static_cast<double>(cutoff));
-    if (static_cast<double>(options.spacing) <= limit * (1.0 + 1e-5)) return std::nullopt;
-    char text[256];
-    std::snprintf(text, sizeof text,
-                  "spacing %g Å is too coarse for the filter cut-off %.3g 1/Å "
-                  "(needs h <= 1/(2 f_c) = %.3g Å)",
-                  static_cast<double>(options.spacing), static_cast<double>(cutoff), limit);
-    return std::string(text);
 }
 
 }  // namespace fdmsurf::cli

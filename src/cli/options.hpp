@@ -1,7 +1,6 @@
 // Command-line options of the fdmsurf program: parsed into the library's option structs.
 #pragma once
 
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -44,10 +43,5 @@ int exit_code_for(fdmsurf::ErrorCode code) noexcept;
 
 // The name the command line uses for a surface kind ("ses", "vdw", "sas").
 const char* surface_name(fdmsurf::SurfaceKind kind) noexcept;
-
-// The warning for a grid too coarse for the ses filter to act (h > 1/(2 f_c)), given the
-// effective cut-off f_c (1/Å); nothing for vdw and sas or when the spacing is fine enough.
-std::optional<std::string> coarse_spacing_warning(const fdmsurf::SurfaceOptions& options,
-                                                  float cutoff);
 
 }  // namespace fdmsurf::cli

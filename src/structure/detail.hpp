@@ -43,9 +43,12 @@ std::vector<std::string_view> split_fields(std::string_view line);
 std::string_view trim(std::string_view s);
 bool iequals(std::string_view a, std::string_view b);
 
-enum class NumberStatus { Ok, NotNumber, NotFinite };
-// The whole of `s` must be one decimal number (a leading '+' allowed, no spaces).
+enum class NumberStatus { Ok, NotNumber, NotFinite, OutOfRange };
+// The whole of `s` must be one decimal number (a leading '+' allowed, no spaces). OutOfRange:
+// beyond what a float holds (Atoms stores floats).
 NumberStatus parse_number(std::string_view s, double& value);
+// "non-numeric x coordinate 'abc'", "NaN or infinite radius 'nan'", ...: for a status not Ok.
+std::string number_problem(NumberStatus status, const std::string& what, std::string_view field);
 
 [[noreturn]] void fail_format(const std::string& message);
 // " at line N", the tail of messages about one line.

@@ -48,14 +48,10 @@ void check_pdb_records(std::string_view text, const std::string& name) {
             std::string columns = std::to_string(31 + 8 * i) + "-" + std::to_string(38 + 8 * i);
             double value = 0.0;
             NumberStatus status = parse_number(trim(field), value);
-            if (status == NumberStatus::Ok && !std::isfinite(static_cast<float>(value)))
-                status = NumberStatus::NotFinite;
             if (status != NumberStatus::Ok)
-                fail_format(
-                    name + ": " +
-                    (status == NumberStatus::NotNumber ? "non-numeric " : "NaN or infinite ") +
-                    kAxis[i] + " coordinate '" + std::string(field) + "' (columns " + columns +
-                    ")" + at_line(lines.number()));
+                fail_format(name + ": " +
+                            number_problem(status, std::string(kAxis[i]) + " coordinate", field) +
+                            " (columns " + columns + ")" + at_line(lines.number()));
         }
     }
 }
@@ -113,24 +109,56 @@ SymbolMap cif_symbols(gemmi::cif::Block& block) {
     return symbols;
 }
 
-struct UnknownElement {
-    std::size_t count = 0;
-    std::string example;  // "atom NAME in residue RES"
-};
-
 std::string counted(std::size_t n, const std::string& noun) {
     return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
 }
 
-std::string unknown_warning(const std::string& name, const std::string& symbol,
-                            const UnknownElement& u) {
-    char radius[16];
-    std::snprintf(radius, sizeof radius, "%.2f", static_cast<double>(kUnknownElementRadius));
-    std::string what = symbol.empty() ? "no element symbol (e.g. " + u.example + ")"
-                                      : "unknown element '" + symbol + "'";
-    return name + ": " + what + " for " + counted(u.count, "atom") + "; radius " + radius +
-           " A used";
-}
+// Radii by element; atoms of unknown element get the default radius, and one warning per
+// distinct symbol as the file writes it (read again only when such an atom turns up).
+class RadiusAssigner {
+public:
+    RadiusAssigner(std::string_view text, gemmi::cif::Document& doc, StructureFormat format)
+        : text_(text), doc_(doc), format_(format) {}
+
+    float radius(const gemmi::Residue& res, const gemmi::Atom& atom) {
+        float r = vdw_radius(atom.element.name());
+        if (r > 0.0f) return r;
+        if (!symbols_read_) {
+            symbols_ =
+                format_ == StructureFormat::Pdb ? pdb_symbols(text_) : cif_symbols(doc_.blocks[0]);
+            symbols_read_ = true;
+        }
+        auto it = symbols_.find(res.name + ' ' + atom.name);
+        std::string symbol = it == symbols_.end() ? "" : it->second;
+        for (char& c : symbol) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+        Unknown& u = unknown_[symbol];
+        if (u.count++ == 0) u.example = "atom " + atom.name + " in residue " + res.name;
+        return kUnknownElementRadius;
+    }
+
+    void add_warnings(const std::string& name, std::vector<std::string>& warnings) const {
+        char radius[16];
+        std::snprintf(radius, sizeof radius, "%.2f", static_cast<double>(kUnknownElementRadius));
+        for (const auto& [symbol, u] : unknown_) {
+            std::string what = symbol.empty() ? "no element symbol (e.g. " + u.example + ")"
+                                              : "unknown element '" + symbol + "'";
+            warnings.push_back(name + ": " + what + " for " + counted(u.count, "atom") +
+                               "; radius " + radius + " A used");
+        }
+    }
+
+private:
+    struct Unknown {
+        std::size_t count = 0;
+        std::string example;  // "atom NAME in residue RES"
+    };
+    std::string_view text_;
+    gemmi::cif::Document& doc_;
+    StructureFormat format_;
+    SymbolMap symbols_;
+    bool symbols_read_ = false;
+    std::map<std::string, Unknown> unknown_;  // by symbol, for a stable warning order
+};
 
 std::string empty_selection_message(const std::string& name, int model, const StructureInfo& info) {
     std::string removed;
@@ -158,6 +186,49 @@ void with_gemmi(const std::string& name, F&& f) {
     } catch (const std::exception& e) {
         std::string what = e.what();
         fail_format(what.starts_with(name) ? what : name + ": " + what);
+    }
+}
+
+// Applies the selection rules to one model; see docs/structure.md for the order of counting.
+void select_atoms(const gemmi::Model& model, const ReadOptions& options, const std::string& name,
+                  RadiusAssigner& radii, Structure& out) {
+    StructureInfo& info = out.info;
+    Atoms& atoms = out.atoms;
+    for (const gemmi::Chain& chain : model.chains) {
+        std::unordered_set<std::string> seen_altloc;  // "seqid atom" of alternate locations kept
+        for (const gemmi::Residue& res : chain.residues) {
+            bool water = res.is_water() || res.entity_type == gemmi::EntityType::Water;
+            bool ligand =
+                !water && res.het_flag == 'H' && res.entity_type != gemmi::EntityType::Polymer;
+            for (const gemmi::Atom& atom : res.atoms) {
+                ++info.atoms_in_file;
+                const gemmi::Position& p = atom.pos;
+                // mmCIF values that are not numbers ('?', text, nan) come out of gemmi as NaN.
+                if (!std::isfinite(static_cast<float>(p.x)) ||
+                    !std::isfinite(static_cast<float>(p.y)) ||
+                    !std::isfinite(static_cast<float>(p.z)))
+                    fail_format(name + ": non-numeric, NaN or infinite coordinates for atom " +
+                                std::to_string(atom.serial) + " (" + chain.name + "/" + res.name +
+                                " " + res.seqid.str() + "/" + atom.name + ")");
+                if (atom.altloc != '\0' &&
+                    !seen_altloc.insert(res.seqid.str() + ' ' + atom.name).second) {
+                    ++info.altlocs_skipped;
+                } else if (water && !options.keep_waters) {
+                    ++info.waters_skipped;
+                } else if (ligand && !options.keep_ligands) {
+                    ++info.ligands_skipped;
+                } else if (atom.is_hydrogen() && !options.keep_hydrogens) {
+                    ++info.hydrogens_skipped;
+                } else {
+                    atoms.xyz.insert(atoms.xyz.end(),
+                                     {static_cast<float>(p.x), static_cast<float>(p.y),
+                                      static_cast<float>(p.z)});
+                    atoms.radius.push_back(radii.radius(res, atom));
+                    atoms.element.emplace_back(atom.element == gemmi::El::X ? "X"
+                                                                            : atom.element.uname());
+                }
+            }
+        }
     }
 }
 
@@ -193,77 +264,20 @@ Structure read_pdb_or_mmcif(const std::string& text_in, const std::string& name,
         fail_format(name + ": no atoms (no " +
                     (format == StructureFormat::Pdb ? "ATOM/HETATM records" : "_atom_site rows") +
                     ")");
-
-    Structure out;
-    StructureInfo& info = out.info;
-    info.format = format;
-    info.models_in_file = st.models.size();
     if (static_cast<std::size_t>(options.model) > st.models.size())
         throw Error(ErrorCode::InvalidArgument, name + ": model " + std::to_string(options.model) +
                                                     " requested, but the file has " +
-                                                    std::to_string(st.models.size()) + " model" +
-                                                    (st.models.size() == 1 ? "" : "s"));
-    const gemmi::Model& model = st.models[static_cast<std::size_t>(options.model - 1)];
+                                                    counted(st.models.size(), "model"));
 
-    SymbolMap symbols;
-    bool symbols_read = false;
-    std::map<std::string, UnknownElement> unknown;
-    Atoms& atoms = out.atoms;
-    for (const gemmi::Chain& chain : model.chains) {
-        std::unordered_set<std::string> seen_altloc;  // "seqid atom" of alternate locations kept
-        for (const gemmi::Residue& res : chain.residues) {
-            bool water = res.is_water() || res.entity_type == gemmi::EntityType::Water;
-            bool ligand =
-                !water && res.het_flag == 'H' && res.entity_type != gemmi::EntityType::Polymer;
-            for (const gemmi::Atom& atom : res.atoms) {
-                ++info.atoms_in_file;
-                const gemmi::Position& p = atom.pos;
-                // mmCIF values that are not numbers ('?', text, nan) come out of gemmi as NaN.
-                if (!std::isfinite(static_cast<float>(p.x)) ||
-                    !std::isfinite(static_cast<float>(p.y)) ||
-                    !std::isfinite(static_cast<float>(p.z)))
-                    fail_format(name + ": non-numeric, NaN or infinite coordinates for atom " +
-                                std::to_string(atom.serial) + " (" + chain.name + "/" + res.name +
-                                " " + res.seqid.str() + "/" + atom.name + ")");
-                if (atom.altloc != '\0' &&
-                    !seen_altloc.insert(res.seqid.str() + ' ' + atom.name).second) {
-                    ++info.altlocs_skipped;
-                } else if (water && !options.keep_waters) {
-                    ++info.waters_skipped;
-                } else if (ligand && !options.keep_ligands) {
-                    ++info.ligands_skipped;
-                } else if (atom.is_hydrogen() && !options.keep_hydrogens) {
-                    ++info.hydrogens_skipped;
-                } else {
-                    float r = vdw_radius(atom.element.name());
-                    if (r <= 0.0f) {
-                        if (!symbols_read) {
-                            symbols = format == StructureFormat::Pdb ? pdb_symbols(text)
-                                                                     : cif_symbols(doc.blocks[0]);
-                            symbols_read = true;
-                        }
-                        auto it = symbols.find(res.name + ' ' + atom.name);
-                        std::string symbol = it == symbols.end() ? "" : it->second;
-                        for (char& c : symbol) c = static_cast<char>(std::toupper(c));
-                        UnknownElement& u = unknown[symbol];
-                        if (u.count++ == 0)
-                            u.example = "atom " + atom.name + " in residue " + res.name;
-                        r = kUnknownElementRadius;
-                    }
-                    atoms.xyz.insert(atoms.xyz.end(),
-                                     {static_cast<float>(p.x), static_cast<float>(p.y),
-                                      static_cast<float>(p.z)});
-                    atoms.radius.push_back(r);
-                    atoms.element.emplace_back(atom.element == gemmi::El::X ? "X"
-                                                                            : atom.element.uname());
-                }
-            }
-        }
-    }
-    for (const auto& [symbol, u] : unknown)
-        info.warnings.push_back(unknown_warning(name, symbol, u));
-    if (atoms.empty())
-        throw Error(ErrorCode::EmptySelection, empty_selection_message(name, options.model, info));
+    Structure out;
+    out.info.format = format;
+    out.info.models_in_file = st.models.size();
+    RadiusAssigner radii(text, doc, format);
+    select_atoms(st.models[static_cast<std::size_t>(options.model - 1)], options, name, radii, out);
+    radii.add_warnings(name, out.info.warnings);
+    if (out.atoms.empty())
+        throw Error(ErrorCode::EmptySelection,
+                    empty_selection_message(name, options.model, out.info));
     return out;
 }
 

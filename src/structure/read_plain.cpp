@@ -11,23 +11,12 @@ namespace {
 const char* const kAxis[] = {"x", "y", "z"};
 
 // One numeric field; `what` names it in the message ("x coordinate", "radius").
-double number_field(std::string_view field, const char* what, const std::string& name,
+double number_field(std::string_view field, const std::string& what, const std::string& name,
                     std::size_t line) {
     double value = 0.0;
-    switch (parse_number(field, value)) {
-        case NumberStatus::Ok:
-            break;
-        case NumberStatus::NotNumber:
-            fail_format(name + ": non-numeric " + what + " '" + std::string(field) + "'" +
-                        at_line(line));
-        case NumberStatus::NotFinite:
-            fail_format(name + ": NaN or infinite " + what + " '" + std::string(field) + "'" +
-                        at_line(line));
-    }
-    // Values beyond float range would become infinite in Atoms.
-    if (!std::isfinite(static_cast<float>(value)))
-        fail_format(name + ": " + what + " '" + std::string(field) + "' out of range" +
-                    at_line(line));
+    NumberStatus status = parse_number(field, value);
+    if (status != NumberStatus::Ok)
+        fail_format(name + ": " + number_problem(status, what, field) + at_line(line));
     return value;
 }
 
@@ -35,7 +24,7 @@ void add_atom(Atoms& atoms, const std::vector<std::string_view>& xyzr, const std
               std::size_t line) {
     for (int i = 0; i < 3; ++i) {
         std::string what = std::string(kAxis[i]) + " coordinate";
-        atoms.xyz.push_back(static_cast<float>(number_field(xyzr[i], what.c_str(), name, line)));
+        atoms.xyz.push_back(static_cast<float>(number_field(xyzr[i], what, name, line)));
     }
     double r = number_field(xyzr[3], "radius", name, line);
     if (r <= 0.0)

@@ -217,10 +217,26 @@ NumberStatus parse_number(std::string_view s, double& value) {
     if (s.empty()) return NumberStatus::NotNumber;
     auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), value);
     if (end != s.data() + s.size()) return NumberStatus::NotNumber;
-    if (ec == std::errc::result_out_of_range) return NumberStatus::NotFinite;
+    if (ec == std::errc::result_out_of_range) return NumberStatus::OutOfRange;
     if (ec != std::errc()) return NumberStatus::NotNumber;
     // from_chars accepts "nan" and "inf": numbers, but not usable ones.
-    return std::isfinite(value) ? NumberStatus::Ok : NumberStatus::NotFinite;
+    if (!std::isfinite(value)) return NumberStatus::NotFinite;
+    return std::isfinite(static_cast<float>(value)) ? NumberStatus::Ok : NumberStatus::OutOfRange;
+}
+
+std::string number_problem(NumberStatus status, const std::string& what, std::string_view field) {
+    std::string quoted = " '" + std::string(field) + "'";
+    switch (status) {
+        case NumberStatus::NotNumber:
+            return "non-numeric " + what + quoted;
+        case NumberStatus::NotFinite:
+            return "NaN or infinite " + what + quoted;
+        case NumberStatus::OutOfRange:
+            return what + quoted + " out of range";
+        case NumberStatus::Ok:
+            break;
+    }
+    return what + quoted;
 }
 
 }  // namespace fdmsurf::detail

@@ -308,23 +308,4 @@ TEST(CliOptions, SurfaceNamesRoundTrip) {
     }
 }
 
-TEST(CliCoarseSpacing, WarnsAboveTheNyquistLimitOfTheFilter) {
-    using fdmsurf::cli::coarse_spacing_warning;
-    fdmsurf::SurfaceOptions s;
-    s.probe = 1.4f;
-    const float cutoff = 1.0f / (4.0f * s.probe);  // limit 1/(2 f_c) = 2 r_s = 2.8 Å
-    s.spacing = 2.8f;
-    EXPECT_FALSE(coarse_spacing_warning(s, cutoff));
-    s.spacing = 3.0f;
-    const auto warning = coarse_spacing_warning(s, cutoff);
-    ASSERT_TRUE(warning);
-    EXPECT_TRUE(contains(*warning, "spacing 3 Å is too coarse")) << *warning;
-    EXPECT_TRUE(contains(*warning, "needs h <= 1/(2 f_c) = 2.8 Å")) << *warning;
-    EXPECT_TRUE(contains(*warning, "0.179 1/Å")) << *warning;
-    s.surface = SurfaceKind::Vdw;
-    EXPECT_FALSE(coarse_spacing_warning(s, 0.0f));
-    s.surface = SurfaceKind::Sas;
-    EXPECT_FALSE(coarse_spacing_warning(s, cutoff));
-}
-
 }  // namespace

@@ -32,22 +32,24 @@ inline std::string read_text_file(const std::string& path) {
 class TempFile {
 public:
     TempFile(const std::string& name, std::string_view bytes) {
-        std::filesystem::path dir = std::filesystem::temp_directory_path() /
-                                    ("fdmsurf_structure_test_" + std::to_string(::getpid()));
-        std::filesystem::create_directories(dir);
-        path_ = (dir / name).string();
+        dir_ = std::filesystem::temp_directory_path() /
+               ("fdmsurf_structure_test_" + std::to_string(::getpid()));
+        std::filesystem::create_directories(dir_);
+        path_ = (dir_ / name).string();
         std::ofstream out(path_, std::ios::binary);
         out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
     }
     ~TempFile() {
         std::error_code ec;
         std::filesystem::remove(path_, ec);
+        std::filesystem::remove(dir_, ec);  // only once empty
     }
     TempFile(const TempFile&) = delete;
     TempFile& operator=(const TempFile&) = delete;
     const std::string& path() const { return path_; }
 
 private:
+    std::filesystem::path dir_;
     std::string path_;
 };
 
