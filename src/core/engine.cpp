@@ -1,8 +1,10 @@
 // The pipeline (Giard & Macq 2010): density, spectral filter, marching cubes, on one device.
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <string>
 
+#include "core/engine_impl.hpp"
 #include "fdmsurf/fdmsurf.hpp"
 #include "filter/spectral_filter.hpp"
 #include "grid/atom_bins.hpp"
@@ -15,25 +17,6 @@
 
 namespace fdmsurf {
 namespace detail {
-
-struct EngineImpl {
-    explicit EngineImpl(const EngineOptions& options)
-        : glslang(), context(options), commands(context), density(context), filter(context),
-          marching_cubes(context) {}
-
-    // Holds glslang for VkFFT from before the first plan to after the last.
-    struct GlslangGuard {
-        GlslangGuard() { glslang_acquire(); }
-        ~GlslangGuard() { glslang_release(); }
-    } glslang;
-    Context context;
-    Commands commands;
-    DensityPass density;
-    SpectralFilter filter;
-    MarchingCubesPass marching_cubes;
-
-    SurfaceResult run(const Atoms& atoms, const SurfaceOptions& options);
-};
 
 namespace {
 
@@ -91,6 +74,49 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options)
     result.mesh = marching_cubes.read_back(commands, gpu);
     for (const StageTime& t : commands.stage_times()) result.times.push_back(t);
     return result;
+}
+
+
+std::vector<float> EngineImpl::compute_field(const Atoms& atoms, const GridPlan& plan, bool filtered,
+                                             FilterShape shape) {
+    AtomBins bins = bin_atoms(atoms, plan);
+    StagingArena arena;
+    const std::size_t bytes = plan.field_floats() * sizeof(float);
+    Buffer field(context, bytes, MemoryUse::Device, "field");
+    commands.begin();
+    density.record(commands, arena, bins, plan, field);
+    if (filtered) filter.record(commands, field, plan, shape);
+    const Buffer& host = readback_buffer(context, commands, arena, field, bytes, "field_readback");
+    commands.barrier_to_host();
+    commands.submit_and_wait();
+    host.invalidate();
+    std::vector<float> out(plan.field_floats());
+    std::memcpy(out.data(), host.mapped(), bytes);
+    return out;
+}
+
+void EngineImpl::filter_field(std::vector<float>& values, const GridPlan& plan, FilterShape shape) {
+    StagingArena arena;
+    const std::size_t bytes = values.size() * sizeof(float);
+    commands.begin();
+    Buffer field = upload_buffer(context, commands, arena, values.data(), bytes, "field");
+    commands.barrier_compute();
+    filter.record(commands, field, plan, shape);
+    const Buffer& host = readback_buffer(context, commands, arena, field, bytes, "field_readback");
+    commands.barrier_to_host();
+    commands.submit_and_wait();
+    host.invalidate();
+    std::memcpy(values.data(), host.mapped(), bytes);
+}
+
+Mesh EngineImpl::run_marching_cubes(const FieldView& f, const McParams& params) {
+    StagingArena arena;
+    const std::size_t bytes = std::size_t(f.pitch) * f.ny * f.nz * sizeof(float);
+    commands.begin();
+    Buffer field = upload_buffer(context, commands, arena, f.data, bytes, "field");
+    commands.barrier_compute();
+    GpuMesh gpu = marching_cubes.run(commands, arena, field, f.nx, f.ny, f.nz, f.pitch, params);
+    return marching_cubes.read_back(commands, gpu);
 }
 
 }  // namespace detail

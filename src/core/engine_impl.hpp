@@ -1,0 +1,47 @@
+// The engine's internals: the Vulkan objects and stage passes it owns, and hooks for the tests
+// that compare each GPU stage with its CPU reference.
+#pragma once
+
+#include <vector>
+
+#include "fdmsurf/surface.hpp"
+#include "filter/spectral_filter.hpp"
+#include "grid/atom_bins.hpp"
+#include "grid/density_gpu.hpp"
+#include "grid/grid_plan.hpp"
+#include "isosurface/marching_cubes_cpu.hpp"
+#include "isosurface/marching_cubes_gpu.hpp"
+#include "vulkan/commands.hpp"
+#include "vulkan/context.hpp"
+
+namespace fdmsurf::detail {
+
+struct EngineImpl {
+    explicit EngineImpl(const EngineOptions& options)
+        : glslang(), context(options), commands(context), density(context), filter(context),
+          marching_cubes(context) {}
+
+    // Holds glslang for VkFFT from before the first plan to after the last.
+    struct GlslangGuard {
+        GlslangGuard() { glslang_acquire(); }
+        ~GlslangGuard() { glslang_release(); }
+    } glslang;
+    Context context;
+    Commands commands;
+    DensityPass density;
+    SpectralFilter filter;
+    MarchingCubesPass marching_cubes;
+
+    SurfaceResult run(const Atoms& atoms, const SurfaceOptions& options);
+
+    // Test hooks. The density (filtered = false) or filtered density of `atoms` on `plan`'s
+    // grid, read back in the plan's layout (plan.pitch floats per row).
+    std::vector<float> compute_field(const Atoms& atoms, const GridPlan& plan, bool filtered,
+                                     FilterShape shape = FilterShape::Ideal);
+    // The spectral filter alone, on a host field in `plan`'s layout (in place).
+    void filter_field(std::vector<float>& field, const GridPlan& plan, FilterShape shape);
+    // GPU marching cubes on a host field; same contract as marching_cubes_cpu.
+    Mesh run_marching_cubes(const FieldView& field, const McParams& params);
+};
+
+}  // namespace fdmsurf::detail
