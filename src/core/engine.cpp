@@ -1,4 +1,5 @@
 // The pipeline (Giard & Macq 2010): density, spectral filter, marching cubes, on one device.
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <memory>
@@ -11,6 +12,7 @@
 #include "grid/density_gpu.hpp"
 #include "grid/grid_plan.hpp"
 #include "isosurface/marching_cubes_gpu.hpp"
+#include "isosurface/slab_stitch.hpp"
 #include "vulkan/check.hpp"
 #include "vulkan/commands.hpp"
 #include "vulkan/context.hpp"
@@ -30,12 +32,41 @@ std::string spacing_hint(double bytes, double limit, float spacing) {
 
 }  // namespace
 
+namespace {
+
+// The atoms whose Gaussian support reaches global planes [z0, z1) of `plan`.
+Atoms atoms_near_planes(const Atoms& atoms, const GridPlan& plan, double z0, double z1) {
+    const double h = plan.info.spacing, oz = plan.info.origin[2];
+    Atoms out;
+    for (std::size_t i = 0; i < atoms.size(); ++i) {
+        double r = atoms.radius[i] + plan.density.radius_add;
+        double reach = std::sqrt(r * r + plan.density.pi_cut) + h;
+        double z = atoms.xyz[3 * i + 2];
+        if (z + reach < oz + z0 * h || z - reach > oz + (z1 - 1) * h) continue;
+        out.xyz.insert(out.xyz.end(), atoms.xyz.begin() + 3 * i, atoms.xyz.begin() + 3 * i + 3);
+        out.radius.push_back(atoms.radius[i]);
+    }
+    return out;
+}
+
+void add_times(std::vector<StageTime>& into, const std::vector<StageTime>& times) {
+    for (const StageTime& t : times) {
+        auto it = std::find_if(into.begin(), into.end(),
+                               [&](const StageTime& u) { return u.name == t.name; });
+        if (it == into.end())
+            into.push_back(t);
+        else
+            it->ms += t.ms;
+    }
+}
+
+}  // namespace
+
 SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options) {
     SurfaceResult result;
     double t0 = now_ms();
     GridPlan plan = plan_grid(atoms, options);
     result.grid = plan.info;
-    const auto& d = plan.info.dims;
     if (plan.filtered && options.spacing > 1.0f / (2.0f * plan.info.cutoff)) {
         char buf[200];
         std::snprintf(buf, sizeof buf,
@@ -46,18 +77,11 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options)
     }
     const double field_bytes = double(plan.field_floats()) * sizeof(float);
     const double limit = double(context.limits().max_storage_buffer_range);
-    if (field_bytes > limit)
-        throw Error(ErrorCode::DeviceLimit,
-                    "the grid of " + std::to_string(d[0]) + " x " + std::to_string(d[1]) + " x " +
-                        std::to_string(d[2]) + " points needs " +
-                        std::to_string(static_cast<long long>(field_bytes) >> 20) +
-                        " MiB in one storage buffer, more than this device's maxStorageBufferRange (" +
-                        std::to_string(static_cast<long long>(limit) >> 20) +
-                        " MiB); a spacing of " + spacing_hint(field_bytes, limit, options.spacing) +
-                        " Å would fit");
+    if (field_bytes > limit) return run_in_slabs(atoms, options, plan, std::move(result));
+
+    const auto& d = plan.info.dims;
     AtomBins bins = bin_atoms(atoms, plan);
     result.times.push_back({"bin-atoms", now_ms() - t0, false});
-
     StagingArena arena;
     Buffer field(context, static_cast<VkDeviceSize>(field_bytes), MemoryUse::Device, "field");
     commands.begin();
@@ -70,12 +94,116 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options)
     mc.z_begin = 0;
     mc.z_end = d[2] - 1;
     GpuMesh gpu = marching_cubes.run(commands, arena, field, d[0], d[1], d[2], plan.pitch, mc);
-    for (const StageTime& t : marching_cubes.stage_times()) result.times.push_back(t);
+    add_times(result.times, marching_cubes.stage_times());
     result.mesh = marching_cubes.read_back(commands, gpu);
-    for (const StageTime& t : commands.stage_times()) result.times.push_back(t);
+    add_times(result.times, commands.stage_times());
     return result;
 }
 
+// A grid larger than one storage-buffer binding: the density and the filter run on overlapping
+// z-slabs (the overlap absorbs the truncation and the circular wrap of each slab's FFT), their
+// cores are assembled on the host, and marching cubes runs on z-slabs of that field, stitched by
+// shared-plane vertex identity.
+SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions& options,
+                                       GridPlan plan, SurfaceResult result) {
+    const auto d = plan.info.dims;
+    const double h = plan.info.spacing;
+    const std::uint64_t limit = context.limits().max_storage_buffer_range;
+    const std::uint64_t plane_bytes = std::uint64_t(plan.pitch) * d[1] * sizeof(float);
+    // Overlap: two filter wavelengths on each side, none without a filter (exact per point).
+    const std::uint32_t overlap =
+        plan.filtered ? static_cast<std::uint32_t>(std::ceil(2.0 / plan.info.cutoff / h)) : 0;
+    std::uint32_t slab_planes = static_cast<std::uint32_t>(std::min<std::uint64_t>(limit / plane_bytes, d[2]));
+    if (plan.filtered) {
+        while (slab_planes > 2 && fft_friendly_size(slab_planes, false) != slab_planes) --slab_planes;
+    }
+    if (slab_planes < 2 * overlap + 8) {
+        const double need = double(plane_bytes) * (2 * overlap + 8);
+        throw Error(ErrorCode::DeviceLimit,
+                    "the grid of " + std::to_string(d[0]) + " x " + std::to_string(d[1]) + " x " +
+                        std::to_string(d[2]) + " points is too wide to be processed in z-slabs " +
+                        "within this device's maxStorageBufferRange (" + std::to_string(limit >> 20) +
+                        " MiB); a spacing of " + spacing_hint(need, double(limit), options.spacing) +
+                        " Å would fit");
+    }
+    const std::uint32_t core = slab_planes - 2 * overlap;
+    const std::uint32_t slabs = (d[2] + core - 1) / core;
+    result.grid.slabs = slabs;
+
+    // Density and filter, slab by slab, into the host field (pitch nx).
+    std::vector<float> full(std::size_t(d[0]) * d[1] * d[2]);
+    GridPlan sp = plan;
+    sp.info.dims[2] = slab_planes;
+    const std::size_t slab_bytes = sp.field_floats() * sizeof(float);
+    Buffer field(context, slab_bytes, MemoryUse::Device, "field_slab");
+    for (std::uint32_t k = 0; k < slabs; ++k) {
+        double t0 = now_ms();
+        const std::int64_t zc0 = std::int64_t(k) * core;
+        const std::int64_t zc1 = std::min<std::int64_t>(zc0 + core, d[2]);
+        const std::int64_t z0 = zc0 - overlap;
+        sp.info.origin[2] = static_cast<float>(plan.info.origin[2] + z0 * h);
+        Atoms near = atoms_near_planes(atoms, plan, double(z0), double(z0 + slab_planes));
+        StagingArena arena;
+        if (near.empty()) {
+            // Nothing reaches this slab: its density, and so its filtered field, is 0.
+            std::fill(full.begin() + zc0 * d[0] * d[1], full.begin() + zc1 * d[0] * d[1], 0.0f);
+            continue;
+        }
+        AtomBins bins = bin_atoms(near, sp);
+        add_times(result.times, {{"bin-atoms", now_ms() - t0, false}});
+        commands.begin();
+        density.record(commands, arena, bins, sp, field);
+        if (sp.filtered) filter.record(commands, field, sp, options.filter);
+        const Buffer& host = readback_buffer(context, commands, arena, field, slab_bytes, "field_readback");
+        commands.barrier_to_host();
+        commands.mark("read-field");
+        commands.submit_and_wait();
+        add_times(result.times, commands.stage_times());
+        host.invalidate();
+        const float* src = static_cast<const float*>(host.mapped());
+        for (std::int64_t z = zc0; z < zc1; ++z)
+            for (std::uint32_t y = 0; y < d[1]; ++y)
+                std::memcpy(&full[(std::size_t(z) * d[1] + y) * d[0]],
+                            src + (std::size_t(z - z0) * d[1] + y) * sp.pitch, d[0] * sizeof(float));
+    }
+
+    // Marching cubes on z-slabs of the host field, each with one extra plane on both sides so
+    // that the gradients (normals) equal those of a single pass.
+    const FieldView view{full.data(), d[0], d[1], d[2], d[0]};
+    const std::uint64_t mc_plane_bytes = std::uint64_t(d[0]) * d[1] * sizeof(float);
+    const std::uint32_t mc_cells =
+        static_cast<std::uint32_t>(std::min<std::uint64_t>(limit / mc_plane_bytes - 3, d[2] - 1));
+    std::vector<Mesh> parts;
+    std::vector<std::uint32_t> starts;
+    for (std::uint32_t a = 0; a + 1 < d[2]; a += mc_cells) {
+        const std::uint32_t b = std::min(a + mc_cells, d[2] - 1);
+        const std::uint32_t lo = a > 0 ? a - 1 : 0;
+        const std::uint32_t hi = std::min(b + 1, d[2] - 1);
+        McParams mc;
+        mc.origin[0] = plan.info.origin[0];
+        mc.origin[1] = plan.info.origin[1];
+        mc.origin[2] = static_cast<float>(plan.info.origin[2] + lo * h);
+        mc.spacing = plan.info.spacing;
+        mc.iso = plan.iso;
+        mc.z_begin = a - lo;
+        mc.z_end = b - lo;
+        StagingArena arena;
+        commands.begin();
+        Buffer part_field = upload_buffer(context, commands, arena, full.data() + std::size_t(lo) * d[0] * d[1],
+                                          std::size_t(hi - lo + 1) * mc_plane_bytes, "field_part");
+        commands.barrier_compute();
+        GpuMesh gpu = marching_cubes.run(commands, arena, part_field, d[0], d[1], hi - lo + 1, d[0], mc);
+        add_times(result.times, marching_cubes.stage_times());
+        parts.push_back(marching_cubes.read_back(commands, gpu));
+        add_times(result.times, commands.stage_times());
+        starts.push_back(a);
+    }
+    starts.push_back(d[2] - 1);
+    double t1 = now_ms();
+    result.mesh = stitch_slabs(parts, view, plan.iso, starts);
+    result.times.push_back({"stitch", now_ms() - t1, false});
+    return result;
+}
 
 std::vector<float> EngineImpl::compute_field(const Atoms& atoms, const GridPlan& plan, bool filtered,
                                              FilterShape shape) {

@@ -33,6 +33,8 @@ struct EngineImpl {
     MarchingCubesPass marching_cubes;
 
     SurfaceResult run(const Atoms& atoms, const SurfaceOptions& options);
+    SurfaceResult run_in_slabs(const Atoms& atoms, const SurfaceOptions& options, GridPlan plan,
+                               SurfaceResult result);
 
     // Test hooks. The density (filtered = false) or filtered density of `atoms` on `plan`'s
     // grid, read back in the plan's layout (plan.pitch floats per row).

@@ -1,0 +1,72 @@
+#!/usr/bin/env bash
+# Installs fdmsurf's build and test dependencies on Debian 12 and builds it in build/ (Release).
+#
+# Run as root (or through sudo) from anywhere: ./scripts/setup-debian.sh
+# Idempotent: when every package is already installed apt is skipped entirely (fast, works
+# offline), and the CMake build is incremental.
+# Environment: FDMSURF_BUILD_DIR (default build), FDMSURF_BUILD_TYPE (default Release).
+set -euo pipefail
+
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+
+build_dir=${FDMSURF_BUILD_DIR:-build}
+build_type=${FDMSURF_BUILD_TYPE:-Release}
+
+packages=(
+    # compilers and build tools
+    build-essential cmake ninja-build pkg-config git
+    # Vulkan loader and headers; lavapipe, the CPU driver (a Vulkan device on machines without
+    # a GPU); the validation layer (--validation and the tests); vulkaninfo for diagnosis
+    libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
+    # shaders are compiled at build time (glslangValidator); VkFFT compiles its own at run time
+    # through glslang's library, which needs SPIRV-Tools
+    glslang-tools glslang-dev spirv-tools libvkfft-dev
+    # structure input: gemmi is header-only and its CIF parser needs PEGTL, which gemmi-dev
+    # does not pull in (docs/structure.md); zlib for .gz
+    gemmi-dev tao-pegtl-dev zlib1g-dev
+    # GoogleTest, FFTW (CPU reference of the filter), glm (tests)
+    libglm-dev libgtest-dev libfftw3-dev
+    # ../shared/tools/meshstat.py; python3 also parses --stats json in scripts/all-structures.sh
+    python3 python3-numpy python3-scipy
+    # gzip; GNU time (/usr/bin/time -v) for the peak memory column of scripts/all-structures.sh
+    gzip time
+)
+
+missing=()
+for p in "${packages[@]}"; do
+    status=$(dpkg-query -W -f='${db:Status-Status}' "$p" 2>/dev/null || true)
+    [[ $status == installed ]] || missing+=("$p")
+done
+
+if ((${#missing[@]})); then
+    echo "setup-debian: installing ${missing[*]}"
+    as_root=()
+    if ((EUID != 0)); then
+        if command -v sudo >/dev/null 2>&1; then
+            as_root=(sudo)
+        else
+            echo "setup-debian: these packages are missing and this is not root (no sudo either):" >&2
+            echo "  ${missing[*]}" >&2
+            echo "run this script as root" >&2
+            exit 1
+        fi
+    fi
+    # env, not export: sudo drops the caller's environment
+    "${as_root[@]}" env DEBIAN_FRONTEND=noninteractive apt-get update
+    "${as_root[@]}" env DEBIAN_FRONTEND=noninteractive \
+        apt-get install -y --no-install-recommends "${missing[@]}"
+else
+    echo "setup-debian: all ${#packages[@]} packages are installed; apt skipped"
+fi
+
+# A build folder made by another generator cannot be reused with -G Ninja.
+cache="$build_dir/CMakeCache.txt"
+if [[ -f $cache ]] && ! grep -qx 'CMAKE_GENERATOR:INTERNAL=Ninja' "$cache"; then
+    echo "setup-debian: $build_dir/ was configured with another generator" \
+         "($(sed -n 's/^CMAKE_GENERATOR:INTERNAL=//p' "$cache")); remove it or set FDMSURF_BUILD_DIR" >&2
+    exit 1
+fi
+
+cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE="$build_type"
+cmake --build "$build_dir"
+echo "setup-debian: built $(pwd)/$build_dir/fdmsurf"

@@ -1,0 +1,144 @@
+// Tests of the GPU density pass (src/grid/density_gpu.cpp, shaders/density.comp) against the
+// brute-force double-precision reference of src/grid/density_cpu.cpp (Giard & Macq 2010, §2).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "fdmsurf/structure.hpp"
+#include "fdmsurf/surface.hpp"
+#include "grid/density_cpu.hpp"
+#include "grid/grid_plan.hpp"
+#include "support/gpu_fixture.hpp"
+
+namespace {
+
+using fdmsurf::Atoms;
+using fdmsurf::SurfaceKind;
+using fdmsurf::SurfaceOptions;
+using fdmsurf::detail::density_at;
+using fdmsurf::detail::density_cpu;
+using fdmsurf::detail::GridPlan;
+using fdmsurf::detail::plan_grid;
+
+std::string data_path(const std::string& name) {
+    return std::string(FDMSURF_TEST_DATA_DIR) + "/" + name;
+}
+
+// Tolerance. The GPU works in float: the grid point origin + h * i, the atom centre and r² are
+// rounded to float (about 6e-8 relative, so ~2e-6 Å at 30 Å from the origin) and |p - c|² - r²
+// is summed in float; with |p - c| up to ~8 Å inside the Gaussian support that is an error of
+// up to ~5e-5 Å² in the power distance pi, i.e. a relative error of ~5e-6 in exp(-pi / σ²)
+// at σ = 3 Å, plus a few ulps from the float exp. Hence
+//     |gpu - cpu| <= 1e-5 * |cpu| + 1e-6 * T.
+// Where pi sits at the cut pi_cut (density density_cut * T) the same rounding can put a point on
+// either side of the cut: a tie, one side 0 and the other within 1e-4 relative of the cut value.
+// Ties are counted separately and must stay rare (at most 1e-4 of the points compared).
+constexpr double kRelTol = 1e-5;
+constexpr double kAbsTol = 1e-6;  // times T
+constexpr double kTieBand = 1e-4;
+
+struct Comparison {
+    std::size_t points = 0;
+    std::size_t bad = 0;   // outside the tolerance (and not a tie)
+    std::size_t ties = 0;  // one side cut to 0, the other at the cut value
+    double max_abs = 0.0;  // largest |gpu - cpu| over non-tie points
+    double max_rel = 0.0;  // largest |gpu - cpu| / max(|cpu|, 1e-3 T) over non-tie points
+    std::string first_bad;
+
+    void add(double gpu, double cpu, const GridPlan& plan, std::uint32_t x, std::uint32_t y,
+             std::uint32_t z) {
+        ++points;
+        const double t = plan.density.level_t;
+        const double cut_value = t * std::exp(-double(plan.density.pi_cut) /
+                                              (double(plan.density.sigma) * plan.density.sigma));
+        auto at_cut = [&](double v) { return std::abs(v - cut_value) <= kTieBand * cut_value; };
+        if ((gpu == 0.0 && at_cut(cpu)) || (cpu == 0.0 && at_cut(gpu))) {
+            ++ties;
+            return;
+        }
+        const double diff = std::abs(gpu - cpu);
+        max_abs = std::max(max_abs, diff);
+        max_rel = std::max(max_rel, diff / std::max(std::abs(cpu), 1e-3 * t));
+        if (!(diff <= kRelTol * std::abs(cpu) + kAbsTol * t)) {
+            if (bad++ == 0)
+                first_bad = "point (" + std::to_string(x) + ", " + std::to_string(y) + ", " +
+                            std::to_string(z) + "): gpu " + std::to_string(gpu) + ", cpu " +
+                            std::to_string(cpu);
+        }
+    }
+};
+
+void report(const Comparison& c) {
+    RecordProperty("points", std::to_string(c.points));
+    RecordProperty("max_abs_diff", std::to_string(c.max_abs));
+    RecordProperty("ties", std::to_string(c.ties));
+    std::printf("  density: %zu points, max |gpu - cpu| = %.3g, max relative = %.3g, %zu cut ties\n",
+                c.points, c.max_abs, c.max_rel, c.ties);
+    EXPECT_EQ(c.bad, 0u) << c.bad << " points out of tolerance; first: " << c.first_bad;
+    EXPECT_LE(double(c.ties), 1e-4 * double(c.points));
+}
+
+class Density : public GpuTest {
+protected:
+    // Every grid point of the GPU field against density_cpu (the row padding is not compared).
+    void compare_whole_grid(const Atoms& atoms, const SurfaceOptions& options) {
+        const GridPlan plan = plan_grid(atoms, options);
+        const std::vector<float> gpu = impl().compute_field(atoms, plan, false);
+        const std::vector<float> cpu = density_cpu(atoms, plan);
+        ASSERT_EQ(gpu.size(), plan.field_floats());
+        ASSERT_EQ(cpu.size(), plan.field_floats());
+        const auto& d = plan.info.dims;
+        Comparison c;
+        double max_value = 0.0;
+        for (std::uint32_t z = 0; z < d[2]; ++z)
+            for (std::uint32_t y = 0; y < d[1]; ++y)
+                for (std::uint32_t x = 0; x < d[0]; ++x) {
+                    const std::size_t i = (std::size_t(z) * d[1] + y) * plan.pitch + x;
+                    c.add(gpu[i], cpu[i], plan, x, y, z);
+                    max_value = std::max(max_value, double(cpu[i]));
+                }
+        // Sanity: the field is not trivially empty (the density exceeds T inside atoms).
+        EXPECT_GT(max_value, plan.density.level_t);
+        report(c);
+    }
+};
+
+TEST_F(Density, MatchesCpuReferenceOnCrambinSes) {
+    const Atoms atoms = fdmsurf::read_structure(data_path("1crn.pdb")).atoms;
+    compare_whole_grid(atoms, SurfaceOptions{.surface = SurfaceKind::Ses, .spacing = 0.5f});
+}
+
+TEST_F(Density, MatchesCpuReferenceOnCrambinSas) {
+    const Atoms atoms = fdmsurf::read_structure(data_path("1crn.pdb")).atoms;
+    compare_whole_grid(atoms, SurfaceOptions{.surface = SurfaceKind::Sas, .spacing = 0.5f});
+}
+
+TEST_F(Density, MatchesCpuReferenceOnHemoglobinRandomPoints) {
+    const Atoms atoms = fdmsurf::read_structure(data_path("4hhb.xyzr")).atoms;
+    ASSERT_EQ(atoms.size(), 4384u);
+    const GridPlan plan = plan_grid(atoms, SurfaceOptions{.spacing = 0.5f});
+    const std::vector<float> gpu = impl().compute_field(atoms, plan, false);
+    ASSERT_EQ(gpu.size(), plan.field_floats());
+    const auto& d = plan.info.dims;
+    std::mt19937 rng(20100611);  // fixed seed
+    std::uniform_int_distribution<std::uint32_t> ux(0, d[0] - 1), uy(0, d[1] - 1),
+        uz(0, d[2] - 1);
+    Comparison c;
+    std::size_t nonzero = 0;
+    for (int n = 0; n < 20000; ++n) {
+        const std::uint32_t x = ux(rng), y = uy(rng), z = uz(rng);
+        const double cpu = density_at(atoms, plan, x, y, z);
+        nonzero += cpu > 0.0;
+        c.add(gpu[(std::size_t(z) * d[1] + y) * plan.pitch + x], cpu, plan, x, y, z);
+    }
+    // Most samples should fall inside the Gaussian support, or the test says little.
+    EXPECT_GT(nonzero, 5000u);
+    report(c);
+}
+
+}  // namespace

@@ -1,0 +1,147 @@
+// Tests of device discovery and selection (src/vulkan/context.cpp): list_devices, --device.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cctype>
+#include <string>
+#include <vector>
+
+#include "fdmsurf/error.hpp"
+#include "fdmsurf/surface.hpp"
+#include "support/gpu_fixture.hpp"
+
+namespace {
+
+using fdmsurf::DeviceInfo;
+using fdmsurf::Engine;
+using fdmsurf::EngineOptions;
+using fdmsurf::Error;
+using fdmsurf::ErrorCode;
+
+// list_devices(), or the reason there is none (then `devices` is empty).
+struct Listing {
+    std::vector<DeviceInfo> devices;
+    std::string reason;
+};
+
+Listing list() {
+    Listing out;
+    try {
+        out.devices = fdmsurf::list_devices();
+    } catch (const Error& e) {
+        if (e.code() != ErrorCode::NoDevice) throw;
+        out.reason = std::string("list_devices threw NoDevice: ") + e.what();
+        return out;
+    }
+    if (out.devices.empty()) out.reason = "list_devices found no Vulkan device";
+    return out;
+}
+
+bool any_usable(const std::vector<DeviceInfo>& devices) {
+    return std::any_of(devices.begin(), devices.end(), [](const DeviceInfo& d) { return d.usable; });
+}
+
+std::string upper(std::string s) {
+    for (char& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    return s;
+}
+
+// Skips (or, with FDMSURF_REQUIRE_DEVICE=1, fails) the calling test when there is no device.
+#define REQUIRE_DEVICES(listing)                                                 \
+    do {                                                                         \
+        if ((listing).devices.empty()) {                                         \
+            if (fdmsurf_test::device_required()) FAIL() << (listing).reason;     \
+            GTEST_SKIP() << (listing).reason;                                    \
+        }                                                                        \
+    } while (0)
+
+TEST(Context, ListDevicesFindsAUsableDevice) {
+    Listing l = list();
+    REQUIRE_DEVICES(l);
+    std::string reasons;
+    for (std::size_t i = 0; i < l.devices.size(); ++i) {
+        const DeviceInfo& d = l.devices[i];
+        SCOPED_TRACE(d.name);
+        EXPECT_EQ(d.index, i);
+        EXPECT_FALSE(d.name.empty());
+        EXPECT_FALSE(d.type.empty());
+        EXPECT_FALSE(d.api_version.empty());
+        if (d.usable) {
+            EXPECT_GT(d.max_storage_buffer_range, 0u);
+        } else {
+            EXPECT_FALSE(d.reason.empty()) << "an unusable device must say why";
+            reasons += "\n  " + d.name + ": " + d.reason;
+        }
+    }
+    if (!any_usable(l.devices)) {
+        if (fdmsurf_test::device_required()) FAIL() << "no usable device:" << reasons;
+        GTEST_SKIP() << "no usable device:" << reasons;
+    }
+}
+
+TEST(Context, DeviceNameMatchingNothingThrowsNoDevice) {
+    Listing l = list();
+    REQUIRE_DEVICES(l);
+    const std::string want = "no-such-gpu-7f3a";
+    try {
+        Engine engine(EngineOptions{.device = want});
+        FAIL() << "Engine accepted device \"" << want << "\" and chose " << engine.device().name;
+    } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ErrorCode::NoDevice) << e.what();
+        EXPECT_NE(std::string(e.what()).find(want), std::string::npos)
+            << "the message should name the device asked for: " << e.what();
+    }
+}
+
+TEST(Context, OutOfRangeDeviceIndexThrowsNoDevice) {
+    Listing l = list();
+    REQUIRE_DEVICES(l);
+    for (const std::string& index : {std::to_string(l.devices.size()), std::string("4096")}) {
+        SCOPED_TRACE("device " + index);
+        try {
+            Engine engine(EngineOptions{.device = index});
+            ADD_FAILURE() << "Engine accepted device index " << index << " of "
+                          << l.devices.size();
+        } catch (const Error& e) {
+            EXPECT_EQ(e.code(), ErrorCode::NoDevice) << e.what();
+            EXPECT_NE(std::string(e.what()).find(index), std::string::npos) << e.what();
+        }
+    }
+}
+
+TEST(Context, DeviceByIndexAndByCaseInsensitiveName) {
+    Listing l = list();
+    REQUIRE_DEVICES(l);
+    auto it = std::find_if(l.devices.begin(), l.devices.end(),
+                           [](const DeviceInfo& d) { return d.usable; });
+    if (it == l.devices.end()) {
+        if (fdmsurf_test::device_required()) FAIL() << "no usable device";
+        GTEST_SKIP() << "no usable device";
+    }
+    {
+        Engine engine(EngineOptions{.device = std::to_string(it->index)});
+        EXPECT_EQ(engine.device().name, it->name);
+        EXPECT_EQ(engine.device().index, it->index);
+        EXPECT_TRUE(engine.device().usable);
+    }
+    {
+        Engine engine(EngineOptions{.device = upper(it->name)});
+        // Another device may contain the same name; only the chosen one's name must match.
+        EXPECT_NE(upper(engine.device().name).find(upper(it->name)), std::string::npos)
+            << engine.device().name;
+    }
+}
+
+TEST(Context, MaxBufferRangeOverrideLowersTheLimitOnly) {
+    Listing l = list();
+    REQUIRE_DEVICES(l);
+    if (!any_usable(l.devices)) GTEST_SKIP() << "no usable device";
+    Engine engine(EngineOptions{.max_buffer_range = 8u << 20});
+    EXPECT_LE(engine.impl().context.limits().max_storage_buffer_range, 8u << 20);
+    Engine huge(EngineOptions{.max_buffer_range = ~std::uint64_t(0)});
+    EXPECT_EQ(huge.impl().context.limits().max_storage_buffer_range,
+              huge.device().max_storage_buffer_range)
+        << "an override above the device's limit must not raise it";
+}
+
+}  // namespace
