@@ -20,16 +20,31 @@ double number_field(std::string_view field, const std::string& what, const std::
     return value;
 }
 
-void add_atom(Atoms& atoms, const std::vector<std::string_view>& xyzr, const std::string& name,
+// Adds the atom, or returns false for radius 0: pdb2pqr gives some hydrogens radius 0, and
+// such an atom has no volume, so it is left out (with a warning) rather than refused.
+bool add_atom(Atoms& atoms, const std::vector<std::string_view>& xyzr, const std::string& name,
               std::size_t line) {
+    float xyz[3];
     for (int i = 0; i < 3; ++i) {
         std::string what = std::string(kAxis[i]) + " coordinate";
-        atoms.xyz.push_back(static_cast<float>(number_field(xyzr[i], what, name, line)));
+        xyz[i] = static_cast<float>(number_field(xyzr[i], what, name, line));
     }
     double r = number_field(xyzr[3], "radius", name, line);
-    if (r <= 0.0)
+    if (r < 0.0)
         fail_format(name + ": radius " + std::string(xyzr[3]) + " is not > 0" + at_line(line));
+    if (r == 0.0) return false;
+    atoms.xyz.insert(atoms.xyz.end(), xyz, xyz + 3);
     atoms.radius.push_back(static_cast<float>(r));
+    return true;
+}
+
+void note_zero_radii(Structure& s, std::size_t zero, const std::string& name) {
+    if (zero == 0) return;
+    if (s.atoms.empty())
+        throw Error(ErrorCode::EmptySelection,
+                    name + ": all " + std::to_string(zero) + " atoms have radius 0");
+    s.info.warnings.push_back(name + ": " + std::to_string(zero) +
+                              " atom(s) with radius 0 left out");
 }
 
 // PQR has no element column. Atom names start with the element, except ions, whose residue
@@ -59,6 +74,7 @@ Structure finish(Structure s, StructureFormat format, const std::string& name, c
 // optional and fields are not in fixed columns, so x y z and radius are counted from the end.
 Structure read_pqr(std::string_view text, const std::string& name) {
     Structure s;
+    std::size_t zero = 0;
     LineReader lines(text);
     std::string_view line;
     while (lines.next(line)) {
@@ -71,15 +87,19 @@ Structure read_pqr(std::string_view text, const std::string& name) {
                         "radius)");
         std::size_t n = f.size();
         number_field(f[n - 2], "charge", name, lines.number());
-        add_atom(s.atoms, {f[n - 5], f[n - 4], f[n - 3], f[n - 1]}, name, lines.number());
-        s.atoms.element.push_back(pqr_element(f[2], f[3]));
+        if (add_atom(s.atoms, {f[n - 5], f[n - 4], f[n - 3], f[n - 1]}, name, lines.number()))
+            s.atoms.element.push_back(pqr_element(f[2], f[3]));
+        else
+            ++zero;
     }
+    note_zero_radii(s, zero, name);
     return finish(std::move(s), StructureFormat::Pqr, name, "ATOM/HETATM");
 }
 
 // XYZR (MSMS): "x y z r" and optionally more fields, which are ignored.
 Structure read_xyzr(std::string_view text, const std::string& name) {
     Structure s;
+    std::size_t zero = 0;
     LineReader lines(text);
     std::string_view line;
     while (lines.next(line)) {
@@ -89,9 +109,12 @@ Structure read_xyzr(std::string_view text, const std::string& name) {
         if (f.size() < 4)
             fail_format(name + ": too few fields for an XYZR atom" + at_line(lines.number()) +
                         " (" + std::to_string(f.size()) + "; expected: x y z radius)");
-        add_atom(s.atoms, f, name, lines.number());
-        s.atoms.element.emplace_back();  // XYZR has no element; kept parallel to radius
+        if (add_atom(s.atoms, f, name, lines.number()))
+            s.atoms.element.emplace_back();  // XYZR has no element; kept parallel to radius
+        else
+            ++zero;
     }
+    note_zero_radii(s, zero, name);
     return finish(std::move(s), StructureFormat::Xyzr, name, "'x y z r'");
 }
 

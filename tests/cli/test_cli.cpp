@@ -109,10 +109,11 @@ protected:
     }
 
     // Runs the program with stdout and stderr captured to files outside the test's folder.
-    CliRun run(const std::vector<std::string>& args) const {
+    CliRun run(const std::vector<std::string>& args, const std::string& env = "") const {
         const fs::path out = capture_ / "stdout";
         const fs::path err = capture_ / "stderr";
-        std::string command = shell_quote(kCliPath);
+        std::string command = env.empty() ? "" : "env " + env + " ";
+        command += shell_quote(kCliPath);
         for (const std::string& arg : args) command.append(" ").append(shell_quote(arg));
         command.append(" </dev/null >").append(shell_quote(out.string()));
         command.append(" 2>").append(shell_quote(err.string()));
@@ -246,6 +247,56 @@ TEST_F(CliProgram, NegativeProbe) {
 TEST_F(CliProgram, NanCoordinateInXyzr) {
     const std::string input = write_file("nan.xyzr", "0.0 0.0 0.0 1.7\n1.5 nan 0.0 1.52\n");
     expect_failure(run({input, "-o", path("out.ply")}), 3, {"nan.xyzr"});
+}
+
+TEST_F(CliProgram, InfiniteCoordinateInXyzr) {
+    const std::string input = write_file("inf.xyzr", "0.0 0.0 0.0 1.7\n1.5 inf 0.0 1.52\n");
+    expect_failure(run({input, "-o", path("out.ply")}), 3, {"inf.xyzr"});
+}
+
+TEST_F(CliProgram, NonNumericCoordinateInPdb) {
+    const std::string input = write_file(
+        "bad.pdb",
+        "ATOM      1  N   THR A   1      17.047  14.099   3.625  1.00 13.79           N\n"
+        "ATOM      2  CA  THR A   1      16.967  1x.784   4.338  1.00 10.80           C\n");
+    expect_failure(run({input, "-o", path("out.ply")}), 3, {"bad.pdb"});
+}
+
+TEST_F(CliProgram, TruncatedPdbRecord) {
+    const std::string input = write_file(
+        "cut.pdb",
+        "ATOM      1  N   THR A   1      17.047  14.099   3.625  1.00 13.79           N\n"
+        "ATOM      2  CA  THR A   1      16.967  12.7");
+    expect_failure(run({input, "-o", path("out.ply")}), 3, {"cut.pdb", "truncated"});
+}
+
+TEST_F(CliProgram, NoAtomsLeftAfterSelection) {
+    const std::string input = write_file(
+        "water.pdb",
+        "HETATM    1  O   HOH A 101      17.047  14.099   3.625  1.00 13.79           O\n"
+        "HETATM    2  O   HOH A 102      19.047  14.099   3.625  1.00 13.79           O\n"
+        "END\n");
+    expect_failure(run({input, "-o", path("out.ply")}), 3, {"water.pdb"});
+}
+
+TEST_F(CliProgram, NoVulkanDriverNamesThePackageToInstall) {
+    const std::string input = write_file("atoms.xyzr", kTwoAtomsXyzr);
+    // The loader finds no driver when both variables point at nothing.
+    const std::string env = "VK_ICD_FILENAMES=" + path("none.json") +
+                            " VK_DRIVER_FILES=" + path("none.json");
+    expect_failure(run({input, "-o", path("out.ply")}, env), 4, {"mesa-vulkan-drivers"});
+}
+
+TEST_F(CliProgram, CoarseSpacingWarnsButSucceeds) {
+    if (auto why = no_usable_device()) {
+        if (device_required()) FAIL() << *why;
+        GTEST_SKIP() << *why;
+    }
+    const std::string input = write_file("atoms.xyzr", kTwoAtomsXyzr);
+    const CliRun r = run({input, "-o", path("out.ply"), "--spacing", "3.0", "--quiet"});
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.err.find("too coarse"), std::string::npos) << r.err;
+    EXPECT_TRUE(fs::exists(path("out.ply")));
 }
 
 TEST_F(CliProgram, ListDevicesNeedsNoInput) {

@@ -178,8 +178,8 @@ TEST(StructureErrors, PqrLinesWithTooFewOrBadFields) {
     expect_memory_error("REMARK x\nATOM 1 N MET A 1 1.0 two 3.0 -0.3 1.8\n", "text.pqr",
                         ErrorCode::Format,
                         {"text.pqr", "non-numeric y coordinate 'two' at line 2"});
-    expect_memory_error("ATOM 1 N MET A 1 1.0 2.0 3.0 -0.3 0\n", "zero.pqr", ErrorCode::Format,
-                        {"zero.pqr", "radius 0 is not > 0 at line 1"});
+    expect_memory_error("ATOM 1 N MET A 1 1.0 2.0 3.0 -0.3 0\n", "zero.pqr",
+                        ErrorCode::EmptySelection, {"zero.pqr", "radius 0"});
     expect_memory_error("ATOM 1 N MET A 1 1.0 2.0 3.0 -0.3 -1.5\n", "neg.pqr", ErrorCode::Format,
                         {"radius -1.5 is not > 0"});
     expect_memory_error("ATOM 1 N MET A 1 nan 2.0 3.0 -0.3 1.5\n", "nan.pqr", ErrorCode::Format,
@@ -192,12 +192,21 @@ TEST(StructureErrors, PqrLinesWithTooFewOrBadFields) {
                         {"none.pqr", "no atoms"});
 }
 
+TEST(StructureErrors, ZeroRadiusAtomsAreLeftOutWithAWarning) {
+    fdmsurf::Structure s = fdmsurf::read_structure_from_memory(
+        "ATOM 1 N MET A 1 1.0 2.0 3.0 -0.3 1.8\nATOM 2 H MET A 1 1.5 2.0 3.0 0.3 0.0\n", "h0.pqr");
+    EXPECT_EQ(s.atoms.size(), 1u);
+    EXPECT_EQ(s.atoms.element.size(), 1u);
+    ASSERT_EQ(s.info.warnings.size(), 1u);
+    EXPECT_NE(s.info.warnings[0].find("radius 0"), std::string::npos);
+}
+
 TEST(StructureErrors, XyzrLinesWithTooFewOrBadFields) {
     expect_memory_error("1 2 3 1.5\n1 2 3\n", "few.xyzr", ErrorCode::Format,
                         {"few.xyzr", "too few fields for an XYZR atom at line 2"});
     expect_memory_error("1 2 3 1.5\n1 2 3 -1\n", "neg.xyzr", ErrorCode::Format,
                         {"neg.xyzr", "radius -1 is not > 0 at line 2"});
-    expect_memory_error("1 2 3 0.0\n", "zero.xyzr", ErrorCode::Format, {"radius 0.0 is not > 0"});
+    expect_memory_error("1 2 3 0.0\n", "zero.xyzr", ErrorCode::EmptySelection, {"radius 0"});
     expect_memory_error("1 2 nan 1.5\n", "nan.xyzr", ErrorCode::Format,
                         {"NaN or infinite z coordinate 'nan' at line 1"});
     expect_memory_error("1 2 3 NaN\n", "nanr.xyzr", ErrorCode::Format, {"NaN or infinite radius"});

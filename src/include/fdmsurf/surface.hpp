@@ -33,7 +33,7 @@ struct SurfaceOptions {
     FilterShape filter = FilterShape::Ideal;
     float padding = -1.0f;  // empty space around the Gaussian support, Å; < 0: one filter
                             // wavelength (1/f_c) for ses, 1 Å otherwise
-    float density_cut = 1e-3f;  // G_i is taken as 0 where it falls below density_cut * T
+    float density_cut = 1e-2f;  // G_i is taken as 0 where it falls below density_cut * T
 };
 
 // Where the grid sits: point (i, j, k) is at origin + h * (i, j, k).
