@@ -9,7 +9,11 @@ layout(std430, binding = 2) writeonly buffer BlockSums { uvec2 block_sums[]; };
 #define MC_TABLES_BINDING 3
 #include "mc_common.glsl"
 
+shared uvec2 block_total;
+
 void main() {
+    uint block = gl_WorkGroupID.y * pc.blocks_x + gl_WorkGroupID.x;
+    if (block * kMcBlock >= pc.owned_points) return;  // past the last block of a 2D dispatch
     uint i = point_index();
     uvec2 n = uvec2(0u);
     if (i < pc.owned_points) {
@@ -18,8 +22,12 @@ void main() {
         n.y = mc_tri_count[cube_index(p)];
         counts[i] = n.x;
     }
-    uvec2 total;
-    workgroup_exclusive_scan(n, total);
+    // Only the block's sums are needed here: shared atomics are cheaper than a scan.
+    if (gl_LocalInvocationID.x == 0u) block_total = uvec2(0u);
+    barrier();
+    if (n.x != 0u) atomicAdd(block_total.x, n.x);
+    if (n.y != 0u) atomicAdd(block_total.y, n.y);
+    barrier();
     if (gl_LocalInvocationID.x == 0u)
-        block_sums[gl_WorkGroupID.y * pc.blocks_x + gl_WorkGroupID.x] = total;
+        block_sums[block] = block_total;
 }

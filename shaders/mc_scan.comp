@@ -1,5 +1,6 @@
 // Marching cubes, pass 2: exclusive prefix sum of the per-block (vertex, triangle) counts in one
-// workgroup; each invocation scans a contiguous chunk. Writes the totals.
+// workgroup; each invocation scans a contiguous chunk. Writes the totals, also after the last
+// block, so that block b holds block_sums[b + 1] - block_sums[b] vertices and triangles.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "shader_interface.h"
@@ -31,5 +32,8 @@ void main() {
         block_sums[i] = running;
         running += v;
     }
-    if (t == kScanGroup - 1u) totals[0] = partial[t];
+    if (t == kScanGroup - 1u) {
+        totals[0] = partial[t];
+        block_sums[pc.count] = partial[t];  // one past the last block: the total
+    }
 }

@@ -24,6 +24,11 @@ uint vertex_of(uvec3 cell, int edge) {
 }
 
 void main() {
+    // Most blocks hold no surface: the whole workgroup leaves at once (uniformly, before any
+    // barrier) when its block emits nothing.
+    uint block = gl_WorkGroupID.y * pc.blocks_x + gl_WorkGroupID.x;
+    if (block * kMcBlock >= pc.owned_points) return;  // past the last block of a 2D dispatch
+    if (block_sums[block + 1u].y == block_sums[block].y) return;
     uint i = point_index();
     uint cube = 0u;
     uvec3 p = uvec3(0u);
@@ -35,7 +40,6 @@ void main() {
     uvec2 total;
     uvec2 local_offset = workgroup_exclusive_scan(uvec2(0u, count), total);
     if (count == 0u) return;
-    uint block = gl_WorkGroupID.y * pc.blocks_x + gl_WorkGroupID.x;
     uint t = block_sums[block].y + local_offset.y;
     int base = int(cube) * 3 * MC_MAX_TRIANGLES;
     for (uint k = 0u; k < count; ++k) {

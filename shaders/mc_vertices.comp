@@ -21,6 +21,11 @@ vec3 gradient(uvec3 p) {
 }
 
 void main() {
+    // Most blocks hold no surface: the whole workgroup leaves at once (uniformly, before any
+    // barrier) when its block emits nothing.
+    uint block = gl_WorkGroupID.y * pc.blocks_x + gl_WorkGroupID.x;
+    if (block * kMcBlock >= pc.owned_points) return;  // past the last block of a 2D dispatch
+    if (block_sums[block + 1u].x == block_sums[block].x) return;
     uint i = point_index();
     uint bits = 0u;
     uvec3 p = uvec3(0u);
@@ -31,7 +36,6 @@ void main() {
     uvec2 total;
     uvec2 local_offset = workgroup_exclusive_scan(uvec2(bitCount(bits), 0u), total);
     if (i >= pc.owned_points) return;
-    uint block = gl_WorkGroupID.y * pc.blocks_x + gl_WorkGroupID.x;
     uint v = block_sums[block].x + local_offset.x;
     counts[i] = v;
     vec3 origin = vec3(pc.origin_x, pc.origin_y, pc.origin_z);

@@ -76,7 +76,7 @@ GpuMesh MarchingCubesPass::run(Commands& cmds, StagingArena& arena, const Buffer
         cmds.barrier_compute();
     }
     Buffer counts(ctx_, points * 4, MemoryUse::Device, "mc_counts");
-    Buffer block_sums(ctx_, blocks * 8, MemoryUse::Device, "mc_block_sums");
+    Buffer block_sums(ctx_, (blocks + 1) * 8, MemoryUse::Device, "mc_block_sums");
     Buffer totals(ctx_, 8, MemoryUse::Device, "mc_totals");
     cmds.dispatch(classify_, {whole(field), whole(counts), whole(block_sums), whole(tables_)}, &push, push.blocks_x,
                   blocks_y);
