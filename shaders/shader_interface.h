@@ -13,8 +13,8 @@ using uint = std::uint32_t;
 #endif
 
 // Density: one invocation per grid point, 3D workgroups.
-FDM_CONST kDensityGroupX = 8;
-FDM_CONST kDensityGroupY = 8;
+FDM_CONST kDensityGroupX = 4;
+FDM_CONST kDensityGroupY = 4;
 FDM_CONST kDensityGroupZ = 4;
 
 // Spectral mask: one invocation per complex coefficient of the half spectrum.

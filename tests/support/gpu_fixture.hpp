@@ -85,8 +85,7 @@ protected:
         auto& shared = fdmsurf_test::SharedGpu::get();
         shared.create();  // in case a suite overrides SetUpTestSuite
         if (!shared.engine) {
-            if (shared.no_device && !fdmsurf_test::device_required())
-                GTEST_SKIP() << shared.reason;
+            if (shared.no_device && !fdmsurf_test::device_required()) GTEST_SKIP() << shared.reason;
             FAIL() << shared.reason
                    << (shared.no_device ? " (FDMSURF_REQUIRE_DEVICE=1 makes this a failure)" : "");
         }
@@ -102,8 +101,9 @@ protected:
         auto& shared = fdmsurf_test::SharedGpu::get();
         if (!shared.engine) return;
         const std::vector<std::string> messages = shared.engine->take_validation_messages();
-        EXPECT_TRUE(messages.empty()) << messages.size() << " validation message(s):"
-                                      << fdmsurf_test::join_messages(messages);
+        EXPECT_TRUE(messages.empty())
+            << messages.size()
+            << " validation message(s):" << fdmsurf_test::join_messages(messages);
     }
 
     static fdmsurf::Engine& engine() { return *fdmsurf_test::SharedGpu::get().engine; }

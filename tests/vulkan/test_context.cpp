@@ -38,7 +38,8 @@ Listing list() {
 }
 
 bool any_usable(const std::vector<DeviceInfo>& devices) {
-    return std::any_of(devices.begin(), devices.end(), [](const DeviceInfo& d) { return d.usable; });
+    return std::any_of(devices.begin(), devices.end(),
+                       [](const DeviceInfo& d) { return d.usable; });
 }
 
 std::string upper(std::string s) {
@@ -47,12 +48,12 @@ std::string upper(std::string s) {
 }
 
 // Skips (or, with FDMSURF_REQUIRE_DEVICE=1, fails) the calling test when there is no device.
-#define REQUIRE_DEVICES(listing)                                                 \
-    do {                                                                         \
-        if ((listing).devices.empty()) {                                         \
-            if (fdmsurf_test::device_required()) FAIL() << (listing).reason;     \
-            GTEST_SKIP() << (listing).reason;                                    \
-        }                                                                        \
+#define REQUIRE_DEVICES(listing)                                             \
+    do {                                                                     \
+        if ((listing).devices.empty()) {                                     \
+            if (fdmsurf_test::device_required()) FAIL() << (listing).reason; \
+            GTEST_SKIP() << (listing).reason;                                \
+        }                                                                    \
     } while (0)
 
 TEST(Context, ListDevicesFindsAUsableDevice) {
@@ -100,8 +101,7 @@ TEST(Context, OutOfRangeDeviceIndexThrowsNoDevice) {
         SCOPED_TRACE("device " + index);
         try {
             Engine engine(EngineOptions{.device = index});
-            ADD_FAILURE() << "Engine accepted device index " << index << " of "
-                          << l.devices.size();
+            ADD_FAILURE() << "Engine accepted device index " << index << " of " << l.devices.size();
         } catch (const Error& e) {
             EXPECT_EQ(e.code(), ErrorCode::NoDevice) << e.what();
             EXPECT_NE(std::string(e.what()).find(index), std::string::npos) << e.what();

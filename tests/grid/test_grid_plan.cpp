@@ -1,0 +1,183 @@
+// Tests of grid placement (src/grid/grid_plan.cpp): FFT-friendly sizes, coverage, bad options.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+
+#include "fdmsurf/error.hpp"
+#include "fdmsurf/structure.hpp"
+#include "fdmsurf/surface.hpp"
+#include "grid/grid_plan.hpp"
+
+namespace {
+
+using fdmsurf::Atoms;
+using fdmsurf::Error;
+using fdmsurf::ErrorCode;
+using fdmsurf::SurfaceKind;
+using fdmsurf::SurfaceOptions;
+using fdmsurf::detail::fft_friendly_size;
+using fdmsurf::detail::GridPlan;
+using fdmsurf::detail::plan_grid;
+
+std::string data_path(const std::string& name) {
+    return std::string(FDMSURF_TEST_DATA_DIR) + "/" + name;
+}
+
+bool smooth_2357(std::uint32_t n) {
+    if (n == 0) return false;
+    for (std::uint32_t p : {2u, 3u, 5u, 7u})
+        while (n % p == 0) n /= p;
+    return n == 1;
+}
+
+Atoms one_atom() {
+    Atoms a;
+    a.xyz = {1.0f, -2.0f, 3.0f};
+    a.radius = {1.5f};
+    a.element = {"C"};
+    return a;
+}
+
+// Expects plan_grid to throw Error(InvalidArgument).
+void expect_invalid(const Atoms& atoms, const SurfaceOptions& options, const char* what) {
+    SCOPED_TRACE(what);
+    try {
+        GridPlan plan = plan_grid(atoms, options);
+        ADD_FAILURE() << "plan_grid accepted " << what << " and planned " << plan.info.dims[0]
+                      << " x " << plan.info.dims[1] << " x " << plan.info.dims[2];
+    } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ErrorCode::InvalidArgument) << e.what();
+    }
+}
+
+TEST(GridPlan, FftFriendlySizeIsTheSmallest2357SmoothSize) {
+    for (std::uint32_t n = 1; n <= 3000; ++n) {
+        for (bool even : {false, true}) {
+            const std::uint32_t m = fft_friendly_size(n, even);
+            ASSERT_GE(m, n) << "n " << n;
+            ASSERT_GE(m, 2u) << "n " << n;
+            ASSERT_TRUE(smooth_2357(m)) << "n " << n << " gave " << m;
+            if (even) {
+                ASSERT_EQ(m % 2, 0u) << "n " << n << " gave " << m;
+            }
+            for (std::uint32_t k = std::max<std::uint32_t>(n, 2); k < m; ++k)
+                ASSERT_FALSE(smooth_2357(k) && (!even || k % 2 == 0))
+                    << "n " << n << ": " << k << " is smaller than " << m << " and fits";
+        }
+    }
+    EXPECT_EQ(fft_friendly_size(11, false), 12u);
+    EXPECT_EQ(fft_friendly_size(121, false), 125u);
+    EXPECT_EQ(fft_friendly_size(125, true), 126u);
+    EXPECT_EQ(fft_friendly_size(49, true), 50u);
+}
+
+// Every atom's support lies inside the grid: the Gaussian support sqrt(r² + pi_cut) plus the
+// padding for ses (the whole Gaussian enters the filter), the ball r (+ probe for sas) plus the
+// padding otherwise.
+void expect_covers(const Atoms& atoms, const SurfaceOptions& options) {
+    const GridPlan plan = plan_grid(atoms, options);
+    const auto& g = plan.info;
+    const bool ses = options.surface == SurfaceKind::Ses;
+    EXPECT_EQ(plan.filtered, ses);
+    EXPECT_FLOAT_EQ(g.spacing, options.spacing);
+    float padding = options.padding;
+    if (padding < 0.0f) padding = ses ? 1.0f / g.cutoff : 1.0f;
+    for (int a = 0; a < 3; ++a) {
+        SCOPED_TRACE("axis " + std::to_string(a));
+        ASSERT_GE(g.dims[a], 2u);
+        if (ses) {
+            EXPECT_TRUE(smooth_2357(g.dims[a])) << g.dims[a];
+            if (a == 0) {
+                EXPECT_EQ(g.dims[a] % 2, 0u) << "the R2C axis must be even";
+            }
+        }
+    }
+    if (ses) {
+        EXPECT_EQ(plan.pitch, 2 * (g.dims[0] / 2 + 1));
+        EXPECT_GT(g.cutoff, 0.0f);
+    } else {
+        EXPECT_GE(plan.pitch, g.dims[0]);
+        EXPECT_EQ(g.cutoff, 0.0f);
+    }
+    EXPECT_EQ(plan.field_floats(), std::size_t(plan.pitch) * g.dims[1] * g.dims[2]);
+    const double radius_add = options.surface == SurfaceKind::Sas ? options.probe : 0.0;
+    EXPECT_DOUBLE_EQ(plan.density.radius_add, radius_add);
+    for (std::size_t i = 0; i < atoms.size(); ++i) {
+        const double r = atoms.radius[i] + radius_add;
+        const double reach = (ses ? std::sqrt(r * r + plan.density.pi_cut) : r) + padding;
+        for (int a = 0; a < 3; ++a) {
+            const double c = atoms.xyz[3 * i + a];
+            const double lo = g.origin[a];
+            const double hi = g.origin[a] + double(g.spacing) * (g.dims[a] - 1);
+            // 1e-4 Å: the origin is stored as float.
+            ASSERT_LE(lo, c - reach + 1e-4) << "atom " << i << " axis " << a;
+            ASSERT_GE(hi, c + reach - 1e-4) << "atom " << i << " axis " << a;
+        }
+    }
+}
+
+TEST(GridPlan, GridContainsEveryAtomAndItsSupport) {
+    const Atoms crambin = fdmsurf::read_structure(data_path("1crn.pdb")).atoms;
+    for (float h : {0.25f, 0.5f, 1.0f}) {
+        SCOPED_TRACE("spacing " + std::to_string(h));
+        expect_covers(crambin, {.surface = SurfaceKind::Ses, .spacing = h});
+        expect_covers(crambin, {.surface = SurfaceKind::Vdw, .spacing = h});
+        expect_covers(crambin, {.surface = SurfaceKind::Sas, .spacing = h});
+        expect_covers(crambin, {.surface = SurfaceKind::Ses, .spacing = h, .sigma = 1.5f});
+        expect_covers(crambin, {.surface = SurfaceKind::Ses, .spacing = h, .padding = 0.0f});
+    }
+    expect_covers(one_atom(), {.surface = SurfaceKind::Ses, .spacing = 0.3f});
+    expect_covers(one_atom(), {.surface = SurfaceKind::Vdw, .spacing = 0.25f});
+    expect_covers(one_atom(), {.surface = SurfaceKind::Sas, .spacing = 0.7f, .probe = 2.0f});
+}
+
+TEST(GridPlan, DensityParametersFollowTheOptions) {
+    const GridPlan plan =
+        plan_grid(one_atom(), {.sigma = 2.0f, .level = 1.5f, .density_cut = 1e-2f});
+    EXPECT_FLOAT_EQ(plan.density.sigma, 2.0f);
+    EXPECT_NEAR(plan.density.pi_cut, 4.0 * std::log(100.0), 1e-4);
+    EXPECT_FLOAT_EQ(plan.iso, 1.5f * plan.density.level_t);
+    EXPECT_NEAR(plan.info.cutoff, 1.0 / (4.0 * 1.4), 1e-6);
+}
+
+TEST(GridPlan, RejectsBadOptionsWithInvalidArgument) {
+    const Atoms atoms = one_atom();
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const float inf = std::numeric_limits<float>::infinity();
+    expect_invalid(atoms, {.spacing = 0.0f}, "spacing 0");
+    expect_invalid(atoms, {.spacing = -0.5f}, "spacing -0.5");
+    expect_invalid(atoms, {.spacing = nan}, "spacing NaN");
+    expect_invalid(atoms, {.spacing = inf}, "spacing inf");
+    expect_invalid(atoms, {.surface = SurfaceKind::Vdw, .spacing = 0.0f}, "vdw spacing 0");
+    expect_invalid(atoms, {.surface = SurfaceKind::Ses, .probe = -1.0f}, "ses probe -1");
+    expect_invalid(atoms, {.surface = SurfaceKind::Ses, .probe = nan}, "ses probe NaN");
+    expect_invalid(atoms, {.surface = SurfaceKind::Sas, .probe = -1.0f}, "sas probe -1");
+    expect_invalid(atoms, {.sigma = 0.0f}, "sigma 0");
+    expect_invalid(atoms, {.sigma = -3.0f}, "sigma -3");
+    expect_invalid(atoms, {.sigma = nan}, "sigma NaN");
+    expect_invalid(atoms, {.surface = SurfaceKind::Vdw, .sigma = 0.0f}, "vdw sigma 0");
+}
+
+TEST(GridPlan, RejectsBadAtoms) {
+    Atoms atoms = one_atom();
+    atoms.radius[0] = 0.0f;
+    expect_invalid(atoms, {}, "radius 0");
+    atoms = one_atom();
+    atoms.xyz[1] = std::numeric_limits<float>::quiet_NaN();
+    expect_invalid(atoms, {}, "NaN coordinate");
+    atoms = one_atom();
+    atoms.xyz.push_back(0.0f);
+    expect_invalid(atoms, {}, "xyz size not 3 per radius");
+    try {
+        plan_grid(Atoms{}, {});
+        ADD_FAILURE() << "plan_grid accepted no atoms";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ErrorCode::EmptySelection) << e.what();
+    }
+}
+
+}  // namespace
