@@ -20,6 +20,32 @@ vec3 gradient(uvec3 p) {
     return g;
 }
 
+// Mirrors edge_crossing() in src/isosurface/marching_cubes_cpu.cpp.
+float edge_crossing(float v0, float v1) {
+    float t = (pc.iso - v0) / (v1 - v0);
+    if (pc.power_sigma2 > 0.0 && v0 > 0.0 && v1 > 0.0) {
+        float pi0 = -pc.power_sigma2 * log(v0 / pc.power_t);
+        float pi1 = -pc.power_sigma2 * log(v1 / pc.power_t);
+        float pii = -pc.power_sigma2 * log(pc.iso / pc.power_t);
+        float a = pc.spacing * pc.spacing;
+        float b = pi1 - pi0 - a;
+        float c = pi0 - pii;
+        float disc = b * b - 4.0 * a * c;
+        if (disc >= 0.0) {
+            float s = sqrt(disc);
+            float r1 = (-b - s) / (2.0 * a), r2 = (-b + s) / (2.0 * a);
+            bool ok1 = r1 >= 0.0 && r1 <= 1.0, ok2 = r2 >= 0.0 && r2 <= 1.0;
+            if (ok1 && ok2)
+                t = abs(r1 - t) <= abs(r2 - t) ? r1 : r2;
+            else if (ok1)
+                t = r1;
+            else if (ok2)
+                t = r2;
+        }
+    }
+    return clamp(t, 0.001, 0.999);
+}
+
 void main() {
     // Most blocks hold no surface: the whole workgroup leaves at once (uniformly, before any
     // barrier) when its block emits nothing.
@@ -46,7 +72,7 @@ void main() {
         uvec3 e = uvec3(axis == 0u ? 1u : 0u, axis == 1u ? 1u : 0u, axis == 2u ? 1u : 0u);
         uvec3 q = p + e;
         float v1 = value_at(q.x, q.y, q.z);
-        float t = clamp((pc.iso - v0) / (v1 - v0), 0.001, 0.999);
+        float t = edge_crossing(v0, v1);
         vec3 pos = origin + pc.spacing * (vec3(p) + t * vec3(e));
         vec3 g = (1.0 - t) * g0 + t * gradient(q);
         float len = length(g);

@@ -57,6 +57,8 @@ struct McPush {
     uint blocks_x;           // workgroups along x of the 2D dispatch of blocks
     float iso;               // iso-level
     uint owned_points;       // nx * ny * (z_end - z_begin + 1)
+    float power_sigma2;      // > 0: interpolate the power distance (McParams::power_sigma2)
+    float power_t;
 };
 
 struct ScanPush {

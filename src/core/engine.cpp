@@ -49,6 +49,13 @@ Atoms atoms_near_planes(const Atoms& atoms, const GridPlan& plan, double z0, dou
     return out;
 }
 
+// The unfiltered density (vdw, sas) is T exp(-pi/sigma^2): its crossings are found on pi.
+void set_interpolation(McParams& mc, const GridPlan& plan) {
+    if (plan.filtered) return;
+    mc.power_sigma2 = plan.density.sigma * plan.density.sigma;
+    mc.power_t = plan.density.level_t;
+}
+
 void add_times(std::vector<StageTime>& into, const std::vector<StageTime>& times) {
     for (const StageTime& t : times) {
         auto it = std::find_if(into.begin(), into.end(),
@@ -93,6 +100,7 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options)
     mc.iso = plan.iso;
     mc.z_begin = 0;
     mc.z_end = d[2] - 1;
+    set_interpolation(mc, plan);
     GpuMesh gpu = marching_cubes.run(commands, arena, field, d[0], d[1], d[2], plan.pitch, mc);
     add_times(result.times, marching_cubes.stage_times());
     result.mesh = marching_cubes.read_back(commands, gpu);
@@ -187,6 +195,7 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
         mc.iso = plan.iso;
         mc.z_begin = a - lo;
         mc.z_end = b - lo;
+        set_interpolation(mc, plan);
         StagingArena arena;
         commands.begin();
         Buffer part_field = upload_buffer(context, commands, arena, full.data() + std::size_t(lo) * d[0] * d[1],

@@ -106,8 +106,7 @@ Mesh marching_cubes_cpu(const FieldView& f, const McParams& p) {
 
                     // The clamp keeps vertices of edges that share a corner apart, so that no
                     // triangle collapses when the iso value hits a grid value exactly.
-                    float t = (iso - v0) / (v1 - v0);
-                    t = std::min(std::max(t, 0.001f), 0.999f);
+                    const float t = edge_crossing(v0, v1, p);
                     for (int k = 0; k < 3; ++k) {
                         float c = float(q.c[k]);
                         if (k == a) c = c + t;
@@ -165,6 +164,32 @@ Mesh marching_cubes_cpu(const FieldView& f, const McParams& p) {
         }
     }
     return mesh;
+}
+
+float edge_crossing(float v0, float v1, const McParams& p) {
+    float t = (p.iso - v0) / (v1 - v0);
+    if (p.power_sigma2 > 0.0f && v0 > 0.0f && v1 > 0.0f) {
+        // pi(t) = a t^2 + b t + pi0 with a = h^2; solve pi(t) = pi_iso.
+        const float pi0 = -p.power_sigma2 * std::log(v0 / p.power_t);
+        const float pi1 = -p.power_sigma2 * std::log(v1 / p.power_t);
+        const float pii = -p.power_sigma2 * std::log(p.iso / p.power_t);
+        const float a = p.spacing * p.spacing;
+        const float b = pi1 - pi0 - a;
+        const float c = pi0 - pii;
+        const float disc = b * b - 4.0f * a * c;
+        if (disc >= 0.0f) {
+            const float s = std::sqrt(disc);
+            const float r1 = (-b - s) / (2.0f * a), r2 = (-b + s) / (2.0f * a);
+            const bool ok1 = r1 >= 0.0f && r1 <= 1.0f, ok2 = r2 >= 0.0f && r2 <= 1.0f;
+            if (ok1 && ok2)
+                t = std::abs(r1 - t) <= std::abs(r2 - t) ? r1 : r2;
+            else if (ok1)
+                t = r1;
+            else if (ok2)
+                t = r2;
+        }
+    }
+    return std::min(std::max(t, 0.001f), 0.999f);
 }
 
 }  // namespace fdmsurf::detail

@@ -31,7 +31,17 @@ struct McParams {
     float spacing = 1.0f;
     float iso = 0.0f;
     std::uint32_t z_begin = 0, z_end = 0;
+    // 0: power_sigma2 unused, linear interpolation of the value along an edge. > 0: the field is
+    // T exp(-pi / sigma^2) with pi the power distance (the unfiltered density, vdw and sas):
+    // pi is exactly quadratic along an edge, with leading coefficient spacing^2, when one atom
+    // wins at both ends, so the crossing is the root of that quadratic (exact for one atom).
+    float power_sigma2 = 0.0f;  // sigma^2 of the density
+    float power_t = 1.0f;       // T of the density
 };
+
+// Where along the edge from v0 (t = 0) to v1 (t = 1) the field crosses `iso`, clamped to
+// [0.001, 0.999]; shared by the CPU reference and mirrored by shaders/mc_vertices.comp.
+float edge_crossing(float v0, float v1, const McParams& p);
 
 // Order and values, which the GPU version reproduces:
 // - Points (x, y, z), z_begin <= z <= z_end, in linear order (x fastest). A point owns its +x edge

@@ -63,6 +63,8 @@ GpuMesh MarchingCubesPass::run(Commands& cmds, StagingArena& arena, const Buffer
     push.blocks_x = static_cast<std::uint32_t>(std::min<std::uint64_t>(blocks, max_x));
     push.iso = params.iso;
     push.owned_points = static_cast<std::uint32_t>(points);
+    push.power_sigma2 = params.power_sigma2;
+    push.power_t = params.power_t;
     const std::uint32_t blocks_y =
         static_cast<std::uint32_t>((blocks + push.blocks_x - 1) / push.blocks_x);
 
