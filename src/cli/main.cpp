@@ -8,6 +8,7 @@
 #include <system_error>
 #include <vector>
 
+#include "cli/compare_command.hpp"
 #include "cli/options.hpp"
 #include "cli/summary.hpp"
 #include "fdmsurf/fdmsurf.hpp"
@@ -112,28 +113,23 @@ std::size_t report_validation(Engine& engine) {
     return messages.size();
 }
 
-int run(const CliOptions& options) {
+// One structure through an engine that stays up for every input of the run.
+// `read`: the structure when it was read already (with its parse time), else null.
+int run_one(const CliOptions& options, Engine& engine, double init_ms, const std::string& input,
+            const std::string& output, const Structure* read = nullptr, double parse_ms = 0.0) {
     const auto start = Clock::now();
-    const std::string& input = options.inputs.front();
     RunReport report;
     auto warn = [&report](const std::string& message) {
         print_warning(message);
         report.warnings.push_back(message);
     };
-
-    // Option checks that need neither the structure nor the device come first. The warning
-    // for a spacing too coarse for the filter comes from the engine, with result.warnings.
-    const MeshFormat format = check_output(options.output);
-    effective_cutoff(options.surface);
+    const MeshFormat format = check_output(output);
 
     auto t = Clock::now();
-    const Structure structure = read_structure(input, options.read);
-    report.times.push_back({"parse", ms_since(t), false});
+    const Structure structure = read ? *read : read_structure(input, options.read);
+    report.times.push_back({"parse", read ? parse_ms : ms_since(t), false});
     for (const std::string& message : structure.info.warnings) warn(message);
-
-    t = Clock::now();
-    Engine engine(options.engine);
-    report.times.push_back({"init", ms_since(t), false});
+    if (init_ms > 0) report.times.push_back({"init", init_ms, false});
 
     SurfaceResult result;
     try {
@@ -161,33 +157,74 @@ int run(const CliOptions& options) {
     }
 
     t = Clock::now();
-    write_mesh(result.mesh, options.output, format);
+    write_mesh(result.mesh, output, format);
     report.times.push_back({"write", ms_since(t), false});
 
     report.stats = compute_stats(result.mesh);
     report.closed_manifold = report.stats.is_closed_manifold();
     report.version = version();
     report.input = input;
-    report.output = options.output;
+    report.output = output;
     report.surface = options.surface.surface;
     report.model = options.read.model;
     report.info = structure.info;
     report.atoms_used = structure.atoms.size();
     report.grid = result.grid;
     report.device = engine.device().name;
-    report.total_ms = ms_since(start);
+    report.total_ms = ms_since(start) + init_ms;
 
     if (options.json) {
         std::printf("%s\n", json_summary(report).c_str());
     } else if (!options.quiet) {
         std::fputs(text_summary(report).c_str(), stdout);
     }
+    std::fflush(stdout);
     return kExitOk;
+}
+
+int run(const CliOptions& options) {
+    // Option checks that need neither the structure nor the device come first. The warning
+    // for a spacing too coarse for the filter comes from the engine, with result.warnings.
+    for (const std::string& input : options.inputs) check_output(output_for(input, options.output));
+    effective_cutoff(options.surface);
+    if (options.inputs.size() == 1) {
+        // Read before the device starts, so that bad input fails fast.
+        auto t = Clock::now();
+        const Structure structure = read_structure(options.inputs.front(), options.read);
+        const double parse_ms = ms_since(t);
+        t = Clock::now();
+        Engine engine(options.engine);
+        return run_one(options, engine, ms_since(t), options.inputs.front(),
+                       output_for(options.inputs.front(), options.output), &structure, parse_ms);
+    }
+
+    const auto t = Clock::now();
+    Engine engine(options.engine);
+    const double init_ms = ms_since(t);
+    // Several inputs: each is reported on its own; a failed one does not stop the others, and
+    // the exit code is that of the first failure.
+    int status = kExitOk;
+    for (std::size_t i = 0; i < options.inputs.size(); ++i) {
+        const std::string& input = options.inputs[i];
+        int code = kExitOk;
+        try {
+            code = run_one(options, engine, i == 0 ? init_ms : 0.0, input,
+                           output_for(input, options.output));
+        } catch (const Error& e) {
+            print_error(naming(input, e.what()));
+            code = exit_code_for(e.code());
+        }
+        if (status == kExitOk) status = code;
+    }
+    return status;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+    if (argc >= 2 && std::string(argv[1]) == "compare") {
+        return compare_command(std::vector<std::string>(argv + 2, argv + argc));
+    }
     try {
         const CliOptions options = parse_args(std::vector<std::string>(argv + 1, argv + argc));
         if (options.help) {

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <array>
+#include <filesystem>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -71,6 +72,26 @@ constexpr std::array<OptionSpec, 21> kOptions{{
     {"--help", "-h", Opt::Help, false, false},
     {"--version", "", Opt::Version, false, false},
 }};
+
+[[noreturn]] void fail(const std::string& message);
+
+}  // namespace
+
+bool output_is_folder(const std::string& output) {
+    std::error_code ec;
+    return !output.empty() && (output.back() == '/' || std::filesystem::is_directory(output, ec));
+}
+
+std::string output_for(const std::string& input, const std::string& output) {
+    if (!output_is_folder(output)) return output;
+    std::filesystem::path name = std::filesystem::path(input).filename();
+    // 1crn.pdb.gz -> 1crn.ply
+    if (name.extension() == ".gz") name = name.stem();
+    name.replace_extension(".ply");
+    return (std::filesystem::path(output) / name).string();
+}
+
+namespace {
 
 [[noreturn]] void fail(const std::string& message) {
     throw Error(ErrorCode::InvalidArgument, message);
@@ -323,14 +344,9 @@ CliOptions parse_args(const std::vector<std::string>& args) {
 
     if (o.help || o.version || o.list_devices) return o;
     if (o.inputs.empty()) fail("missing INPUT, the structure file to read; see fdmsurf --help");
-    if (o.inputs.size() > 1) {
-        std::string list;
-        for (const std::string& input : o.inputs) {
-            list += (list.empty() ? "'" : ", '") + input + "'";
-        }
-        fail("more than one INPUT (" + list + "): fdmsurf reads exactly one structure per run");
-    }
     if (o.output.empty()) fail("missing -o OUTPUT, the mesh file to write (.ply or .obj)");
+    if (o.inputs.size() > 1 && !output_is_folder(o.output))
+        fail("several INPUTs need -o to name a folder (ending in '/'), got '" + o.output + "'");
     return o;
 }
 
