@@ -7,6 +7,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <string_view>
 #include <system_error>
@@ -39,6 +40,9 @@ enum class Opt {
     Validation,
     Help,
     Version,
+    Paper,
+    NoCavities,
+    MinCavity,
 };
 
 struct OptionSpec {
@@ -49,7 +53,7 @@ struct OptionSpec {
     bool numeric;  // a value that may start with '-' (a negative number, rejected later)
 };
 
-constexpr std::array<OptionSpec, 21> kOptions{{
+constexpr std::array<OptionSpec, 24> kOptions{{
     {"--output", "-o", Opt::Output, true, false},
     {"--surface", "", Opt::Surface, true, false},
     {"--spacing", "", Opt::Spacing, true, true},
@@ -71,6 +75,9 @@ constexpr std::array<OptionSpec, 21> kOptions{{
     {"--validation", "", Opt::Validation, false, false},
     {"--help", "-h", Opt::Help, false, false},
     {"--version", "", Opt::Version, false, false},
+    {"--paper", "", Opt::Paper, false, false},
+    {"--no-cavities", "", Opt::NoCavities, false, false},
+    {"--min-cavity-volume", "", Opt::MinCavity, true, true},
 }};
 
 [[noreturn]] void fail(const std::string& message);
@@ -240,6 +247,11 @@ void apply_value(CliOptions& o, const OptionSpec& spec, std::string_view name,
         case Opt::Filter:
             s.filter = parse_choice(name, text, kFilters, "filter", "ideal or gaussian");
             break;
+        case Opt::MinCavity:
+            s.min_cavity_volume = parse_float(name, text);
+            require(s.min_cavity_volume >= 0.0f, name, ">= 0 Å³", text);
+            o.explicit_cavities = true;
+            break;
         case Opt::Padding:
             s.padding = parse_float(name, text);
             require(s.padding >= 0.0f, name, ">= 0 Å", text);
@@ -288,6 +300,13 @@ void apply_flag(CliOptions& o, const OptionSpec& spec) {
             break;
         case Opt::Version:
             o.version = true;
+            break;
+        case Opt::Paper:
+            o.paper = true;
+            break;
+        case Opt::NoCavities:
+            o.surface.min_cavity_volume = std::numeric_limits<float>::infinity();
+            o.explicit_cavities = true;
             break;
         default:
             fail("internal: option " + std::string(spec.name) + " needs a value");
@@ -340,6 +359,15 @@ CliOptions parse_args(const std::vector<std::string>& args) {
         }
         if (value.empty()) fail("option " + name + " needs a value");
         apply_value(o, *spec, name, value);
+        if (spec->id == Opt::Filter) o.explicit_filter = true;
+        if (spec->id == Opt::Level) o.explicit_level = true;
+    }
+    if (o.paper) {
+        // The paper's settings, except where an option says otherwise, wherever it stands.
+        const fdmsurf::SurfaceOptions paper = fdmsurf::paper_settings(o.surface);
+        if (!o.explicit_filter) o.surface.filter = paper.filter;
+        if (!o.explicit_level) o.surface.level = paper.level;
+        if (!o.explicit_cavities) o.surface.min_cavity_volume = paper.min_cavity_volume;
     }
 
     if (o.help || o.version || o.list_devices) return o;
@@ -347,6 +375,11 @@ CliOptions parse_args(const std::vector<std::string>& args) {
     if (o.output.empty()) fail("missing -o OUTPUT, the mesh file to write (.ply or .obj)");
     if (o.inputs.size() > 1 && !output_is_folder(o.output))
         fail("several INPUTs need -o to name a folder (ending in '/'), got '" + o.output + "'");
+    for (std::size_t i = 0; i < o.inputs.size(); ++i)
+        for (std::size_t j = 0; j < i; ++j)
+            if (output_for(o.inputs[i], o.output) == output_for(o.inputs[j], o.output))
+                fail("inputs '" + o.inputs[j] + "' and '" + o.inputs[i] + "' would both write '" +
+                     output_for(o.inputs[i], o.output) + "'");
     return o;
 }
 
@@ -364,13 +397,19 @@ Surface:
                          solvent accessible surface (default ses)
   --spacing H            grid spacing, Å (> 0, default 0.5)
   --probe R              solvent probe radius, Å (>= 0, default 1.4)
-  --cutoff F             filter cut-off, 1/Å (>= 0; default 0: 1/(4 R), that is
-                         0.179 for R = 1.4); ses only
+  --cutoff F             filter cut-off, 1/Å (>= 0; default 0: 1.3/(4 R) for the
+                         Gaussian filter, 1/(4 R) for the ideal one); ses only
   --sigma S              Gaussian width σ of each atom's density, Å (> 0, default 3)
   --level L              iso-level in units of T, the density on each atom's
-                         van der Waals sphere (> 0, default 1)
+                         van der Waals sphere (> 0; default 0.9 for ses with the
+                         Gaussian filter, 1 otherwise)
   --filter ideal|gaussian  filter shape: the ideal spherical low-pass of the paper
-                         or a Gaussian 2^-(|f|/F)^2 (default ideal)
+                         or a Gaussian 2^-(|f|/F)^2 (default gaussian)
+  --paper                the paper's settings: ideal filter at 1/(4 R), level 1,
+                         all cavities kept (options given explicitly still apply)
+  --no-cavities          keep only outer surfaces: remove every cavity
+  --min-cavity-volume V  remove cavities enclosing less than V Å³ (>= 0; default:
+                         the volume of one probe sphere for ses, 0 otherwise)
   --padding P            empty space around the atoms, Å (>= 0; default one filter
                          wavelength 1/F for ses, 1 Å for vdw and sas)
 

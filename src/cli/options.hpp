@@ -21,6 +21,8 @@ struct CliOptions {
     bool json = false;   // --stats json: the summary as one JSON object on stdout
     bool help = false;
     bool version = false;
+    bool paper = false;  // --paper: the paper's settings where not given explicitly
+    bool explicit_filter = false, explicit_level = false, explicit_cavities = false;
 };
 
 // Parses the arguments after the program name. `--name value` and `--name=value` are both

@@ -139,7 +139,7 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
     result.grid.slabs = slabs;
 
     // Density and filter, slab by slab, into the host field (pitch nx).
-    std::vector<float> full(std::size_t(d[0]) * d[1] * d[2]);
+    std::vector<float> full(static_cast<std::size_t>(d[0]) * d[1] * d[2]);
     GridPlan sp = plan;
     sp.info.dims[2] = slab_planes;
     const std::size_t slab_bytes = sp.field_floats() * sizeof(float);
@@ -264,7 +264,19 @@ Engine::Engine(Engine&&) noexcept = default;
 Engine& Engine::operator=(Engine&&) noexcept = default;
 
 SurfaceResult Engine::make_surface(const Atoms& atoms, const SurfaceOptions& options) {
-    return impl_->run(atoms, options);
+    SurfaceResult result = impl_->run(atoms, options);
+    double min_volume = options.min_cavity_volume;
+    if (min_volume < 0.0) {
+        const double r = options.probe;
+        min_volume = options.surface == SurfaceKind::Ses ? 4.0 / 3.0 * 3.14159265358979 * r * r * r : 0.0;
+    }
+    if (min_volume > 0.0) {
+        const double t0 = detail::now_ms();
+        const std::size_t removed = remove_cavities(result.mesh, min_volume);
+        result.times.push_back({"cavities", detail::now_ms() - t0, false});
+        result.cavities_removed = removed;
+    }
+    return result;
 }
 
 const DeviceInfo& Engine::device() const { return impl_->context.info(); }

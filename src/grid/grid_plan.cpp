@@ -29,15 +29,32 @@ float effective_cutoff(const SurfaceOptions& o) {
         bad("sigma must be a positive number of Å (got " + std::to_string(o.sigma) + ")");
     if (!std::isfinite(o.cutoff) || o.cutoff < 0.0f)
         bad("cut-off must be >= 0 1/Å (got " + std::to_string(o.cutoff) + ")");
-    if (!std::isfinite(o.level) || o.level <= 0.0f)
-        bad("level must be a positive multiple of T (got " + std::to_string(o.level) + ")");
+    if (!std::isfinite(o.level) || o.level < 0.0f)
+        bad("level must be a positive multiple of T, or 0 for the default (got " +
+            std::to_string(o.level) + ")");
     if (!(o.density_cut > 0.0f && o.density_cut < 1.0f))
         bad("density cut must lie in (0, 1)");
     if (o.surface != SurfaceKind::Ses) return 0.0f;
     if (o.cutoff > 0.0f) return o.cutoff;
     if (o.probe <= 0.0f)
         bad("a ses surface needs probe > 0 or an explicit --cutoff (probe 0 is the vdw surface)");
-    return 1.0f / (4.0f * o.probe);
+    // 1.3: the Gaussian filter's scale that matched the SES best (docs/accuracy.md).
+    const float scale = o.filter == FilterShape::Gaussian ? 1.3f : 1.0f;
+    return scale / (4.0f * o.probe);
+}
+
+float effective_level(const SurfaceOptions& o) {
+    if (o.level > 0.0f) return o.level;
+    // 0.9: with the Gaussian filter at 1.3/(4 probe), the level that matched the SES volume.
+    return o.surface == SurfaceKind::Ses && o.filter == FilterShape::Gaussian ? 0.9f : 1.0f;
+}
+
+SurfaceOptions paper_settings(SurfaceOptions options) {
+    options.filter = FilterShape::Ideal;
+    options.cutoff = 0.0f;
+    options.level = 1.0f;
+    options.min_cavity_volume = 0.0f;
+    return options;
 }
 
 }  // namespace fdmsurf
@@ -66,7 +83,7 @@ GridPlan plan_grid(const Atoms& atoms, const SurfaceOptions& options) {
     plan.density.level_t = 1.0f;
     plan.density.pi_cut = options.sigma * options.sigma * std::log(1.0f / options.density_cut);
     plan.density.radius_add = options.surface == SurfaceKind::Sas ? options.probe : 0.0f;
-    plan.iso = options.level * plan.density.level_t;
+    plan.iso = effective_level(options) * plan.density.level_t;
     plan.info.spacing = h;
     plan.info.cutoff = cutoff;
 

@@ -1,8 +1,11 @@
 // compare_meshes: weighted RMSD of a mesh against a reference (Giard & Macq, "Molecular surface
 // mesh generation by filtering electron density map", Int. J. Biomed. Imaging 2010, sec. 4.3),
-// with the same definitions as shared/tools/meshstat.py compare.
+// with the definitions of shared/tools/meshstat.py compare, and exact closest points through a
+// bounding-volume hierarchy.
 #include <algorithm>
+#include <array>
 #include <atomic>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <exception>
@@ -29,10 +32,22 @@ double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[
 Vec3 cross(const Vec3& a, const Vec3& b) {
     return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
-Vec3 at(const std::vector<double>& p, std::size_t i) { return {p[3 * i], p[3 * i + 1], p[3 * i + 2]}; }
+template <class T>
+Vec3 at(const std::vector<T>& p, std::size_t i) {
+    return {double(p[3 * i]), double(p[3 * i + 1]), double(p[3 * i + 2])};
+}
 double squared_distance(const Vec3& a, const Vec3& b) {
     const Vec3 d = sub(a, b);
     return d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+}
+// The triangle's vertices a, b, c.
+std::array<Vec3, 3> corners(const CleanMesh& mesh, std::size_t t) {
+    return {at(mesh.positions, mesh.indices[3 * t]), at(mesh.positions, mesh.indices[3 * t + 1]),
+            at(mesh.positions, mesh.indices[3 * t + 2])};
+}
+double triangle_area(const std::array<Vec3, 3>& v) {
+    const Vec3 x = cross(sub(v[1], v[0]), sub(v[2], v[0]));
+    return 0.5 * std::sqrt(dot(x, x));
 }
 
 unsigned thread_count(unsigned requested) {
@@ -40,8 +55,8 @@ unsigned thread_count(unsigned requested) {
     return std::clamp(std::thread::hardware_concurrency(), 1u, 64u);
 }
 
-// Runs body(i) for i in [0, count) on `threads` threads, in chunks taken in order; rethrows the
-// first exception.
+// Runs body(i) for i in [0, count) on up to `threads` threads, chunks taken in order; rethrows
+// the first exception.
 void parallel_chunks(std::size_t count, unsigned threads,
                      const std::function<void(std::size_t)>& body) {
     threads = unsigned(std::min<std::size_t>(threads, count));
@@ -50,8 +65,8 @@ void parallel_chunks(std::size_t count, unsigned threads,
         return;
     }
     std::atomic<std::size_t> next{0};
-    std::exception_ptr error;
     std::atomic<bool> failed{false};
+    std::exception_ptr error;
     auto work = [&] {
         try {
             for (std::size_t i; !failed && (i = next++) < count;) body(i);
@@ -66,7 +81,7 @@ void parallel_chunks(std::size_t count, unsigned threads,
     if (error) std::rethrow_exception(error);
 }
 
-// Runs a() here and b() on another thread; rethrows the first exception.
+// Runs a() here and b() on another thread when `parallel`; rethrows a's exception, else b's.
 void run_both(const std::function<void()>& a, const std::function<void()>& b, bool parallel) {
     if (!parallel) {
         a();
@@ -92,110 +107,90 @@ void run_both(const std::function<void()>& a, const std::function<void()>& b, bo
     if (error_b) std::rethrow_exception(error_b);
 }
 
-// Open-addressing map from an integer cell (x, y, z) to a run of the sorted vertex order.
-class CellTable {
-public:
-    struct Cell {
-        std::int64_t x, y, z;
-    };
-    explicit CellTable(std::size_t cells) {
-        std::size_t capacity = 16;
-        while (capacity < 2 * cells) capacity *= 2;
-        slots_.assign(capacity, Slot{});
-        mask_ = capacity - 1;
-    }
-    void insert(const Cell& c, std::uint32_t run) {
-        for (std::size_t i = hash(c) & mask_;; i = (i + 1) & mask_) {
-            if (slots_[i].run == kEmpty) {
-                slots_[i] = {c, run};
-                return;
-            }
-        }
-    }
-    std::uint32_t find(const Cell& c) const {
-        for (std::size_t i = hash(c) & mask_;; i = (i + 1) & mask_) {
-            const Slot& s = slots_[i];
-            if (s.run == kEmpty) return kEmpty;
-            if (s.cell.x == c.x && s.cell.y == c.y && s.cell.z == c.z) return s.run;
-        }
-    }
-    static constexpr std::uint32_t kEmpty = 0xffffffffu;
+// ---------------------------------------------------------------------------------------------
+// Welding
 
-private:
-    struct Slot {
-        Cell cell{};
-        std::uint32_t run = kEmpty;
-    };
-    static std::size_t hash(const Cell& c) {
-        std::uint64_t h = std::uint64_t(c.x) * 0x9e3779b97f4a7c15ull;
-        h ^= std::uint64_t(c.y) * 0xc2b2ae3d27d4eb4full + (h >> 29);
-        h ^= std::uint64_t(c.z) * 0x165667b19e3779f9ull + (h >> 32);
-        return std::size_t(h ^ (h >> 31));
-    }
-    std::vector<Slot> slots_;
-    std::size_t mask_ = 0;
-};
+std::uint64_t mix64(std::uint64_t h) {
+    h ^= h >> 33;
+    h *= 0xff51afd7ed558ccdull;
+    h ^= h >> 33;
+    h *= 0xc4ceb9fe1a85ec53ull;
+    return h ^ (h >> 33);
+}
+
+// A 32-bit hash of an integer cell: equal cells, equal hashes (unequal ones may collide).
+std::uint64_t cell_hash(std::int64_t x, std::int64_t y, std::int64_t z) {
+    return mix64(mix64(mix64(std::uint64_t(x)) ^ std::uint64_t(y)) ^ std::uint64_t(z)) >> 32;
+}
 
 std::int64_t cell_of(double coordinate, double cell) {
     constexpr double kLimit = 4.0e18;
     return std::int64_t(std::clamp(std::floor(coordinate / cell), -kLimit, kLimit));
 }
 
-// Unites the vertices closer than `tolerance` (<=, as scipy's query_pairs) through a hash grid
-// of cells `tolerance` wide: close pairs lie in the same or adjacent cells.
-void unite_close_vertices(const std::vector<double>& p, double tolerance, DisjointSets& sets) {
+// Unites the vertices closer than `tolerance` (<=, as scipy's query_pairs). Vertices are
+// bucketed in cells at least `tolerance` wide, sorted by the cell's hash: a close pair lies in
+// one cell or, for a vertex near a cell face, in the neighbouring cell across that face. A hash
+// collision only puts more pairs to the distance test.
+void unite_close_vertices(const std::vector<float>& p, double tolerance, DisjointSets& sets) {
     const std::size_t n = p.size() / 3;
-    const double cell = tolerance > 0 ? tolerance : 1.0;
-    const double limit = tolerance * tolerance;
-    std::vector<CellTable::Cell> cells(n);
+    if (n == 0) return;
+    double lo[3], hi[3];
+    for (std::size_t k = 0; k < 3; ++k) lo[k] = hi[k] = p[k];
     for (std::size_t i = 0; i < n; ++i) {
-        cells[i] = {cell_of(p[3 * i], cell), cell_of(p[3 * i + 1], cell), cell_of(p[3 * i + 2], cell)};
-    }
-    std::vector<std::uint32_t> order(n);
-    std::iota(order.begin(), order.end(), 0u);
-    auto less = [&cells](std::uint32_t a, std::uint32_t b) {
-        const auto &ca = cells[a], &cb = cells[b];
-        if (ca.x != cb.x) return ca.x < cb.x;
-        if (ca.y != cb.y) return ca.y < cb.y;
-        if (ca.z != cb.z) return ca.z < cb.z;
-        return a < b;
-    };
-    std::sort(order.begin(), order.end(), less);
-    std::vector<std::uint32_t> run_start;  // runs of equal cells in `order`
-    for (std::size_t k = 0; k < n; ++k) {
-        const auto& c = cells[order[k]];
-        if (k == 0 || c.x != cells[order[k - 1]].x || c.y != cells[order[k - 1]].y ||
-            c.z != cells[order[k - 1]].z) {
-            run_start.push_back(std::uint32_t(k));
+        for (std::size_t k = 0; k < 3; ++k) {
+            lo[k] = std::min(lo[k], double(p[3 * i + k]));
+            hi[k] = std::max(hi[k], double(p[3 * i + k]));
         }
     }
-    const std::size_t runs = run_start.size();
-    run_start.push_back(std::uint32_t(n));
-    CellTable table(runs);
-    for (std::size_t r = 0; r < runs; ++r) table.insert(cells[order[run_start[r]]], std::uint32_t(r));
+    // Cells much wider than the tolerance, so that few vertices lie near a face, but not so
+    // wide that many vertices share one (the pairs inside a cell are all tested).
+    const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+    const double typical = extent / std::cbrt(double(n));
+    double cell = tolerance > 0 ? std::max(tolerance, std::min(256 * tolerance, typical)) : 1.0;
+    if (!(cell > 0) || !std::isfinite(cell)) cell = 1.0;
+    const double margin = 2 * tolerance;  // generous: floor() may round either way
 
-    auto close = [&](std::uint32_t a, std::uint32_t b) {
-        return squared_distance(at(p, a), at(p, b)) <= limit;
+    auto cell_at = [&](std::size_t i, std::size_t k) { return cell_of(p[3 * i + k], cell); };
+    std::vector<std::uint64_t> entries(n);  // hash << 32 | vertex
+    for (std::size_t i = 0; i < n; ++i) {
+        entries[i] = cell_hash(cell_at(i, 0), cell_at(i, 1), cell_at(i, 2)) << 32 | i;
+    }
+    std::sort(entries.begin(), entries.end());
+    const double limit = tolerance * tolerance;
+    auto try_pair = [&](std::uint32_t a, std::uint32_t b) {
+        if (a != b && squared_distance(at(p, a), at(p, b)) <= limit) sets.unite(a, b);
     };
-    for (std::size_t r = 0; r < runs; ++r) {
-        const std::uint32_t begin = run_start[r], end = run_start[r + 1];
-        for (std::uint32_t i = begin; i < end; ++i) {
-            for (std::uint32_t j = i + 1; j < end; ++j) {
-                if (close(order[i], order[j])) sets.unite(order[i], order[j]);
+    for (std::size_t begin = 0, end; begin < n; begin = end) {
+        end = begin + 1;
+        while (end < n && entries[end] >> 32 == entries[begin] >> 32) ++end;
+        for (std::size_t i = begin; i < end; ++i) {
+            for (std::size_t j = i + 1; j < end; ++j) {
+                try_pair(std::uint32_t(entries[i]), std::uint32_t(entries[j]));
             }
         }
-        if (tolerance <= 0) continue;  // exact duplicates share a cell
-        const CellTable::Cell c = cells[order[begin]];
-        // The 13 neighbouring cells after this one in (x, y, z) order: each pair once.
-        for (int dx = 0; dx <= 1; ++dx) {
-            for (int dy = dx == 0 ? 0 : -1; dy <= 1; ++dy) {
-                for (int dz = (dx == 0 && dy == 0) ? 1 : -1; dz <= 1; ++dz) {
-                    const std::uint32_t other = table.find({c.x + dx, c.y + dy, c.z + dz});
-                    if (other == CellTable::kEmpty) continue;
-                    for (std::uint32_t i = begin; i < end; ++i) {
-                        for (std::uint32_t j = run_start[other]; j < run_start[other + 1]; ++j) {
-                            if (close(order[i], order[j])) sets.unite(order[i], order[j]);
-                        }
+    }
+    if (tolerance <= 0) return;  // exact duplicates share a cell
+    for (std::size_t i = 0; i < n; ++i) {
+        int from[3], to[3];
+        bool near = false;
+        std::int64_t c[3];
+        for (std::size_t k = 0; k < 3; ++k) {
+            c[k] = cell_at(i, k);
+            const double base = double(c[k]) * cell;
+            from[k] = p[3 * i + k] - base <= margin ? -1 : 0;
+            to[k] = base + cell - p[3 * i + k] <= margin ? 1 : 0;
+            near = near || from[k] != 0 || to[k] != 0;
+        }
+        if (!near) continue;
+        for (int dx = from[0]; dx <= to[0]; ++dx) {
+            for (int dy = from[1]; dy <= to[1]; ++dy) {
+                for (int dz = from[2]; dz <= to[2]; ++dz) {
+                    if (dx == 0 && dy == 0 && dz == 0) continue;
+                    const std::uint64_t hash = cell_hash(c[0] + dx, c[1] + dy, c[2] + dz);
+                    auto it = std::lower_bound(entries.begin(), entries.end(), hash << 32);
+                    for (; it != entries.end() && *it >> 32 == hash; ++it) {
+                        try_pair(std::uint32_t(i), std::uint32_t(*it));
                     }
                 }
             }
@@ -211,7 +206,7 @@ void drop_unreferenced(CleanMesh& mesh) {
     std::uint32_t next = 0;
     for (std::size_t v = 0; v < n; ++v) {
         if (index[v] != 0) {
-            for (int k = 0; k < 3; ++k) mesh.positions[3 * next + k] = mesh.positions[3 * v + k];
+            for (std::size_t k = 0; k < 3; ++k) mesh.positions[3 * next + k] = mesh.positions[3 * v + k];
             index[v] = next++;
         }
     }
@@ -223,44 +218,45 @@ void drop_unreferenced(CleanMesh& mesh) {
 // ---------------------------------------------------------------------------------------------
 // Bounding-volume hierarchy over triangles, for exact closest-point queries.
 
-class TriangleTree {
+// Morton codes of points quantised in their bounding box (11, 11 and 10 bits): sorting by code
+// puts nearby points next to each other. Packed with an index below it into one 64-bit key.
+class MortonKeys {
 public:
-    explicit TriangleTree(const CleanMesh& mesh);
-    // The closest point of the mesh to p; `hint` is a slot to try first (or kNone), and on
-    // return the slot of the answer.
-    ClosestPoint closest(const Vec3& p, std::uint32_t& hint) const;
-    static constexpr std::uint32_t kNone = 0xffffffffu;
+    template <class T>
+    explicit MortonKeys(const std::vector<T>& points) {
+        const std::size_t n = points.size() / 3;
+        double hi[3] = {0, 0, 0};
+        for (std::size_t k = 0; k < 3; ++k) lo_[k] = hi[k] = n > 0 ? double(points[k]) : 0.0;
+        for (std::size_t i = 0; i < n; ++i) {
+            for (std::size_t k = 0; k < 3; ++k) {
+                lo_[k] = std::min(lo_[k], double(points[3 * i + k]));
+                hi[k] = std::max(hi[k], double(points[3 * i + k]));
+            }
+        }
+        for (std::size_t k = 0; k < 3; ++k) {
+            scale_[k] = hi[k] > lo_[k] ? kMax[k] / (hi[k] - lo_[k]) : 0.0;
+        }
+    }
+    std::uint64_t operator()(const Vec3& p, std::uint32_t index) const {
+        std::uint64_t code = 0;
+        for (std::size_t k = 0; k < 3; ++k) {
+            const auto q = std::uint64_t(std::clamp((p[k] - lo_[k]) * scale_[k], 0.0, kMax[k]));
+            code |= spread(q) << k;
+        }
+        return code << 32 | index;
+    }
 
 private:
-    struct Node {
-        float lo[3], hi[3];
-        std::uint32_t first;  // leaf: first slot; inner node: index of the first child
-        std::uint32_t count;  // leaf: triangles; 0 for an inner node
-    };
-    static constexpr std::uint32_t kLeafSize = 4;
-
-    void build(std::uint32_t node, std::uint32_t begin, std::uint32_t end,
-               std::vector<std::uint32_t>& order, const std::vector<double>& box,
-               const std::vector<double>& centroid);
-    Vec3 vertex(std::uint32_t slot, int k) const {
-        const double* t = &triangles_[9 * std::size_t(slot) + 3 * std::size_t(k)];
-        return {t[0], t[1], t[2]};
+    static constexpr double kMax[3] = {2047.0, 2047.0, 1023.0};
+    static std::uint64_t spread(std::uint64_t x) {  // bit i to bit 3 i
+        x &= 0x7ff;
+        x = (x | x << 16) & 0x70000ffull;
+        x = (x | x << 8) & 0x700f00full;
+        x = (x | x << 4) & 0x430c30c3ull;
+        x = (x | x << 2) & 0x49249249ull;
+        return x;
     }
-    double box_distance(const Node& node, const Vec3& p) const {
-        double d2 = 0;
-        for (int k = 0; k < 3; ++k) {
-            const double below = double(node.lo[k]) - p[std::size_t(k)];
-            const double above = p[std::size_t(k)] - double(node.hi[k]);
-            const double d = std::max({below, above, 0.0});
-            d2 += d * d;
-        }
-        return d2;
-    }
-
-    std::vector<Node> nodes_;
-    std::vector<double> triangles_;   // 9 per slot: a, b, c in leaf order
-    std::vector<double> centroids_;   // 3 per slot
-    std::vector<std::uint32_t> original_;  // slot -> triangle of the mesh
+    double lo_[3], scale_[3];
 };
 
 float round_down(double x) {
@@ -274,88 +270,129 @@ float round_up(double x) {
     return f;
 }
 
+class TriangleTree {
+public:
+    explicit TriangleTree(const CleanMesh& mesh);
+    // The closest point of the mesh to p; `hint` is a slot to try first (or kNone), and on
+    // return the slot of the answer.
+    ClosestPoint closest(const Vec3& p, std::uint32_t& hint) const;
+    static constexpr std::uint32_t kNone = 0xffffffffu;
+
+private:
+    struct Node {
+        float lo[3], hi[3];   // rounded outwards: never closer than the triangles inside
+        std::uint32_t first;  // leaf: first slot; inner node: index of the first child
+        std::uint32_t count;  // leaf: triangles; 0 for an inner node
+    };
+    static constexpr std::uint32_t kLeafSize = 4;
+    static constexpr int kMaxDepth = 96;  // 32 code bits, then halving runs of equal codes
+
+    std::array<double, 6> build(std::uint32_t node, std::uint32_t begin, std::uint32_t end,
+                                const std::vector<std::uint64_t>& keys, int depth);
+    static double box_distance(const Node& node, const Vec3& p) {
+        double d2 = 0;
+        for (std::size_t k = 0; k < 3; ++k) {
+            const double d = std::max({double(node.lo[k]) - p[k], p[k] - double(node.hi[k]), 0.0});
+            d2 += d * d;
+        }
+        return d2;
+    }
+    Vec3 vertex(std::uint32_t slot, std::size_t v) const {
+        const float* x = &triangles_[9 * std::size_t(slot) + 3 * v];
+        return {x[0], x[1], x[2]};
+    }
+    Vec3 centroid(std::uint32_t slot) const {  // as meshstat and the brute force compute it
+        const Vec3 a = vertex(slot, 0), b = vertex(slot, 1), c = vertex(slot, 2);
+        return {(a[0] + b[0] + c[0]) / 3.0, (a[1] + b[1] + c[1]) / 3.0, (a[2] + b[2] + c[2]) / 3.0};
+    }
+
+    std::vector<Node> nodes_;
+    std::vector<float> triangles_;         // 9 per slot: a, b, c; slots in Morton order
+    std::vector<std::uint32_t> original_;  // slot -> triangle of the mesh
+};
+
 TriangleTree::TriangleTree(const CleanMesh& mesh) {
     const std::size_t n = mesh.triangle_count();
-    std::vector<double> box(6 * n), centroid(3 * n);
+    const MortonKeys morton(mesh.positions);
+    std::vector<std::uint64_t> keys(n);  // Morton code of the centroid << 32 | triangle
     for (std::size_t t = 0; t < n; ++t) {
-        for (int k = 0; k < 3; ++k) {
-            const double a = mesh.positions[3 * mesh.indices[3 * t] + k];
-            const double b = mesh.positions[3 * mesh.indices[3 * t + 1] + k];
-            const double c = mesh.positions[3 * mesh.indices[3 * t + 2] + k];
-            box[6 * t + k] = std::min({a, b, c});
-            box[6 * t + 3 + k] = std::max({a, b, c});
-            centroid[3 * t + k] = (a + b + c) / 3.0;
-        }
+        const auto v = corners(mesh, t);
+        keys[t] = morton({(v[0][0] + v[1][0] + v[2][0]) / 3, (v[0][1] + v[1][1] + v[2][1]) / 3,
+                          (v[0][2] + v[1][2] + v[2][2]) / 3},
+                         std::uint32_t(t));
     }
-    std::vector<std::uint32_t> order(n);
-    std::iota(order.begin(), order.end(), 0u);
-    nodes_.reserve(n == 0 ? 1 : 2 * ((n + kLeafSize - 1) / kLeafSize) * 2);
-    nodes_.push_back(Node{});
-    build(0, 0, std::uint32_t(n), order, box, centroid);
-    original_ = std::move(order);
+    std::sort(keys.begin(), keys.end());
+    original_.resize(n);
     triangles_.resize(9 * n);
-    centroids_.resize(3 * n);
     for (std::size_t s = 0; s < n; ++s) {
-        const std::uint32_t t = original_[s];
-        for (int v = 0; v < 3; ++v) {
-            for (int k = 0; k < 3; ++k) {
+        const auto t = std::uint32_t(keys[s]);
+        original_[s] = t;
+        for (std::size_t v = 0; v < 3; ++v) {
+            for (std::size_t k = 0; k < 3; ++k) {
                 triangles_[9 * s + 3 * v + k] = mesh.positions[3 * mesh.indices[3 * t + v] + k];
             }
         }
-        for (int k = 0; k < 3; ++k) centroids_[3 * s + k] = centroid[3 * t + k];
     }
+    nodes_.reserve(n / 2 + 1);
+    nodes_.push_back(Node{});
+    if (n > 0) build(0, 0, std::uint32_t(n), keys, 0);
 }
 
-// Median split along the longest axis of the centroids' bounds.
-void TriangleTree::build(std::uint32_t node, std::uint32_t begin, std::uint32_t end,
-                         std::vector<std::uint32_t>& order, const std::vector<double>& box,
-                         const std::vector<double>& centroid) {
-    double lo[3], hi[3], clo[3], chi[3];
-    for (int k = 0; k < 3; ++k) {
-        lo[k] = clo[k] = std::numeric_limits<double>::infinity();
-        hi[k] = chi[k] = -std::numeric_limits<double>::infinity();
-    }
-    for (std::uint32_t i = begin; i < end; ++i) {
-        const std::uint32_t t = order[i];
-        for (int k = 0; k < 3; ++k) {
-            lo[k] = std::min(lo[k], box[6 * t + k]);
-            hi[k] = std::max(hi[k], box[6 * t + 3 + k]);
-            clo[k] = std::min(clo[k], centroid[3 * t + k]);
-            chi[k] = std::max(chi[k], centroid[3 * t + k]);
+// Splits a run of slots at the highest bit where its Morton codes differ (a spatial split along
+// an octree plane, as in Karras 2012), or in the middle where they all agree. Returns the box.
+std::array<double, 6> TriangleTree::build(std::uint32_t node, std::uint32_t begin,
+                                          std::uint32_t end,
+                                          const std::vector<std::uint64_t>& keys, int depth) {
+    std::array<double, 6> box;
+    if (end - begin <= kLeafSize || depth >= kMaxDepth) {
+        for (std::size_t k = 0; k < 3; ++k) {
+            box[k] = std::numeric_limits<double>::infinity();
+            box[k + 3] = -std::numeric_limits<double>::infinity();
+        }
+        for (std::uint32_t s = begin; s < end; ++s) {
+            for (std::size_t v = 0; v < 3; ++v) {
+                const Vec3 x = vertex(s, v);
+                for (std::size_t k = 0; k < 3; ++k) {
+                    box[k] = std::min(box[k], x[k]);
+                    box[k + 3] = std::max(box[k + 3], x[k]);
+                }
+            }
+        }
+        nodes_[node].first = begin;
+        nodes_[node].count = end - begin;
+    } else {
+        std::uint32_t middle = begin + (end - begin) / 2;
+        const std::uint64_t differ = (keys[begin] ^ keys[end - 1]) >> 32;
+        if (differ != 0) {
+            const std::uint64_t bit = std::uint64_t{1} << (95 - std::countl_zero(differ));
+            middle = std::uint32_t(
+                std::partition_point(keys.begin() + begin, keys.begin() + end,
+                                     [bit](std::uint64_t key) { return (key & bit) == 0; }) -
+                keys.begin());
+        }
+        const auto child = std::uint32_t(nodes_.size());
+        nodes_[node].first = child;
+        nodes_[node].count = 0;
+        nodes_.push_back(Node{});
+        nodes_.push_back(Node{});
+        const std::array<double, 6> left = build(child, begin, middle, keys, depth + 1);
+        const std::array<double, 6> right = build(child + 1, middle, end, keys, depth + 1);
+        for (std::size_t k = 0; k < 3; ++k) {
+            box[k] = std::min(left[k], right[k]);
+            box[k + 3] = std::max(left[k + 3], right[k + 3]);
         }
     }
-    Node& here = nodes_[node];
-    for (int k = 0; k < 3; ++k) {
-        here.lo[k] = round_down(lo[k]);
-        here.hi[k] = round_up(hi[k]);
+    for (std::size_t k = 0; k < 3; ++k) {
+        nodes_[node].lo[k] = round_down(box[k]);
+        nodes_[node].hi[k] = round_up(box[k + 3]);
     }
-    if (end - begin <= kLeafSize) {
-        here.first = begin;
-        here.count = end - begin;
-        return;
-    }
-    int axis = 0;
-    for (int k = 1; k < 3; ++k) {
-        if (chi[k] - clo[k] > chi[axis] - clo[axis]) axis = k;
-    }
-    const std::uint32_t middle = begin + (end - begin) / 2;
-    std::nth_element(order.begin() + begin, order.begin() + middle, order.begin() + end,
-                     [&centroid, axis](std::uint32_t a, std::uint32_t b) {
-                         return centroid[3 * a + std::size_t(axis)] <
-                                centroid[3 * b + std::size_t(axis)];
-                     });
-    const auto child = std::uint32_t(nodes_.size());
-    here.first = child;  // `here` is not used after the push_back below
-    here.count = 0;
-    nodes_.push_back(Node{});
-    nodes_.push_back(Node{});
-    build(child, begin, middle, order, box, centroid);
-    build(child + 1, middle, end, order, box, centroid);
+    return box;
 }
 
 ClosestPoint TriangleTree::closest(const Vec3& p, std::uint32_t& hint) const {
     ClosestPoint best;
     double best_d2 = std::numeric_limits<double>::infinity();
+    double limit = best_d2;        // boxes farther than this (squared) cannot hold a closer point
     double best_centroid_d2 = -1;  // computed on the first tie only
     std::uint32_t best_slot = kNone;
     auto consider = [&](std::uint32_t slot) {
@@ -363,53 +400,52 @@ ClosestPoint TriangleTree::closest(const Vec3& p, std::uint32_t& hint) const {
         const double d2 = squared_distance(p, q);
         if (d2 > best_d2) return;
         if (d2 == best_d2) {
-            const Vec3 c = {centroids_[3 * slot], centroids_[3 * slot + 1], centroids_[3 * slot + 2]};
+            // Equally close (a shared edge or vertex): the nearest centroid wins, as in meshstat.
             if (slot == best_slot) return;
-            if (best_centroid_d2 < 0) {
-                best_centroid_d2 = squared_distance(
-                    p, {centroids_[3 * best_slot], centroids_[3 * best_slot + 1],
-                        centroids_[3 * best_slot + 2]});
-            }
-            const double c2 = squared_distance(p, c);
+            if (best_centroid_d2 < 0) best_centroid_d2 = squared_distance(p, centroid(best_slot));
+            const double c2 = squared_distance(p, centroid(slot));
             if (!(c2 < best_centroid_d2)) return;
             best_centroid_d2 = c2;
         } else {
             best_centroid_d2 = -1;
+            best_d2 = d2;
+            limit = d2 * (1 + 1e-12);  // margin for rounding in the box distances
         }
-        best_d2 = d2;
         best.point = q;
         best_slot = slot;
     };
-    if (nodes_.empty() || triangles_.empty()) return best;
+    if (triangles_.empty()) return best;
     if (hint != kNone) consider(hint);
 
-    // Depth first, nearer child first; a node is skipped only when its box is farther than the
-    // best triangle so far (with a margin for rounding), which certifies the answer.
-    struct Entry {
-        std::uint32_t node;
-        double d2;
-    };
-    Entry stack[128];
+    // Depth first, nearer child first; a box is left out only when it is farther than the best
+    // triangle so far, which certifies the answer.
+    std::uint32_t stack[kMaxDepth + 2];
+    double stack_d2[kMaxDepth + 2];
     int top = 0;
-    stack[top++] = {0, box_distance(nodes_[0], p)};
-    while (top > 0) {
-        const Entry e = stack[--top];
-        if (e.d2 > best_d2 * (1 + 1e-12)) continue;
-        const Node& node = nodes_[e.node];
+    std::uint32_t current = 0;
+    while (true) {
+        const Node& node = nodes_[current];
         if (node.count != 0) {
             for (std::uint32_t s = node.first; s < node.first + node.count; ++s) consider(s);
-            continue;
-        }
-        const double d_left = box_distance(nodes_[node.first], p);
-        const double d_right = box_distance(nodes_[node.first + 1], p);
-        const double limit = best_d2 * (1 + 1e-12);
-        if (d_left <= d_right) {
-            if (d_right <= limit) stack[top++] = {node.first + 1, d_right};
-            if (d_left <= limit) stack[top++] = {node.first, d_left};
         } else {
-            if (d_left <= limit) stack[top++] = {node.first, d_left};
-            if (d_right <= limit) stack[top++] = {node.first + 1, d_right};
+            const double d_left = box_distance(nodes_[node.first], p);
+            const double d_right = box_distance(nodes_[node.first + 1], p);
+            const bool left_first = d_left <= d_right;
+            const double d_near = left_first ? d_left : d_right;
+            const double d_far = left_first ? d_right : d_left;
+            if (d_near <= limit) {
+                if (d_far <= limit) {
+                    stack[top] = node.first + (left_first ? 1u : 0u);
+                    stack_d2[top++] = d_far;
+                }
+                current = node.first + (left_first ? 0u : 1u);
+                continue;
+            }
         }
+        // Next: the most recently deferred box still in reach.
+        while (top > 0 && stack_d2[top - 1] > limit) --top;
+        if (top == 0) break;
+        current = stack[--top];
     }
     best.distance = std::sqrt(best_d2);
     best.triangle = original_[best_slot];
@@ -417,22 +453,26 @@ ClosestPoint TriangleTree::closest(const Vec3& p, std::uint32_t& hint) const {
     return best;
 }
 
-std::vector<ClosestPoint> query(const TriangleTree& tree, const std::vector<double>& points,
-                                unsigned threads) {
+// Calls sink(i, closest point) for every point i, on `threads` threads. Queries run in Morton
+// order, each starting from the previous answer: its distance bounds the search from the start,
+// so that few boxes are opened.
+template <class T, class Sink>
+void query(const TriangleTree& tree, const std::vector<T>& points, unsigned threads, Sink&& sink) {
     const std::size_t n = points.size() / 3;
-    std::vector<ClosestPoint> out(n);
-    constexpr std::size_t kChunk = 2048;
+    const MortonKeys morton(points);
+    std::vector<std::uint64_t> order(n);
+    for (std::size_t i = 0; i < n; ++i) order[i] = morton(at(points, i), std::uint32_t(i));
+    std::sort(order.begin(), order.end());
+    constexpr std::size_t kChunk = 4096;
     parallel_chunks((n + kChunk - 1) / kChunk, threads, [&](std::size_t chunk) {
-        std::uint32_t hint = TriangleTree::kNone;  // neighbouring vertices: nearby triangles
+        std::uint32_t hint = TriangleTree::kNone;
         const std::size_t end = std::min(n, (chunk + 1) * kChunk);
-        for (std::size_t i = chunk * kChunk; i < end; ++i) out[i] = tree.closest(at(points, i), hint);
+        for (std::size_t k = chunk * kChunk; k < end; ++k) {
+            const auto i = std::uint32_t(order[k]);
+            sink(i, tree.closest(at(points, i), hint));
+        }
     });
-    return out;
 }
-
-struct Weighted {
-    double sum_w = 0, sum_wd = 0, sum_wd2 = 0, sum_wsd = 0, sum_w_beyond = 0, max_d = 0;
-};
 
 }  // namespace
 
@@ -443,18 +483,20 @@ CleanMesh clean_mesh(const Mesh& mesh, double tolerance) {
         throw Error(ErrorCode::InvalidArgument, "compare: positions or indices not a multiple of 3");
     }
     const std::size_t n = mesh.vertex_count();
-    if (n > std::size_t{UINT32_MAX}) throw Error(ErrorCode::InvalidArgument, "compare: too many vertices");
+    if (n >= std::size_t{UINT32_MAX}) {
+        throw Error(ErrorCode::InvalidArgument, "compare: too many vertices");
+    }
     for (std::uint32_t v : mesh.indices) {
         if (v >= n) {
             throw Error(ErrorCode::InvalidArgument,
                         "compare: vertex index " + std::to_string(v) + " out of range");
         }
     }
-    CleanMesh out;
-    out.positions.assign(mesh.positions.begin(), mesh.positions.end());
-    for (double x : out.positions) {
+    for (float x : mesh.positions) {
         if (!std::isfinite(x)) throw Error(ErrorCode::Format, "compare: a vertex position is not finite");
     }
+    CleanMesh out;
+    out.positions = mesh.positions;
     std::vector<std::uint32_t> index(n);
     if (tolerance >= 0 && n > 0) {
         DisjointSets sets(n);  // the root of a class is its lowest index
@@ -463,10 +505,10 @@ CleanMesh clean_mesh(const Mesh& mesh, double tolerance) {
         for (std::size_t v = 0; v < n; ++v) {
             const std::uint32_t root = sets.find(std::uint32_t(v));
             if (root == v) {
-                for (int k = 0; k < 3; ++k) out.positions[3 * next + k] = out.positions[3 * v + k];
+                for (std::size_t k = 0; k < 3; ++k) out.positions[3 * next + k] = out.positions[3 * v + k];
                 index[v] = next++;
             } else {
-                index[v] = index[root];  // root < v: already numbered
+                index[v] = index[root];  // root < v: numbered already
             }
         }
         out.welded = n - next;
@@ -498,12 +540,8 @@ CleanMesh largest_piece(const CleanMesh& mesh) {
     std::vector<double> area(n, 0.0);
     std::vector<std::uint32_t> piece(m);
     for (std::size_t t = 0; t < m; ++t) {
-        const Vec3 a = at(mesh.positions, mesh.indices[3 * t]);
-        const Vec3 b = at(mesh.positions, mesh.indices[3 * t + 1]);
-        const Vec3 c = at(mesh.positions, mesh.indices[3 * t + 2]);
-        const Vec3 x = cross(sub(b, a), sub(c, a));
         piece[t] = sets.find(mesh.indices[3 * t]);
-        area[piece[t]] += 0.5 * std::sqrt(dot(x, x));
+        area[piece[t]] += triangle_area(corners(mesh, t));
     }
     // Ties go to the piece of the earliest triangle.
     std::uint32_t best = 0;
@@ -533,14 +571,10 @@ std::vector<double> vertex_weights(const CleanMesh& mesh) {
     std::vector<double> sum(n, 0.0);
     std::vector<std::uint32_t> count(n, 0);
     for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
-        const std::uint32_t* f = &mesh.indices[3 * t];
-        const Vec3 a = at(mesh.positions, f[0]), b = at(mesh.positions, f[1]),
-                   c = at(mesh.positions, f[2]);
-        const Vec3 x = cross(sub(b, a), sub(c, a));
-        const double area = 0.5 * std::sqrt(dot(x, x));
-        for (int k = 0; k < 3; ++k) {
-            sum[f[k]] += area;
-            ++count[f[k]];
+        const double area = triangle_area(corners(mesh, t));
+        for (std::size_t k = 0; k < 3; ++k) {
+            sum[mesh.indices[3 * t + k]] += area;
+            ++count[mesh.indices[3 * t + k]];
         }
     }
     for (std::size_t v = 0; v < n; ++v) sum[v] = count[v] > 0 ? sum[v] / count[v] : 0.0;
@@ -549,27 +583,21 @@ std::vector<double> vertex_weights(const CleanMesh& mesh) {
 
 double mesh_area(const CleanMesh& mesh) {
     double total = 0;
-    for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
-        const Vec3 a = at(mesh.positions, mesh.indices[3 * t]);
-        const Vec3 b = at(mesh.positions, mesh.indices[3 * t + 1]);
-        const Vec3 c = at(mesh.positions, mesh.indices[3 * t + 2]);
-        const Vec3 x = cross(sub(b, a), sub(c, a));
-        total += 0.5 * std::sqrt(dot(x, x));
-    }
+    for (std::size_t t = 0; t < mesh.triangle_count(); ++t) total += triangle_area(corners(mesh, t));
     return total;
 }
 
 double mesh_volume(const CleanMesh& mesh) {
     double total = 0;
     for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
-        const Vec3 a = at(mesh.positions, mesh.indices[3 * t]);
-        const Vec3 b = at(mesh.positions, mesh.indices[3 * t + 1]);
-        const Vec3 c = at(mesh.positions, mesh.indices[3 * t + 2]);
-        total += dot(a, cross(b, c)) / 6.0;
+        const auto v = corners(mesh, t);
+        total += dot(v[0], cross(v[1], v[2])) / 6.0;
     }
     return total;
 }
 
+// The branch order follows Ericson's, and each branch computes its point with the operations
+// meshstat.py uses, so that the two agree to the last bit on most points.
 Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
     const Vec3 ab = sub(b, a), ac = sub(c, a), ap = sub(p, a);
     const double d1 = dot(ab, ap), d2 = dot(ac, ap);
@@ -620,7 +648,10 @@ std::vector<ClosestPoint> closest_points(const CleanMesh& mesh, const std::vecto
                                          unsigned threads) {
     if (mesh.triangle_count() == 0) throw Error(ErrorCode::InvalidArgument, "compare: empty mesh");
     const TriangleTree tree(mesh);
-    return query(tree, points, thread_count(threads));
+    std::vector<ClosestPoint> out(points.size() / 3);
+    query(tree, points, thread_count(threads),
+          [&out](std::size_t i, const ClosestPoint& c) { out[i] = c; });
+    return out;
 }
 
 std::vector<ClosestPoint> closest_points_brute_force(const CleanMesh& mesh,
@@ -630,9 +661,7 @@ std::vector<ClosestPoint> closest_points_brute_force(const CleanMesh& mesh,
         const Vec3 p = at(points, i);
         double best_d2 = std::numeric_limits<double>::infinity(), best_c2 = 0;
         for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
-            const Vec3 a = at(mesh.positions, mesh.indices[3 * t]);
-            const Vec3 b = at(mesh.positions, mesh.indices[3 * t + 1]);
-            const Vec3 c = at(mesh.positions, mesh.indices[3 * t + 2]);
+            const auto [a, b, c] = corners(mesh, t);
             const Vec3 q = closest_point_on_triangle(p, a, b, c);
             const double d2 = squared_distance(p, q);
             const Vec3 centroid = {(a[0] + b[0] + c[0]) / 3.0, (a[1] + b[1] + c[1]) / 3.0,
@@ -650,7 +679,8 @@ std::vector<ClosestPoint> closest_points_brute_force(const CleanMesh& mesh,
 
 }  // namespace detail
 
-CompareResult compare_meshes(const Mesh& reference, const Mesh& tested, const CompareOptions& options) {
+CompareResult compare_meshes(const Mesh& reference, const Mesh& tested,
+                             const CompareOptions& options) {
     using namespace detail;
     if (!(options.spacing > 0) || !std::isfinite(options.spacing)) {
         throw Error(ErrorCode::InvalidArgument,
@@ -658,76 +688,82 @@ CompareResult compare_meshes(const Mesh& reference, const Mesh& tested, const Co
                         std::to_string(options.spacing));
     }
     if (std::isnan(options.weld_tolerance)) {
-        throw Error(ErrorCode::InvalidArgument, "compare: weld tolerance is not a number");
+        throw Error(ErrorCode::InvalidArgument, "compare: the weld tolerance is not a number");
     }
     const unsigned threads = thread_count(0);
-    CleanMesh ref, test;
-    std::vector<double> w_ref, w_test;
-    std::unique_ptr<TriangleTree> ref_tree, test_tree;
-    // The two meshes are independent until the queries: prepare each on its own thread.
-    auto prepare = [&options](const Mesh& input, const char* name, CleanMesh& mesh,
-                              std::vector<double>& weights, std::unique_ptr<TriangleTree>& tree) {
-        mesh = clean_mesh(input, options.weld_tolerance);
-        if (options.outer_only) mesh = largest_piece(mesh);
-        weights = vertex_weights(mesh);
-        double total = 0;
-        for (double w : weights) total += w;
-        if (mesh.triangle_count() == 0 || !(total > 0)) {
-            throw Error(ErrorCode::Format,
-                        std::string("compare: the ") + name + " mesh has no triangle of non-zero area");
-        }
-        tree = std::make_unique<TriangleTree>(mesh);
+    struct Side {
+        CleanMesh mesh;
+        std::vector<double> weights;
+        std::unique_ptr<TriangleTree> tree;
     };
-    run_both([&] { prepare(reference, "reference", ref, w_ref, ref_tree); },
-             [&] { prepare(tested, "tested", test, w_test, test_tree); }, threads > 1);
+    Side ref, test;
+    // The two meshes are independent until the queries: each is prepared on its own thread.
+    auto prepare = [&options](const Mesh& input, const char* name, Side& side) {
+        side.mesh = clean_mesh(input, options.weld_tolerance);
+        if (options.outer_only) side.mesh = largest_piece(side.mesh);
+        side.weights = vertex_weights(side.mesh);
+        double total = 0;
+        for (double w : side.weights) total += w;
+        if (!(total > 0)) {
+            throw Error(ErrorCode::Format, std::string("compare: the ") + name +
+                                               " mesh has no triangle of non-zero area");
+        }
+        side.tree = std::make_unique<TriangleTree>(side.mesh);
+    };
+    run_both([&] { prepare(reference, "reference", ref); },
+             [&] { prepare(tested, "tested", test); }, threads > 1);
 
-    const std::vector<ClosestPoint> ref_to_test = query(*test_tree, ref.positions, threads);
-    const std::vector<ClosestPoint> test_to_ref = query(*ref_tree, test.positions, threads);
+    // Distances, and for reference vertices the side of the tested mesh they lie on: the sign
+    // of (v - closest point) . (b - a) x (c - a) of the closest triangle, as meshstat.py takes it.
+    std::vector<double> d_ref(ref.mesh.vertex_count()), d_test(test.mesh.vertex_count());
+    std::vector<signed char> side_ref(ref.mesh.vertex_count());
+    query(*test.tree, ref.mesh.positions, threads, [&](std::size_t v, const ClosestPoint& cp) {
+        const auto [a, b, c] = corners(test.mesh, cp.triangle);
+        const double side = dot(sub(at(ref.mesh.positions, v), cp.point), cross(sub(b, a), sub(c, a)));
+        d_ref[v] = cp.distance;
+        side_ref[v] = side > 0 ? 1 : (side < 0 ? -1 : 0);
+    });
+    query(*ref.tree, test.mesh.positions, threads,
+          [&](std::size_t v, const ClosestPoint& cp) { d_test[v] = cp.distance; });
 
-    Weighted f;  // reference vertices against the tested mesh
-    for (std::size_t v = 0; v < ref.vertex_count(); ++v) {
-        const ClosestPoint& cp = ref_to_test[v];
-        const double w = w_ref[v], d = cp.distance;
-        const std::uint32_t* t = &test.indices[3 * std::size_t(cp.triangle)];
-        const Vec3 a = at(test.positions, t[0]);
-        const Vec3 normal = cross(sub(at(test.positions, t[1]), a), sub(at(test.positions, t[2]), a));
-        const double side = dot(sub(at(ref.positions, v), cp.point), normal);
-        const double sign = side > 0 ? 1.0 : (side < 0 ? -1.0 : 0.0);
-        f.sum_w += w;
-        f.sum_wd += w * d;
-        f.sum_wd2 += w * d * d;
-        f.sum_wsd += w * sign * d;
-        if (d > options.spacing) f.sum_w_beyond += w;
-        f.max_d = std::max(f.max_d, d);
+    double sum_w = 0, sum_wd = 0, sum_wd2 = 0, sum_wsd = 0, sum_w_beyond = 0, max_ref = 0;
+    for (std::size_t v = 0; v < d_ref.size(); ++v) {
+        const double w = ref.weights[v], d = d_ref[v];
+        sum_w += w;
+        sum_wd += w * d;
+        sum_wd2 += w * d * d;
+        sum_wsd += w * side_ref[v] * d;
+        if (d > options.spacing) sum_w_beyond += w;
+        max_ref = std::max(max_ref, d);
     }
-    Weighted b;  // tested vertices against the reference
-    for (std::size_t v = 0; v < test.vertex_count(); ++v) {
-        const double w = w_test[v], d = test_to_ref[v].distance;
-        b.sum_w += w;
-        b.sum_wd2 += w * d * d;
-        b.max_d = std::max(b.max_d, d);
+    double back_w = 0, back_wd2 = 0, max_test = 0;
+    for (std::size_t v = 0; v < d_test.size(); ++v) {
+        const double w = test.weights[v], d = d_test[v];
+        back_w += w;
+        back_wd2 += w * d * d;
+        max_test = std::max(max_test, d);
     }
 
     CompareResult r;
-    r.rmsd_weighted = std::sqrt(f.sum_wd2 / f.sum_w);
-    r.mean_unsigned = f.sum_wd / f.sum_w;
-    r.mean_signed = f.sum_wsd / f.sum_w;
-    r.share_beyond_spacing = f.sum_w_beyond / f.sum_w;
-    r.max_ref_to_test = f.max_d;
-    r.max_test_to_ref = b.max_d;
-    r.hausdorff = std::max(f.max_d, b.max_d);
-    r.rmsd_tested_to_reference = std::sqrt(b.sum_wd2 / b.sum_w);
-    r.area_ref = mesh_area(ref);
-    r.area_test = mesh_area(test);
-    r.volume_ref = mesh_volume(ref);
-    r.volume_test = mesh_volume(test);
+    r.rmsd_weighted = std::sqrt(sum_wd2 / sum_w);
+    r.mean_unsigned = sum_wd / sum_w;
+    r.mean_signed = sum_wsd / sum_w;
+    r.share_beyond_spacing = sum_w_beyond / sum_w;
+    r.max_ref_to_test = max_ref;
+    r.max_test_to_ref = max_test;
+    r.hausdorff = std::max(max_ref, max_test);
+    r.rmsd_tested_to_reference = std::sqrt(back_wd2 / back_w);
+    r.area_ref = mesh_area(ref.mesh);
+    r.area_test = mesh_area(test.mesh);
+    r.volume_ref = mesh_volume(ref.mesh);
+    r.volume_test = mesh_volume(test.mesh);
     r.area_rel_error = (r.area_test - r.area_ref) / r.area_ref;
     r.volume_rel_error = r.volume_ref != 0 ? (r.volume_test - r.volume_ref) / r.volume_ref
                                            : std::numeric_limits<double>::quiet_NaN();
-    r.ref_vertices = ref.vertex_count();
-    r.test_vertices = test.vertex_count();
-    r.ref_triangles = ref.triangle_count();
-    r.test_triangles = test.triangle_count();
+    r.ref_vertices = ref.mesh.vertex_count();
+    r.test_vertices = test.mesh.vertex_count();
+    r.ref_triangles = ref.mesh.triangle_count();
+    r.test_triangles = test.mesh.triangle_count();
     return r;
 }
 

@@ -12,10 +12,11 @@
 
 namespace fdmsurf::detail {
 
-// A mesh in double precision after clean_mesh: no triangle repeats a vertex, every vertex is
-// used by a triangle.
+// A mesh after clean_mesh: no triangle repeats a vertex, every vertex is used by a triangle.
+// Positions stay float, as in Mesh (welding picks positions, it computes none); every
+// computation on them is in double.
 struct CleanMesh {
-    std::vector<double> positions;       // 3 per vertex, Å
+    std::vector<float> positions;        // 3 per vertex, Å
     std::vector<std::uint32_t> indices;  // 3 per triangle
     std::size_t welded = 0;              // vertices merged into another
     std::size_t collapsed = 0;           // triangles dropped because welding repeated a vertex

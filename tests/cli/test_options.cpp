@@ -1,6 +1,7 @@
 // Tests of the command-line parser: every option, both value spellings, every rejected input.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -9,6 +10,7 @@
 namespace {
 
 using fdmsurf::Error;
+using fdmsurf::cli::parse_args;
 using fdmsurf::ErrorCode;
 using fdmsurf::FilterShape;
 using fdmsurf::StructureFormat;
@@ -266,10 +268,31 @@ TEST(CliOptions, MissingOutput) {
     EXPECT_TRUE(contains(parse_error({"in.pdb"}), "missing -o OUTPUT"));
 }
 
-TEST(CliOptions, MoreThanOneInput) {
+TEST(CliOptions, SeveralInputsNeedAnOutputFolder) {
     const std::string message = parse_error({"a.pdb", "b.pdb", "-o", "out.ply"});
-    EXPECT_TRUE(contains(message, "more than one INPUT")) << message;
-    EXPECT_TRUE(contains(message, "'a.pdb', 'b.pdb'")) << message;
+    EXPECT_TRUE(contains(message, "several INPUTs")) << message;
+    EXPECT_TRUE(contains(message, "folder")) << message;
+    const CliOptions o = parse_args({"a.pdb", "dir/b.cif.gz", "-o", "meshes/"});
+    ASSERT_EQ(o.inputs.size(), 2u);
+    EXPECT_EQ(fdmsurf::cli::output_for(o.inputs[1], o.output), "meshes/b.ply");
+    EXPECT_TRUE(contains(parse_error({"x/1crn.pdb", "1crn.cif", "-o", "out/"}), "both write"));
+    EXPECT_EQ(fdmsurf::cli::output_for("x.pdb", "one.obj"), "one.obj");
+}
+
+TEST(CliOptions, PaperSettingsUnlessGivenExplicitly) {
+    const CliOptions paper = parse_args({"a.pdb", "-o", "a.ply", "--paper"});
+    EXPECT_EQ(paper.surface.filter, fdmsurf::FilterShape::Ideal);
+    EXPECT_EQ(paper.surface.level, 1.0f);
+    EXPECT_EQ(paper.surface.min_cavity_volume, 0.0f);
+    EXPECT_NEAR(fdmsurf::effective_cutoff(paper.surface), 1.0 / (4.0 * 1.4), 1e-6);
+    const CliOptions mixed = parse_args({"a.pdb", "--level", "0.95", "-o", "a.ply", "--paper"});
+    EXPECT_EQ(mixed.surface.level, 0.95f);
+    const CliOptions def = parse_args({"a.pdb", "-o", "a.ply"});
+    EXPECT_EQ(def.surface.filter, fdmsurf::FilterShape::Gaussian);
+    EXPECT_NEAR(fdmsurf::effective_cutoff(def.surface), 1.3 / (4.0 * 1.4), 1e-6);
+    EXPECT_EQ(fdmsurf::effective_level(def.surface), 0.9f);
+    const CliOptions none = parse_args({"a.pdb", "-o", "a.ply", "--no-cavities"});
+    EXPECT_TRUE(std::isinf(none.surface.min_cavity_volume));
 }
 
 TEST(CliOptions, HelpNamesEveryOptionAndExitCode) {

@@ -137,7 +137,8 @@ TEST(GridPlan, GridContainsEveryAtomAndItsSupport) {
 
 TEST(GridPlan, DensityParametersFollowTheOptions) {
     const GridPlan plan =
-        plan_grid(one_atom(), {.sigma = 2.0f, .level = 1.5f, .density_cut = 1e-2f});
+        plan_grid(one_atom(), {.sigma = 2.0f, .level = 1.5f, .filter = fdmsurf::FilterShape::Ideal,
+                               .density_cut = 1e-2f});
     EXPECT_FLOAT_EQ(plan.density.sigma, 2.0f);
     EXPECT_NEAR(plan.density.pi_cut, 4.0 * std::log(100.0), 1e-4);
     EXPECT_FLOAT_EQ(plan.iso, 1.5f * plan.density.level_t);

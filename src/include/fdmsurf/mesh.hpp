@@ -40,6 +40,11 @@ MeshStats compute_stats(const Mesh& mesh);
 // Per-piece statistics (same definitions as MeshStats), largest area first.
 std::vector<MeshStats> piece_stats(const Mesh& mesh);
 
+// Removes cavities: connected pieces whose signed volume is negative (inward-facing shells)
+// and whose enclosed volume is below `max_volume` (Å³; infinity removes every cavity). Vertex
+// and triangle order of the rest is kept. Returns the number of pieces removed.
+std::size_t remove_cavities(Mesh& mesh, double max_volume);
+
 enum class MeshFormat { Auto, Ply, Obj };
 
 // Writes binary little-endian PLY (positions, normals, triangles) or OBJ, chosen by the path's

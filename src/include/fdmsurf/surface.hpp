@@ -27,14 +27,26 @@ struct SurfaceOptions {
     SurfaceKind surface = SurfaceKind::Ses;
     float spacing = 0.5f;   // grid spacing h, Å (> 0)
     float probe = 1.4f;     // solvent probe radius r_s, Å (>= 0)
-    float cutoff = 0.0f;    // filter cut-off f_c, 1/Å; 0: 1 / (4 probe)
+    float cutoff = 0.0f;    // filter cut-off f_c, 1/Å; 0: 1.3 / (4 probe) for the Gaussian
+                            // filter, 1 / (4 probe) for the ideal one (the paper's)
     float sigma = 3.0f;     // Gaussian width σ, Å (> 0)
-    float level = 1.0f;     // iso-level as a multiple of T (the density is T on each vdW sphere)
-    FilterShape filter = FilterShape::Ideal;
+    // Iso-level as a multiple of T (the density is T on each vdW sphere); 0: 0.9 for ses with
+    // the Gaussian filter, 1 otherwise (vdw and sas are exact at 1).
+    float level = 0.0f;
+    // Defaults of the filter and level: measured against the analytical SES (docs/accuracy.md);
+    // paper_settings() gives the paper's (ideal mask at 1/(4 probe), level 1).
+    FilterShape filter = FilterShape::Gaussian;
     float padding = -1.0f;  // empty space around the Gaussian support, Å; < 0: one filter
                             // wavelength (1/f_c) for ses, 1 Å otherwise
     float density_cut = 1e-2f;  // G_i is taken as 0 where it falls below density_cut * T
+    // Cavities (closed inward-facing pieces) enclosing less than this volume (Å³) are removed:
+    // < 0 means the volume of one probe sphere for ses (a void no probe fits in is not part of
+    // the SES) and 0 (keep all) for vdw and sas. Infinity removes every cavity.
+    float min_cavity_volume = -1.0f;
 };
+
+// The settings of Giard & Macq (2010): ideal mask at f_c = 1/(4 probe), level T, cavities kept.
+SurfaceOptions paper_settings(SurfaceOptions options = {});
 
 // Where the grid sits: point (i, j, k) is at origin + h * (i, j, k).
 struct GridInfo {
@@ -56,6 +68,7 @@ struct SurfaceResult {
     GridInfo grid;
     std::vector<StageTime> times;
     std::vector<std::string> warnings;
+    std::size_t cavities_removed = 0;  // pieces removed by SurfaceOptions::min_cavity_volume
 };
 
 struct DeviceInfo {
@@ -113,6 +126,8 @@ std::vector<DeviceInfo> list_devices();
 
 // Checks options and returns the effective cut-off (1/Å); throws Error(InvalidArgument).
 float effective_cutoff(const SurfaceOptions& options);
+// The iso-level (multiple of T) that `options` selects.
+float effective_level(const SurfaceOptions& options);
 
 const char* to_string(SurfaceKind kind) noexcept;
 
