@@ -385,11 +385,16 @@ CliOptions parse_args(const std::vector<std::string>& args) {
 
 std::string usage_text() {
     return R"(Usage: fdmsurf INPUT -o OUTPUT [options]
+       fdmsurf INPUT... -o FOLDER/ [options]
+       fdmsurf compare REFERENCE TESTED --spacing H [--stats json] [--outer]
        fdmsurf --list-devices | --help | --version
 
 Writes the molecular surface of INPUT (PDB, mmCIF, PQR or XYZR; .gz accepted) as
 a triangle mesh to OUTPUT (binary .ply or .obj, by its extension), computed on a
-Vulkan device with the Filtered Density Map method (Giard & Macq 2010).
+Vulkan device with the Filtered Density Map method (Giard & Macq 2010). With
+several inputs, -o names a folder that gets one NAME.ply per input, all computed
+in one process on one device. `fdmsurf compare` measures a mesh against a
+reference mesh (weighted RMSD of Giard & Macq; see docs/compare.md).
 Options take their value as `--name value` or `--name=value`.
 
 Surface:

@@ -6,12 +6,15 @@
 #include <cstring>
 #include <utility>
 
+#include "shader_interface.h"
 #include "vulkan/check.hpp"
 
 namespace fdmsurf::detail {
 namespace {
 
 constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
+// The density pass keeps 1536 atoms (24 KiB) in shared memory, plus a few counters.
+constexpr std::uint32_t kSharedMemoryNeeded = 25 * 1024;
 
 VKAPI_ATTR VkBool32 VKAPI_CALL debug_callback(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
                                               VkDebugUtilsMessageTypeFlagsEXT,
@@ -172,11 +175,13 @@ DeviceInfo describe_device(VkPhysicalDevice device, std::uint32_t index) {
         info.reason = "Vulkan " + info.api_version + " is older than the 1.1 fdmsurf needs";
     } else if (!find_compute_queue(device, &family)) {
         info.reason = "no queue family supports compute";
-    } else if (props.limits.maxComputeWorkGroupInvocations < 256 ||
-               props.limits.maxComputeSharedMemorySize < 16384 ||
+    } else if (props.limits.maxComputeWorkGroupInvocations < shader::kScanGroup ||
+               props.limits.maxComputeWorkGroupSize[0] < shader::kScanGroup ||
+               props.limits.maxComputeSharedMemorySize < kSharedMemoryNeeded ||
                props.limits.maxPushConstantsSize < 128) {
-        info.reason = "compute limits too small (needs 256 invocations per workgroup, 16 KiB "
-                      "shared memory, 128 B push constants)";
+        info.reason = "compute limits too small (needs " + std::to_string(shader::kScanGroup) +
+                      " invocations per workgroup, " + std::to_string(kSharedMemoryNeeded / 1024) +
+                      " KiB shared memory, 128 B push constants)";
     } else {
         info.usable = true;
     }
