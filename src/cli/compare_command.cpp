@@ -21,7 +21,8 @@ namespace fdmsurf::cli {
 namespace {
 
 [[noreturn]] void usage_error(const std::string& message) {
-    throw Error(ErrorCode::InvalidArgument, "compare: " + message + " (see fdmsurf compare --help)");
+    throw Error(ErrorCode::InvalidArgument,
+                "compare: " + message + " (see fdmsurf compare --help)");
 }
 
 double parse_number(const std::string& option, std::string_view text) {
@@ -54,7 +55,8 @@ std::string one_line(std::string text) {
     return text;
 }
 
-double ms_between(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
+double ms_between(std::chrono::steady_clock::time_point a,
+                  std::chrono::steady_clock::time_point b) {
     return std::chrono::duration<double, std::milli>(b - a).count();
 }
 
@@ -81,7 +83,8 @@ CompareCliOptions parse_compare_args(const std::vector<std::string>& args) {
         }
         std::string name = arg, value;
         bool has_value = false;
-        if (const std::size_t eq = arg.find('='); eq != std::string::npos && arg.starts_with("--")) {
+        if (const std::size_t eq = arg.find('=');
+            eq != std::string::npos && arg.starts_with("--")) {
             name = arg.substr(0, eq);
             value = arg.substr(eq + 1);
             has_value = true;

@@ -69,7 +69,8 @@ void add_times(std::vector<StageTime>& into, const std::vector<StageTime>& times
 
 }  // namespace
 
-SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options) {
+SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
+                              GpuMesh* on_device) {
     SurfaceResult result;
     double t0 = now_ms();
     GridPlan plan = plan_grid(atoms, options);
@@ -84,7 +85,11 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options)
     }
     const double field_bytes = double(plan.field_floats()) * sizeof(float);
     const double limit = double(context.limits().max_storage_buffer_range);
-    if (field_bytes > limit) return run_in_slabs(atoms, options, plan, std::move(result));
+    if (field_bytes > limit) {
+        result = run_in_slabs(atoms, options, plan, std::move(result));
+        if (on_device) *on_device = upload_mesh(result.mesh);
+        return result;
+    }
 
     const auto& d = plan.info.dims;
     AtomBins bins = bin_atoms(atoms, plan);
@@ -103,9 +108,34 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options)
     set_interpolation(mc, plan);
     GpuMesh gpu = marching_cubes.run(commands, arena, field, d[0], d[1], d[2], plan.pitch, mc);
     add_times(result.times, marching_cubes.stage_times());
+    if (on_device) {
+        *on_device = std::move(gpu);
+        return result;
+    }
     result.mesh = marching_cubes.read_back(commands, gpu);
     add_times(result.times, commands.stage_times());
     return result;
+}
+
+GpuMesh EngineImpl::upload_mesh(const Mesh& mesh) {
+    std::vector<float> interleaved(mesh.vertex_count() * 6);
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
+        for (int k = 0; k < 3; ++k) {
+            interleaved[6 * v + k] = mesh.positions[3 * v + k];
+            interleaved[6 * v + 3 + k] = mesh.normals.empty() ? 0.0f : mesh.normals[3 * v + k];
+        }
+    StagingArena arena;
+    commands.begin();
+    GpuMesh gpu;
+    gpu.vertices = upload_buffer(context, commands, arena, interleaved.data(),
+                                 interleaved.size() * sizeof(float), "mesh_vertices");
+    gpu.indices = upload_buffer(context, commands, arena, mesh.indices.data(),
+                                mesh.indices.size() * sizeof(std::uint32_t), "mesh_indices");
+    gpu.vertex_count = static_cast<std::uint32_t>(mesh.vertex_count());
+    gpu.triangle_count = static_cast<std::uint32_t>(mesh.triangle_count());
+    commands.mark("upload-mesh");
+    commands.submit_and_wait();
+    return gpu;
 }
 
 // A grid larger than one storage-buffer binding: the density and the filter run on overlapping
@@ -277,6 +307,33 @@ SurfaceResult Engine::make_surface(const Atoms& atoms, const SurfaceOptions& opt
         result.cavities_removed = removed;
     }
     return result;
+}
+
+DeviceSurfaceResult Engine::make_device_surface(const Atoms& atoms, const SurfaceOptions& options) {
+    detail::GpuMesh gpu;
+    SurfaceResult host = impl_->run(atoms, options, &gpu);
+    DeviceSurfaceResult out;
+    out.mesh.buffers_ = std::make_unique<detail::DeviceMeshBuffers>();
+    out.mesh.buffers_->mesh = std::move(gpu);
+    out.grid = host.grid;
+    out.times = std::move(host.times);
+    out.warnings = std::move(host.warnings);
+    return out;
+}
+
+DeviceMesh::DeviceMesh() = default;
+DeviceMesh::~DeviceMesh() = default;
+DeviceMesh::DeviceMesh(DeviceMesh&&) noexcept = default;
+DeviceMesh& DeviceMesh::operator=(DeviceMesh&&) noexcept = default;
+VkBuffer DeviceMesh::vertex_buffer() const {
+    return buffers_ ? buffers_->mesh.vertices.handle() : VK_NULL_HANDLE;
+}
+VkBuffer DeviceMesh::index_buffer() const {
+    return buffers_ ? buffers_->mesh.indices.handle() : VK_NULL_HANDLE;
+}
+std::uint32_t DeviceMesh::vertex_count() const { return buffers_ ? buffers_->mesh.vertex_count : 0; }
+std::uint32_t DeviceMesh::triangle_count() const {
+    return buffers_ ? buffers_->mesh.triangle_count : 0;
 }
 
 const DeviceInfo& Engine::device() const { return impl_->context.info(); }

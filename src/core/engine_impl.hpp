@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "fdmsurf/surface.hpp"
+#include "fdmsurf/vulkan_interop.hpp"
 #include "filter/spectral_filter.hpp"
 #include "grid/atom_bins.hpp"
 #include "grid/density_gpu.hpp"
@@ -15,6 +16,11 @@
 #include "vulkan/context.hpp"
 
 namespace fdmsurf::detail {
+
+// What a DeviceMesh owns.
+struct DeviceMeshBuffers {
+    GpuMesh mesh;
+};
 
 struct EngineImpl {
     explicit EngineImpl(const EngineOptions& options)
@@ -32,7 +38,10 @@ struct EngineImpl {
     SpectralFilter filter;
     MarchingCubesPass marching_cubes;
 
-    SurfaceResult run(const Atoms& atoms, const SurfaceOptions& options);
+    // `on_device`: when not null, the mesh stays on the device there and result.mesh is empty.
+    SurfaceResult run(const Atoms& atoms, const SurfaceOptions& options,
+                      GpuMesh* on_device = nullptr);
+    GpuMesh upload_mesh(const Mesh& mesh);
     SurfaceResult run_in_slabs(const Atoms& atoms, const SurfaceOptions& options, GridPlan plan,
                                SurfaceResult result);
 

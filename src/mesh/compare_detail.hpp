@@ -47,8 +47,8 @@ using Vec3 = std::array<double, 3>;
 Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
 
 struct ClosestPoint {
-    double distance = 0;     // Å
-    Vec3 point{};            // the closest point of the mesh
+    double distance = 0;         // Å
+    Vec3 point{};                // the closest point of the mesh
     std::uint32_t triangle = 0;  // the triangle holding it (CleanMesh order)
 };
 

@@ -89,8 +89,8 @@ double parse_double(std::string_view word, const std::string& path, std::size_t 
     double value = 0.0;
     const auto [end, ec] = std::from_chars(word.data(), word.data() + word.size(), value);
     if (ec != std::errc() || end != word.data() + word.size()) {
-        fail(path, "line " + std::to_string(line) + ": '" + std::string(word) +
-                       "' is not a number");
+        fail(path,
+             "line " + std::to_string(line) + ": '" + std::string(word) + "' is not a number");
     }
     return value;
 }
@@ -109,14 +109,16 @@ void add_position(Mesh& mesh, const std::vector<std::string_view>& words, const 
                   std::size_t line) {
     if (words.size() < 3) fail(path, "line " + std::to_string(line) + ": fewer than 3 coordinates");
     for (int k = 0; k < 3; ++k) {
-        mesh.positions.push_back(static_cast<float>(parse_double(words[std::size_t(k)], path, line)));
+        mesh.positions.push_back(
+            static_cast<float>(parse_double(words[std::size_t(k)], path, line)));
     }
 }
 
 // Reads a whole file; gzip-compressed data is inflated (zlib reads plain files unchanged).
 std::string read_maybe_gzipped(const std::string& path) {
     std::error_code ec;
-    if (fs::is_directory(path, ec)) throw Error(ErrorCode::Io, "cannot read " + path + ": it is a folder");
+    if (fs::is_directory(path, ec))
+        throw Error(ErrorCode::Io, "cannot read " + path + ": it is a folder");
     {
         std::unique_ptr<std::FILE, int (*)(std::FILE*)> probe(std::fopen(path.c_str(), "rb"),
                                                               &std::fclose);
@@ -189,7 +191,8 @@ Mesh parse_off(std::string_view text, const std::string& path) {
     if (counts.size() < 2) {
         if (!lines.next_words(counts)) fail(path, "OFF file ends before its counts");
     }
-    if (counts.size() < 2) fail(path, "line " + std::to_string(lines.number()) + ": bad OFF counts");
+    if (counts.size() < 2)
+        fail(path, "line " + std::to_string(lines.number()) + ": bad OFF counts");
     const std::uint64_t vertices = parse_count(counts[0], path, lines.number());
     const std::uint64_t faces = parse_count(counts[1], path, lines.number());
     if (vertices > std::uint64_t{UINT32_MAX} || faces > text.size()) {
@@ -207,8 +210,9 @@ Mesh parse_off(std::string_view text, const std::string& path) {
         if (!lines.next_words(words)) fail(path, "OFF file ends inside its faces");
         const std::uint64_t n = parse_count(words[0], path, lines.number());
         if (words.size() < n + 1) {
-            fail(path, "line " + std::to_string(lines.number()) + ": face lists fewer indices "
-                                                                  "than its count");
+            fail(path, "line " + std::to_string(lines.number()) +
+                           ": face lists fewer indices "
+                           "than its count");
         }
         polygon.clear();
         for (std::uint64_t k = 0; k < n; ++k) {
@@ -250,7 +254,8 @@ Mesh parse_msms(std::string_view vert_text, const std::string& vert_path,
             fail(face_path, "line " + std::to_string(flines.number()) + ": fewer than 3 indices");
         }
         for (int k = 0; k < 3; ++k) {
-            const std::uint64_t index = parse_count(words[std::size_t(k)], face_path, flines.number());
+            const std::uint64_t index =
+                parse_count(words[std::size_t(k)], face_path, flines.number());
             if (index < 1 || index > vertices) {  // MSMS counts from 1
                 fail(face_path, "line " + std::to_string(flines.number()) + ": vertex index " +
                                     std::to_string(index) + " out of range");
@@ -297,8 +302,9 @@ Mesh read_mesh_any(const std::string& path) {
         return detail::parse_off(data, path);
     }
     throw Error(ErrorCode::Format,
-                path + ": not a mesh file fdmsurf reads (PLY, OBJ, OFF, MSMS .vert/.face, each "
-                       "optionally gzipped)");
+                path +
+                    ": not a mesh file fdmsurf reads (PLY, OBJ, OFF, MSMS .vert/.face, each "
+                    "optionally gzipped)");
 }
 
 }  // namespace fdmsurf

@@ -35,8 +35,10 @@ Buffer::Buffer(const Context& ctx, VkDeviceSize size, MemoryUse use, const char*
                         std::to_string(lim.max_allocation_size >> 20) + " MiB)");
     VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
     info.size = size;
+    // Vertex and index usage too, so that a renderer on the same device can draw the mesh.
     info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
-                 VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+                 VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_VERTEX_BUFFER_BIT |
+                 VK_BUFFER_USAGE_INDEX_BUFFER_BIT;
     info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
     FDM_VK_CHECK(vkCreateBuffer(device_, &info, nullptr, &buffer_));
     try {

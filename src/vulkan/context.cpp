@@ -189,6 +189,10 @@ DeviceInfo describe_device(VkPhysicalDevice device, std::uint32_t index) {
 }
 
 Context::Context(const EngineOptions& options) {
+    if (options.external) {
+        adopt(*options.external, options);
+        return;
+    }
     bool debug_utils = false;
     instance_ = create_instance(options.validation, &debug_utils);
     try {
@@ -257,30 +261,7 @@ Context::Context(const EngineOptions& options) {
         info_ = infos[static_cast<std::size_t>(chosen)];
         find_compute_queue(physical_, &queue_family_);
 
-        VkPhysicalDeviceProperties props;
-        vkGetPhysicalDeviceProperties(physical_, &props);
-        vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
-        limits_.max_storage_buffer_range = props.limits.maxStorageBufferRange;
-        if (options.max_buffer_range)
-            limits_.max_storage_buffer_range =
-                std::min<VkDeviceSize>(limits_.max_storage_buffer_range, options.max_buffer_range);
-        VkPhysicalDeviceMaintenance3Properties m3{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES};
-        VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
-        p2.pNext = &m3;
-        vkGetPhysicalDeviceProperties2(physical_, &p2);
-        limits_.max_allocation_size = m3.maxMemoryAllocationSize;
-        limits_.device_memory = info_.device_memory;
-        for (int i = 0; i < 3; ++i) limits_.max_workgroup_count[i] = props.limits.maxComputeWorkGroupCount[i];
-        limits_.max_workgroup_invocations = props.limits.maxComputeWorkGroupInvocations;
-        limits_.max_push_constants = props.limits.maxPushConstantsSize;
-        limits_.max_shared_memory = props.limits.maxComputeSharedMemorySize;
-        limits_.min_storage_offset_alignment = props.limits.minStorageBufferOffsetAlignment;
-        std::uint32_t count = 0;
-        vkGetPhysicalDeviceQueueFamilyProperties(physical_, &count, nullptr);
-        std::vector<VkQueueFamilyProperties> families(count);
-        vkGetPhysicalDeviceQueueFamilyProperties(physical_, &count, families.data());
-        if (families[queue_family_].timestampValidBits > 0)
-            limits_.timestamp_period_ns = props.limits.timestampPeriod;
+        read_limits(options);
 
         float priority = 1.0f;
         VkDeviceQueueCreateInfo queue{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
@@ -304,7 +285,63 @@ Context::Context(const EngineOptions& options) {
     }
 }
 
+void Context::read_limits(const EngineOptions& options) {
+    VkPhysicalDeviceProperties props;
+    vkGetPhysicalDeviceProperties(physical_, &props);
+    vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
+    limits_.max_storage_buffer_range = props.limits.maxStorageBufferRange;
+    if (options.max_buffer_range)
+        limits_.max_storage_buffer_range =
+            std::min<VkDeviceSize>(limits_.max_storage_buffer_range, options.max_buffer_range);
+    VkPhysicalDeviceMaintenance3Properties m3{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES};
+    VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+    p2.pNext = &m3;
+    vkGetPhysicalDeviceProperties2(physical_, &p2);
+    limits_.max_allocation_size = m3.maxMemoryAllocationSize;
+    limits_.device_memory = info_.device_memory;
+    for (int i = 0; i < 3; ++i) limits_.max_workgroup_count[i] = props.limits.maxComputeWorkGroupCount[i];
+    limits_.max_workgroup_invocations = props.limits.maxComputeWorkGroupInvocations;
+    limits_.max_push_constants = props.limits.maxPushConstantsSize;
+    limits_.max_shared_memory = props.limits.maxComputeSharedMemorySize;
+    limits_.min_storage_offset_alignment = props.limits.minStorageBufferOffsetAlignment;
+    std::uint32_t count = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(physical_, &count, nullptr);
+    std::vector<VkQueueFamilyProperties> families(count);
+    vkGetPhysicalDeviceQueueFamilyProperties(physical_, &count, families.data());
+    if (families[queue_family_].timestampValidBits > 0)
+        limits_.timestamp_period_ns = props.limits.timestampPeriod;
+}
+
+void Context::adopt(const ExternalDevice& ext, const EngineOptions& options) {
+    if (!ext.instance || !ext.physical_device || !ext.device || !ext.queue)
+        throw Error(ErrorCode::InvalidArgument, "external Vulkan device: a handle is null");
+    owned_ = false;
+    instance_ = ext.instance;
+    physical_ = ext.physical_device;
+    device_ = ext.device;
+    queue_ = ext.queue;
+    queue_family_ = ext.queue_family;
+    info_ = describe_device(physical_, 0);
+    if (!info_.usable)
+        throw Error(ErrorCode::NoDevice, "external Vulkan device " + info_.name +
+                                             " cannot be used: " + info_.reason);
+    std::uint32_t count = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(physical_, &count, nullptr);
+    std::vector<VkQueueFamilyProperties> families(count);
+    vkGetPhysicalDeviceQueueFamilyProperties(physical_, &count, families.data());
+    if (queue_family_ >= count || !(families[queue_family_].queueFlags & VK_QUEUE_COMPUTE_BIT))
+        throw Error(ErrorCode::InvalidArgument,
+                    "external Vulkan device: queue family " + std::to_string(queue_family_) +
+                        " does not support compute");
+    // No object names: the application's instance may not have VK_EXT_debug_utils enabled.
+    read_limits(options);
+}
+
 Context::~Context() {
+    if (!owned_) {
+        if (device_) vkQueueWaitIdle(queue_);
+        return;
+    }
     if (device_) {
         vkDeviceWaitIdle(device_);
         vkDestroyDevice(device_, nullptr);

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "fdmsurf/surface.hpp"
+#include "fdmsurf/vulkan_interop.hpp"
 
 namespace fdmsurf::detail {
 
@@ -47,6 +48,9 @@ public:
     void add_message(std::string message);
 
 private:
+    void read_limits(const EngineOptions& options);
+    void adopt(const ExternalDevice& external, const EngineOptions& options);
+    bool owned_ = true;  // false: the handles belong to the application (a renderer)
     VkInstance instance_ = VK_NULL_HANDLE;
     VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
     VkPhysicalDevice physical_ = VK_NULL_HANDLE;

@@ -9,10 +9,10 @@
 namespace fdmsurf {
 
 struct CompareOptions {
-    double spacing = 0.5;           // H (Å): share_beyond_spacing counts d > H; must be > 0
-    bool outer_only = false;        // compare only the largest-area piece of each mesh
-    double weld_tolerance = 1e-5;   // Å: merge vertices this close first (0: exact duplicates
-                                    // only, < 0: no welding)
+    double spacing = 0.5;          // H (Å): share_beyond_spacing counts d > H; must be > 0
+    bool outer_only = false;       // compare only the largest-area piece of each mesh
+    double weld_tolerance = 1e-5;  // Å: merge vertices this close first (0: exact duplicates
+                                   // only, < 0: no welding)
 };
 
 // Distances d(v) are exact point-to-triangle distances (Å) from each vertex v of one mesh to
@@ -26,15 +26,15 @@ struct CompareResult {
                                       // outside the tested mesh (by the closest triangle's normal)
     double share_beyond_spacing = 0;  // Σ_{d > H} w / Σ w, a fraction in [0, 1]
     double hausdorff = 0;             // max(max_ref_to_test, max_test_to_ref), vertex-sampled
-    double rmsd_tested_to_reference = 0;  // the weighted RMSD the other way round
+    double rmsd_tested_to_reference = 0;     // the weighted RMSD the other way round
     double area_ref = 0, area_test = 0;      // Å²
     double volume_ref = 0, volume_test = 0;  // Å³, signed (divergence theorem)
     double area_rel_error = 0;               // (area_test - area_ref) / area_ref
     double volume_rel_error = 0;             // (volume_test - volume_ref) / volume_ref; NaN if 0
     std::size_t ref_vertices = 0, test_vertices = 0;    // after welding (and --outer)
     std::size_t ref_triangles = 0, test_triangles = 0;  // after welding (and --outer)
-    double max_ref_to_test = 0;       // max over reference vertices of d
-    double max_test_to_ref = 0;       // max over tested vertices of their distance to reference
+    double max_ref_to_test = 0;                         // max over reference vertices of d
+    double max_test_to_ref = 0;  // max over tested vertices of their distance to reference
 };
 
 // Compares `tested` against `reference`. Throws Error(InvalidArgument) for spacing <= 0 or

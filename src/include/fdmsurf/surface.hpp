@@ -12,6 +12,9 @@
 
 namespace fdmsurf {
 
+struct ExternalDevice;       // fdmsurf/vulkan_interop.hpp
+struct DeviceSurfaceResult;  // fdmsurf/vulkan_interop.hpp
+
 enum class SurfaceKind {
     Ses,  // solvent excluded: filtered density (FDM)
     Vdw,  // van der Waals: union of atom balls, no filter
@@ -92,6 +95,9 @@ struct EngineOptions {
     // Override of maxStorageBufferRange, bytes; 0 = the device's. Tests lower it to force the
     // processing of a grid in slabs.
     std::uint64_t max_buffer_range = 0;
+    // Run on the application's own VkDevice (fdmsurf/vulkan_interop.hpp) instead of creating
+    // one; `device` and `validation` are then ignored. Not owned; must outlive the Engine.
+    const ExternalDevice* external = nullptr;
 };
 
 namespace detail { struct EngineImpl; }
@@ -109,6 +115,10 @@ public:
 
     // Throws Error (InvalidArgument, EmptySelection, DeviceLimit, Vulkan, Fft).
     SurfaceResult make_surface(const Atoms& atoms, const SurfaceOptions& options = {});
+
+    // The same surface, left on the device for a renderer (fdmsurf/vulkan_interop.hpp). Small
+    // cavities are not removed on this path (that needs the mesh on the host).
+    DeviceSurfaceResult make_device_surface(const Atoms& atoms, const SurfaceOptions& options = {});
 
     const DeviceInfo& device() const;
     // Validation-layer messages (warnings and errors) seen since the last call; cleared by it.

@@ -1,0 +1,60 @@
+// Running fdmsurf on an application's own Vulkan device, with the mesh left in device buffers
+// that a renderer binds directly (no read-back).
+#pragma once
+
+#include <vulkan/vulkan.h>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "fdmsurf/surface.hpp"
+
+namespace fdmsurf {
+
+// Handles that the application owns; fdmsurf never destroys them. The device must support
+// Vulkan 1.1; `queue` belongs to `queue_family`, which must support compute (a renderer's
+// graphics-and-compute family, so that its draws can use the buffers without an ownership
+// transfer). Pass it through EngineOptions::external; it must outlive the Engine.
+struct ExternalDevice {
+    VkInstance instance = VK_NULL_HANDLE;
+    VkPhysicalDevice physical_device = VK_NULL_HANDLE;
+    VkDevice device = VK_NULL_HANDLE;
+    VkQueue queue = VK_NULL_HANDLE;
+    std::uint32_t queue_family = 0;
+};
+
+namespace detail { struct DeviceMeshBuffers; }
+
+// A surface mesh in two device buffers, owned by this object (released when it is destroyed,
+// which must happen before the VkDevice is). Both buffers carry the STORAGE, VERTEX or INDEX,
+// and TRANSFER_SRC usages. The work that wrote them has completed when
+// Engine::make_device_surface returns, so a renderer on the same queue family needs no barrier.
+class DeviceMesh {
+public:
+    DeviceMesh();
+    ~DeviceMesh();
+    DeviceMesh(DeviceMesh&&) noexcept;
+    DeviceMesh& operator=(DeviceMesh&&) noexcept;
+
+    // 6 floats per vertex: position (Å), then the outward unit normal; stride 24 bytes.
+    VkBuffer vertex_buffer() const;
+    // 3 uint32 indices per triangle, counter-clockwise seen from outside.
+    VkBuffer index_buffer() const;
+    std::uint32_t vertex_count() const;
+    std::uint32_t triangle_count() const;
+
+private:
+    friend class Engine;
+    std::unique_ptr<detail::DeviceMeshBuffers> buffers_;
+};
+
+struct DeviceSurfaceResult {
+    DeviceMesh mesh;
+    GridInfo grid;
+    std::vector<StageTime> times;
+    std::vector<std::string> warnings;
+};
+
+}  // namespace fdmsurf
