@@ -8,6 +8,7 @@
 #include <map>
 #include <memory>
 
+#include "filter/plan_cache.hpp"
 #include "grid/grid_plan.hpp"
 #include "vulkan/pipeline.hpp"
 
@@ -36,6 +37,7 @@ private:
     ComputePipeline mask_;
     VkCommandPool pool_ = VK_NULL_HANDLE;  // VkFFT's own, for its initial uploads
     VkFence fence_ = VK_NULL_HANDLE;
+    PlanCache cache_;
     std::map<std::array<std::uint32_t, 3>, std::unique_ptr<FftPlan>> plans_;
 };
 
