@@ -1,10 +1,10 @@
 // Marching cubes, pass 4: the triangles of each cell, indexing the shared vertices of pass 3
-// (first vertex of the owner point plus the rank of the edge's axis among its crossed edges).
+// (the owner point's first vertex plus the rank of the edge's axis among its crossed edges).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 256) in;
 layout(std430, binding = 0) readonly buffer Field { float field[]; };
-layout(std430, binding = 1) readonly buffer FirstVertex { uint first_vertex[]; };
+layout(std430, binding = 1) readonly buffer Offsets { uint offsets[]; };  // from pass 1
 layout(std430, binding = 2) readonly buffer BlockSums { uvec2 block_sums[]; };
 layout(std430, binding = 3) writeonly buffer Indices { uint indices[]; };
 #define MC_TABLES_BINDING 4
@@ -20,7 +20,7 @@ uint vertex_of(uvec3 cell, int edge) {
     uint bits = crossed_edges(owner);
     uint rank = bitCount(bits & ((1u << axis) - 1u));
     uint owner_index = ((owner.z - pc.z_begin) * pc.ny + owner.y) * pc.nx + owner.x;
-    return first_vertex[owner_index] + rank;
+    return block_sums[owner_index / kMcBlock].x + (offsets[owner_index] & 0xffffu) + rank;
 }
 
 void main() {
@@ -30,17 +30,12 @@ void main() {
     if (block * kMcBlock >= pc.owned_points) return;  // past the last block of a 2D dispatch
     if (block_sums[block + 1u].y == block_sums[block].y) return;
     uint i = point_index();
-    uint cube = 0u;
-    uvec3 p = uvec3(0u);
-    if (i < pc.owned_points) {
-        p = point_coords(i);
-        cube = cube_index(p);
-    }
+    if (i >= pc.owned_points) return;
+    uvec3 p = point_coords(i);
+    uint cube = cube_index(p);
     uint count = mc_tri_count[cube];
-    uvec2 total;
-    uvec2 local_offset = workgroup_exclusive_scan(uvec2(0u, count), total);
     if (count == 0u) return;
-    uint t = block_sums[block].y + local_offset.y;
+    uint t = block_sums[block].y + (offsets[i] >> 16);
     int base = int(cube) * 3 * MC_MAX_TRIANGLES;
     for (uint k = 0u; k < count; ++k) {
         for (uint j = 0u; j < 3u; ++j)

@@ -1,11 +1,11 @@
 // Marching cubes, pass 3: one vertex per crossed owned edge, at the linear interpolation of the
-// iso-level, with the normal -grad(rho) interpolated from central differences. Replaces each
-// point's count with the index of its first vertex, for pass 4.
+// iso-level, with the normal -grad(rho) interpolated from central differences. A point's first
+// vertex is its block's offset plus its offset in the block (pass 1).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 256) in;
 layout(std430, binding = 0) readonly buffer Field { float field[]; };
-layout(std430, binding = 1) buffer Counts { uint counts[]; };
+layout(std430, binding = 1) readonly buffer Counts { uint counts[]; };
 layout(std430, binding = 2) readonly buffer BlockSums { uvec2 block_sums[]; };
 layout(std430, binding = 3) writeonly buffer Vertices { float vertices[]; };  // pos, normal
 #include "mc_common.glsl"
@@ -53,17 +53,11 @@ void main() {
     if (block * kMcBlock >= pc.owned_points) return;  // past the last block of a 2D dispatch
     if (block_sums[block + 1u].x == block_sums[block].x) return;
     uint i = point_index();
-    uint bits = 0u;
-    uvec3 p = uvec3(0u);
-    if (i < pc.owned_points) {
-        p = point_coords(i);
-        bits = crossed_edges(p);
-    }
-    uvec2 total;
-    uvec2 local_offset = workgroup_exclusive_scan(uvec2(bitCount(bits), 0u), total);
     if (i >= pc.owned_points) return;
-    uint v = block_sums[block].x + local_offset.x;
-    counts[i] = v;
+    uvec3 p = point_coords(i);
+    uint bits = crossed_edges(p);
+    if (bits == 0u) return;
+    uint v = block_sums[block].x + (counts[i] & 0xffffu);
     vec3 origin = vec3(pc.origin_x, pc.origin_y, pc.origin_z);
     float v0 = value_at(p.x, p.y, p.z);
     vec3 g0 = gradient(p);
