@@ -84,7 +84,7 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
         result.warnings.emplace_back(buf);
     }
     const double field_bytes = double(plan.field_floats()) * sizeof(float);
-    const double limit = double(context.limits().max_storage_buffer_range);
+    const double limit = double(field_budget());
     if (field_bytes > limit) {
         result = run_in_slabs(atoms, options, plan, std::move(result));
         if (on_device) *on_device = upload_mesh(result.mesh);
@@ -117,6 +117,16 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
     return result;
 }
 
+std::uint64_t EngineImpl::field_budget() const {
+    // One binding holds at most maxStorageBufferRange; the whole pass needs about four times the
+    // field (field, per-point offsets, vertices and indices, staging), so a quarter of the
+    // device-local memory bounds it too: larger grids go through slabs.
+    const DeviceLimits& lim = context.limits();
+    std::uint64_t budget = lim.max_storage_buffer_range;
+    if (lim.device_memory > 0) budget = std::min<std::uint64_t>(budget, lim.device_memory / 4);
+    return budget;
+}
+
 GpuMesh EngineImpl::upload_mesh(const Mesh& mesh) {
     std::vector<float> interleaved(mesh.vertex_count() * 6);
     for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
@@ -146,7 +156,7 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
                                        GridPlan plan, SurfaceResult result) {
     const auto d = plan.info.dims;
     const double h = plan.info.spacing;
-    const std::uint64_t limit = context.limits().max_storage_buffer_range;
+    const std::uint64_t limit = field_budget();
     const std::uint64_t plane_bytes = std::uint64_t(plan.pitch) * d[1] * sizeof(float);
     // Overlap: two filter wavelengths on each side, none without a filter (exact per point).
     const std::uint32_t overlap =

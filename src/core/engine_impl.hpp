@@ -42,6 +42,8 @@ struct EngineImpl {
     SurfaceResult run(const Atoms& atoms, const SurfaceOptions& options,
                       GpuMesh* on_device = nullptr);
     GpuMesh upload_mesh(const Mesh& mesh);
+    // Bytes one field buffer may take: maxStorageBufferRange, and a quarter of device memory.
+    std::uint64_t field_budget() const;
     SurfaceResult run_in_slabs(const Atoms& atoms, const SurfaceOptions& options, GridPlan plan,
                                SurfaceResult result);
 
