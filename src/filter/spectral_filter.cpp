@@ -32,8 +32,9 @@ void check_fft(VkFFTResult r, const char* what) {
 
 void glslang_acquire() {
     std::lock_guard<std::mutex> lock(g_glslang_mutex);
-    if (g_glslang_users++ == 0 && !glslang_initialize_process())
+    if (g_glslang_users == 0 && !glslang_initialize_process())
         throw Error(ErrorCode::Fft, "glslang_initialize_process failed");
+    ++g_glslang_users;
 }
 
 void glslang_release() {
@@ -50,16 +51,15 @@ struct FftPlan {
     VkCommandPool pool = VK_NULL_HANDLE;
     VkFence fence = VK_NULL_HANDLE;
     // VkFFT rebinds its descriptors only when the *address* of the VkBuffer it is given changes,
-    // and keeps that address. So the handle lives here, in one of two slots: a new buffer goes
-    // into the other slot, whose address differs, and both addresses stay valid.
+    // and keeps that address. So the handle lives here, in one of two slots, and every launch
+    // switches slots: the address always differs, so VkFFT always rewrites its descriptors.
+    // (Comparing handles is not enough: drivers reuse the handle of a destroyed buffer.)
     VkBuffer slots[2] = {VK_NULL_HANDLE, VK_NULL_HANDLE};
     int current = 0;
     std::uint64_t buffer_size = 0;
     VkBuffer* bind(VkBuffer buffer) {
-        if (slots[current] != buffer) {
-            current ^= 1;
-            slots[current] = buffer;
-        }
+        current ^= 1;
+        slots[current] = buffer;
         return &slots[current];
     }
     bool initialised = false;
@@ -95,6 +95,13 @@ SpectralFilter::~SpectralFilter() {
 FftPlan& SpectralFilter::plan_for(const std::array<std::uint32_t, 3>& dims, const Buffer& field) {
     auto it = plans_.find(dims);
     if (it != plans_.end()) return *it->second;
+    // Each plan holds a few MiB: keep the most recent few (the disk cache makes a re-plan cheap).
+    constexpr std::size_t kMaxPlans = 6;
+    if (plans_.size() >= kMaxPlans) {
+        plans_.erase(plan_order_.front());
+        plan_order_.erase(plan_order_.begin());
+    }
+    plan_order_.push_back(dims);
     auto plan = std::make_unique<FftPlan>();
     plan->physical = ctx_.physical_device();
     plan->device = ctx_.device();

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <vector>
 
 #include "filter/plan_cache.hpp"
 #include "grid/grid_plan.hpp"
@@ -39,6 +40,7 @@ private:
     VkFence fence_ = VK_NULL_HANDLE;
     PlanCache cache_;
     std::map<std::array<std::uint32_t, 3>, std::unique_ptr<FftPlan>> plans_;
+    std::vector<std::array<std::uint32_t, 3>> plan_order_;  // oldest first
 };
 
 // Process-wide glslang initialisation for VkFFT's run-time shader compilation.

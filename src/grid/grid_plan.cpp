@@ -32,6 +32,7 @@ float effective_cutoff(const SurfaceOptions& o) {
     if (!std::isfinite(o.level) || o.level < 0.0f)
         bad("level must be a positive multiple of T, or 0 for the default (got " +
             std::to_string(o.level) + ")");
+    if (std::isnan(o.padding)) bad("padding must be a number of Å");
     if (!(o.density_cut > 0.0f && o.density_cut < 1.0f))
         bad("density cut must lie in (0, 1)");
     if (o.surface != SurfaceKind::Ses) return 0.0f;

@@ -178,6 +178,9 @@ void Commands::submit_and_wait(std::uint64_t timeout_ns) {
     FDM_VK_CHECK(vkResetFences(ctx_.device(), 1, &fence_));
     FDM_VK_CHECK(vkQueueSubmit(ctx_.queue(), 1, &submit, fence_));
     VkResult r = vkWaitForFences(ctx_.device(), 1, &fence_, VK_TRUE, timeout_ns);
+    // Before throwing, let the queue drain: the buffers that unwinding frees may still be in use,
+    // and the command buffer may not be reset while pending.
+    if (r != VK_SUCCESS) vkQueueWaitIdle(ctx_.queue());
     if (r == VK_TIMEOUT)
         throw Error(ErrorCode::Vulkan,
                     "GPU work did not finish within " + std::to_string(timeout_ns / 1000000000ull) +
