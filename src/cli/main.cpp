@@ -114,7 +114,8 @@ std::size_t report_validation(Engine& engine) {
 }
 
 // One structure through an engine that stays up for every input of the run.
-// `read`: the structure when it was read already (with its parse time), else null.
+// `read`: the structure when it was read already, with its parse time (< 0: report no parse
+// stage, for the second and later models of a file read once), else null.
 int run_one(const CliOptions& options, Engine& engine, double init_ms, const std::string& input,
             const std::string& output, const Structure* read = nullptr, double parse_ms = 0.0) {
     const auto start = Clock::now();
@@ -127,7 +128,8 @@ int run_one(const CliOptions& options, Engine& engine, double init_ms, const std
 
     auto t = Clock::now();
     const Structure structure = read ? *read : read_structure(input, options.read);
-    report.times.push_back({"parse", read ? parse_ms : ms_since(t), false});
+    if (!read) parse_ms = ms_since(t);
+    if (parse_ms >= 0) report.times.push_back({"parse", parse_ms, false});
     for (const std::string& message : structure.info.warnings) warn(message);
     if (init_ms > 0) report.times.push_back({"init", init_ms, false});
 
@@ -166,12 +168,13 @@ int run_one(const CliOptions& options, Engine& engine, double init_ms, const std
     report.input = input;
     report.output = output;
     report.surface = options.surface.surface;
-    report.model = options.read.model;
+    report.model = structure.info.model;
     report.info = structure.info;
     report.atoms_used = structure.atoms.size();
     report.grid = result.grid;
     report.device = engine.device().name;
-    report.total_ms = ms_since(start) + init_ms;
+    // A structure read before this call: its parse time counts in the total all the same.
+    report.total_ms = ms_since(start) + init_ms + (read && parse_ms > 0 ? parse_ms : 0.0);
 
     if (options.json) {
         std::printf("%s\n", json_summary(report).c_str());
@@ -182,12 +185,26 @@ int run_one(const CliOptions& options, Engine& engine, double init_ms, const std
     return kExitOk;
 }
 
+// The structures of one input: every model with --models all (the file parsed once), else
+// the one model asked for.
+std::vector<Structure> read_input(const CliOptions& options, const std::string& input) {
+    if (options.all_models) return read_models(input, options.read);
+    std::vector<Structure> one;
+    one.push_back(read_structure(input, options.read));
+    return one;
+}
+
+std::string output_of(const CliOptions& options, const std::string& input, int model) {
+    return options.all_models ? output_for(input, options.output, model)
+                              : output_for(input, options.output);
+}
+
 int run(const CliOptions& options) {
     // Option checks that need neither the structure nor the device come first. The warning
     // for a spacing too coarse for the filter comes from the engine, with result.warnings.
-    for (const std::string& input : options.inputs) check_output(output_for(input, options.output));
+    for (const std::string& input : options.inputs) check_output(output_of(options, input, 1));
     effective_cutoff(options.surface);
-    if (options.inputs.size() == 1) {
+    if (options.inputs.size() == 1 && !options.all_models) {
         // Read before the device starts, so that bad input fails fast.
         auto t = Clock::now();
         const Structure structure = read_structure(options.inputs.front(), options.read);
@@ -198,23 +215,50 @@ int run(const CliOptions& options) {
                        output_for(options.inputs.front(), options.output), &structure, parse_ms);
     }
 
-    const auto t = Clock::now();
+    // Several inputs or models: one engine for all, so that its pipelines and FFT plans are
+    // made once. The first input is read before the device starts, so that bad input fails
+    // fast; a single input that cannot be read fails the run as above.
+    std::vector<Structure> first;
+    auto t = Clock::now();
+    if (options.inputs.size() == 1) first = read_input(options, options.inputs.front());
+    const double first_parse_ms = ms_since(t);
+    t = Clock::now();
     Engine engine(options.engine);
-    const double init_ms = ms_since(t);
-    // Several inputs: each is reported on its own; a failed one does not stop the others, and
-    // the exit code is that of the first failure.
+    double init_ms = ms_since(t);
+    // Each input, and each model, is reported on its own; a failed one does not stop the
+    // others, and the exit code is that of the first failure.
     int status = kExitOk;
     for (std::size_t i = 0; i < options.inputs.size(); ++i) {
         const std::string& input = options.inputs[i];
-        int code = kExitOk;
-        try {
-            code = run_one(options, engine, i == 0 ? init_ms : 0.0, input,
-                           output_for(input, options.output));
-        } catch (const Error& e) {
-            print_error(naming(input, e.what()));
-            code = exit_code_for(e.code());
+        std::vector<Structure> structures;
+        double parse_ms = first_parse_ms;
+        if (i == 0 && options.inputs.size() == 1) {
+            structures = std::move(first);
+        } else {
+            try {
+                t = Clock::now();
+                structures = read_input(options, input);
+                parse_ms = ms_since(t);
+            } catch (const Error& e) {
+                print_error(naming(input, e.what()));
+                if (status == kExitOk) status = exit_code_for(e.code());
+                continue;
+            }
         }
-        if (status == kExitOk) status = code;
+        for (std::size_t k = 0; k < structures.size(); ++k) {
+            int code = kExitOk;
+            const int model = structures[k].info.model;
+            try {
+                code = run_one(options, engine, init_ms, input, output_of(options, input, model),
+                               &structures[k], k == 0 ? parse_ms : -1.0);
+            } catch (const Error& e) {
+                print_error(naming(input, e.what()) +
+                            (options.all_models ? " (model " + std::to_string(model) + ")" : ""));
+                code = exit_code_for(e.code());
+            }
+            init_ms = 0.0;
+            if (status == kExitOk) status = code;
+        }
     }
     return status;
 }

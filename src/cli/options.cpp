@@ -3,10 +3,10 @@
 
 #include <algorithm>
 #include <array>
-#include <filesystem>
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <optional>
 #include <string_view>
@@ -29,6 +29,8 @@ enum class Opt {
     Filter,
     Padding,
     Model,
+    Models,
+    Assembly,
     Waters,
     Hydrogens,
     NoLigands,
@@ -53,7 +55,7 @@ struct OptionSpec {
     bool numeric;  // a value that may start with '-' (a negative number, rejected later)
 };
 
-constexpr std::array<OptionSpec, 24> kOptions{{
+constexpr std::array<OptionSpec, 26> kOptions{{
     {"--output", "-o", Opt::Output, true, false},
     {"--surface", "", Opt::Surface, true, false},
     {"--spacing", "", Opt::Spacing, true, true},
@@ -64,6 +66,8 @@ constexpr std::array<OptionSpec, 24> kOptions{{
     {"--filter", "", Opt::Filter, true, false},
     {"--padding", "", Opt::Padding, true, true},
     {"--model", "", Opt::Model, true, true},
+    {"--models", "", Opt::Models, true, false},
+    {"--assembly", "", Opt::Assembly, true, true},
     {"--waters", "", Opt::Waters, false, false},
     {"--hydrogens", "", Opt::Hydrogens, false, false},
     {"--no-ligands", "", Opt::NoLigands, false, false},
@@ -96,6 +100,12 @@ std::string output_for(const std::string& input, const std::string& output) {
     if (name.extension() == ".gz") name = name.stem();
     name.replace_extension(".ply");
     return (std::filesystem::path(output) / name).string();
+}
+
+std::string output_for(const std::string& input, const std::string& output, int model) {
+    std::filesystem::path path = output_for(input, output);
+    path.replace_filename(path.stem().string() + "-m" + std::to_string(model) + ".ply");
+    return path.string();
 }
 
 namespace {
@@ -260,6 +270,16 @@ void apply_value(CliOptions& o, const OptionSpec& spec, std::string_view name,
             o.read.model = parse_int(name, text);
             require(o.read.model >= 1, name, ">= 1", text);
             break;
+        case Opt::Models:
+            if (lower(text) != "all")
+                fail("unknown value '" + text + "' for " + std::string(name) +
+                     " (expected all; --model N reads one model)");
+            o.all_models = true;
+            break;
+        case Opt::Assembly:
+            o.read.assembly = parse_int(name, text);
+            require(o.read.assembly >= 0, name, ">= 0 (0: the model as deposited)", text);
+            break;
         case Opt::Format:
             o.read.format =
                 parse_choice(name, text, kFormats, "input format", "pdb, cif, pqr or xyzr");
@@ -325,6 +345,7 @@ bool looks_like_option(const std::string& arg, bool numeric) {
 
 CliOptions parse_args(const std::vector<std::string>& args) {
     CliOptions o;
+    bool explicit_model = false;
     bool options_done = false;
     for (std::size_t i = 0; i < args.size(); ++i) {
         const std::string& arg = args[i];
@@ -361,6 +382,11 @@ CliOptions parse_args(const std::vector<std::string>& args) {
         apply_value(o, *spec, name, value);
         if (spec->id == Opt::Filter) o.explicit_filter = true;
         if (spec->id == Opt::Level) o.explicit_level = true;
+        if (spec->id == Opt::Model) explicit_model = true;
+    }
+    if (o.all_models) {
+        if (explicit_model) fail("--model N and --models all exclude each other");
+        o.read.model = fdmsurf::kAllModels;
     }
     if (o.paper) {
         // The paper's settings, except where an option says otherwise, wherever it stands.
@@ -375,6 +401,11 @@ CliOptions parse_args(const std::vector<std::string>& args) {
     if (o.output.empty()) fail("missing -o OUTPUT, the mesh file to write (.ply or .obj)");
     if (o.inputs.size() > 1 && !output_is_folder(o.output))
         fail("several INPUTs need -o to name a folder (ending in '/'), got '" + o.output + "'");
+    if (o.all_models && !output_is_folder(o.output))
+        fail(
+            "--models all writes one mesh per model (NAME-mN.ply): -o must name a folder "
+            "(ending in '/'), got '" +
+            o.output + "'");
     for (std::size_t i = 0; i < o.inputs.size(); ++i)
         for (std::size_t j = 0; j < i; ++j)
             if (output_for(o.inputs[i], o.output) == output_for(o.inputs[j], o.output))
@@ -386,6 +417,7 @@ CliOptions parse_args(const std::vector<std::string>& args) {
 std::string usage_text() {
     return R"(Usage: fdmsurf INPUT -o OUTPUT [options]
        fdmsurf INPUT... -o FOLDER/ [options]
+       fdmsurf INPUT... --models all -o FOLDER/ [options]
        fdmsurf compare REFERENCE TESTED --spacing H [--stats json] [--outer]
        fdmsurf --list-devices | --help | --version
 
@@ -422,6 +454,12 @@ Input:
   --format pdb|cif|pqr|xyzr  input format (default: from the extension, then the
                          content)
   --model N              model to read, 1-based (default 1)
+  --models all           every model, one mesh each: -o names a folder that gets
+                         NAME-m1.ply, NAME-m2.ply, ... (one device for all)
+  --assembly N           biological assembly N of a PDB or mmCIF file, the n-th
+                         one it lists (REMARK 350 / _pdbx_struct_assembly), built
+                         from the model before selection (default 0: the model
+                         as deposited, i.e. the asymmetric unit)
   --waters               keep water molecules (default: left out)
   --hydrogens            keep hydrogen atoms (default: left out)
   --no-ligands           leave out HETATM residues other than water (default: kept)

@@ -23,18 +23,21 @@ struct CliOptions {
     bool version = false;
     bool paper = false;  // --paper: the paper's settings where not given explicitly
     bool explicit_filter = false, explicit_level = false, explicit_cavities = false;
+    bool all_models = false;  // --models all: one mesh per model (read.model = kAllModels)
 };
 
 // Parses the arguments after the program name. `--name value` and `--name=value` are both
 // accepted; `--` ends the options. Throws Error(InvalidArgument) naming the offending option.
 // With --help, --version or --list-devices no INPUT or -o is required. Several INPUTs need -o
-// to name a folder.
+// to name a folder, and so does --models all.
 CliOptions parse_args(const std::vector<std::string>& args);
 
 // True when OUTPUT names a folder (ends in '/' or exists as one): one mesh per input goes there.
 bool output_is_folder(const std::string& output);
 // The mesh path for `input`: OUTPUT itself, or OUTPUT/<input name>.ply for a folder.
 std::string output_for(const std::string& input, const std::string& output);
+// With --models all: OUTPUT/<input name>-m<model>.ply (OUTPUT must be a folder).
+std::string output_for(const std::string& input, const std::string& output, int model);
 
 // The --help text: usage, every option with its unit and default, the exit codes.
 std::string usage_text();

@@ -84,9 +84,14 @@ inline std::string text_summary(const RunReport& r) {
     std::string s =
         "fdmsurf " + r.version + ": " + surface_name(r.surface) + " surface of " + r.input + "\n";
     const StructureInfo& info = r.info;
+    const std::string source = info.assembly == 0
+                                   ? "in file"
+                                   : "in assembly " + info.assembly_name + ", " +
+                                         format_count(info.assembly_chains) + " chains";
     s += "  atoms        " + format_count(r.atoms_used) + " used (" +
-         format_count(info.atoms_in_file) + " in file; " + format_count(info.waters_skipped) +
-         " waters, " + format_count(info.hydrogens_skipped) + " hydrogens, ";
+         format_count(info.atoms_in_file) + " " + source + "; " +
+         format_count(info.waters_skipped) + " waters, " + format_count(info.hydrogens_skipped) +
+         " hydrogens, ";
     if (info.ligands_skipped != 0) s += format_count(info.ligands_skipped) + " ligand atoms, ";
     s += format_count(info.altlocs_skipped) + " altlocs left out";
     if (info.models_in_file > 1) {
@@ -137,6 +142,10 @@ inline std::string json_summary(const RunReport& r) {
     w.member("atoms_used", r.atoms_used);
     w.member("atoms_in_file", r.info.atoms_in_file);
     w.member("models_in_file", r.info.models_in_file);
+    w.member("assembly", r.info.assembly);
+    w.member("assembly_name", r.info.assembly_name);
+    w.member("assemblies_in_file", r.info.assemblies_in_file);
+    w.member("assembly_chains", r.info.assembly_chains);
     w.member("waters_skipped", r.info.waters_skipped);
     w.member("hydrogens_skipped", r.info.hydrogens_skipped);
     w.member("altlocs_skipped", r.info.altlocs_skipped);

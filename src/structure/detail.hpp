@@ -61,8 +61,10 @@ std::string known_element(std::string_view symbol);
 
 // --- read_gemmi.cpp and read_plain.cpp: one reader per format; `text` passed check_text ---
 
-Structure read_pdb_or_mmcif(const std::string& text, const std::string& name,
-                            StructureFormat format, const ReadOptions& options);
+// Every model (options.model == kAllModels) or options.model alone; the model number and the
+// assembly option were checked to be >= 0.
+std::vector<Structure> read_pdb_or_mmcif(const std::string& text, const std::string& name,
+                                         StructureFormat format, const ReadOptions& options);
 Structure read_pqr(std::string_view text, const std::string& name);
 Structure read_xyzr(std::string_view text, const std::string& name);
 

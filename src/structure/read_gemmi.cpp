@@ -2,12 +2,15 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <gemmi/assembly.hpp>
 #include <gemmi/cif.hpp>
 #include <gemmi/mmcif.hpp>
 #include <gemmi/pdb.hpp>
 #include <gemmi/polyheur.hpp>
 #include <map>
 #include <new>
+#include <set>
+#include <sstream>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -110,6 +113,8 @@ SymbolMap cif_symbols(gemmi::cif::Block& block) {
 }
 
 std::string counted(std::size_t n, const std::string& noun) {
+    if (n != 1 && noun.ends_with('y'))
+        return std::to_string(n) + " " + noun.substr(0, noun.size() - 1) + "ies";
     return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
 }
 
@@ -160,7 +165,14 @@ private:
     std::map<std::string, Unknown> unknown_;  // by symbol, for a stable warning order
 };
 
-std::string empty_selection_message(const std::string& name, int model, const StructureInfo& info) {
+// "model 2", or "assembly 1 of model 2" for an assembly.
+std::string what_was_read(const StructureInfo& info) {
+    std::string model = "model " + std::to_string(info.model);
+    return info.assembly == 0 ? model
+                              : "assembly " + std::to_string(info.assembly) + " of " + model;
+}
+
+std::string empty_selection_message(const std::string& name, const StructureInfo& info) {
     std::string removed;
     auto add = [&](std::size_t n, const char* noun, const char* option) {
         if (n) removed += (removed.empty() ? "" : ", ") + counted(n, noun) + option;
@@ -169,9 +181,82 @@ std::string empty_selection_message(const std::string& name, int model, const St
     add(info.waters_skipped, "water atom", " (keep_waters)");
     add(info.ligands_skipped, "ligand atom", " (keep_ligands)");
     add(info.hydrogens_skipped, "hydrogen", " (keep_hydrogens)");
-    return name + ": no atoms left after selection (model " + std::to_string(model) + " has " +
+    return name + ": no atoms left after selection (" + what_was_read(info) + " has " +
            counted(info.atoms_in_file, "atom") + (removed.empty() ? "" : "; removed: " + removed) +
            ")";
+}
+
+std::string assembly_ids(const std::vector<gemmi::Assembly>& assemblies) {
+    std::string ids;
+    for (const gemmi::Assembly& a : assemblies) ids += (ids.empty() ? "" : ", ") + a.name;
+    return ids;
+}
+
+// The biological assembly `number` (1-based, file order) of `model`: every operator applied
+// to the chains (PDB) or subchains (mmCIF) it names. Atoms that two operators put on the same
+// spot (a ligand on a symmetry axis) are kept twice; a max-of-Gaussians density does not
+// change. gemmi's complaints about chains the assembly names but the model lacks become
+// warnings.
+gemmi::Model build_assembly(const gemmi::Structure& st, gemmi::cif::Document& doc,
+                            const gemmi::Model& model, int number, const std::string& name,
+                            StructureInfo& info) {
+    const std::string asked = name + ": assembly " + std::to_string(number) + " requested, but ";
+    if (st.assemblies.empty())
+        throw Error(ErrorCode::InvalidArgument,
+                    asked + "the file lists no assemblies (no " +
+                        (info.format == StructureFormat::Pdb ? "REMARK 350 BIOMOLECULE"
+                                                             : "_pdbx_struct_assembly") +
+                        ")");
+    if (static_cast<std::size_t>(number) > st.assemblies.size())
+        throw Error(ErrorCode::InvalidArgument,
+                    asked + "the file has " + counted(st.assemblies.size(), "assembly") + " (id" +
+                        (st.assemblies.size() == 1 ? " " : "s ") + assembly_ids(st.assemblies) +
+                        ")");
+    const gemmi::Assembly& assembly = st.assemblies[static_cast<std::size_t>(number - 1)];
+    // gemmi 0.5.7 reads only the first factor of a product of operators, "(1-60)(61-88)": a
+    // part of the assembly would come out as if it were all of it.
+    if (!doc.blocks.empty()) {
+        gemmi::cif::Table gens =
+            doc.blocks[0].find("_pdbx_struct_assembly_gen.", {"assembly_id", "oper_expression"});
+        for (auto row : gens) {
+            const std::string expr = row.str(1);
+            if (row.str(0) == assembly.name && expr.find(')') != std::string::npos &&
+                expr.find('(', expr.find(')')) != std::string::npos)
+                fail_format(name + ": assembly " + assembly.name +
+                            " uses a product of operators ('" + expr +
+                            "'), which fdmsurf cannot expand");
+        }
+    }
+    std::ostringstream log;
+    gemmi::Model built =
+        gemmi::make_assembly(assembly, model, gemmi::HowToNameCopiedChain::AddNumber, &log);
+    info.assembly = number;
+    info.assembly_name = assembly.name;
+    // Chain copies as (chain, operator) pairs: an mmCIF assembly lists a chain's polymer and
+    // ligand subchains in separate generators, and gemmi makes one chain object for each.
+    std::set<std::pair<std::string, std::string>> copies;
+    for (std::size_t g = 0; g < assembly.generators.size(); ++g) {
+        const gemmi::Assembly::Gen& gen = assembly.generators[g];
+        const bool all = !gen.chains.empty() && gen.chains[0] == "(all)";
+        for (std::size_t o = 0; o < gen.operators.size(); ++o) {
+            const std::string& op = gen.operators[o].name;
+            const std::string op_key =
+                op.empty() ? std::to_string(g) + "/" + std::to_string(o) : op;
+            for (const gemmi::Chain& chain : model.chains)
+                if (all || gemmi::in_vector(chain.name, gen.chains) ||
+                    (!gen.subchains.empty() && gemmi::impl::any_subchain_matches(chain, gen)))
+                    copies.emplace(chain.name, op_key);
+        }
+        info.assembly_operators += gen.operators.size();
+    }
+    info.assembly_chains = copies.size();
+    std::string line;
+    std::istringstream lines(log.str());
+    while (std::getline(lines, line)) {
+        if (line.starts_with("Warning: "))
+            info.warnings.push_back(name + ": assembly " + assembly.name + ": " + line.substr(9));
+    }
+    return built;
 }
 
 // gemmi reports problems as std::runtime_error (and the odd logic_error): rethrow as ours.
@@ -234,8 +319,8 @@ void select_atoms(const gemmi::Model& model, const ReadOptions& options, const s
 
 }  // namespace
 
-Structure read_pdb_or_mmcif(const std::string& text_in, const std::string& name,
-                            StructureFormat format, const ReadOptions& options) {
+std::vector<Structure> read_pdb_or_mmcif(const std::string& text_in, const std::string& name,
+                                         StructureFormat format, const ReadOptions& options) {
     // gemmi wants a newline after the last record to count its columns right.
     std::string text_nl;
     if (text_in.back() != '\n') text_nl = text_in + '\n';
@@ -269,15 +354,31 @@ Structure read_pdb_or_mmcif(const std::string& text_in, const std::string& name,
                                                     " requested, but the file has " +
                                                     counted(st.models.size(), "model"));
 
-    Structure out;
-    out.info.format = format;
-    out.info.models_in_file = st.models.size();
-    RadiusAssigner radii(text, doc, format);
-    select_atoms(st.models[static_cast<std::size_t>(options.model - 1)], options, name, radii, out);
-    radii.add_warnings(name, out.info.warnings);
-    if (out.atoms.empty())
-        throw Error(ErrorCode::EmptySelection,
-                    empty_selection_message(name, options.model, out.info));
+    const std::size_t first = options.model == kAllModels ? 0 : std::size_t(options.model - 1);
+    const std::size_t last = options.model == kAllModels ? st.models.size() : first + 1;
+    std::vector<Structure> out;
+    out.reserve(last - first);
+    for (std::size_t m = first; m < last; ++m) {
+        Structure s;
+        s.info.format = format;
+        s.info.models_in_file = st.models.size();
+        s.info.model = static_cast<int>(m + 1);
+        s.info.assemblies_in_file = st.assemblies.size();
+        RadiusAssigner radii(text, doc, format);
+        if (options.assembly == 0) {
+            select_atoms(st.models[m], options, name, radii, s);
+        } else {
+            gemmi::Model built(st.models[m].name);
+            with_gemmi(name, [&] {
+                built = build_assembly(st, doc, st.models[m], options.assembly, name, s.info);
+            });
+            select_atoms(built, options, name, radii, s);
+        }
+        radii.add_warnings(name, s.info.warnings);
+        if (s.atoms.empty())
+            throw Error(ErrorCode::EmptySelection, empty_selection_message(name, s.info));
+        out.push_back(std::move(s));
+    }
     return out;
 }
 

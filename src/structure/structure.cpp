@@ -1,39 +1,75 @@
 // Structure input entry points: load, check, pick the format, hand over to that format's reader.
 #include "fdmsurf/structure.hpp"
 
+#include <utility>
+#include <vector>
+
 #include "structure/detail.hpp"
 
 namespace fdmsurf {
 
 namespace {
 
-Structure read_text(const std::string& text, const std::string& name, const ReadOptions& options) {
+// Every model (options.model == kAllModels) or the one asked for.
+std::vector<Structure> read_text(const std::string& text, const std::string& name,
+                                 const ReadOptions& options) {
     detail::check_text(text, name);
-    if (options.model < 1)
+    if (options.model < 0)
         throw Error(ErrorCode::InvalidArgument, name + ": model " + std::to_string(options.model) +
                                                     " requested (models are numbered from 1)");
+    if (options.assembly < 0)
+        throw Error(ErrorCode::InvalidArgument,
+                    name + ": assembly " + std::to_string(options.assembly) +
+                        " requested (assemblies are numbered from 1; 0 is the model as "
+                        "deposited)");
     StructureFormat format = options.format == StructureFormat::Auto
                                  ? detail::detect_format(text, name)
                                  : options.format;
     if (format == StructureFormat::Pdb || format == StructureFormat::Mmcif)
         return detail::read_pdb_or_mmcif(text, name, format, options);
-    // PQR and XYZR hold one model; asking for another is a mistake worth reporting.
-    if (options.model != 1)
+    // PQR and XYZR hold one model and no assemblies; asking for more is a mistake worth
+    // reporting.
+    if (options.model > 1)
         throw Error(ErrorCode::InvalidArgument, name + ": model " + std::to_string(options.model) +
                                                     " requested, but " + to_string(format) +
                                                     " input has one model");
-    return format == StructureFormat::Pqr ? detail::read_pqr(text, name)
-                                          : detail::read_xyzr(text, name);
+    if (options.assembly != 0)
+        throw Error(ErrorCode::InvalidArgument,
+                    name + ": assembly " + std::to_string(options.assembly) + " requested, but " +
+                        to_string(format) + " input has no assemblies (PDB and mmCIF only)");
+    std::vector<Structure> out;
+    out.push_back(format == StructureFormat::Pqr ? detail::read_pqr(text, name)
+                                                 : detail::read_xyzr(text, name));
+    return out;
+}
+
+Structure one_model(const std::string& text, const std::string& name, const ReadOptions& options) {
+    if (options.model == kAllModels)
+        throw Error(ErrorCode::InvalidArgument,
+                    name +
+                        ": model 0 requested (models are numbered from 1; every model at "
+                        "once needs read_models)");
+    std::vector<Structure> models = read_text(text, name, options);
+    return std::move(models.front());
 }
 
 }  // namespace
 
 Structure read_structure(const std::string& path, const ReadOptions& options) {
-    return read_text(detail::load_file(path), path, options);
+    return one_model(detail::load_file(path), path, options);
 }
 
 Structure read_structure_from_memory(std::string_view data, const std::string& name,
                                      const ReadOptions& options) {
+    return one_model(std::string(data), name, options);
+}
+
+std::vector<Structure> read_models(const std::string& path, const ReadOptions& options) {
+    return read_text(detail::load_file(path), path, options);
+}
+
+std::vector<Structure> read_models_from_memory(std::string_view data, const std::string& name,
+                                               const ReadOptions& options) {
     return read_text(std::string(data), name, options);
 }
 

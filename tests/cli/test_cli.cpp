@@ -361,4 +361,83 @@ TEST_F(CliProgram, QuietRunPrintsNothingAndWritesObj) {
     EXPECT_NE(obj.find("\nf "), std::string::npos);
 }
 
+TEST_F(CliProgram, ModelsAllWithAFileOutputAsksForAFolder) {
+    const std::string input = write_file("atoms.xyzr", kTwoAtomsXyzr);
+    expect_failure(run({input, "--models", "all", "-o", path("out.ply")}), 2,
+                   {"--models all", "folder", "out.ply"});
+}
+
+TEST_F(CliProgram, AssemblyOutOfRangeNamesHowManyThereAre) {
+    if (kDataDir == nullptr) GTEST_SKIP() << "no test data folder";
+    const std::string crambin = (fs::path(kDataDir) / "1crn.pdb").string();
+    expect_failure(run({crambin, "--assembly", "2", "-o", path("out.ply")}), 2,
+                   {"1crn.pdb", "assembly 2", "1 assembly"});
+    const std::string input = write_file("atoms.xyzr", kTwoAtomsXyzr);
+    expect_failure(run({input, "--assembly", "1", "-o", path("out.ply")}), 2,
+                   {"atoms.xyzr", "no assemblies"});
+}
+
+TEST_F(CliProgram, AssemblyIsReportedInJson) {
+    if (kDataDir == nullptr) GTEST_SKIP() << "no test data folder";
+    if (const auto why = no_usable_device()) {
+        if (device_required()) FAIL() << *why << "(FDMSURF_REQUIRE_DEVICE=1)";
+        GTEST_SKIP() << *why;
+    }
+    const std::string crambin = (fs::path(kDataDir) / "1crn.cif").string();
+    const CliRun r = run(
+        {crambin, "--assembly", "1", "-o", path("a1.ply"), "--stats", "json", "--spacing", "1.0"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::vector<std::string> lines = lines_of(r.out);
+    ASSERT_EQ(lines.size(), 1u) << r.out;
+    const auto json = parse_json(lines[0]);
+    ASSERT_TRUE(json) << lines[0];
+    EXPECT_EQ(json->find("assembly")->number, 1);
+    EXPECT_EQ(json->find("assembly_name")->string, "1");
+    EXPECT_EQ(json->find("atoms_used")->number, 327);
+    EXPECT_TRUE(json->find("closed_manifold")->boolean);
+}
+
+// --models all: the 10 NMR models of 1D3Z through one engine, one closed mesh each.
+TEST_F(CliProgram, ModelsAllWritesOneClosedMeshPerModel) {
+    const fs::path ensemble = kDataDir == nullptr ? fs::path() : fs::path(kDataDir) / "1d3z.pdb.gz";
+    if (ensemble.empty() || !fs::exists(ensemble))
+        GTEST_SKIP() << "tests/data/1d3z.pdb.gz is absent";
+    if (const auto why = no_usable_device()) {
+        if (device_required()) FAIL() << *why << "(FDMSURF_REQUIRE_DEVICE=1)";
+        GTEST_SKIP() << *why;
+    }
+    const std::string folder = path("meshes") + "/";
+    fs::create_directories(folder);
+    const CliRun r = run({ensemble.string(), "--models", "all", "-o", folder, "--stats", "json",
+                          "--spacing", "1.0"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(r.error_lines().empty()) << r.err;
+    const std::vector<std::string> lines = lines_of(r.out);
+    ASSERT_EQ(lines.size(), 10u) << r.out;
+    for (int m = 1; m <= 10; ++m) {
+        SCOPED_TRACE("model " + std::to_string(m));
+        const auto json = parse_json(lines[static_cast<std::size_t>(m - 1)]);
+        ASSERT_TRUE(json) << lines[static_cast<std::size_t>(m - 1)];
+        EXPECT_EQ(json->find("model")->number, m);
+        EXPECT_EQ(json->find("models_in_file")->number, 10);
+        EXPECT_EQ(json->find("atoms_used")->number, 602);
+        EXPECT_TRUE(json->find("closed_manifold")->boolean);
+        // The engine starts once and the file is parsed once: both with the first model.
+        const JsonValue& times = *json->find("times");
+        EXPECT_EQ(times.find("init") != nullptr, m == 1);
+        EXPECT_EQ(times.find("parse") != nullptr, m == 1);
+        const std::string output = folder + "1d3z-m" + std::to_string(m) + ".ply";
+        EXPECT_EQ(json->find("output")->string, output);
+        ASSERT_TRUE(fs::exists(output));
+        // The file on disk, read back: closed and manifold.
+        const fdmsurf::MeshStats stats = fdmsurf::compute_stats(fdmsurf::read_mesh(output));
+        EXPECT_GT(stats.triangles, 0u);
+        EXPECT_TRUE(stats.is_closed_manifold());
+        EXPECT_EQ(stats.triangles, static_cast<std::size_t>(json->find("triangles")->number));
+    }
+    std::size_t files = 0;
+    for ([[maybe_unused]] const auto& entry : fs::directory_iterator(folder)) ++files;
+    EXPECT_EQ(files, 10u);
+}
+
 }  // namespace

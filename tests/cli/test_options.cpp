@@ -10,7 +10,6 @@
 namespace {
 
 using fdmsurf::Error;
-using fdmsurf::cli::parse_args;
 using fdmsurf::ErrorCode;
 using fdmsurf::FilterShape;
 using fdmsurf::StructureFormat;
@@ -122,6 +121,40 @@ TEST(CliOptions, Filters) {
 TEST(CliOptions, Model) {
     EXPECT_EQ(parse_with({"--model", "3"}).read.model, 3);
     EXPECT_EQ(parse_with({"--model=1"}).read.model, 1);
+}
+
+TEST(CliOptions, ModelsAllNeedsAFolder) {
+    const CliOptions o = parse_args({"in.pdb", "--models", "all", "-o", "meshes/"});
+    EXPECT_TRUE(o.all_models);
+    EXPECT_EQ(o.read.model, fdmsurf::kAllModels);
+    EXPECT_TRUE(parse_args({"in.pdb", "--models=ALL", "-o", "meshes/"}).all_models);
+    EXPECT_FALSE(parse_with({}).all_models);
+    const std::string file = parse_error_with({"--models", "all"});
+    EXPECT_TRUE(contains(file, "--models all")) << file;
+    EXPECT_TRUE(contains(file, "folder")) << file;
+    EXPECT_TRUE(contains(file, "out.ply")) << file;
+    const std::string value = parse_error({"in.pdb", "--models", "2", "-o", "m/"});
+    EXPECT_TRUE(contains(value, "'2'")) << value;
+    EXPECT_TRUE(contains(value, "expected all")) << value;
+    const std::string both = parse_error({"in.pdb", "--model", "2", "--models", "all", "-o", "m/"});
+    EXPECT_TRUE(contains(both, "--model N and --models all")) << both;
+    EXPECT_TRUE(contains(parse_error({"in.pdb", "--models", "-o", "m/"}), "needs a value"));
+}
+
+TEST(CliOptions, ModelOutputNames) {
+    using fdmsurf::cli::output_for;
+    EXPECT_EQ(output_for("data/1d3z.pdb.gz", "meshes/", 3), "meshes/1d3z-m3.ply");
+    EXPECT_EQ(output_for("x.cif", "out/", 10), "out/x-m10.ply");
+}
+
+TEST(CliOptions, Assembly) {
+    EXPECT_EQ(parse_with({}).read.assembly, 0);
+    EXPECT_EQ(parse_with({"--assembly", "1"}).read.assembly, 1);
+    EXPECT_EQ(parse_with({"--assembly=0"}).read.assembly, 0);
+    const std::string negative = parse_error_with({"--assembly", "-1"});
+    EXPECT_TRUE(contains(negative, "--assembly")) << negative;
+    EXPECT_TRUE(contains(negative, ">= 0")) << negative;
+    EXPECT_TRUE(contains(parse_error_with({"--assembly", "one"}), "not a whole number"));
 }
 
 TEST(CliOptions, SelectionFlags) {
@@ -298,11 +331,10 @@ TEST(CliOptions, PaperSettingsUnlessGivenExplicitly) {
 TEST(CliOptions, HelpNamesEveryOptionAndExitCode) {
     const std::string help = fdmsurf::cli::usage_text();
     for (const char* option :
-         {"--surface",   "--spacing",    "--probe",      "--cutoff", "--sigma",
-          "--level",     "--filter",     "--padding",    "--model",  "--waters",
-          "--hydrogens", "--no-ligands", "--format",     "--device", "--list-devices",
-          "--stats",     "--quiet",      "--validation", "--help",   "--version",
-          "-o"}) {
+         {"--surface", "--spacing", "--probe",        "--cutoff",     "--sigma",     "--level",
+          "--filter",  "--padding", "--model",        "--waters",     "--hydrogens", "--no-ligands",
+          "--format",  "--device",  "--list-devices", "--stats",      "--quiet",     "--validation",
+          "--help",    "--version", "--models all",   "--assembly N", "-o"}) {
         EXPECT_TRUE(contains(help, option)) << option;
     }
     for (const char* text : {"Exit codes", "default 0.5", "default 1.4", "default 3", "Å", "1/Å",

@@ -108,6 +108,29 @@ TEST(CliSummary, TextShowsWhatIsMissingFromAnOpenMesh) {
     EXPECT_TRUE(contains(text, "model 2 of 20")) << text;
 }
 
+TEST(CliSummary, AssemblyIsNamedInTextAndJson) {
+    RunReport r = example_report();
+    r.info.assembly = 1;
+    r.info.assembly_name = "1";
+    r.info.assemblies_in_file = 1;
+    r.info.assembly_chains = 180;
+    r.info.atoms_in_file = 317160;
+    const std::string text = fdmsurf::cli::text_summary(r);
+    EXPECT_TRUE(contains(text, "317,160 in assembly 1, 180 chains;")) << text;
+    const auto value = parse_json(fdmsurf::cli::json_summary(r));
+    ASSERT_TRUE(value);
+    EXPECT_EQ(value->find("assembly")->number, 1);
+    EXPECT_EQ(value->find("assembly_name")->string, "1");
+    EXPECT_EQ(value->find("assemblies_in_file")->number, 1);
+    EXPECT_EQ(value->find("assembly_chains")->number, 180);
+    EXPECT_EQ(value->find("model")->number, 1);
+    // The model as deposited: "in file", assembly 0.
+    const std::string plain = fdmsurf::cli::text_summary(example_report());
+    EXPECT_TRUE(contains(plain, " in file;")) << plain;
+    EXPECT_EQ(parse_json(fdmsurf::cli::json_summary(example_report()))->find("assembly")->number,
+              0);
+}
+
 TEST(CliSummary, JsonIsOneValidObjectWithEveryKey) {
     const std::string json = fdmsurf::cli::json_summary(example_report());
     EXPECT_EQ(json.find('\n'), std::string::npos);

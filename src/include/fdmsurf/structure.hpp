@@ -24,21 +24,37 @@ struct Atoms {
 struct ReadOptions {
     StructureFormat format = StructureFormat::Auto;  // Auto: from the extension, then the content
     int model = 1;                 // 1-based model number (the n-th model in the file)
+                                   // (kAllModels, 0: every model, for read_models only)
     bool keep_waters = false;      // HOH/WAT/DOD... residues
     bool keep_hydrogens = false;   // H and D atoms
     bool keep_ligands = true;      // HETATM residues other than water
+    // 0: the model as deposited (the asymmetric unit); N >= 1: biological assembly N, the n-th
+    // one the file lists (_pdbx_struct_assembly / REMARK 350; wwPDB ids are 1, 2, ... in
+    // order), built by applying its operators to the model's chains before selection.
+    // PDB and mmCIF only.
+    int assembly = 0;
 };
+
+// ReadOptions::model for read_models: one Structure per model of the file.
+constexpr int kAllModels = 0;
 
 // What the reader did, for the summary and for warnings.
 struct StructureInfo {
     StructureFormat format = StructureFormat::Auto;  // the format actually read
     std::size_t atoms_in_file = 0;   // atom records in the selected model, before selection
+                                     // (with an assembly: in the assembly, copies included)
     std::size_t waters_skipped = 0;
     std::size_t hydrogens_skipped = 0;
     std::size_t ligands_skipped = 0;
     std::size_t altlocs_skipped = 0;  // atoms dropped because another alternate location was kept
     std::size_t models_in_file = 0;
     std::vector<std::string> warnings;  // one line each (unknown elements, ...)
+    int model = 1;                       // the model read, 1-based (n-th in the file)
+    std::size_t assemblies_in_file = 0;  // assemblies the file lists (PDB and mmCIF)
+    int assembly = 0;                    // ReadOptions::assembly: 0, or the assembly built
+    std::string assembly_name;           // its id in the file ("1"); empty for 0
+    std::size_t assembly_operators = 0;  // operators it applies (12 for 4YVS assembly 1)
+    std::size_t assembly_chains = 0;     // chain copies: distinct (chain, operator) pairs (180)
 };
 
 struct Structure {
@@ -54,6 +70,13 @@ Structure read_structure(const std::string& path, const ReadOptions& options = {
 // format Auto, for the extension.
 Structure read_structure_from_memory(std::string_view data, const std::string& name,
                                      const ReadOptions& options = {});
+
+// Every model of a file (options.model == kAllModels), or only options.model, each selected
+// as read_structure would: element i is model i+1 (info.model). The file is read and parsed
+// once. PQR and XYZR give one Structure.
+std::vector<Structure> read_models(const std::string& path, const ReadOptions& options = {});
+std::vector<Structure> read_models_from_memory(std::string_view data, const std::string& name,
+                                               const ReadOptions& options = {});
 
 // Van der Waals radius (Å) used for an element symbol (case-insensitive), or a negative value
 // for an unknown element. Table: Bondi (1964) where Bondi gives one, else gemmi's table
