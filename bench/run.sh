@@ -10,7 +10,8 @@
 # packages edtsurf and python3-pymol, and node + npm for Mol*. As root, missing Debian packages
 # are installed with apt-get (set BENCH_NO_APT=1 to skip); a peer that is still missing is
 # left out with a note. Mol* is installed once with npm into bench/.cache/molstar (a copy of
-# ../shared/tools/molstar, which is read-only). Takes about 20 minutes on 2 cores.
+# ../shared/tools/molstar, which is read-only; BENCH_MOLSTAR_DIR moves it). Results go to
+# bench/out/ (report.md, results.json, bench.log, the meshes). Takes 14-20 minutes on 2 cores.
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(dirname "$here")
@@ -30,13 +31,11 @@ if [ -n "$missing" ] && [ "$(id -u)" = 0 ] && [ -z "${BENCH_NO_APT:-}" ]; then
 fi
 [ -x /usr/bin/time ] || { echo "bench: GNU time (/usr/bin/time) is required: apt-get install time" >&2; exit 1; }
 
-ms="$here/.cache/molstar"
+ms=${BENCH_MOLSTAR_DIR:-$here/.cache/molstar}
 if [ ! -d "$ms/node_modules/molstar" ] && command -v npm >/dev/null 2>&1; then
     echo "bench: installing Mol* (npm) into $ms" >&2
-    mkdir -p "$here/.cache"
-    cp "$shared/tools/molstar/package.json" "$shared/tools/molstar/ms_surface.js" "$here/.cache/" 2>/dev/null && \
-        mkdir -p "$ms" && mv "$here/.cache/package.json" "$here/.cache/ms_surface.js" "$ms/" && \
-        (cd "$ms" && npm install --no-audit --no-fund >/dev/null 2>&1) || \
+    { mkdir -p "$ms" && cp "$shared/tools/molstar/package.json" "$shared/tools/molstar/ms_surface.js" "$ms/" && \
+        (cd "$ms" && npm install --no-audit --no-fund >/dev/null 2>&1); } || \
         echo "bench: npm install of Mol* failed; Mol* is left out" >&2
 fi
 if [ ! -x "$root/build/fdmsurf" ]; then
