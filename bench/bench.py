@@ -54,6 +54,8 @@ STRUCTURES = {
              "large": True},
 }
 NANOSHAPER_S = {"4hhb": 0.8, "1aon": 10.7}   # ../shared/reference/ses/README.md, 2 cores
+SKIP_WHY = {"1aon:pymol-q1": "skipped by default (--skip): a trial run on this machine was killed "
+                             "unfinished after 358 s at 4.0 GB"}
 ALL_TOOLS = ["fdmsurf", "molstar", "pymol-q0", "pymol-q1", "edtsurf"]
 LABEL = {"fdmsurf": "fdmsurf (SES 0.5 Å)", "molstar": "Mol* (0.5 Å)",
          "pymol-q0": "PyMOL (surface_quality 0)", "pymol-q1": "PyMOL (surface_quality 1)",
@@ -440,8 +442,9 @@ class Bench:
             with open(script, "w") as fh:
                 fh.write(self.peers.PYMOL_SCRIPT)
             info["pymol_script"] = script
+        if "edtsurf" in tools:
             # EDTSurf's mesh is in the file's frame, the reference atoms in PyMOL's
-            frame = pymol_frame(clean)
+            frame = pymol_frame(info["clean"])
             edt_atoms = [p[:3] for p in read_xyzr(os.path.join(wd, "radii_edtsurf.xyzr"))]
             mapped = [apply_frame(frame, p) for p in edt_atoms] if frame else edt_atoms
             info["frame_check"] = max_set_distance(mapped, [p[:3] for p in atoms])
@@ -521,7 +524,7 @@ class Bench:
         stopped = {}
         skip = {s.split(":")[1] for s in self.a.skip.split(",") if s.startswith(name + ":")}
         for t in skip:
-            stopped[t] = "skipped (--skip)"
+            stopped[t] = SKIP_WHY.get(f"{name}:{t}", "skipped (--skip)")
         for rep in range(reps):
             k = rep % len(tools)
             order = tools[k:] + tools[:k]
