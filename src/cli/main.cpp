@@ -199,9 +199,28 @@ std::string output_of(const CliOptions& options, const std::string& input, int m
                               : output_for(input, options.output);
 }
 
+// `-o FOLDER/` that does not exist yet is created (not its parents: a typo in a parent folder
+// is an error, as for a file).
+void make_output_folder(const std::string& output) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (!output_is_folder(output) || fs::is_directory(output, ec)) return;
+    const fs::path folder = fs::path(output).parent_path();  // "out/" -> "out"
+    const fs::path parent = folder.parent_path();
+    if (!parent.empty() && !fs::is_directory(parent, ec)) {
+        throw Error(ErrorCode::Io, "cannot create the output folder '" + output + "': '" +
+                                       parent.string() + "' does not exist");
+    }
+    if (!fs::create_directory(folder, ec) && !fs::is_directory(folder)) {
+        throw Error(ErrorCode::Io, "cannot create the output folder '" + output + "': " +
+                                       (ec ? ec.message() : std::string("it is a file")));
+    }
+}
+
 int run(const CliOptions& options) {
     // Option checks that need neither the structure nor the device come first. The warning
     // for a spacing too coarse for the filter comes from the engine, with result.warnings.
+    make_output_folder(options.output);
     for (const std::string& input : options.inputs) check_output(output_of(options, input, 1));
     effective_cutoff(options.surface);
     if (options.inputs.size() == 1 && !options.all_models) {
@@ -255,6 +274,12 @@ int run(const CliOptions& options) {
                 print_error(naming(input, e.what()) +
                             (options.all_models ? " (model " + std::to_string(model) + ")" : ""));
                 code = exit_code_for(e.code());
+                // A failed device (lost, out of memory) would fail every later input too.
+                if (e.code() == ErrorCode::Vulkan) {
+                    print_error("stopping: the Vulkan device failed; the remaining inputs were "
+                                "not processed");
+                    return status == kExitOk ? code : status;
+                }
             }
             init_ms = 0.0;
             if (status == kExitOk) status = code;

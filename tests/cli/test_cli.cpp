@@ -233,6 +233,22 @@ TEST_F(CliProgram, OutputInNonexistentFolder) {
     EXPECT_FALSE(fs::exists(path("no_such_folder")));
 }
 
+// -o FOLDER/ is created when missing (several inputs); a missing parent is an error.
+TEST_F(CliProgram, OutputFolderIsCreatedButNotItsParents) {
+    const std::string a = write_file("a.xyzr", kTwoAtomsXyzr);
+    const std::string b = write_file("b.xyzr", kTwoAtomsXyzr);
+    expect_failure(run({a, b, "-o", path("missing/meshes") + "/"}), 3, {"missing", "does not exist"});
+    EXPECT_FALSE(fs::exists(path("missing")));
+    if (const auto why = no_usable_device()) {
+        if (device_required()) FAIL() << *why << "(FDMSURF_REQUIRE_DEVICE=1)";
+        GTEST_SKIP() << *why;
+    }
+    const CliRun r = run({a, b, "-o", path("meshes") + "/", "--spacing", "1.0", "--quiet"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(fs::exists(path("meshes/a.ply")));
+    EXPECT_TRUE(fs::exists(path("meshes/b.ply")));
+}
+
 TEST_F(CliProgram, ZeroSpacing) {
     const std::string input = write_file("atoms.xyzr", kTwoAtomsXyzr);
     expect_failure(run({input, "-o", path("out.ply"), "--spacing", "0"}), 2, {"--spacing"});

@@ -29,8 +29,12 @@ namespace detail { struct DeviceMeshBuffers; }
 
 // A surface mesh in two device buffers, owned by this object (released when it is destroyed,
 // which must happen before the VkDevice is). Both buffers carry the STORAGE, VERTEX or INDEX,
-// and TRANSFER_SRC usages. The work that wrote them has completed when
-// Engine::make_device_surface returns, so a renderer on the same queue family needs no barrier.
+// and TRANSFER_SRC usages. The work that wrote them has completed (fdmsurf waited on its fence)
+// when Engine::make_device_surface returns. The renderer must still make those compute-shader
+// writes visible to its own use with a memory barrier in its command buffer: src stage
+// COMPUTE_SHADER, access SHADER_WRITE; dst stage VERTEX_INPUT (or its own), access
+// VERTEX_ATTRIBUTE_READ | INDEX_READ. A fence wait orders execution; it does not make device
+// writes available to other device stages.
 class DeviceMesh {
 public:
     DeviceMesh();
