@@ -46,6 +46,10 @@ struct SurfaceOptions {
     // < 0 means the volume of one probe sphere for ses (a void no probe fits in is not part of
     // the SES) and 0 (keep all) for vdw and sas. Infinity removes every cavity.
     float min_cavity_volume = -1.0f;
+    // Refinement levels (0 to 4): each level splits every triangle into four by modified
+    // butterfly subdivision (Zorin et al. 1996) and moves the new vertices onto the iso-surface
+    // of the field (ses) or onto the atoms' balls (vdw, sas); on the host, before cavity removal.
+    int refine = 0;
 };
 
 // The settings of Giard & Macq (2010): ideal mask at f_c = 1/(4 probe), level T, cavities kept.
