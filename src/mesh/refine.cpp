@@ -237,6 +237,44 @@ Vec3 apply(const Stencil& s, const std::vector<float>& xyz) {
     return p;
 }
 
+Vec3 position(const Mesh& mesh, Index v) {
+    const float* p = &mesh.positions[3 * std::size_t{v}];
+    return {p[0], p[1], p[2]};
+}
+
+// Twice the area-weighted normal of the triangle of half-edge h.
+Vec3 face_normal(const Mesh& mesh, Index h) {
+    const Vec3 a = position(mesh, mesh.indices[h]), b = position(mesh, mesh.indices[next_he(h)]),
+               c = position(mesh, mesh.indices[prev_he(h)]);
+    const Vec3 u{b[0] - a[0], b[1] - a[1], b[2] - a[2]}, w{c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    return {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+}
+
+// The butterfly point p of edge e moved onto the line through the edge's midpoint along the
+// edge's normal (the mean of its ends' normals, or of its triangles' without vertex normals):
+// only the stencil's offset along the normal, its estimate of the curvature, is kept.
+Vec3 along_normal(const Mesh& mesh, const HalfEdges& he, Index e, const Vec3& p, Vec3& unit) {
+    const Index h = he.first[e];
+    const Index a = mesh.indices[h], b = mesh.indices[next_he(h)];
+    Vec3 n{};
+    if (!mesh.normals.empty()) {
+        for (int k = 0; k < 3; ++k) n[k] = double(mesh.normals[3 * a + k]) + mesh.normals[3 * b + k];
+    } else {
+        n = face_normal(mesh, h);
+        if (he.twin[h] != kNone) {
+            const Vec3 m = face_normal(mesh, he.twin[h]);
+            for (int k = 0; k < 3; ++k) n[k] += m[k];
+        }
+    }
+    const double len2 = dot(n, n);
+    if (!(len2 > 0.0) || !std::isfinite(len2)) return p;
+    for (int k = 0; k < 3; ++k) unit[k] = n[k] / std::sqrt(len2);
+    const Vec3 pa = position(mesh, a), pb = position(mesh, b);
+    const Vec3 mid{0.5 * (pa[0] + pb[0]), 0.5 * (pa[1] + pb[1]), 0.5 * (pa[2] + pb[2])};
+    const double along = ((p[0] - mid[0]) * n[0] + (p[1] - mid[1]) * n[1] + (p[2] - mid[2]) * n[2]) / len2;
+    return {mid[0] + along * n[0], mid[1] + along * n[1], mid[2] + along * n[2]};
+}
+
 std::string count_text(double n) {
     char buf[32];
     if (n >= 1e6)
@@ -288,7 +326,7 @@ std::vector<double> extraordinary_weights(int valence) {
     return w;
 }
 
-void subdivide_butterfly(Mesh& mesh) {
+void subdivide_butterfly(Mesh& mesh, ButterflyOffset offset) {
     validate_mesh(mesh, "refine", true);
     const std::size_t nv = mesh.vertex_count(), nt = mesh.triangle_count();
     if (nt == 0) return;
@@ -305,10 +343,14 @@ void subdivide_butterfly(Mesh& mesh) {
     if (normals) std::copy(mesh.normals.begin(), mesh.normals.end(), out_normals.begin());
     for (Index e = 0; e < ne; ++e) {
         const Stencil s = edge_stencil(he, idx, e);
-        const Vec3 p = apply(s, mesh.positions);
+        Vec3 p = apply(s, mesh.positions);
+        Vec3 edge_normal{};
+        if (offset == ButterflyOffset::Normal) p = along_normal(mesh, he, e, p, edge_normal);
         for (int k = 0; k < 3; ++k) positions[3 * (nv + e) + k] = float(p[k]);
         if (!normals) continue;
-        Vec3 n = apply(s, mesh.normals);
+        Vec3 n = offset == ButterflyOffset::Normal && dot(edge_normal, edge_normal) > 0.0
+                     ? edge_normal
+                     : apply(s, mesh.normals);
         double len = std::sqrt(dot(n, n));
         if (!(len > 1e-12)) {  // the stencil cancelled out: the ends' mean
             const Index a = idx[he.first[e]], b = idx[next_he(he.first[e])];
@@ -538,6 +580,32 @@ Outcome newton(const SurfaceField& field, const Vec3& start, const ProjectOption
     }
 }
 
+// Newton along the line start + s dir (dir a unit vector): s <- s - (f - iso) / (grad f . dir).
+// Off: the line meets the level set at a grazing angle (over 78 degrees from the gradient).
+enum class LineOutcome { Converged, NotConverged, Outside, Grazing };
+LineOutcome newton_on_line(const SurfaceField& field, const Vec3& start, const Vec3& dir,
+                           const ProjectOptions& o, Vec3& out) {
+    double s = 0.0, value = 0.0;
+    Vec3 g;
+    for (int it = 0;; ++it) {
+        const Vec3 x{start[0] + s * dir[0], start[1] + s * dir[1], start[2] + s * dir[2]};
+        if (!field.sample(x, value, g)) return LineOutcome::Outside;
+        const double gg = dot(g, g), gd = dot(g, dir);
+        if (!(gg > 0.0) || !std::isfinite(gg) || !std::isfinite(value)) return LineOutcome::Outside;
+        if (gd * gd < 0.04 * gg) return LineOutcome::Grazing;
+        const double r = value - field.iso();
+        const double distance = std::abs(r / gd);
+        if (distance <= o.tolerance) {
+            s -= r / gd;
+            for (int a = 0; a < 3; ++a) out[a] = start[a] + s * dir[a];
+            return LineOutcome::Converged;
+        }
+        if (it >= o.iterations) return LineOutcome::NotConverged;
+        s -= r / gd * std::min(1.0, o.max_step / distance);
+        if (std::abs(s) > o.max_distance) return LineOutcome::NotConverged;
+    }
+}
+
 Vec3 vertex(const Mesh& mesh, std::size_t v) {
     return {mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]};
 }
@@ -549,6 +617,24 @@ ProjectStats project_onto_field(Mesh& mesh, std::size_t first, const SurfaceFiel
     ProjectStats stats;
     for (std::size_t v = first; v < mesh.vertex_count(); ++v) {
         Vec3 out;
+        if (options.along_normals && mesh.normals.size() == 3 * mesh.vertex_count()) {
+            const Vec3 dir{mesh.normals[3 * v], mesh.normals[3 * v + 1], mesh.normals[3 * v + 2]};
+            const double len = std::sqrt(dot(dir, dir));
+            if (len > 0.5) {
+                const Vec3 unit{dir[0] / len, dir[1] / len, dir[2] / len};
+                const LineOutcome o = newton_on_line(field, vertex(mesh, v), unit, options, out);
+                if (o == LineOutcome::Converged) {
+                    for (int a = 0; a < 3; ++a) mesh.positions[3 * v + a] = float(out[a]);
+                    ++stats.projected;
+                    continue;
+                }
+                if (o == LineOutcome::Outside) {
+                    ++stats.outside_field;
+                    continue;
+                }
+                ++stats.off_normal;  // grazing or not converged on the line: along the gradient
+            }
+        }
         switch (newton(field, vertex(mesh, v), options, out)) {
             case Outcome::Converged:
                 for (int a = 0; a < 3; ++a) mesh.positions[3 * v + a] = float(out[a]);
@@ -603,13 +689,14 @@ RefineStats refine_mesh(Mesh& mesh, int levels, const SurfaceField* field,
     stats.levels = levels;
     for (int level = 0; level < levels; ++level) {
         const std::size_t first = mesh.vertex_count();
-        subdivide_butterfly(mesh);
+        subdivide_butterfly(mesh, ButterflyOffset::Normal);
         stats.new_vertices += mesh.vertex_count() - first;
         if (field == nullptr) continue;
         const ProjectStats p = project_onto_field(mesh, first, *field, options);
         stats.projection.projected += p.projected;
         stats.projection.not_converged += p.not_converged;
         stats.projection.outside_field += p.outside_field;
+        stats.projection.off_normal += p.off_normal;
     }
     if (field != nullptr && levels > 0) normals_from_field(mesh, *field);
     return stats;

@@ -58,7 +58,13 @@ std::vector<double> extraordinary_weights(int valence);
 // Normals, when the mesh has them, get the same weights, normalised. Throws
 // Error(InvalidArgument) for malformed arrays or when the refined mesh would have more than
 // 2^32 - 1 vertices.
-void subdivide_butterfly(Mesh& mesh);
+// With ButterflyOffset::Normal the new vertex keeps only the stencil's offset from the edge's
+// midpoint along the edge's normal (the mean of its ends' normals, or of its triangles' normals
+// without vertex normals), and lies over the midpoint: on marching-cubes meshes, whose sliver
+// triangles make the stencil's tangential offset larger than short edges, the full stencil folds
+// over about 4% of the new triangles (docs/mesh.md).
+enum class ButterflyOffset { Full, Normal };
+void subdivide_butterfly(Mesh& mesh, ButterflyOffset offset = ButterflyOffset::Full);
 
 // A scalar field whose level set is the surface: what the projection sees of the density grid,
 // the atoms' power distance, or any other field (an exact SES distance, say).
@@ -130,6 +136,10 @@ struct ProjectOptions {
     double max_distance = 0.5;   // Å from the start in all (h)
     int iterations = 8;
     double tolerance = 5e-4;     // Å: converged when |f - iso| / |grad f| is below it (h / 1000)
+    // Search along each vertex's normal first (the line through the butterfly point along the
+    // edge's normal), so that the vertex stays over its edge's midpoint; the gradient is
+    // followed where that line meets the level set at a grazing angle or not within reach.
+    bool along_normals = true;
 };
 
 ProjectOptions project_options_for_spacing(double spacing);
@@ -138,6 +148,8 @@ struct ProjectStats {
     std::size_t projected = 0;      // moved onto the level set
     std::size_t not_converged = 0;  // no convergence within the steps or the distance
     std::size_t outside_field = 0;  // the field is undefined there, or has no gradient
+    std::size_t off_normal = 0;     // projected along the gradient, not the normal (counted
+                                    // also in projected or the failures)
     std::size_t failed() const { return not_converged + outside_field; }
 };
 

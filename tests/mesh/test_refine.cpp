@@ -344,6 +344,45 @@ TEST(Refine, ProjectionPutsNewVerticesOnTheSphereMuchCloserThanButterflyAlone) {
     }
 }
 
+// Triangles whose geometric normal points away from the sphere's centre: folds.
+std::size_t folded_on_sphere(const Mesh& m, const Vec3& center) {
+    std::size_t folded = 0;
+    for (std::size_t t = 0; t < m.triangle_count(); ++t) {
+        const Vec3 a = vertex(m, m.indices[3 * t]), b = vertex(m, m.indices[3 * t + 1]),
+                   c = vertex(m, m.indices[3 * t + 2]);
+        const Vec3 u{b[0] - a[0], b[1] - a[1], b[2] - a[2]}, w{c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+        const Vec3 g{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+        const Vec3 r{a[0] - center[0], a[1] - center[1], a[2] - center[2]};
+        if (g[0] * r[0] + g[1] * r[1] + g[2] * r[2] < 0.0) ++folded;
+    }
+    return folded;
+}
+
+TEST(Refine, MarchingCubesSliversFoldTheFullStencilButNotTheNormalOffset) {
+    // Marching cubes makes sliver triangles (a vertex near a grid point); the full butterfly
+    // point of a short edge lands tangentially farther away than the edge is long and folds the
+    // new triangles over. Keeping only the offset along the normal (what refine_mesh does) puts
+    // each new vertex over its edge's midpoint, and projection along that normal keeps it there.
+    const SphereGrid grid(3.0, 0.5);
+    const Mesh mc = grid.marching_cubes();
+    ASSERT_EQ(folded_on_sphere(mc, grid.center), 0u);
+    Mesh full = mc, normal = mc;
+    fdmsurf::detail::subdivide_butterfly(full, fdmsurf::detail::ButterflyOffset::Full);
+    fdmsurf::detail::subdivide_butterfly(normal, fdmsurf::detail::ButterflyOffset::Normal);
+    const GridField field = grid.field(GridInterpolation::CatmullRom);
+    Mesh projected = mc;
+    fdmsurf::detail::refine_mesh(projected, 2, &field,
+                                 fdmsurf::detail::project_options_for_spacing(grid.spacing));
+    const std::size_t f_full = folded_on_sphere(full, grid.center);
+    std::printf("  folded triangles of %zu: full stencil %zu, normal offset %zu, refine 2 "
+                "projected %zu of %zu\n",
+                full.triangle_count(), f_full, folded_on_sphere(normal, grid.center),
+                folded_on_sphere(projected, grid.center), projected.triangle_count());
+    EXPECT_GT(f_full, 0u);
+    EXPECT_EQ(folded_on_sphere(normal, grid.center), 0u);
+    EXPECT_EQ(folded_on_sphere(projected, grid.center), 0u);
+}
+
 TEST(Refine, CatmullRomBeatsTrilinearInterpolationOfTheField) {
     // The spline's level set is closer to the sphere than the trilinear one's, whose gradient
     // also jumps across cell faces (Newton then stalls more often).
