@@ -651,8 +651,10 @@ ProjectStats project_onto_field(Mesh& mesh, std::size_t first, const SurfaceFiel
     return stats;
 }
 
-void normals_from_field(Mesh& mesh, const SurfaceField& field) {
+void normals_from_field(Mesh& mesh, const SurfaceField& field, std::size_t first,
+                        std::size_t last) {
     const std::size_t nv = mesh.vertex_count();
+    last = std::min(last, nv);
     if (mesh.normals.size() != 3 * nv) {
         // Start from the area-weighted triangle normals, for vertices the field cannot serve.
         mesh.normals.assign(3 * nv, 0.0f);
@@ -672,7 +674,7 @@ void normals_from_field(Mesh& mesh, const SurfaceField& field) {
                 for (int a = 0; a < 3; ++a) mesh.normals[3 * v + a] = float(n[a] / len);
         }
     }
-    for (std::size_t v = 0; v < nv; ++v) {
+    for (std::size_t v = first; v < last; ++v) {
         double value = 0.0;
         Vec3 g;
         if (!field.sample(vertex(mesh, v), value, g)) continue;
@@ -687,6 +689,7 @@ RefineStats refine_mesh(Mesh& mesh, int levels, const SurfaceField* field,
     check_refine_size(levels, mesh.triangle_count());
     RefineStats stats;
     stats.levels = levels;
+    const std::size_t original = mesh.vertex_count();
     for (int level = 0; level < levels; ++level) {
         const std::size_t first = mesh.vertex_count();
         subdivide_butterfly(mesh, ButterflyOffset::Normal);
@@ -697,8 +700,10 @@ RefineStats refine_mesh(Mesh& mesh, int levels, const SurfaceField* field,
         stats.projection.not_converged += p.not_converged;
         stats.projection.outside_field += p.outside_field;
         stats.projection.off_normal += p.off_normal;
+        // The next level's edge normals, and its projection lines, start from these.
+        normals_from_field(mesh, *field, first);
     }
-    if (field != nullptr && levels > 0) normals_from_field(mesh, *field);
+    if (field != nullptr && levels > 0) normals_from_field(mesh, *field, 0, original);
     return stats;
 }
 

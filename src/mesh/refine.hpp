@@ -159,10 +159,11 @@ struct ProjectStats {
 ProjectStats project_onto_field(Mesh& mesh, std::size_t first, const SurfaceField& field,
                                 const ProjectOptions& options);
 
-// Sets every vertex normal to outward() grad f / |grad f| at the vertex, where the field is
-// defined with a gradient; elsewhere the normal is kept (or, for a mesh without normals, the
-// normalised sum of the adjacent triangles' normals).
-void normals_from_field(Mesh& mesh, const SurfaceField& field);
+// Sets the normals of vertices [first, last) to outward() grad f / |grad f| at the vertex, where
+// the field is defined with a gradient; elsewhere the normal is kept (a mesh without normals
+// first gets, for every vertex, the normalised sum of the adjacent triangles' normals).
+void normals_from_field(Mesh& mesh, const SurfaceField& field, std::size_t first = 0,
+                        std::size_t last = std::size_t(-1));
 
 struct RefineStats {
     int levels = 0;
@@ -170,8 +171,9 @@ struct RefineStats {
     ProjectStats projection;       // over all levels (empty without a field)
 };
 
-// `levels` levels of subdivide_butterfly, each followed, when `field` is not null, by
-// project_onto_field of that level's new vertices; then, with a field, normals_from_field.
+// `levels` levels of subdivide_butterfly (ButterflyOffset::Normal), each followed, when `field`
+// is not null, by project_onto_field and normals_from_field of that level's new vertices; at the
+// end the original vertices get their normals from the field too.
 // Throws as check_refine_size and subdivide_butterfly.
 RefineStats refine_mesh(Mesh& mesh, int levels, const SurfaceField* field,
                         const ProjectOptions& options);
