@@ -55,14 +55,14 @@ std::vector<double> extraordinary_weights(int valence);
 //   neighbour in the 4-point scheme;
 // - edges of more than two triangles, of two triangles that disagree on orientation, or of a
 //   degenerate triangle: the midpoint.
-// Normals, when the mesh has them, get the same weights, normalised. Throws
-// Error(InvalidArgument) for malformed arrays or when the refined mesh would have more than
-// 2^32 - 1 vertices.
-// With ButterflyOffset::Normal the new vertex keeps only the stencil's offset from the edge's
-// midpoint along the edge's normal (the mean of its ends' normals, or of its triangles' normals
-// without vertex normals), and lies over the midpoint: on marching-cubes meshes, whose sliver
-// triangles make the stencil's tangential offset larger than short edges, the full stencil folds
-// over about 4% of the new triangles (docs/mesh.md).
+// With ButterflyOffset::Full (the scheme as published) new normals, when the mesh has normals,
+// get the same weights, normalised. With ButterflyOffset::Normal the new vertex keeps only the
+// stencil's offset from the edge's midpoint along the edge's normal (the mean of its ends'
+// normals, or of its triangles' normals without vertex normals), so it lies over the midpoint,
+// and gets that normal: on marching-cubes meshes, whose sliver triangles make the stencil's
+// tangential offset longer than short edges, the full stencil folds over about 4% of the new
+// triangles (docs/mesh.md). Throws Error(InvalidArgument) for malformed arrays or when the
+// refined mesh would have more than 2^32 - 1 vertices.
 enum class ButterflyOffset { Full, Normal };
 void subdivide_butterfly(Mesh& mesh, ButterflyOffset offset = ButterflyOffset::Full);
 

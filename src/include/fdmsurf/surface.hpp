@@ -121,7 +121,8 @@ public:
     SurfaceResult make_surface(const Atoms& atoms, const SurfaceOptions& options = {});
 
     // The same surface, left on the device for a renderer (fdmsurf/vulkan_interop.hpp). Small
-    // cavities are not removed on this path (that needs the mesh on the host).
+    // cavities are not removed on this path (that needs the mesh on the host). With refine > 0
+    // the mesh is read back, refined on the host and uploaded.
     DeviceSurfaceResult make_device_surface(const Atoms& atoms, const SurfaceOptions& options = {});
 
     const DeviceInfo& device() const;
