@@ -22,8 +22,8 @@ using Vec3 = std::array<double, 3>;
 
 // Refinement levels accepted (SurfaceOptions::refine): each level multiplies the triangles by 4.
 inline constexpr int kMaxRefineLevels = 4;
-// The most triangles a refined mesh may have: 2^26 (67.1 M), about 1.6 GB of positions, normals
-// and indices, plus as much again while the last level is built.
+// The most triangles a refined mesh may have: 2^26 (67.1 M), 1.6 GB of positions, normals and
+// indices, about 2.5 GB while the last level is built (the previous level and its edge table).
 inline constexpr std::size_t kMaxRefinedTriangles = std::size_t{1} << 26;
 
 // Throws Error(InvalidArgument) unless 0 <= levels <= kMaxRefineLevels.
