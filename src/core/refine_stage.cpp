@@ -39,7 +39,8 @@ void EngineImpl::refine(SurfaceResult& result, const Atoms& atoms, const Surface
             commands.submit_and_wait();
             host.invalidate();
             const auto& d = plan.info.dims;
-            view = FieldView{static_cast<const float*>(host.mapped()), d[0], d[1], d[2], plan.pitch};
+            view =
+                FieldView{static_cast<const float*>(host.mapped()), d[0], d[1], d[2], plan.pitch};
         }
         const auto& o = plan.info.origin;
         field = std::make_unique<GridField>(view.data, std::array{view.nx, view.ny, view.nz},
@@ -57,7 +58,8 @@ void EngineImpl::refine(SurfaceResult& result, const Atoms& atoms, const Surface
         std::snprintf(buf, sizeof buf,
                       "refine: %zu of %zu new vertices (%.2f%%) could not be projected onto the "
                       "surface and keep their butterfly position",
-                      failed, stats.new_vertices, 100.0 * double(failed) / double(stats.new_vertices));
+                      failed, stats.new_vertices,
+                      100.0 * double(failed) / double(stats.new_vertices));
         result.warnings.emplace_back(buf);
     }
 }

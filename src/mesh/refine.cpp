@@ -258,7 +258,8 @@ Vec3 along_normal(const Mesh& mesh, const HalfEdges& he, Index e, const Vec3& p,
     const Index a = mesh.indices[h], b = mesh.indices[next_he(h)];
     Vec3 n{};
     if (!mesh.normals.empty()) {
-        for (int k = 0; k < 3; ++k) n[k] = double(mesh.normals[3 * a + k]) + mesh.normals[3 * b + k];
+        for (int k = 0; k < 3; ++k)
+            n[k] = double(mesh.normals[3 * a + k]) + mesh.normals[3 * b + k];
     } else {
         n = face_normal(mesh, h);
         if (he.twin[h] != kNone) {
@@ -271,7 +272,8 @@ Vec3 along_normal(const Mesh& mesh, const HalfEdges& he, Index e, const Vec3& p,
     for (int k = 0; k < 3; ++k) unit[k] = n[k] / std::sqrt(len2);
     const Vec3 pa = position(mesh, a), pb = position(mesh, b);
     const Vec3 mid{0.5 * (pa[0] + pb[0]), 0.5 * (pa[1] + pb[1]), 0.5 * (pa[2] + pb[2])};
-    const double along = ((p[0] - mid[0]) * n[0] + (p[1] - mid[1]) * n[1] + (p[2] - mid[2]) * n[2]) / len2;
+    const double along =
+        ((p[0] - mid[0]) * n[0] + (p[1] - mid[1]) * n[1] + (p[2] - mid[2]) * n[2]) / len2;
     return {mid[0] + along * n[0], mid[1] + along * n[1], mid[2] + along * n[2]};
 }
 
@@ -288,10 +290,10 @@ std::string count_text(double n) {
 
 void check_refine_levels(int levels) {
     if (levels < 0 || levels > kMaxRefineLevels) {
-        throw Error(ErrorCode::InvalidArgument,
-                    "refine must be between 0 and " + std::to_string(kMaxRefineLevels) +
-                        " levels (got " + std::to_string(levels) +
-                        "); each level multiplies the triangles by 4");
+        throw Error(ErrorCode::InvalidArgument, "refine must be between 0 and " +
+                                                    std::to_string(kMaxRefineLevels) +
+                                                    " levels (got " + std::to_string(levels) +
+                                                    "); each level multiplies the triangles by 4");
     }
 }
 
@@ -306,11 +308,11 @@ void check_refine_size(int levels, std::size_t triangles) {
                                       count_text(double(triangles) * std::pow(4.0, fits)) +
                                       " triangles) or a coarser spacing"
                                 : "use a coarser spacing";
-    throw Error(ErrorCode::InvalidArgument,
-                "refine " + std::to_string(levels) + " would turn " + count_text(double(triangles)) +
-                    " triangles into " + count_text(refined) + ", more than the limit of " +
-                    count_text(double(kMaxRefinedTriangles)) +
-                    " (about 1.6 GB of mesh); " + hint);
+    throw Error(ErrorCode::InvalidArgument, "refine " + std::to_string(levels) + " would turn " +
+                                                count_text(double(triangles)) + " triangles into " +
+                                                count_text(refined) + ", more than the limit of " +
+                                                count_text(double(kMaxRefinedTriangles)) +
+                                                " (about 1.6 GB of mesh); " + hint);
 }
 
 std::vector<double> extraordinary_weights(int valence) {
@@ -357,7 +359,8 @@ void subdivide_butterfly(Mesh& mesh, ButterflyOffset offset) {
             for (int k = 0; k < 3; ++k) n[k] = mesh.normals[3 * a + k] + mesh.normals[3 * b + k];
             len = std::sqrt(dot(n, n));
         }
-        for (int k = 0; k < 3; ++k) out_normals[3 * (nv + e) + k] = len > 0 ? float(n[k] / len) : 0.0f;
+        for (int k = 0; k < 3; ++k)
+            out_normals[3 * (nv + e) + k] = len > 0 ? float(n[k] / len) : 0.0f;
     }
     std::vector<Index> indices(4 * idx.size());
     for (std::size_t t = 0; t < nt; ++t) {
@@ -378,8 +381,14 @@ void subdivide_butterfly(Mesh& mesh, ButterflyOffset offset) {
 GridField::GridField(const float* data, std::array<std::uint32_t, 3> dims, std::uint32_t pitch,
                      Vec3 origin, double spacing, double iso, double outward,
                      GridInterpolation interpolation)
-    : data_(data), dims_(dims), pitch_(pitch), origin_(origin), spacing_(spacing), iso_(iso),
-      outward_(outward), interpolation_(interpolation) {
+    : data_(data),
+      dims_(dims),
+      pitch_(pitch),
+      origin_(origin),
+      spacing_(spacing),
+      iso_(iso),
+      outward_(outward),
+      interpolation_(interpolation) {
     if (data == nullptr || pitch < dims[0] || !(spacing > 0.0)) {
         throw Error(ErrorCode::InvalidArgument, "refine: grid field without data or spacing");
     }
@@ -450,8 +459,9 @@ bool GridField::sample(const Vec3& p, double& value, Vec3& gradient) const {
                     std::int64_t up[3] = {q[0], q[1], q[2]}, down[3] = {q[0], q[1], q[2]};
                     ++up[a];
                     --down[a];
-                    gradient[a] += weight * 0.5 *
-                                   (double(at(up[0], up[1], up[2])) - at(down[0], down[1], down[2]));
+                    gradient[a] +=
+                        weight * 0.5 *
+                        (double(at(up[0], up[1], up[2])) - at(down[0], down[1], down[2]));
                 }
             }
         }
@@ -662,8 +672,10 @@ void normals_from_field(Mesh& mesh, const SurfaceField& field, std::size_t first
         for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
             const Index* c = &mesh.indices[3 * t];
             const Vec3 a = vertex(mesh, c[0]), b = vertex(mesh, c[1]), d = vertex(mesh, c[2]);
-            const Vec3 u{b[0] - a[0], b[1] - a[1], b[2] - a[2]}, w{d[0] - a[0], d[1] - a[1], d[2] - a[2]};
-            const Vec3 n{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+            const Vec3 u{b[0] - a[0], b[1] - a[1], b[2] - a[2]},
+                w{d[0] - a[0], d[1] - a[1], d[2] - a[2]};
+            const Vec3 n{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
+                         u[0] * w[1] - u[1] * w[0]};
             for (int i = 0; i < 3; ++i)
                 for (int a2 = 0; a2 < 3; ++a2) sum[3 * c[i] + a2] += n[a2];
         }

@@ -123,7 +123,7 @@ public:
     double outward() const override { return 1.0; }
 
 private:
-    std::vector<double> atoms_;        // x, y, z, r^2 per atom, grouped by cell
+    std::vector<double> atoms_;         // x, y, z, r^2 per atom, grouped by cell
     std::vector<std::uint32_t> start_;  // cell c holds atoms [start_[c], start_[c + 1])
     Vec3 origin_{};
     std::array<std::int64_t, 3> cells_{};
@@ -132,10 +132,10 @@ private:
 
 // Newton projection onto the level set: x <- x - (f(x) - iso) grad f / |grad f|^2.
 struct ProjectOptions {
-    double max_step = 0.25;      // Å per step (h / 2)
-    double max_distance = 0.5;   // Å from the start in all (h)
+    double max_step = 0.25;     // Å per step (h / 2)
+    double max_distance = 0.5;  // Å from the start in all (h)
     int iterations = 8;
-    double tolerance = 5e-4;     // Å: converged when |f - iso| / |grad f| is below it (h / 1000)
+    double tolerance = 5e-4;  // Å: converged when |f - iso| / |grad f| is below it (h / 1000)
     // Search along each vertex's normal first (the line through the butterfly point along the
     // edge's normal), so that the vertex stays over its edge's midpoint; the gradient is
     // followed where that line meets the level set at a grazing angle or not within reach.

@@ -33,15 +33,16 @@ TEST(CliRefine, LevelsInBothSpellings) {
     EXPECT_EQ(parse_args({"in.pdb", "-o", "out.ply", "--refine=1"}).surface.refine, 1);
     EXPECT_EQ(parse_args({"in.pdb", "-o", "out.ply", "--refine", "+4"}).surface.refine, 4);
     EXPECT_EQ(parse_args({"in.pdb", "-o", "out.ply", "--refine", "0"}).surface.refine, 0);
-    EXPECT_EQ(parse_args({"in.pdb", "-o", "out.ply", "--refine", "3", "--refine", "1"})
-                  .surface.refine,
-              1);
+    EXPECT_EQ(
+        parse_args({"in.pdb", "-o", "out.ply", "--refine", "3", "--refine", "1"}).surface.refine,
+        1);
 }
 
 TEST(CliRefine, NegativeTooLargeAndNonIntegerAreRejected) {
     for (const char* value : {"-1", "5", "64"}) {
         const std::string message = refine_error(value);
-        EXPECT_TRUE(contains(message, "option --refine must be a whole number of levels from 0 to 4"))
+        EXPECT_TRUE(
+            contains(message, "option --refine must be a whole number of levels from 0 to 4"))
             << message;
         EXPECT_TRUE(contains(message, std::string("(got ") + value + ")")) << message;
     }

@@ -46,7 +46,8 @@ protected:
         return atoms;
     }
     static const fdmsurf::Mesh& nanoshaper() {
-        static const fdmsurf::Mesh mesh = fdmsurf::read_mesh_any(data_path("1crn-ses-nanoshaper.ply.gz"));
+        static const fdmsurf::Mesh mesh =
+            fdmsurf::read_mesh_any(data_path("1crn-ses-nanoshaper.ply.gz"));
         return mesh;
     }
     static CompareResult against_reference(const SurfaceResult& r, double spacing) {
@@ -94,7 +95,8 @@ TEST_F(RefineSurface, CrambinGetsCloserToTheAnalyticalSes) {
     for (const Case c : {Case{1.0f, 0.90, 0.012}, Case{0.5f, 0.98, 0.004}}) {
         SCOPED_TRACE("spacing " + std::to_string(c.spacing));
         const SurfaceResult r0 = engine().make_surface(crambin(), {.spacing = c.spacing});
-        const SurfaceResult r1 = engine().make_surface(crambin(), {.spacing = c.spacing, .refine = 1});
+        const SurfaceResult r1 =
+            engine().make_surface(crambin(), {.spacing = c.spacing, .refine = 1});
         EXPECT_TRUE(IsClosedManifold(r1.mesh));
         EXPECT_EQ(r1.mesh.triangle_count(), 4 * r0.mesh.triangle_count());
         EXPECT_EQ(fdmsurf::compute_stats(r1.mesh).pieces, fdmsurf::compute_stats(r0.mesh).pieces);
@@ -103,10 +105,11 @@ TEST_F(RefineSurface, CrambinGetsCloserToTheAnalyticalSes) {
         EXPECT_TRUE(r1.warnings.empty()) << r1.warnings.front();
         const CompareResult c0 = against_reference(r0, c.spacing);
         const CompareResult c1 = against_reference(r1, c.spacing);
-        std::printf("  1crn %.1f Å: refine 0 RMSD %.4f dA %+.2f%% dV %+.2f%%; refine 1 RMSD %.4f "
-                    "dA %+.2f%% dV %+.2f%%\n",
-                    c.spacing, c0.rmsd_weighted, 100 * c0.area_rel_error, 100 * c0.volume_rel_error,
-                    c1.rmsd_weighted, 100 * c1.area_rel_error, 100 * c1.volume_rel_error);
+        std::printf(
+            "  1crn %.1f Å: refine 0 RMSD %.4f dA %+.2f%% dV %+.2f%%; refine 1 RMSD %.4f "
+            "dA %+.2f%% dV %+.2f%%\n",
+            c.spacing, c0.rmsd_weighted, 100 * c0.area_rel_error, 100 * c0.volume_rel_error,
+            c1.rmsd_weighted, 100 * c1.area_rel_error, 100 * c1.volume_rel_error);
         EXPECT_LT(c1.rmsd_weighted, c.max_rmsd_ratio * c0.rmsd_weighted);
         EXPECT_GT(std::abs(c0.area_rel_error) - std::abs(c1.area_rel_error), c.min_area_gain);
         EXPECT_LT(std::abs(c1.volume_rel_error), 0.01);
@@ -137,9 +140,10 @@ TEST_F(RefineSurface, VdwBallIsRefinedOntoTheSphere) {
             const float* p = &res.mesh.positions[3 * v];
             worst = std::max(worst, std::abs(std::hypot(p[0] - 0.3, p[1] + 0.7, p[2] - 1.1) - r));
         }
-        std::printf("  vdw ball r 1.8, h 0.5, refine %d: %zu triangles, dA %+.3f%%, vertices off "
-                    "the sphere at most %.1e Å\n",
-                    levels, res.mesh.triangle_count(), 100 * d_area, worst);
+        std::printf(
+            "  vdw ball r 1.8, h 0.5, refine %d: %zu triangles, dA %+.3f%%, vertices off "
+            "the sphere at most %.1e Å\n",
+            levels, res.mesh.triangle_count(), 100 * d_area, worst);
         EXPECT_LT(worst, 1e-4);
         EXPECT_LT(std::abs(d_area), 0.4 * previous);
         previous = std::abs(d_area);

@@ -129,14 +129,16 @@ TEST(Refine, PlanarLatticeStaysPlanarWithNewVerticesAtMidpoints) {
 // vertices lies exactly on the graph.
 double quadratic(double x, double y) { return 0.3 * x * x - 0.2 * x * y + 0.15 * y * y + x - 2.0; }
 double cubic(double x, double y) {
-    return 0.05 * x * x * x - 0.04 * x * x * y + 0.03 * x * y * y - 0.02 * y * y * y + quadratic(x, y);
+    return 0.05 * x * x * x - 0.04 * x * x * y + 0.03 * x * y * y - 0.02 * y * y * y +
+           quadratic(x, y);
 }
 
 void expect_height_field_reproduced(double (*f)(double, double), const char* what) {
     SCOPED_TRACE(what);
     Lattice l = lattice(8, 8, 0.5, -2.0, -1.5);
     for (std::size_t v = 0; v < l.mesh.vertex_count(); ++v)
-        l.mesh.positions[3 * v + 2] = float(f(l.mesh.positions[3 * v], l.mesh.positions[3 * v + 1]));
+        l.mesh.positions[3 * v + 2] =
+            float(f(l.mesh.positions[3 * v], l.mesh.positions[3 * v + 1]));
     Mesh m = l.mesh;
     fdmsurf::detail::subdivide_butterfly(m);
     const auto ends = edge_ends(l.mesh, m);
@@ -252,7 +254,8 @@ TEST(Refine, MalformedMeshAndBadLevelsAreRejected) {
     EXPECT_NO_THROW(fdmsurf::detail::check_refine_size(2, 4'000'000));
     const std::string big = code_of([] { fdmsurf::detail::check_refine_size(3, 4'000'000); });
     std::printf("  %s\n", big.c_str());
-    EXPECT_NE(big.find("refine 3 would turn 4.0 M triangles into 256.0 M"), std::string::npos) << big;
+    EXPECT_NE(big.find("refine 3 would turn 4.0 M triangles into 256.0 M"), std::string::npos)
+        << big;
     EXPECT_NE(big.find("use --refine 2 (64.0 M triangles)"), std::string::npos) << big;
     EXPECT_NE(big.find("[invalid-argument]"), std::string::npos) << big;
 }
@@ -273,7 +276,8 @@ struct SphereGrid {
         for (std::uint32_t k = 0; k < n; ++k)
             for (std::uint32_t j = 0; j < n; ++j)
                 for (std::uint32_t i = 0; i < n; ++i) {
-                    const double p[3] = {origin[0] + h * i - center[0], origin[1] + h * j - center[1],
+                    const double p[3] = {origin[0] + h * i - center[0],
+                                         origin[1] + h * j - center[1],
                                          origin[2] + h * k - center[2]};
                     const double d2 = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
                     values[(std::size_t(k) * n + j) * n + i] = float(std::exp(-(d2 - r * r) / 9.0));
@@ -295,7 +299,8 @@ struct SphereGrid {
         double sum = 0.0, worst = 0.0;
         for (std::size_t v = first; v < m.vertex_count(); ++v) {
             const Vec3 p = vertex(m, v);
-            const double d = std::abs(std::hypot(p[0] - center[0], p[1] - center[1], p[2] - center[2]) - radius);
+            const double d =
+                std::abs(std::hypot(p[0] - center[0], p[1] - center[1], p[2] - center[2]) - radius);
             sum += d * d;
             worst = std::max(worst, d);
         }
@@ -350,8 +355,10 @@ std::size_t folded_on_sphere(const Mesh& m, const Vec3& center) {
     for (std::size_t t = 0; t < m.triangle_count(); ++t) {
         const Vec3 a = vertex(m, m.indices[3 * t]), b = vertex(m, m.indices[3 * t + 1]),
                    c = vertex(m, m.indices[3 * t + 2]);
-        const Vec3 u{b[0] - a[0], b[1] - a[1], b[2] - a[2]}, w{c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-        const Vec3 g{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+        const Vec3 u{b[0] - a[0], b[1] - a[1], b[2] - a[2]},
+            w{c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+        const Vec3 g{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
+                     u[0] * w[1] - u[1] * w[0]};
         const Vec3 r{a[0] - center[0], a[1] - center[1], a[2] - center[2]};
         if (g[0] * r[0] + g[1] * r[1] + g[2] * r[2] < 0.0) ++folded;
     }
@@ -374,10 +381,11 @@ TEST(Refine, MarchingCubesSliversFoldTheFullStencilButNotTheNormalOffset) {
     fdmsurf::detail::refine_mesh(projected, 2, &field,
                                  fdmsurf::detail::project_options_for_spacing(grid.spacing));
     const std::size_t f_full = folded_on_sphere(full, grid.center);
-    std::printf("  folded triangles of %zu: full stencil %zu, normal offset %zu, refine 2 "
-                "projected %zu of %zu\n",
-                full.triangle_count(), f_full, folded_on_sphere(normal, grid.center),
-                folded_on_sphere(projected, grid.center), projected.triangle_count());
+    std::printf(
+        "  folded triangles of %zu: full stencil %zu, normal offset %zu, refine 2 "
+        "projected %zu of %zu\n",
+        full.triangle_count(), f_full, folded_on_sphere(normal, grid.center),
+        folded_on_sphere(projected, grid.center), projected.triangle_count());
     EXPECT_GT(f_full, 0u);
     EXPECT_EQ(folded_on_sphere(normal, grid.center), 0u);
     EXPECT_EQ(folded_on_sphere(projected, grid.center), 0u);
@@ -435,7 +443,8 @@ TEST(Refine, PowerDistanceFieldProjectsOntoTheBallsExactly) {
         for (int i = 0; i < 2; ++i) {
             const double dx = p[0] - atoms.xyz[3 * i], dy = p[1] - atoms.xyz[3 * i + 1],
                          dz = p[2] - atoms.xyz[3 * i + 2];
-            pi = std::min(pi, dx * dx + dy * dy + dz * dz - double(atoms.radius[i]) * atoms.radius[i]);
+            pi = std::min(pi,
+                          dx * dx + dy * dy + dz * dz - double(atoms.radius[i]) * atoms.radius[i]);
         }
         return pi;
     };
@@ -467,7 +476,8 @@ TEST(Refine, PowerDistanceFieldProjectsOntoTheBallsExactly) {
     EXPECT_FALSE(field.sample({50.0, 0.0, 0.0}, value, g)) << "far from every atom";
 
     Mesh butterfly = m;
-    fdmsurf::detail::refine_mesh(butterfly, 1, nullptr, fdmsurf::detail::project_options_for_spacing(h));
+    fdmsurf::detail::refine_mesh(butterfly, 1, nullptr,
+                                 fdmsurf::detail::project_options_for_spacing(h));
     const auto stats =
         fdmsurf::detail::refine_mesh(m, 1, &field, fdmsurf::detail::project_options_for_spacing(h));
     EXPECT_TRUE(IsClosedManifold(m));
@@ -492,8 +502,10 @@ TEST(Refine, PowerDistanceFieldProjectsOntoTheBallsExactly) {
         worst = std::max(worst, off_surface(vertex(m, v)));
         worst_butterfly = std::max(worst_butterfly, off_surface(vertex(butterfly, v)));
     }
-    std::printf("  two balls, h 0.5: new vertices off the surface: butterfly %.4f Å, projected "
-                "%.6f Å\n", worst_butterfly, worst);
+    std::printf(
+        "  two balls, h 0.5: new vertices off the surface: butterfly %.4f Å, projected "
+        "%.6f Å\n",
+        worst_butterfly, worst);
     EXPECT_LT(worst, 1e-5);
 }
 
