@@ -12,6 +12,8 @@
 #include <string_view>
 #include <system_error>
 
+#include "mesh/refine.hpp"
+
 namespace fdmsurf::cli {
 namespace {
 
@@ -45,6 +47,7 @@ enum class Opt {
     Paper,
     NoCavities,
     MinCavity,
+    Refine,
 };
 
 struct OptionSpec {
@@ -55,7 +58,7 @@ struct OptionSpec {
     bool numeric;  // a value that may start with '-' (a negative number, rejected later)
 };
 
-constexpr std::array<OptionSpec, 26> kOptions{{
+constexpr std::array<OptionSpec, 27> kOptions{{
     {"--output", "-o", Opt::Output, true, false},
     {"--surface", "", Opt::Surface, true, false},
     {"--spacing", "", Opt::Spacing, true, true},
@@ -82,6 +85,7 @@ constexpr std::array<OptionSpec, 26> kOptions{{
     {"--paper", "", Opt::Paper, false, false},
     {"--no-cavities", "", Opt::NoCavities, false, false},
     {"--min-cavity-volume", "", Opt::MinCavity, true, true},
+    {"--refine", "", Opt::Refine, true, true},
 }};
 
 [[noreturn]] void fail(const std::string& message);
@@ -261,6 +265,14 @@ void apply_value(CliOptions& o, const OptionSpec& spec, std::string_view name,
             s.min_cavity_volume = parse_float(name, text);
             require(s.min_cavity_volume >= 0.0f, name, ">= 0 Å³", text);
             o.explicit_cavities = true;
+            break;
+        case Opt::Refine:
+            s.refine = parse_int(name, text);
+            require(s.refine >= 0 && s.refine <= detail::kMaxRefineLevels, name,
+                    "a whole number of levels from 0 to " +
+                        std::to_string(detail::kMaxRefineLevels) +
+                        " (each multiplies the triangles by 4)",
+                    text);
             break;
         case Opt::Padding:
             s.padding = parse_float(name, text);
@@ -449,6 +461,10 @@ Surface:
                          the volume of one probe sphere for ses, 0 otherwise)
   --padding P            empty space around the atoms, Å (>= 0; default one filter
                          wavelength 1/F for ses, 1 Å for vdw and sas)
+  --refine N             refine the mesh N times (0 to 4, default 0): each level
+                         splits every triangle into four (modified butterfly) and
+                         moves the new vertices onto the surface (the filtered
+                         density for ses, the atoms' spheres for vdw and sas)
 
 Input:
   --format pdb|cif|pqr|xyzr  input format (default: from the extension, then the

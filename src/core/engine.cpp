@@ -13,6 +13,7 @@
 #include "grid/grid_plan.hpp"
 #include "isosurface/marching_cubes_gpu.hpp"
 #include "isosurface/slab_stitch.hpp"
+#include "mesh/refine.hpp"
 #include "vulkan/check.hpp"
 #include "vulkan/commands.hpp"
 #include "vulkan/context.hpp"
@@ -73,6 +74,7 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
                               GpuMesh* on_device) {
     SurfaceResult result;
     double t0 = now_ms();
+    check_refine_levels(options.refine);
     GridPlan plan = plan_grid(atoms, options);
     result.grid = plan.info;
     if (plan.filtered && options.spacing > 1.0f / (2.0f * plan.info.cutoff)) {
@@ -108,12 +110,16 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
     set_interpolation(mc, plan);
     GpuMesh gpu = marching_cubes.run(commands, arena, field, d[0], d[1], d[2], plan.pitch, mc);
     add_times(result.times, marching_cubes.stage_times());
-    if (on_device) {
+    if (on_device && options.refine == 0) {
         *on_device = std::move(gpu);
         return result;
     }
     result.mesh = marching_cubes.read_back(commands, gpu);
     add_times(result.times, commands.stage_times());
+    if (options.refine > 0) {
+        refine(result, atoms, options, plan, &field, nullptr);
+        if (on_device) *on_device = upload_mesh(result.mesh);
+    }
     return result;
 }
 
@@ -251,6 +257,7 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
     double t1 = now_ms();
     result.mesh = stitch_slabs(parts, view, plan.iso, starts);
     result.times.push_back({"stitch", now_ms() - t1, false});
+    refine(result, atoms, options, plan, nullptr, &view);
     return result;
 }
 

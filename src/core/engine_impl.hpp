@@ -46,6 +46,11 @@ struct EngineImpl {
     std::uint64_t field_budget() const;
     SurfaceResult run_in_slabs(const Atoms& atoms, const SurfaceOptions& options, GridPlan plan,
                                SurfaceResult result);
+    // The refine stage (refine_stage.cpp): options.refine levels of subdivision of result.mesh,
+    // projected onto the field of `device_field` or `host_field` (ses, plan's layout) or onto
+    // the atoms' balls (vdw, sas). Nothing at 0 levels.
+    void refine(SurfaceResult& result, const Atoms& atoms, const SurfaceOptions& options,
+                const GridPlan& plan, const Buffer* device_field, const FieldView* host_field);
 
     // Test hooks. The density (filtered = false) or filtered density of `atoms` on `plan`'s
     // grid, read back in the plan's layout (plan.pitch floats per row).

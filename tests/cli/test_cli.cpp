@@ -457,3 +457,36 @@ TEST_F(CliProgram, ModelsAllWritesOneClosedMeshPerModel) {
 }
 
 }  // namespace
+
+// --refine through the program: the stage appears in the JSON times, the mesh has four times
+// the triangles, and a bad level is a usage error before any work.
+TEST_F(CliProgram, RefineQuadruplesTheTrianglesAndIsTimed) {
+    if (const auto why = no_usable_device()) {
+        if (device_required()) FAIL() << *why << "(FDMSURF_REQUIRE_DEVICE=1)";
+        GTEST_SKIP() << *why;
+    }
+    const std::string input = write_file("atoms.xyzr", kTwoAtomsXyzr);
+    double triangles[2] = {0, 0};
+    for (int level = 0; level < 2; ++level) {
+        const std::string output = path("atoms" + std::to_string(level) + ".ply");
+        const CliRun r = run({input, "-o", output, "--stats", "json", "--refine",
+                              std::to_string(level)});
+        ASSERT_EQ(r.exit_code, 0) << r.err;
+        EXPECT_TRUE(r.error_lines().empty()) << r.err;
+        const auto json = parse_json(lines_of(r.out).at(0));
+        ASSERT_TRUE(json) << r.out;
+        triangles[level] = json->find("triangles")->number;
+        EXPECT_EQ(json->find("times")->find("refine") != nullptr, level > 0) << r.out;
+        EXPECT_EQ(json->find("closed_manifold")->boolean, true) << r.out;
+    }
+    EXPECT_EQ(triangles[1], 4 * triangles[0]);
+}
+
+TEST_F(CliProgram, RefineOutOfRangeIsAUsageError) {
+    const std::string input = write_file("atoms.xyzr", kTwoAtomsXyzr);
+    expect_failure(run({input, "-o", path("out.ply"), "--refine", "5"}), 2,
+                   {"--refine", "from 0 to 4", "got 5"});
+    expect_failure(run({input, "-o", path("out.ply"), "--refine=-1"}), 2, {"--refine", "got -1"});
+    expect_failure(run({input, "-o", path("out.ply"), "--refine", "0.5"}), 2,
+                   {"--refine", "not a whole number"});
+}

@@ -46,6 +46,10 @@ struct SurfaceOptions {
     // < 0 means the volume of one probe sphere for ses (a void no probe fits in is not part of
     // the SES) and 0 (keep all) for vdw and sas. Infinity removes every cavity.
     float min_cavity_volume = -1.0f;
+    // Refinement levels (0 to 4): each level splits every triangle into four by modified
+    // butterfly subdivision (Zorin et al. 1996) and moves the new vertices onto the iso-surface
+    // of the field (ses) or onto the atoms' balls (vdw, sas); on the host, before cavity removal.
+    int refine = 0;
 };
 
 // The settings of Giard & Macq (2010): ideal mask at f_c = 1/(4 probe), level T, cavities kept.
@@ -117,7 +121,8 @@ public:
     SurfaceResult make_surface(const Atoms& atoms, const SurfaceOptions& options = {});
 
     // The same surface, left on the device for a renderer (fdmsurf/vulkan_interop.hpp). Small
-    // cavities are not removed on this path (that needs the mesh on the host).
+    // cavities are not removed on this path (that needs the mesh on the host). With refine > 0
+    // the mesh is read back, refined on the host and uploaded.
     DeviceSurfaceResult make_device_surface(const Atoms& atoms, const SurfaceOptions& options = {});
 
     const DeviceInfo& device() const;
