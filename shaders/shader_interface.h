@@ -17,6 +17,14 @@ FDM_CONST kDensityGroupX = 4;
 FDM_CONST kDensityGroupY = 4;
 FDM_CONST kDensityGroupZ = 4;
 
+// Exact SES distance (ses_distance.comp): one invocation per grid point, 3D workgroups.
+FDM_CONST kSesGroupX = 4;
+FDM_CONST kSesGroupY = 4;
+FDM_CONST kSesGroupZ = 4;
+// Sphere and arc indices each workgroup gathers in shared memory (2 x 8160 bytes: within the
+// 16 KiB every Vulkan device has); a box with more falls back to reading the bins per point.
+FDM_CONST kSesCapacity = 2040;
+
 // Spectral mask: one invocation per complex coefficient of the half spectrum.
 FDM_CONST kMaskGroupX = 64;
 FDM_CONST kMaskGroupY = 4;
@@ -39,6 +47,17 @@ struct DensityPush {
     float pi_cut;      // power distance beyond which G < cut · T: the density is 0 there
     float r2_max;      // largest r² among atoms
     float level_t;     // T
+};
+
+struct SesDistancePush {
+    float origin_x, origin_y, origin_z, spacing;  // grid point (0,0,0) and spacing, Å
+    uint nx, ny, nz, pitch;                       // points per axis; floats per x row
+    float bin_origin_x, bin_origin_y, bin_origin_z, bin_size;
+    uint bin_nx, bin_ny, bin_nz, force_global;  // force_global != 0: tests of the fallback
+    float r_max;    // largest inflated radius r + probe, Å
+    float rho_max;  // largest arc circle radius, Å
+    float d_max;    // the field is clamped to [-d_max, d_max] (exact within)
+    float pad0;
 };
 
 struct SpectralMaskPush {

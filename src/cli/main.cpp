@@ -168,6 +168,7 @@ int run_one(const CliOptions& options, Engine& engine, double init_ms, const std
     report.input = input;
     report.output = output;
     report.surface = options.surface.surface;
+    report.method = options.surface.method;
     report.model = structure.info.model;
     report.info = structure.info;
     report.atoms_used = structure.atoms.size();

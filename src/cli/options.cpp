@@ -48,6 +48,7 @@ enum class Opt {
     NoCavities,
     MinCavity,
     Refine,
+    Method,
 };
 
 struct OptionSpec {
@@ -58,7 +59,7 @@ struct OptionSpec {
     bool numeric;  // a value that may start with '-' (a negative number, rejected later)
 };
 
-constexpr std::array<OptionSpec, 27> kOptions{{
+constexpr std::array<OptionSpec, 28> kOptions{{
     {"--output", "-o", Opt::Output, true, false},
     {"--surface", "", Opt::Surface, true, false},
     {"--spacing", "", Opt::Spacing, true, true},
@@ -86,6 +87,7 @@ constexpr std::array<OptionSpec, 27> kOptions{{
     {"--no-cavities", "", Opt::NoCavities, false, false},
     {"--min-cavity-volume", "", Opt::MinCavity, true, true},
     {"--refine", "", Opt::Refine, true, true},
+    {"--method", "", Opt::Method, true, false},
 }};
 
 [[noreturn]] void fail(const std::string& message);
@@ -219,6 +221,8 @@ constexpr std::array<std::pair<std::string_view, SurfaceKind>, 3> kSurfaces{
     {{"ses", SurfaceKind::Ses}, {"vdw", SurfaceKind::Vdw}, {"sas", SurfaceKind::Sas}}};
 constexpr std::array<std::pair<std::string_view, FilterShape>, 2> kFilters{
     {{"ideal", FilterShape::Ideal}, {"gaussian", FilterShape::Gaussian}}};
+constexpr std::array<std::pair<std::string_view, SesMethod>, 2> kMethods{
+    {{"fdm", SesMethod::Fdm}, {"edt", SesMethod::Edt}}};
 constexpr std::array<std::pair<std::string_view, StructureFormat>, 5> kFormats{
     {{"pdb", StructureFormat::Pdb},
      {"cif", StructureFormat::Mmcif},
@@ -260,6 +264,9 @@ void apply_value(CliOptions& o, const OptionSpec& spec, std::string_view name,
             break;
         case Opt::Filter:
             s.filter = parse_choice(name, text, kFilters, "filter", "ideal or gaussian");
+            break;
+        case Opt::Method:
+            s.method = parse_choice(name, text, kMethods, "ses method", "fdm or edt");
             break;
         case Opt::MinCavity:
             s.min_cavity_volume = parse_float(name, text);
@@ -358,6 +365,7 @@ bool looks_like_option(const std::string& arg, bool numeric) {
 CliOptions parse_args(const std::vector<std::string>& args) {
     CliOptions o;
     bool explicit_model = false;
+    std::string fdm_only;  // the last FDM-only option given (they make no sense with edt)
     bool options_done = false;
     for (std::size_t i = 0; i < args.size(); ++i) {
         const std::string& arg = args[i];
@@ -393,12 +401,28 @@ CliOptions parse_args(const std::vector<std::string>& args) {
         if (value.empty()) fail("option " + name + " needs a value");
         apply_value(o, *spec, name, value);
         if (spec->id == Opt::Filter) o.explicit_filter = true;
+        if (spec->id == Opt::Filter || spec->id == Opt::Cutoff || spec->id == Opt::Sigma ||
+            spec->id == Opt::Level)
+            fdm_only = std::string(spec->name);
         if (spec->id == Opt::Level) o.explicit_level = true;
         if (spec->id == Opt::Model) explicit_model = true;
     }
     if (o.all_models) {
         if (explicit_model) fail("--model N and --models all exclude each other");
         o.read.model = fdmsurf::kAllModels;
+    }
+    if (o.surface.method == SesMethod::Edt) {
+        if (o.surface.surface != SurfaceKind::Ses)
+            fail(
+                "--method edt is a way to compute the ses surface; it does not apply to "
+                "--surface " +
+                std::string(surface_name(o.surface.surface)));
+        if (o.paper)
+            fail("--paper selects the paper's FDM settings; it cannot go with --method edt");
+        if (!fdm_only.empty())
+            fail(fdm_only +
+                 " is a setting of the FDM method; --method edt (the exact SES) has no filter, "
+                 "density or level to set");
     }
     if (o.paper) {
         // The paper's settings, except where an option says otherwise, wherever it stands.
@@ -444,6 +468,10 @@ Options take their value as `--name value` or `--name=value`.
 Surface:
   --surface ses|vdw|sas  solvent excluded (filtered density), van der Waals or
                          solvent accessible surface (default ses)
+  --method fdm|edt       how the ses surface is computed: fdm, the filtered density
+                         map (smooth, about 0.15-0.2 Å from the exact SES), or edt,
+                         the exact SES (distance to where the probe's centre fits,
+                         at level R; no filter, all cavities kept) (default fdm)
   --spacing H            grid spacing, Å (> 0, default 0.5)
   --probe R              solvent probe radius, Å (>= 0, default 1.4)
   --cutoff F             filter cut-off, 1/Å (>= 0; default 0: 1.3/(4 R) for the
@@ -458,13 +486,14 @@ Surface:
                          all cavities kept (options given explicitly still apply)
   --no-cavities          keep only outer surfaces: remove every cavity
   --min-cavity-volume V  remove cavities enclosing less than V Å³ (>= 0; default:
-                         the volume of one probe sphere for ses, 0 otherwise)
+                         the volume of one probe sphere for fdm, 0 otherwise)
   --padding P            empty space around the atoms, Å (>= 0; default one filter
                          wavelength 1/F for ses, 1 Å for vdw and sas)
   --refine N             refine the mesh N times (0 to 4, default 0): each level
                          splits every triangle into four (modified butterfly) and
                          moves the new vertices onto the surface (the filtered
-                         density for ses, the atoms' spheres for vdw and sas)
+                         density for fdm, the exact SES for edt, the atoms'
+                         spheres for vdw and sas)
 
 Input:
   --format pdb|cif|pqr|xyzr  input format (default: from the extension, then the

@@ -22,6 +22,7 @@ struct RunReport {
     std::string input;
     std::string output;
     SurfaceKind surface = SurfaceKind::Ses;
+    SesMethod method = SesMethod::Fdm;  // ses only
     int model = 1;
     StructureInfo info;
     std::size_t atoms_used = 0;
@@ -82,7 +83,9 @@ inline std::string format_general(double value, int precision = 3) {
 
 inline std::string text_summary(const RunReport& r) {
     std::string s =
-        "fdmsurf " + r.version + ": " + surface_name(r.surface) + " surface of " + r.input + "\n";
+        "fdmsurf " + r.version + ": " + surface_name(r.surface) + " surface " +
+        (r.surface == SurfaceKind::Ses && r.method == SesMethod::Edt ? "(exact, edt) " : "") +
+        "of " + r.input + "\n";
     const StructureInfo& info = r.info;
     const std::string source = info.assembly == 0
                                    ? "in file"
@@ -138,6 +141,7 @@ inline std::string json_summary(const RunReport& r) {
     w.member("input", r.input);
     w.member("output", r.output);
     w.member("surface", surface_name(r.surface));
+    if (r.surface == SurfaceKind::Ses) w.member("method", to_string(r.method));
     w.member("model", r.model);
     w.member("atoms_used", r.atoms_used);
     w.member("atoms_in_file", r.info.atoms_in_file);

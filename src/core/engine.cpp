@@ -11,6 +11,7 @@
 #include "grid/atom_bins.hpp"
 #include "grid/density_gpu.hpp"
 #include "grid/grid_plan.hpp"
+#include "grid/ses_features.hpp"
 #include "isosurface/marching_cubes_gpu.hpp"
 #include "isosurface/slab_stitch.hpp"
 #include "mesh/refine.hpp"
@@ -50,9 +51,10 @@ Atoms atoms_near_planes(const Atoms& atoms, const GridPlan& plan, double z0, dou
     return out;
 }
 
-// The unfiltered density (vdw, sas) is T exp(-pi/sigma^2): its crossings are found on pi.
+// The unfiltered density (vdw, sas) is T exp(-pi/sigma^2): its crossings are found on pi. The
+// filtered density and the SES distance are interpolated linearly.
 void set_interpolation(McParams& mc, const GridPlan& plan) {
-    if (plan.filtered) return;
+    if (plan.filtered || plan.exact_ses) return;
     mc.power_sigma2 = plan.density.sigma * plan.density.sigma;
     mc.power_t = plan.density.level_t;
 }
@@ -94,13 +96,19 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
     }
 
     const auto& d = plan.info.dims;
-    AtomBins bins = bin_atoms(atoms, plan);
-    result.times.push_back({"bin-atoms", now_ms() - t0, false});
+    AtomBins bins;
+    SesFeatures features;
+    if (plan.exact_ses) {
+        features = build_ses_features(atoms, options.probe);
+        result.times.push_back({"ses-features", now_ms() - t0, false});
+    } else {
+        bins = bin_atoms(atoms, plan);
+        result.times.push_back({"bin-atoms", now_ms() - t0, false});
+    }
     StagingArena arena;
     Buffer field(context, static_cast<VkDeviceSize>(field_bytes), MemoryUse::Device, "field");
     commands.begin();
-    density.record(commands, arena, bins, plan, field);
-    if (plan.filtered) filter.record(commands, field, plan, options.filter);
+    record_field(arena, plan, &bins, &features, options.filter, field);
     McParams mc;
     for (int a = 0; a < 3; ++a) mc.origin[a] = plan.info.origin[a];
     mc.spacing = plan.info.spacing;
@@ -117,10 +125,20 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
     result.mesh = marching_cubes.read_back(commands, gpu);
     add_times(result.times, commands.stage_times());
     if (options.refine > 0) {
-        refine(result, atoms, options, plan, &field, nullptr);
+        refine(result, atoms, options, plan, &features, &field, nullptr);
         if (on_device) *on_device = upload_mesh(result.mesh);
     }
     return result;
+}
+
+void EngineImpl::record_field(StagingArena& arena, const GridPlan& plan, const AtomBins* bins,
+                              const SesFeatures* features, FilterShape shape, const Buffer& field) {
+    if (plan.exact_ses) {
+        ses_distance.record(commands, arena, *features, plan, field);
+        return;
+    }
+    density.record(commands, arena, *bins, plan, field);
+    if (plan.filtered) filter.record(commands, field, plan, shape);
 }
 
 std::uint64_t EngineImpl::field_budget() const {
@@ -167,18 +185,20 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
     // Overlap: two filter wavelengths on each side, none without a filter (exact per point).
     const std::uint32_t overlap =
         plan.filtered ? static_cast<std::uint32_t>(std::ceil(2.0 / plan.info.cutoff / h)) : 0;
-    std::uint32_t slab_planes = static_cast<std::uint32_t>(std::min<std::uint64_t>(limit / plane_bytes, d[2]));
+    std::uint32_t slab_planes =
+        static_cast<std::uint32_t>(std::min<std::uint64_t>(limit / plane_bytes, d[2]));
     if (plan.filtered) {
-        while (slab_planes > 2 && fft_friendly_size(slab_planes, false) != slab_planes) --slab_planes;
+        while (slab_planes > 2 && fft_friendly_size(slab_planes, false) != slab_planes)
+            --slab_planes;
     }
     if (slab_planes < 2 * overlap + 8) {
         const double need = double(plane_bytes) * (2 * overlap + 8);
         throw Error(ErrorCode::DeviceLimit,
                     "the grid of " + std::to_string(d[0]) + " x " + std::to_string(d[1]) + " x " +
                         std::to_string(d[2]) + " points is too wide to be processed in z-slabs " +
-                        "within this device's maxStorageBufferRange (" + std::to_string(limit >> 20) +
-                        " MiB); a spacing of " + spacing_hint(need, double(limit), options.spacing) +
-                        " Å would fit");
+                        "within this device's maxStorageBufferRange (" +
+                        std::to_string(limit >> 20) + " MiB); a spacing of " +
+                        spacing_hint(need, double(limit), options.spacing) + " Å would fit");
     }
     const std::uint32_t core = slab_planes - 2 * overlap;
     const std::uint32_t slabs = (d[2] + core - 1) / core;
@@ -190,25 +210,36 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
     sp.info.dims[2] = slab_planes;
     const std::size_t slab_bytes = sp.field_floats() * sizeof(float);
     Buffer field(context, slab_bytes, MemoryUse::Device, "field_slab");
+    // The exact SES is evaluated per point from the features of all atoms (binned once); the
+    // density of each slab from the atoms that reach it.
+    SesFeatures features;
+    if (plan.exact_ses) {
+        const double t0 = now_ms();
+        features = build_ses_features(atoms, options.probe);
+        add_times(result.times, {{"ses-features", now_ms() - t0, false}});
+    }
     for (std::uint32_t k = 0; k < slabs; ++k) {
         double t0 = now_ms();
         const std::int64_t zc0 = std::int64_t(k) * core;
         const std::int64_t zc1 = std::min<std::int64_t>(zc0 + core, d[2]);
         const std::int64_t z0 = zc0 - overlap;
         sp.info.origin[2] = static_cast<float>(plan.info.origin[2] + z0 * h);
-        Atoms near = atoms_near_planes(atoms, plan, double(z0), double(z0 + slab_planes));
         StagingArena arena;
-        if (near.empty()) {
-            // Nothing reaches this slab: its density, and so its filtered field, is 0.
-            std::fill(full.begin() + zc0 * d[0] * d[1], full.begin() + zc1 * d[0] * d[1], 0.0f);
-            continue;
+        AtomBins bins;
+        if (!plan.exact_ses) {
+            Atoms near = atoms_near_planes(atoms, plan, double(z0), double(z0 + slab_planes));
+            if (near.empty()) {
+                // Nothing reaches this slab: its density, and so its filtered field, is 0.
+                std::fill(full.begin() + zc0 * d[0] * d[1], full.begin() + zc1 * d[0] * d[1], 0.0f);
+                continue;
+            }
+            bins = bin_atoms(near, sp);
+            add_times(result.times, {{"bin-atoms", now_ms() - t0, false}});
         }
-        AtomBins bins = bin_atoms(near, sp);
-        add_times(result.times, {{"bin-atoms", now_ms() - t0, false}});
         commands.begin();
-        density.record(commands, arena, bins, sp, field);
-        if (sp.filtered) filter.record(commands, field, sp, options.filter);
-        const Buffer& host = readback_buffer(context, commands, arena, field, slab_bytes, "field_readback");
+        record_field(arena, sp, &bins, &features, options.filter, field);
+        const Buffer& host =
+            readback_buffer(context, commands, arena, field, slab_bytes, "field_readback");
         commands.barrier_to_host();
         commands.mark("read-field");
         commands.submit_and_wait();
@@ -218,7 +249,8 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
         for (std::int64_t z = zc0; z < zc1; ++z)
             for (std::uint32_t y = 0; y < d[1]; ++y)
                 std::memcpy(&full[(std::size_t(z) * d[1] + y) * d[0]],
-                            src + (std::size_t(z - z0) * d[1] + y) * sp.pitch, d[0] * sizeof(float));
+                            src + (std::size_t(z - z0) * d[1] + y) * sp.pitch,
+                            d[0] * sizeof(float));
     }
 
     // Marching cubes on z-slabs of the host field, each with one extra plane on both sides so
@@ -244,10 +276,12 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
         set_interpolation(mc, plan);
         StagingArena arena;
         commands.begin();
-        Buffer part_field = upload_buffer(context, commands, arena, full.data() + std::size_t(lo) * d[0] * d[1],
-                                          std::size_t(hi - lo + 1) * mc_plane_bytes, "field_part");
+        Buffer part_field =
+            upload_buffer(context, commands, arena, full.data() + std::size_t(lo) * d[0] * d[1],
+                          std::size_t(hi - lo + 1) * mc_plane_bytes, "field_part");
         commands.barrier_compute();
-        GpuMesh gpu = marching_cubes.run(commands, arena, part_field, d[0], d[1], hi - lo + 1, d[0], mc);
+        GpuMesh gpu =
+            marching_cubes.run(commands, arena, part_field, d[0], d[1], hi - lo + 1, d[0], mc);
         add_times(result.times, marching_cubes.stage_times());
         parts.push_back(marching_cubes.read_back(commands, gpu));
         add_times(result.times, commands.stage_times());
@@ -257,12 +291,29 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
     double t1 = now_ms();
     result.mesh = stitch_slabs(parts, view, plan.iso, starts);
     result.times.push_back({"stitch", now_ms() - t1, false});
-    refine(result, atoms, options, plan, nullptr, &view);
+    refine(result, atoms, options, plan, &features, nullptr, &view);
     return result;
 }
 
-std::vector<float> EngineImpl::compute_field(const Atoms& atoms, const GridPlan& plan, bool filtered,
-                                             FilterShape shape) {
+std::vector<float> EngineImpl::compute_ses_field(const Atoms& atoms, const GridPlan& plan,
+                                                 float probe, bool force_global) {
+    const SesFeatures features = build_ses_features(atoms, probe);
+    StagingArena arena;
+    const std::size_t bytes = plan.field_floats() * sizeof(float);
+    Buffer field(context, bytes, MemoryUse::Device, "field");
+    commands.begin();
+    ses_distance.record(commands, arena, features, plan, field, force_global);
+    const Buffer& host = readback_buffer(context, commands, arena, field, bytes, "field_readback");
+    commands.barrier_to_host();
+    commands.submit_and_wait();
+    host.invalidate();
+    std::vector<float> out(plan.field_floats());
+    std::memcpy(out.data(), host.mapped(), bytes);
+    return out;
+}
+
+std::vector<float> EngineImpl::compute_field(const Atoms& atoms, const GridPlan& plan,
+                                             bool filtered, FilterShape shape) {
     AtomBins bins = bin_atoms(atoms, plan);
     StagingArena arena;
     const std::size_t bytes = plan.field_floats() * sizeof(float);
@@ -305,7 +356,8 @@ Mesh EngineImpl::run_marching_cubes(const FieldView& f, const McParams& params) 
 
 }  // namespace detail
 
-Engine::Engine(const EngineOptions& options) : impl_(std::make_unique<detail::EngineImpl>(options)) {}
+Engine::Engine(const EngineOptions& options)
+    : impl_(std::make_unique<detail::EngineImpl>(options)) {}
 Engine::~Engine() = default;
 Engine::Engine(Engine&&) noexcept = default;
 Engine& Engine::operator=(Engine&&) noexcept = default;
@@ -315,7 +367,8 @@ SurfaceResult Engine::make_surface(const Atoms& atoms, const SurfaceOptions& opt
     double min_volume = options.min_cavity_volume;
     if (min_volume < 0.0) {
         const double r = options.probe;
-        min_volume = options.surface == SurfaceKind::Ses ? 4.0 / 3.0 * 3.14159265358979 * r * r * r : 0.0;
+        const bool fdm = options.surface == SurfaceKind::Ses && options.method == SesMethod::Fdm;
+        min_volume = fdm ? 4.0 / 3.0 * 3.14159265358979 * r * r * r : 0.0;
     }
     if (min_volume > 0.0) {
         const double t0 = detail::now_ms();
@@ -348,7 +401,9 @@ VkBuffer DeviceMesh::vertex_buffer() const {
 VkBuffer DeviceMesh::index_buffer() const {
     return buffers_ ? buffers_->mesh.indices.handle() : VK_NULL_HANDLE;
 }
-std::uint32_t DeviceMesh::vertex_count() const { return buffers_ ? buffers_->mesh.vertex_count : 0; }
+std::uint32_t DeviceMesh::vertex_count() const {
+    return buffers_ ? buffers_->mesh.vertex_count : 0;
+}
 std::uint32_t DeviceMesh::triangle_count() const {
     return buffers_ ? buffers_->mesh.triangle_count : 0;
 }

@@ -10,6 +10,8 @@
 #include "grid/atom_bins.hpp"
 #include "grid/density_gpu.hpp"
 #include "grid/grid_plan.hpp"
+#include "grid/ses_distance_gpu.hpp"
+#include "grid/ses_features.hpp"
 #include "isosurface/marching_cubes_cpu.hpp"
 #include "isosurface/marching_cubes_gpu.hpp"
 #include "vulkan/commands.hpp"
@@ -24,8 +26,8 @@ struct DeviceMeshBuffers {
 
 struct EngineImpl {
     explicit EngineImpl(const EngineOptions& options)
-        : glslang(), context(options), commands(context), density(context), filter(context),
-          marching_cubes(context) {}
+        : glslang(), context(options), commands(context), density(context),
+          ses_distance(context), filter(context), marching_cubes(context) {}
 
     // Holds glslang for VkFFT from before the first plan to after the last.
     struct GlslangGuard {
@@ -35,6 +37,7 @@ struct EngineImpl {
     Context context;
     Commands commands;
     DensityPass density;
+    SesDistancePass ses_distance;
     SpectralFilter filter;
     MarchingCubesPass marching_cubes;
 
@@ -47,15 +50,24 @@ struct EngineImpl {
     SurfaceResult run_in_slabs(const Atoms& atoms, const SurfaceOptions& options, GridPlan plan,
                                SurfaceResult result);
     // The refine stage (refine_stage.cpp): options.refine levels of subdivision of result.mesh,
-    // projected onto the field of `device_field` or `host_field` (ses, plan's layout) or onto
-    // the atoms' balls (vdw, sas). Nothing at 0 levels.
+    // projected onto the exact SES distance of `features` (edt), the field of `device_field` or
+    // `host_field` (fdm, plan's layout) or onto the atoms' balls (vdw, sas). Nothing at 0 levels.
     void refine(SurfaceResult& result, const Atoms& atoms, const SurfaceOptions& options,
-                const GridPlan& plan, const Buffer* device_field, const FieldView* host_field);
+                const GridPlan& plan, const SesFeatures* features, const Buffer* device_field,
+                const FieldView* host_field);
+    // Records the field of `plan` into `field`: the exact SES distance of `features` (edt), or
+    // the density of `bins`, filtered for fdm.
+    void record_field(StagingArena& arena, const GridPlan& plan, const AtomBins* bins,
+                      const SesFeatures* features, FilterShape shape, const Buffer& field);
 
     // Test hooks. The density (filtered = false) or filtered density of `atoms` on `plan`'s
     // grid, read back in the plan's layout (plan.pitch floats per row).
     std::vector<float> compute_field(const Atoms& atoms, const GridPlan& plan, bool filtered,
                                      FilterShape shape = FilterShape::Ideal);
+    // The exact SES field of `atoms` on `plan`'s grid (plan.exact_ses), read back;
+    // force_global: the shader's per-point fallback everywhere.
+    std::vector<float> compute_ses_field(const Atoms& atoms, const GridPlan& plan,
+                                         float probe, bool force_global = false);
     // The spectral filter alone, on a host field in `plan`'s layout (in place).
     void filter_field(std::vector<float>& field, const GridPlan& plan, FilterShape shape);
     // GPU marching cubes on a host field; same contract as marching_cubes_cpu.

@@ -7,6 +7,7 @@
 #include "fdmsurf_generated/shaders/mc_scan.spv.h"
 #include "fdmsurf_generated/shaders/mc_triangles.spv.h"
 #include "fdmsurf_generated/shaders/mc_vertices.spv.h"
+#include "fdmsurf_generated/shaders/ses_distance.spv.h"
 #include "fdmsurf_generated/shaders/spectral_mask.spv.h"
 
 namespace fdmsurf::detail {
@@ -14,6 +15,7 @@ namespace fdmsurf::detail {
 ShaderCode shader_code(Shader shader) {
     switch (shader) {
         case Shader::Density: return {density_spv, sizeof(density_spv)};
+        case Shader::SesDistance: return {ses_distance_spv, sizeof(ses_distance_spv)};
         case Shader::SpectralMask: return {spectral_mask_spv, sizeof(spectral_mask_spv)};
         case Shader::McClassify: return {mc_classify_spv, sizeof(mc_classify_spv)};
         case Shader::McScan: return {mc_scan_spv, sizeof(mc_scan_spv)};

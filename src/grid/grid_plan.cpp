@@ -19,6 +19,14 @@ const char* to_string(SurfaceKind kind) noexcept {
     return "?";
 }
 
+const char* to_string(SesMethod method) noexcept {
+    switch (method) {
+        case SesMethod::Fdm: return "fdm";
+        case SesMethod::Edt: return "edt";
+    }
+    return "?";
+}
+
 float effective_cutoff(const SurfaceOptions& o) {
     auto bad = [](const std::string& what) { throw Error(ErrorCode::InvalidArgument, what); };
     if (!std::isfinite(o.spacing) || o.spacing <= 0.0f)
@@ -36,6 +44,11 @@ float effective_cutoff(const SurfaceOptions& o) {
     if (!(o.density_cut > 0.0f && o.density_cut < 1.0f))
         bad("density cut must lie in (0, 1)");
     if (o.surface != SurfaceKind::Ses) return 0.0f;
+    if (o.method == SesMethod::Edt) {
+        if (o.probe <= 0.0f)
+            bad("the exact SES (--method edt) needs probe > 0 (probe 0 is the vdw surface)");
+        return 0.0f;
+    }
     if (o.cutoff > 0.0f) return o.cutoff;
     if (o.probe <= 0.0f)
         bad("a ses surface needs probe > 0 or an explicit --cutoff (probe 0 is the vdw surface)");
@@ -79,12 +92,19 @@ GridPlan plan_grid(const Atoms& atoms, const SurfaceOptions& options) {
     if (atoms.xyz.size() != atoms.size() * 3)
         throw Error(ErrorCode::InvalidArgument, "atoms: xyz must hold 3 floats per radius");
     const float h = options.spacing;
-    plan.filtered = options.surface == SurfaceKind::Ses;
+    plan.exact_ses = options.surface == SurfaceKind::Ses && options.method == SesMethod::Edt;
+    plan.filtered = options.surface == SurfaceKind::Ses && !plan.exact_ses;
     plan.density.sigma = options.sigma;
     plan.density.level_t = 1.0f;
     plan.density.pi_cut = options.sigma * options.sigma * std::log(1.0f / options.density_cut);
     plan.density.radius_add = options.surface == SurfaceKind::Sas ? options.probe : 0.0f;
     plan.iso = effective_level(options) * plan.density.level_t;
+    if (plan.exact_ses) {
+        // Exact up to three grid steps beyond the surface: every value the crossings and the
+        // central-difference normals read.
+        plan.iso = options.probe;
+        plan.ses_d_max = options.probe + 3.0f * h;
+    }
     plan.info.spacing = h;
     plan.info.cutoff = cutoff;
 

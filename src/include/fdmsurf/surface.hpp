@@ -21,6 +21,13 @@ enum class SurfaceKind {
     Sas,  // solvent accessible: union of balls of radius r + probe, no filter
 };
 
+// How the ses surface is computed.
+enum class SesMethod {
+    Fdm,  // the filtered density map (Giard & Macq 2010): smooth, about 0.15-0.2 Å from the SES
+    Edt,  // exact: the level set r_s of the distance to where a probe centre fits (the closing of
+          // the atoms by the probe), evaluated from the SAS's spheres and arcs at every grid point
+};
+
 enum class FilterShape {
     Ideal,     // the paper's spherical mask: keep |f| <= cutoff
     Gaussian,  // H(f) = 2^-(|f| / cutoff)^2
@@ -28,6 +35,8 @@ enum class FilterShape {
 
 struct SurfaceOptions {
     SurfaceKind surface = SurfaceKind::Ses;
+    SesMethod method = SesMethod::Fdm;  // ses only; Edt needs probe > 0 and ignores the filter,
+                                        // cut-off, sigma, level and density_cut
     float spacing = 0.5f;   // grid spacing h, Å (> 0)
     float probe = 1.4f;     // solvent probe radius r_s, Å (>= 0)
     float cutoff = 0.0f;    // filter cut-off f_c, 1/Å; 0: 1.3 / (4 probe) for the Gaussian
@@ -43,8 +52,9 @@ struct SurfaceOptions {
                             // wavelength (1/f_c) for ses, 1 Å otherwise
     float density_cut = 1e-2f;  // G_i is taken as 0 where it falls below density_cut * T
     // Cavities (closed inward-facing pieces) enclosing less than this volume (Å³) are removed:
-    // < 0 means the volume of one probe sphere for ses (a void no probe fits in is not part of
-    // the SES) and 0 (keep all) for vdw and sas. Infinity removes every cavity.
+    // < 0 means the volume of one probe sphere for ses with the FDM method (a void no probe fits
+    // in is not part of the SES) and 0 (keep all) for the exact SES (Edt), vdw and sas.
+    // Infinity removes every cavity.
     float min_cavity_volume = -1.0f;
     // Refinement levels (0 to 4): each level splits every triangle into four by modified
     // butterfly subdivision (Zorin et al. 1996) and moves the new vertices onto the iso-surface
@@ -61,7 +71,7 @@ struct GridInfo {
     float spacing = 0.0f;
     std::array<std::uint32_t, 3> dims{};  // points along x, y, z
     std::uint32_t slabs = 1;              // > 1 when processed in overlapping parts
-    float cutoff = 0.0f;                  // filter cut-off used (1/Å), 0 for vdw and sas
+    float cutoff = 0.0f;                  // filter cut-off used (1/Å), 0 for vdw, sas and edt
 };
 
 struct StageTime {
@@ -145,5 +155,6 @@ float effective_cutoff(const SurfaceOptions& options);
 float effective_level(const SurfaceOptions& options);
 
 const char* to_string(SurfaceKind kind) noexcept;
+const char* to_string(SesMethod method) noexcept;
 
 }  // namespace fdmsurf

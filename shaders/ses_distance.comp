@@ -1,0 +1,200 @@
+// Exact SES field (--method edt; ALGORITHM.md §7, the closing of the atoms by the probe):
+// d(p) = distance from p to the region E outside every ball of radius R_i = r_i + r_s, signed
+// (-dist(p, balls) outside the balls), clamped to [-d_max, d_max]. The SES is d = r_s.
+//
+// Inside the balls, the nearest point of E's boundary is (1) the radial projection of p onto a
+// sphere, if no other ball buries it, or (2) the nearest point of an exposed arc where two
+// spheres meet (its ends are the points where three meet); the arcs come from the host
+// (src/grid/ses_features.cpp). Each workgroup gathers into shared memory the spheres and arcs
+// that can be within d_max of its box; every point then takes the least candidate distance.
+// CPU reference: src/grid/ses_distance_cpu.cpp.
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "shader_interface.h"
+
+layout(local_size_x = kSesGroupX, local_size_y = kSesGroupY, local_size_z = kSesGroupZ) in;
+
+layout(std430, binding = 0) writeonly buffer Field { float field[]; };
+layout(std430, binding = 1) readonly buffer Spheres { vec4 spheres[]; };  // xyz, R
+layout(std430, binding = 2) readonly buffer SphereStart { uint sphere_start[]; };
+layout(std430, binding = 3) readonly buffer Arcs { vec4 arcs[]; };  // (m, rho), (e1, start), (e2, length)
+layout(std430, binding = 4) readonly buffer ArcStart { uint arc_start[]; };
+
+layout(push_constant) uniform Push { SesDistancePush pc; };
+
+const uint kGroupSize = kSesGroupX * kSesGroupY * kSesGroupZ;
+const float kTwoPi = 6.283185307179586;
+
+shared uint sphere_list[kSesCapacity];
+shared uint arc_list[kSesCapacity];
+shared uint sphere_count;
+shared uint arc_count;
+
+vec3 box_gap(vec3 c, vec3 lo, vec3 hi) { return max(max(lo - c, c - hi), vec3(0.0)); }
+
+ivec3 bin_dims() { return ivec3(pc.bin_nx, pc.bin_ny, pc.bin_nz); }
+ivec3 bin_of(vec3 p) {
+    vec3 o = vec3(pc.bin_origin_x, pc.bin_origin_y, pc.bin_origin_z);
+    return clamp(ivec3(floor((p - o) / pc.bin_size)), ivec3(0), bin_dims() - 1);
+}
+uint bin_id(ivec3 b) { return (uint(b.z) * pc.bin_ny + uint(b.y)) * pc.bin_nx + uint(b.x); }
+
+// Distance from p to exposed arc a (mirrors arc_distance in ses_features.cpp).
+float arc_distance(uint a, vec3 p) {
+    vec4 m = arcs[3u * a];
+    vec4 e1 = arcs[3u * a + 1u];
+    vec4 e2 = arcs[3u * a + 2u];
+    vec3 v = p - m.xyz;
+    float x = dot(v, e1.xyz), y = dot(v, e2.xyz), height = dot(v, cross(e1.xyz, e2.xyz));
+    float r = sqrt(x * x + y * y);
+    float rel = r > 0.0 ? atan(y, x) - e1.w : 0.0;
+    rel -= kTwoPi * floor(rel / kTwoPi);
+    // Off the arc, the nearer end (in angle) is the nearer point.
+    float delta = rel <= e2.w ? 0.0 : min(rel - e2.w, kTwoPi - rel);
+    float s = sin(0.5 * delta);
+    float rr = r - m.w;
+    return sqrt(height * height + rr * rr + 4.0 * r * m.w * s * s);
+}
+
+// Where the face distance |L - R| of sphere s is reached: the radial projection of p.
+vec3 projection(vec4 s, vec3 p) {
+    vec3 v = p - s.xyz;
+    float len = length(v);
+    return s.xyz + s.w * (len > 1e-6 ? v / len : vec3(1.0, 0.0, 0.0));
+}
+
+float evaluate_shared(vec3 p) {
+    uint ns = sphere_count, na = arc_count;
+    float lb = -3.0e38;  // max_i (R_i - |p - c_i|): > 0 inside the balls, a lower bound of d
+    for (uint i = 0u; i < ns; ++i) {
+        vec4 s = spheres[sphere_list[i]];
+        lb = max(lb, s.w - distance(p, s.xyz));
+    }
+    if (lb <= 0.0) return max(lb, -pc.d_max);
+    if (lb >= pc.d_max) return pc.d_max;
+    float best = pc.d_max;
+    for (uint k = 0u; k < na; ++k) best = min(best, arc_distance(arc_list[k], p));
+    for (uint i = 0u; i < ns; ++i) {
+        vec4 s = spheres[sphere_list[i]];
+        float face = abs(distance(p, s.xyz) - s.w);
+        if (face >= best) continue;
+        vec3 q = projection(s, p);
+        bool exposed = true;
+        // A ball burying q is within R + d_max of the box: it is on the list.
+        for (uint k = 0u; k < ns && exposed; ++k) {
+            if (k == i) continue;
+            vec4 o = spheres[sphere_list[k]];
+            vec3 w = q - o.xyz;
+            exposed = dot(w, w) >= o.w * o.w;
+        }
+        if (exposed) best = face;
+    }
+    return best;
+}
+
+// The same from the bins, per point: boxes whose lists overflow shared memory.
+float evaluate_global(vec3 p) {
+    float reach = pc.r_max + pc.d_max;
+    ivec3 lo = bin_of(p - reach), hi = bin_of(p + reach);
+    float lb = -3.0e38;
+    for (int z = lo.z; z <= hi.z; ++z)
+        for (int y = lo.y; y <= hi.y; ++y)
+            for (int x = lo.x; x <= hi.x; ++x) {
+                uint b = bin_id(ivec3(x, y, z));
+                for (uint i = sphere_start[b]; i < sphere_start[b + 1u]; ++i)
+                    lb = max(lb, spheres[i].w - distance(p, spheres[i].xyz));
+            }
+    if (lb <= 0.0) return max(lb, -pc.d_max);
+    if (lb >= pc.d_max) return pc.d_max;
+    float best = pc.d_max;
+    ivec3 alo = bin_of(p - (pc.rho_max + pc.d_max)), ahi = bin_of(p + (pc.rho_max + pc.d_max));
+    for (int z = alo.z; z <= ahi.z; ++z)
+        for (int y = alo.y; y <= ahi.y; ++y)
+            for (int x = alo.x; x <= ahi.x; ++x) {
+                uint b = bin_id(ivec3(x, y, z));
+                for (uint k = arc_start[b]; k < arc_start[b + 1u]; ++k)
+                    best = min(best, arc_distance(k, p));
+            }
+    for (int z = lo.z; z <= hi.z; ++z)
+        for (int y = lo.y; y <= hi.y; ++y)
+            for (int x = lo.x; x <= hi.x; ++x) {
+                uint b = bin_id(ivec3(x, y, z));
+                for (uint i = sphere_start[b]; i < sphere_start[b + 1u]; ++i) {
+                    vec4 s = spheres[i];
+                    float face = abs(distance(p, s.xyz) - s.w);
+                    if (face >= best) continue;
+                    vec3 q = projection(s, p);
+                    bool exposed = true;
+                    ivec3 qlo = bin_of(q - pc.r_max), qhi = bin_of(q + pc.r_max);
+                    for (int qz = qlo.z; qz <= qhi.z && exposed; ++qz)
+                        for (int qy = qlo.y; qy <= qhi.y && exposed; ++qy)
+                            for (int qx = qlo.x; qx <= qhi.x && exposed; ++qx) {
+                                uint c = bin_id(ivec3(qx, qy, qz));
+                                for (uint k = sphere_start[c]; k < sphere_start[c + 1u] && exposed; ++k) {
+                                    if (k == i) continue;
+                                    vec3 w = q - spheres[k].xyz;
+                                    exposed = dot(w, w) >= spheres[k].w * spheres[k].w;
+                                }
+                            }
+                    if (exposed) best = face;
+                }
+            }
+    return best;
+}
+
+void main() {
+    uvec3 g = gl_GlobalInvocationID;
+    uint t = gl_LocalInvocationIndex;
+    vec3 origin = vec3(pc.origin_x, pc.origin_y, pc.origin_z);
+    uvec3 first = gl_WorkGroupID * gl_WorkGroupSize;
+    uvec3 last = min(first + gl_WorkGroupSize, uvec3(pc.nx, pc.ny, pc.nz)) - 1u;
+    vec3 box_lo = origin + pc.spacing * vec3(first);
+    vec3 box_hi = origin + pc.spacing * vec3(last);
+
+    if (t == 0u) {
+        sphere_count = 0u;
+        arc_count = 0u;
+    }
+    barrier();
+    // Candidates: spheres within R + d_max of the box, arcs within rho + d_max.
+    float reach = pc.r_max + pc.d_max;
+    ivec3 b_lo = bin_of(box_lo - reach), b_hi = bin_of(box_hi + reach);
+    ivec3 b_n = b_hi - b_lo + 1;
+    uint bins = uint(b_n.x * b_n.y * b_n.z);
+    for (uint k = t; k < bins; k += kGroupSize) {
+        ivec3 b = b_lo + ivec3(int(k) % b_n.x, (int(k) / b_n.x) % b_n.y, int(k) / (b_n.x * b_n.y));
+        uint id = bin_id(b);
+        for (uint i = sphere_start[id]; i < sphere_start[id + 1u]; ++i) {
+            vec4 s = spheres[i];
+            vec3 gap = box_gap(s.xyz, box_lo, box_hi);
+            float r = s.w + pc.d_max;
+            if (dot(gap, gap) >= r * r) continue;
+            uint slot = atomicAdd(sphere_count, 1u);
+            if (slot < kSesCapacity) sphere_list[slot] = i;
+        }
+    }
+    reach = pc.rho_max + pc.d_max;
+    b_lo = bin_of(box_lo - reach);
+    b_hi = bin_of(box_hi + reach);
+    b_n = b_hi - b_lo + 1;
+    bins = uint(b_n.x * b_n.y * b_n.z);
+    for (uint k = t; k < bins; k += kGroupSize) {
+        ivec3 b = b_lo + ivec3(int(k) % b_n.x, (int(k) / b_n.x) % b_n.y, int(k) / (b_n.x * b_n.y));
+        uint id = bin_id(b);
+        for (uint a = arc_start[id]; a < arc_start[id + 1u]; ++a) {
+            vec4 m = arcs[3u * a];
+            vec3 gap = box_gap(m.xyz, box_lo, box_hi);
+            float r = m.w + pc.d_max;
+            if (dot(gap, gap) >= r * r) continue;
+            uint slot = atomicAdd(arc_count, 1u);
+            if (slot < kSesCapacity) arc_list[slot] = a;
+        }
+    }
+    barrier();
+
+    if (any(greaterThanEqual(g, uvec3(pc.nx, pc.ny, pc.nz)))) return;
+    vec3 p = origin + pc.spacing * vec3(g);
+    bool overflow = sphere_count > kSesCapacity || arc_count > kSesCapacity;
+    float value = (overflow || pc.force_global != 0u) ? evaluate_global(p) : evaluate_shared(p);
+    field[(g.z * pc.ny + g.y) * pc.pitch + g.x] = value;
+}

@@ -1,0 +1,220 @@
+// CPU references of the exact SES field: the binned evaluation shaders/ses_distance.comp mirrors,
+// and a brute-force one (faces, circles and three-sphere points, all checked for burial).
+#include "grid/ses_distance_cpu.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace fdmsurf::detail {
+
+namespace {
+
+struct V3 {
+    double x, y, z;
+};
+V3 operator-(V3 a, V3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+V3 operator+(V3 a, V3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+V3 operator*(double s, V3 a) { return {s * a.x, s * a.y, s * a.z}; }
+double dot(V3 a, V3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+double norm(V3 a) { return std::sqrt(dot(a, a)); }
+V3 cross(V3 a, V3 b) {
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+
+// The radial projection of p onto the sphere (c, R) (any point of it when p = c; the shader's
+// choice, +x, below 1e-6 Å).
+V3 projection(V3 c, double R, V3 p) {
+    const V3 v = p - c;
+    const double len = norm(v);
+    return len > 1e-6 ? c + (R / len) * v : c + V3{R, 0, 0};
+}
+
+// Bins of `f` within `reach` of p (inclusive ranges, clamped like the shader's).
+struct BinRange {
+    int lo[3], hi[3];
+};
+BinRange bins_near(const SesFeatures& f, V3 p, double reach) {
+    BinRange r;
+    const double q[3] = {p.x, p.y, p.z};
+    for (int a = 0; a < 3; ++a) {
+        auto cell = [&](double x) {
+            return static_cast<int>(
+                std::clamp(std::floor((x - f.origin[a]) / f.bin_size), 0.0, double(f.dims[a] - 1)));
+        };
+        r.lo[a] = cell(q[a] - reach);
+        r.hi[a] = cell(q[a] + reach);
+    }
+    return r;
+}
+
+template <typename Fn>
+void for_bins(const SesFeatures& f, const BinRange& r, Fn&& fn) {
+    for (int z = r.lo[2]; z <= r.hi[2]; ++z)
+        for (int y = r.lo[1]; y <= r.hi[1]; ++y)
+            for (int x = r.lo[0]; x <= r.hi[0]; ++x)
+                fn((std::size_t(z) * f.dims[1] + y) * f.dims[0] + x);
+}
+
+}  // namespace
+
+double ses_distance(const SesFeatures& f, const double p_in[3], double d_max, double* gradient) {
+    const V3 p{p_in[0], p_in[1], p_in[2]};
+    auto sphere = [&](std::uint32_t s, V3& c, double& R) {
+        c = {f.spheres[4 * s], f.spheres[4 * s + 1], f.spheres[4 * s + 2]};
+        R = f.spheres[4 * s + 3];
+    };
+    auto set_gradient = [&](V3 g) {
+        if (gradient) gradient[0] = g.x, gradient[1] = g.y, gradient[2] = g.z;
+    };
+    const BinRange near = bins_near(f, p, f.r_max + d_max);
+    double lb = -std::numeric_limits<double>::infinity();
+    V3 lb_centre{0, 0, 0};
+    for_bins(f, near, [&](std::size_t b) {
+        for (std::uint32_t s = f.sphere_start[b]; s < f.sphere_start[b + 1]; ++s) {
+            V3 c;
+            double R;
+            sphere(s, c, R);
+            const double v = R - norm(p - c);
+            if (v > lb) lb = v, lb_centre = c;
+        }
+    });
+    if (lb <= 0.0) {
+        // Outside the balls: minus the distance to them, which falls towards the nearest centre.
+        if (lb <= -d_max) {
+            set_gradient({0, 0, 0});
+            return -d_max;
+        }
+        const V3 v = p - lb_centre;
+        const double len = norm(v);
+        set_gradient(len > 0.0 ? (-1.0 / len) * v : V3{0, 0, 0});
+        return lb;
+    }
+    if (lb >= d_max) {
+        set_gradient({0, 0, 0});
+        return d_max;
+    }
+    double best = d_max;
+    V3 nearest{0, 0, 0};
+    bool found = false;
+    for_bins(f, bins_near(f, p, f.rho_max + d_max), [&](std::size_t b) {
+        for (std::uint32_t a = f.arc_start[b]; a < f.arc_start[b + 1]; ++a) {
+            double q[3];
+            const double d = arc_distance(f.arcs[a], p_in, q);
+            if (d < best) best = d, nearest = {q[0], q[1], q[2]}, found = true;
+        }
+    });
+    for_bins(f, near, [&](std::size_t b) {
+        for (std::uint32_t s = f.sphere_start[b]; s < f.sphere_start[b + 1]; ++s) {
+            V3 c;
+            double R;
+            sphere(s, c, R);
+            const double face = std::abs(norm(p - c) - R);
+            if (face >= best) continue;
+            const V3 q = projection(c, R, p);
+            bool exposed = true;
+            for_bins(f, bins_near(f, q, f.r_max), [&](std::size_t qb) {
+                for (std::uint32_t k = f.sphere_start[qb]; k < f.sphere_start[qb + 1] && exposed;
+                     ++k) {
+                    if (k == s) continue;
+                    V3 ck;
+                    double Rk;
+                    sphere(k, ck, Rk);
+                    const V3 w = q - ck;
+                    exposed = dot(w, w) >= Rk * Rk;
+                }
+            });
+            if (exposed) best = face, nearest = q, found = true;
+        }
+    });
+    if (found && best > 0.0)
+        set_gradient((1.0 / best) * (p - nearest));
+    else
+        set_gradient({0, 0, 0});
+    return best;
+}
+
+double ses_distance_brute(const Atoms& atoms, float probe, const double p_in[3], double d_max) {
+    const V3 p{p_in[0], p_in[1], p_in[2]};
+    std::vector<V3> c;
+    std::vector<double> R;
+    for (std::size_t i = 0; i < atoms.size(); ++i) {
+        const V3 ci{atoms.xyz[3 * i], atoms.xyz[3 * i + 1], atoms.xyz[3 * i + 2]};
+        const double Ri = double(atoms.radius[i]) + probe;
+        if (norm(p - ci) < Ri + d_max) c.push_back(ci), R.push_back(Ri);
+    }
+    const std::size_t n = c.size();
+    double lb = -d_max;
+    for (std::size_t i = 0; i < n; ++i) lb = std::max(lb, R[i] - norm(p - c[i]));
+    if (lb <= 0.0) return lb;
+    if (lb >= d_max) return d_max;
+    // q lies on the spheres in `on` (up to three); is it inside any other ball?
+    auto exposed = [&](V3 q, std::size_t i, std::size_t j, std::size_t k) {
+        for (std::size_t l = 0; l < n; ++l) {
+            if (l == i || l == j || l == k) continue;
+            const V3 w = q - c[l];
+            if (dot(w, w) < R[l] * R[l] - 1e-9) return false;
+        }
+        return true;
+    };
+    const std::size_t none = n;
+    double best = d_max;
+    for (std::size_t i = 0; i < n; ++i) {
+        const V3 q = projection(c[i], R[i], p);
+        if (exposed(q, i, none, none)) best = std::min(best, std::abs(norm(p - c[i]) - R[i]));
+    }
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t j = i + 1; j < n; ++j) {
+            const V3 dij = c[j] - c[i];
+            const double d = norm(dij);
+            if (d >= R[i] + R[j] || d <= std::abs(R[i] - R[j])) continue;
+            const V3 u = (1.0 / d) * dij;
+            const double a = (d * d + R[i] * R[i] - R[j] * R[j]) / (2.0 * d);
+            const double rho = std::sqrt(std::max(R[i] * R[i] - a * a, 0.0));
+            const V3 m = c[i] + a * u;
+            // The circle's nearest point: p projected onto its plane, pushed out to radius rho.
+            V3 w = (p - m) - dot(p - m, u) * u;
+            double wl = norm(w);
+            if (wl < 1e-12) {
+                w = cross(u, std::abs(u.x) < 0.6 ? V3{1, 0, 0} : V3{0, 1, 0});
+                wl = norm(w);
+            }
+            const V3 q = m + (rho / wl) * w;
+            if (exposed(q, i, j, none)) best = std::min(best, norm(p - q));
+            // Points where a third sphere meets this circle.
+            const V3 e1 = (1.0 / wl) * w;
+            const V3 e2 = cross(u, e1);
+            for (std::size_t k = j + 1; k < n; ++k) {
+                // |m + rho (cos t e1 + sin t e2) - c_k|^2 = R_k^2
+                const V3 wk = m - c[k];
+                const double A = dot(wk, e1), B = dot(wk, e2);
+                const double M = std::sqrt(A * A + B * B);
+                const double E = R[k] * R[k] - dot(wk, wk) - rho * rho;
+                if (M == 0.0 || std::abs(E) > 2.0 * rho * M) continue;
+                const double phi = std::atan2(B, A), open = std::acos(E / (2.0 * rho * M));
+                for (double t : {phi + open, phi - open}) {
+                    const V3 v = m + rho * (std::cos(t) * e1 + std::sin(t) * e2);
+                    if (exposed(v, i, j, k)) best = std::min(best, norm(p - v));
+                }
+            }
+        }
+    return best;
+}
+
+std::vector<float> ses_field_cpu(const SesFeatures& f, const GridPlan& plan) {
+    const auto& d = plan.info.dims;
+    std::vector<float> out(plan.field_floats(), 0.0f);
+    for (std::uint32_t z = 0; z < d[2]; ++z)
+        for (std::uint32_t y = 0; y < d[1]; ++y)
+            for (std::uint32_t x = 0; x < d[0]; ++x) {
+                // The point as the shader computes it: origin + spacing * index, in float.
+                const double p[3] = {double(plan.info.origin[0] + plan.info.spacing * float(x)),
+                                     double(plan.info.origin[1] + plan.info.spacing * float(y)),
+                                     double(plan.info.origin[2] + plan.info.spacing * float(z))};
+                out[(std::size_t(z) * d[1] + y) * plan.pitch + x] =
+                    static_cast<float>(ses_distance(f, p, plan.ses_d_max));
+            }
+    return out;
+}
+
+}  // namespace fdmsurf::detail

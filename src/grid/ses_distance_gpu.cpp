@@ -1,0 +1,62 @@
+// Exact SES field dispatch (shaders/ses_distance.comp).
+#include "grid/ses_distance_gpu.hpp"
+
+#include "core/shaders.hpp"
+#include "shader_interface.h"
+#include "vulkan/commands.hpp"
+#include "vulkan/context.hpp"
+
+namespace fdmsurf::detail {
+
+SesDistancePass::SesDistancePass(Context& ctx) : ctx_(ctx) {
+    ShaderCode code = shader_code(Shader::SesDistance);
+    pipeline_ = ComputePipeline(ctx, code.words, code.bytes, 5, sizeof(shader::SesDistancePush),
+                                "ses_distance");
+}
+
+void SesDistancePass::record(Commands& cmds, StagingArena& arena, const SesFeatures& f,
+                             const GridPlan& plan, const Buffer& field, bool force_global) {
+    spheres_ = upload_buffer(ctx_, cmds, arena, f.spheres.data(), f.spheres.size() * sizeof(float),
+                             "ses_spheres");
+    sphere_start_ =
+        upload_buffer(ctx_, cmds, arena, f.sphere_start.data(),
+                      f.sphere_start.size() * sizeof(std::uint32_t), "ses_sphere_start");
+    // A buffer cannot be empty: without arcs one unused entry stands in (every bin range is empty).
+    const SesArc none{};
+    arcs_ = upload_buffer(ctx_, cmds, arena, f.arcs.empty() ? &none : f.arcs.data(),
+                          std::max<std::size_t>(f.arcs.size(), 1) * sizeof(SesArc), "ses_arcs");
+    arc_start_ = upload_buffer(ctx_, cmds, arena, f.arc_start.data(),
+                               f.arc_start.size() * sizeof(std::uint32_t), "ses_arc_start");
+    cmds.barrier_compute();
+    const GridInfo& g = plan.info;
+    shader::SesDistancePush p{};
+    p.origin_x = g.origin[0];
+    p.origin_y = g.origin[1];
+    p.origin_z = g.origin[2];
+    p.spacing = g.spacing;
+    p.nx = g.dims[0];
+    p.ny = g.dims[1];
+    p.nz = g.dims[2];
+    p.pitch = plan.pitch;
+    p.bin_origin_x = f.origin[0];
+    p.bin_origin_y = f.origin[1];
+    p.bin_origin_z = f.origin[2];
+    p.bin_size = f.bin_size;
+    p.bin_nx = f.dims[0];
+    p.bin_ny = f.dims[1];
+    p.bin_nz = f.dims[2];
+    p.force_global = force_global ? 1u : 0u;
+    p.r_max = f.r_max;
+    p.rho_max = f.rho_max;
+    p.d_max = plan.ses_d_max;
+    auto groups = [](std::uint32_t n, std::uint32_t size) { return (n + size - 1) / size; };
+    cmds.dispatch(
+        pipeline_,
+        {whole(field), whole(spheres_), whole(sphere_start_), whole(arcs_), whole(arc_start_)}, &p,
+        groups(g.dims[0], shader::kSesGroupX), groups(g.dims[1], shader::kSesGroupY),
+        groups(g.dims[2], shader::kSesGroupZ));
+    cmds.mark("ses-distance");
+    cmds.barrier_compute();
+}
+
+}  // namespace fdmsurf::detail

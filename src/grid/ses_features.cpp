@@ -1,0 +1,262 @@
+// Exposed SAS arcs: every pair of intersecting inflated balls gives a circle; each neighbour ball
+// buries an angular interval of it; what no ball buries is exposed (ALGORITHM.md §7, closing).
+#include "grid/ses_features.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <utility>
+
+#include "fdmsurf/error.hpp"
+
+namespace fdmsurf::detail {
+
+namespace {
+
+constexpr double kTwoPi = 6.283185307179586;
+
+struct V3 {
+    double x, y, z;
+};
+V3 operator-(V3 a, V3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+V3 operator+(V3 a, V3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+V3 operator*(double s, V3 a) { return {s * a.x, s * a.y, s * a.z}; }
+double dot(V3 a, V3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+V3 cross(V3 a, V3 b) {
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+
+// A unit vector perpendicular to the unit vector u.
+V3 perpendicular(V3 u) {
+    V3 t = std::abs(u.x) < 0.6 ? V3{1, 0, 0} : (std::abs(u.y) < 0.6 ? V3{0, 1, 0} : V3{0, 0, 1});
+    V3 p = cross(u, t);
+    return (1.0 / std::sqrt(dot(p, p))) * p;
+}
+
+// Exposed parts of [0, 2 pi) once the intervals [start, start + length) are removed.
+std::vector<std::pair<double, double>> exposed_parts(
+    std::vector<std::pair<double, double>> buried) {
+    if (buried.empty()) return {{0.0, kTwoPi}};
+    std::vector<std::pair<double, double>> cuts;  // [a, b] within [0, 2 pi]
+    for (auto [s, len] : buried) {
+        s -= kTwoPi * std::floor(s / kTwoPi);
+        if (s + len <= kTwoPi) {
+            cuts.push_back({s, s + len});
+        } else {
+            cuts.push_back({s, kTwoPi});
+            cuts.push_back({0.0, s + len - kTwoPi});
+        }
+    }
+    std::sort(cuts.begin(), cuts.end());
+    std::vector<std::pair<double, double>> gaps;  // [a, b]
+    double cursor = 0.0;
+    for (auto [a, b] : cuts) {
+        if (a > cursor) gaps.push_back({cursor, a});
+        cursor = std::max(cursor, b);
+    }
+    if (cursor < kTwoPi) gaps.push_back({cursor, kTwoPi});
+    // A gap that runs through angle 0 is one arc.
+    if (gaps.size() >= 2 && gaps.front().first == 0.0 && gaps.back().second == kTwoPi) {
+        gaps.back().second = kTwoPi + gaps.front().second;
+        gaps.erase(gaps.begin());
+    }
+    std::vector<std::pair<double, double>> out;
+    for (auto [a, b] : gaps)
+        if (b - a > 1e-9) out.push_back({a, b - a});
+    return out;
+}
+
+}  // namespace
+
+double arc_distance(const SesArc& arc, const double p[3], double* nearest) {
+    const V3 m{arc.m[0], arc.m[1], arc.m[2]};
+    const V3 e1{arc.e1[0], arc.e1[1], arc.e1[2]};
+    const V3 e2{arc.e2[0], arc.e2[1], arc.e2[2]};
+    const V3 v = V3{p[0], p[1], p[2]} - m;
+    const double a = dot(v, e1), b = dot(v, e2), height = dot(v, cross(e1, e2));
+    const double r = std::sqrt(a * a + b * b);
+    double rel = r > 0.0 ? std::atan2(b, a) - arc.start : 0.0;
+    rel -= kTwoPi * std::floor(rel / kTwoPi);
+    // Off the arc, the nearer end (in angle) is the nearer point.
+    double delta = 0.0;
+    if (rel > arc.length) delta = std::min(rel - arc.length, kTwoPi - rel);
+    if (nearest != nullptr) {
+        const double theta =
+            rel <= arc.length
+                ? arc.start + rel
+                : (rel - arc.length < kTwoPi - rel ? arc.start + arc.length : arc.start);
+        const V3 q = m + arc.rho * (std::cos(theta) * e1 + std::sin(theta) * e2);
+        nearest[0] = q.x, nearest[1] = q.y, nearest[2] = q.z;
+    }
+    const double s = std::sin(0.5 * delta);
+    const double rr = r - arc.rho;
+    return std::sqrt(height * height + rr * rr + 4.0 * r * arc.rho * s * s);
+}
+
+SesFeatures build_ses_features(const Atoms& atoms, float probe) {
+    if (atoms.empty()) throw Error(ErrorCode::EmptySelection, "no atoms to build a surface from");
+    if (atoms.xyz.size() != 3 * atoms.size())
+        throw Error(ErrorCode::InvalidArgument, "atoms: xyz must hold 3 floats per radius");
+    if (!(probe > 0.0f) || !std::isfinite(probe))
+        throw Error(ErrorCode::InvalidArgument,
+                    "the exact SES needs a probe radius > 0 Å (probe 0 is the vdw surface)");
+    const std::size_t n = atoms.size();
+    SesFeatures f;
+    f.probe = probe;
+    std::vector<V3> c(n);
+    std::vector<double> R(n);
+    double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
+    for (std::size_t i = 0; i < n; ++i) {
+        const float r = atoms.radius[i];
+        if (!(r > 0.0f) || !std::isfinite(r))
+            throw Error(ErrorCode::InvalidArgument,
+                        "atom " + std::to_string(i + 1) + " has radius " + std::to_string(r));
+        for (int a = 0; a < 3; ++a)
+            if (!std::isfinite(atoms.xyz[3 * i + a]))
+                throw Error(ErrorCode::InvalidArgument,
+                            "atom " + std::to_string(i + 1) + " has a non-finite coordinate");
+        c[i] = {atoms.xyz[3 * i], atoms.xyz[3 * i + 1], atoms.xyz[3 * i + 2]};
+        R[i] = double(r) + probe;
+        f.r_max = std::max(f.r_max, static_cast<float>(R[i]));
+        const double p[3] = {c[i].x, c[i].y, c[i].z};
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = std::min(lo[a], p[a]);
+            hi[a] = std::max(hi[a], p[a]);
+        }
+    }
+
+    // Bins of edge r_max: two balls intersect only within two bins of each other.
+    f.bin_size = f.r_max;
+    for (int a = 0; a < 3; ++a) {
+        f.origin[a] = static_cast<float>(lo[a]);
+        f.dims[a] = static_cast<std::uint32_t>(std::floor((hi[a] - lo[a]) / f.bin_size)) + 1;
+    }
+    auto bin_index = [&](const V3& p, int(&cell)[3]) {
+        const double q[3] = {p.x, p.y, p.z};
+        for (int a = 0; a < 3; ++a) {
+            const double t = std::floor((q[a] - f.origin[a]) / f.bin_size);
+            cell[a] = static_cast<int>(std::clamp(t, 0.0, double(f.dims[a] - 1)));
+        }
+        return (std::size_t(cell[2]) * f.dims[1] + cell[1]) * f.dims[0] + cell[0];
+    };
+    std::vector<std::size_t> bin_of(n);
+    std::vector<std::uint32_t> start(f.bin_count() + 1, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+        int cell[3];
+        bin_of[i] = bin_index(c[i], cell);
+        ++start[bin_of[i] + 1];
+    }
+    for (std::size_t b = 0; b < f.bin_count(); ++b) start[b + 1] += start[b];
+    std::vector<std::uint32_t> order(n);
+    {
+        std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+        for (std::size_t i = 0; i < n; ++i)
+            order[fill[bin_of[i]]++] = static_cast<std::uint32_t>(i);
+    }
+    f.sphere_start = start;
+    f.spheres.resize(4 * n);
+    for (std::size_t s = 0; s < n; ++s) {
+        const std::uint32_t i = order[s];
+        f.spheres[4 * s + 0] = atoms.xyz[3 * i + 0];
+        f.spheres[4 * s + 1] = atoms.xyz[3 * i + 1];
+        f.spheres[4 * s + 2] = atoms.xyz[3 * i + 2];
+        f.spheres[4 * s + 3] = static_cast<float>(R[i]);
+    }
+
+    // Neighbours: balls that intersect (compressed rows, ascending bin order).
+    std::vector<std::uint32_t> nb_start(n + 1, 0), nb;
+    for (std::size_t i = 0; i < n; ++i) {
+        int cell[3];
+        bin_index(c[i], cell);
+        for (int z = std::max(cell[2] - 2, 0); z <= std::min(cell[2] + 2, int(f.dims[2]) - 1); ++z)
+            for (int y = std::max(cell[1] - 2, 0); y <= std::min(cell[1] + 2, int(f.dims[1]) - 1);
+                 ++y)
+                for (int x = std::max(cell[0] - 2, 0);
+                     x <= std::min(cell[0] + 2, int(f.dims[0]) - 1); ++x) {
+                    const std::size_t b = (std::size_t(z) * f.dims[1] + y) * f.dims[0] + x;
+                    for (std::uint32_t s = start[b]; s < start[b + 1]; ++s) {
+                        const std::uint32_t j = order[s];
+                        if (j == i) continue;
+                        const V3 d = c[j] - c[i];
+                        const double reach = R[i] + R[j];
+                        if (dot(d, d) < reach * reach) nb.push_back(j);
+                    }
+                }
+        nb_start[i + 1] = static_cast<std::uint32_t>(nb.size());
+    }
+
+    // Circles of the pairs i < j, cut by the other neighbours of i.
+    std::vector<SesArc> arcs;
+    std::vector<std::pair<double, double>> buried;
+    for (std::size_t i = 0; i < n; ++i) {
+        for (std::uint32_t q = nb_start[i]; q < nb_start[i + 1]; ++q) {
+            const std::uint32_t j = nb[q];
+            if (j <= i) continue;
+            const V3 dij = c[j] - c[i];
+            const double d = std::sqrt(dot(dij, dij));
+            if (d <= std::abs(R[i] - R[j]) || d == 0.0) continue;  // one ball inside the other
+            const V3 u = (1.0 / d) * dij;
+            const double a = (d * d + R[i] * R[i] - R[j] * R[j]) / (2.0 * d);
+            const double rho2 = R[i] * R[i] - a * a;
+            if (rho2 <= 0.0) continue;
+            const double rho = std::sqrt(rho2);
+            const V3 m = c[i] + a * u;
+            const V3 e1 = perpendicular(u);
+            const V3 e2 = cross(u, e1);
+            ++f.circles;
+            buried.clear();
+            bool all_buried = false;
+            for (std::uint32_t t = nb_start[i]; t < nb_start[i + 1] && !all_buried; ++t) {
+                const std::uint32_t k = nb[t];
+                if (k == j) continue;
+                const V3 w = m - c[k];
+                // |P(theta) - c_k|^2 = |w|^2 + rho^2 + 2 rho (A cos theta + B sin theta) < R_k^2
+                const double A = dot(w, e1), B = dot(w, e2);
+                const double M = std::sqrt(A * A + B * B);
+                const double E = R[k] * R[k] - dot(w, w) - rho2;
+                if (E <= -2.0 * rho * M) continue;  // no point inside ball k
+                if (E >= 2.0 * rho * M) {
+                    all_buried = true;
+                    break;
+                }
+                const double t_cos = E / (2.0 * rho * M);  // buried where cos(theta - phi) < t_cos
+                const double phi = std::atan2(B, A);
+                const double open = std::acos(std::clamp(t_cos, -1.0, 1.0));
+                buried.push_back({phi + open, kTwoPi - 2.0 * open});
+            }
+            if (all_buried) {
+                ++f.buried_circles;
+                continue;
+            }
+            const auto parts = exposed_parts(buried);
+            if (parts.empty()) ++f.buried_circles;
+            for (auto [s, len] : parts) {
+                SesArc arc{};
+                arc.m[0] = float(m.x), arc.m[1] = float(m.y), arc.m[2] = float(m.z);
+                arc.rho = float(rho);
+                arc.e1[0] = float(e1.x), arc.e1[1] = float(e1.y), arc.e1[2] = float(e1.z);
+                arc.e2[0] = float(e2.x), arc.e2[1] = float(e2.y), arc.e2[2] = float(e2.z);
+                arc.start = float(s);
+                arc.length = float(len);
+                arcs.push_back(arc);
+                f.rho_max = std::max(f.rho_max, arc.rho);
+            }
+        }
+    }
+
+    // Arcs by the bin of their circle's centre (on the segment between two centres: in range).
+    std::vector<std::size_t> arc_bin(arcs.size());
+    f.arc_start.assign(f.bin_count() + 1, 0);
+    for (std::size_t k = 0; k < arcs.size(); ++k) {
+        int cell[3];
+        arc_bin[k] = bin_index(V3{arcs[k].m[0], arcs[k].m[1], arcs[k].m[2]}, cell);
+        ++f.arc_start[arc_bin[k] + 1];
+    }
+    for (std::size_t b = 0; b < f.bin_count(); ++b) f.arc_start[b + 1] += f.arc_start[b];
+    f.arcs.resize(arcs.size());
+    std::vector<std::uint32_t> fill(f.arc_start.begin(), f.arc_start.end() - 1);
+    for (std::size_t k = 0; k < arcs.size(); ++k) f.arcs[fill[arc_bin[k]]++] = arcs[k];
+    return f;
+}
+
+}  // namespace fdmsurf::detail
