@@ -127,8 +127,9 @@ double ses_distance(const SesFeatures& f, const double p_in[3], double d_max, do
             if (exposed) best = face, nearest = q, found = true;
         }
     });
-    if (found && best > 0.0)
-        set_gradient((1.0 / best) * (p - nearest));
+    const double len = norm(p - nearest);
+    if (found && len > 0.0)
+        set_gradient((1.0 / len) * (p - nearest));
     else
         set_gradient({0, 0, 0});
     return best;

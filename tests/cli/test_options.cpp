@@ -331,10 +331,11 @@ TEST(CliOptions, PaperSettingsUnlessGivenExplicitly) {
 TEST(CliOptions, HelpNamesEveryOptionAndExitCode) {
     const std::string help = fdmsurf::cli::usage_text();
     for (const char* option :
-         {"--surface", "--spacing", "--probe",        "--cutoff",     "--sigma",     "--level",
-          "--filter",  "--padding", "--model",        "--waters",     "--hydrogens", "--no-ligands",
-          "--format",  "--device",  "--list-devices", "--stats",      "--quiet",     "--validation",
-          "--help",    "--version", "--models all",   "--assembly N", "-o"}) {
+         {"--surface",    "--spacing",    "--probe",      "--cutoff",        "--sigma",
+          "--level",      "--filter",     "--padding",    "--model",         "--waters",
+          "--hydrogens",  "--no-ligands", "--format",     "--device",        "--list-devices",
+          "--stats",      "--quiet",      "--validation", "--help",          "--version",
+          "--models all", "--assembly N", "-o",           "--method fdm|edt"}) {
         EXPECT_TRUE(contains(help, option)) << option;
     }
     for (const char* text : {"Exit codes", "default 0.5", "default 1.4", "default 3", "Å", "1/Å",
@@ -361,6 +362,36 @@ TEST(CliOptions, SurfaceNamesRoundTrip) {
         const std::string name = fdmsurf::cli::surface_name(kind);
         EXPECT_EQ(parse_with({"--surface", name}).surface.surface, kind) << name;
     }
+}
+
+}  // namespace
+
+namespace {
+
+using fdmsurf::SesMethod;
+
+TEST(CliOptions, SesMethods) {
+    EXPECT_EQ(parse_with({}).surface.method, SesMethod::Fdm);
+    EXPECT_EQ(parse_with({"--method", "edt"}).surface.method, SesMethod::Edt);
+    EXPECT_EQ(parse_with({"--method=fdm"}).surface.method, SesMethod::Fdm);
+    // The exact SES keeps every cavity unless told otherwise.
+    EXPECT_LT(parse_with({"--method", "edt"}).surface.min_cavity_volume, 0.0f);
+    EXPECT_TRUE(contains(parse_error_with({"--method", "msms"}), "fdm or edt"));
+}
+
+TEST(CliOptions, EdtRefusesWhatOnlyTheFdmMethodHas) {
+    EXPECT_TRUE(
+        contains(parse_error_with({"--method", "edt", "--surface", "vdw"}), "--surface vdw"));
+    EXPECT_TRUE(contains(parse_error_with({"--method", "edt", "--paper"}), "--paper"));
+    for (const char* option : {"--cutoff", "--sigma", "--level"})
+        EXPECT_TRUE(contains(parse_error_with({"--method", "edt", option, "0.5"}), option))
+            << option;
+    EXPECT_TRUE(contains(parse_error_with({"--filter", "ideal", "--method", "edt"}), "--filter"));
+    // What both methods share is accepted.
+    const CliOptions o = parse_with({"--method", "edt", "--probe", "1.2", "--spacing", "0.4",
+                                     "--refine", "1", "--no-cavities"});
+    EXPECT_EQ(o.surface.probe, 1.2f);
+    EXPECT_EQ(o.surface.refine, 1);
 }
 
 }  // namespace

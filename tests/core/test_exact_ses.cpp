@@ -1,0 +1,208 @@
+// The exact SES (--method edt) end to end: analytic one- and two-sphere surfaces, crambin against
+// NanoShaper's analytical SES, cavities, slabs and refinement onto the exact distance.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <numbers>
+#include <string>
+
+#include "fdmsurf/compare.hpp"
+#include "fdmsurf/error.hpp"
+#include "fdmsurf/mesh.hpp"
+#include "fdmsurf/structure.hpp"
+#include "fdmsurf/surface.hpp"
+#include "grid/grid_plan.hpp"
+#include "support/gpu_fixture.hpp"
+#include "support/mesh_checks.hpp"
+
+namespace {
+
+using fdmsurf::Atoms;
+using fdmsurf::CompareResult;
+using fdmsurf::MeshStats;
+using fdmsurf::SesMethod;
+using fdmsurf::SurfaceOptions;
+using fdmsurf::SurfaceResult;
+
+constexpr double kPi = std::numbers::pi;
+
+std::string data_path(const std::string& name) {
+    return std::string(FDMSURF_TEST_DATA_DIR) + "/" + name;
+}
+
+Atoms make_atoms(std::initializer_list<std::array<float, 4>> balls) {
+    Atoms a;
+    for (const auto& b : balls) {
+        a.xyz.insert(a.xyz.end(), {b[0], b[1], b[2]});
+        a.radius.push_back(b[3]);
+    }
+    return a;
+}
+
+// Area and volume of the SES of two balls (radii r1, r2, centres D apart on the z axis, probe
+// p) when the probe rolling around their contact stays off the axis: a surface of revolution
+// whose profile is an arc of circle 1, the probe's concave arc and an arc of circle 2. Area
+// = ∫ 2π ρ ds and volume = ∫ π ρ² dz along the profile, by the midpoint rule on 2e5 steps per
+// arc (the arcs are exact; the quadrature error is below 1e-9 relative).
+struct Revolution {
+    double area = 0.0, volume = 0.0;
+};
+Revolution two_ball_ses(double r1, double r2, double D, double p) {
+    const double zp = ((r1 + p) * (r1 + p) - (r2 + p) * (r2 + p) + D * D) / (2.0 * D);
+    const double rp = std::sqrt((r1 + p) * (r1 + p) - zp * zp);
+    EXPECT_GT(rp, p) << "the probe would cross the axis";
+    Revolution out;
+    // Arc of centre (cz, 0)-plane point (cz, cr), radius r, angle a0 -> a1 (z grows along it).
+    auto arc = [&](double cz, double cr, double r, double a0, double a1) {
+        const int n = 200000;
+        const double da = (a1 - a0) / n;
+        for (int i = 0; i < n; ++i) {
+            const double a = a0 + (i + 0.5) * da;
+            const double z0 = cz + r * std::cos(a0 + i * da),
+                         z1 = cz + r * std::cos(a0 + (i + 1) * da);
+            const double rho = cr + r * std::sin(a);
+            out.area += 2.0 * kPi * rho * r * std::abs(da);
+            out.volume += kPi * rho * rho * (z1 - z0);
+        }
+    };
+    // Contact points: on each sphere towards the probe centre.
+    const double t1 = std::atan2(rp, zp);       // angle of the contact on sphere 1
+    const double t2 = std::atan2(rp, zp - D);   // on sphere 2
+    const double s1 = std::atan2(-rp, -zp);     // angle of contact 1 seen from the probe centre
+    const double s2 = std::atan2(-rp, D - zp);  // of contact 2
+    arc(0.0, 0.0, r1, kPi, t1);                 // sphere 1 from its far pole to the contact
+    arc(zp, rp, p, s1 + 2.0 * kPi, s2 + 2.0 * kPi);  // the probe's arc, under its centre
+    arc(D, 0.0, r2, t2, 0.0);                        // sphere 2 from the contact to its far pole
+    return out;
+}
+
+class ExactSes : public GpuTest {
+protected:
+    static const Atoms& crambin() {
+        static const Atoms atoms = fdmsurf::read_structure(data_path("1crn.xyzr")).atoms;
+        return atoms;
+    }
+    static const fdmsurf::Mesh& nanoshaper() {
+        static const fdmsurf::Mesh mesh =
+            fdmsurf::read_mesh_any(data_path("1crn-ses-nanoshaper.ply.gz"));
+        return mesh;
+    }
+    static CompareResult against_reference(const SurfaceResult& r, double spacing) {
+        fdmsurf::CompareOptions o;
+        o.spacing = spacing;
+        return fdmsurf::compare_meshes(nanoshaper(), r.mesh, o);
+    }
+};
+
+TEST_F(ExactSes, OneBallIsItsOwnSes) {
+    // The probe rolls over one ball without touching anything else: the SES is the ball. At
+    // 0.25 Å the marching-cubes chords lose (measured on lavapipe) 0.61% of the area and 1.16%
+    // of the volume; refined once onto the exact distance, 0.12% and 0.29%.
+    const Atoms atoms = make_atoms({{0.3f, -0.2f, 0.1f, 1.8f}});
+    const double area = 4.0 * kPi * 1.8 * 1.8, volume = 4.0 / 3.0 * kPi * 1.8 * 1.8 * 1.8;
+    for (int refine : {0, 1}) {
+        const SurfaceResult r = engine().make_surface(
+            atoms, SurfaceOptions{.method = SesMethod::Edt, .spacing = 0.25f, .refine = refine});
+        ASSERT_TRUE(IsClosedManifold(r.mesh));
+        const MeshStats s = fdmsurf::compute_stats(r.mesh);
+        std::printf("  one ball, refine %d: dA %+.3f%%, dV %+.3f%%\n", refine,
+                    100.0 * (s.area / area - 1.0), 100.0 * (s.volume / volume - 1.0));
+        EXPECT_NEAR(s.area, area, (refine == 0 ? 0.01 : 0.003) * area);
+        EXPECT_NEAR(s.volume, volume, (refine == 0 ? 0.015 : 0.004) * volume);
+        EXPECT_EQ(s.pieces, 1u);
+    }
+}
+
+TEST_F(ExactSes, TwoBallsGetTheirToroidalPatch) {
+    // Radii 1.7 and 1.5 Å, 3.6 Å apart, probe 1.4 Å: the probe touches both, and the SES has a
+    // concave toroidal band between the two spherical caps. Measured at 0.25 Å: dA -0.51%,
+    // dV -1.06%; refined once: -0.10%, -0.27% (the chord deficit of one ball, above: the band
+    // adds no error of its own).
+    const double r1 = 1.7, r2 = 1.5, D = 3.6, p = 1.4;
+    const Revolution exact = two_ball_ses(r1, r2, D, p);
+    // The band fills the groove: more volume than the union of the balls (minus their lens).
+    const double lens =
+        kPi * (r1 + r2 - D) * (r1 + r2 - D) *
+        (D * D + 2 * D * r2 - 3 * r2 * r2 + 2 * D * r1 + 6 * r1 * r2 - 3 * r1 * r1) / (12 * D);
+    EXPECT_GT(exact.volume, 4.0 / 3.0 * kPi * (r1 * r1 * r1 + r2 * r2 * r2) - lens + 1.0);
+    // The balls along a tilted axis, so that nothing lines up with the grid.
+    const float ux = 0.48f, uy = 0.6f, uz = 0.64f;  // unit vector
+    const Atoms atoms = make_atoms(
+        {{0.1f, 0.2f, -0.3f, float(r1)},
+         {0.1f + float(D) * ux, 0.2f + float(D) * uy, -0.3f + float(D) * uz, float(r2)}});
+    for (int refine : {0, 1}) {
+        const SurfaceResult r = engine().make_surface(
+            atoms, SurfaceOptions{.method = SesMethod::Edt, .spacing = 0.25f, .refine = refine});
+        ASSERT_TRUE(IsClosedManifold(r.mesh));
+        const MeshStats s = fdmsurf::compute_stats(r.mesh);
+        std::printf("  two balls (A %.3f, V %.3f), refine %d: dA %+.3f%%, dV %+.3f%%\n", exact.area,
+                    exact.volume, refine, 100.0 * (s.area / exact.area - 1.0),
+                    100.0 * (s.volume / exact.volume - 1.0));
+        EXPECT_NEAR(s.area, exact.area, (refine == 0 ? 0.01 : 0.003) * exact.area);
+        EXPECT_NEAR(s.volume, exact.volume, (refine == 0 ? 0.015 : 0.004) * exact.volume);
+    }
+}
+
+// Against NanoShaper's analytical SES of the same atoms and radii (tests/data), at 0.5 Å.
+// Measured on lavapipe: weighted RMSD 0.0272 Å, dA -0.95%, dV -0.19% (refine 0); 0.0090 Å,
+// -0.03%, -0.01% (refine 1). Issue 4 asks for 1% and 0.05 Å; the FDM method reaches 0.16 Å.
+TEST_F(ExactSes, CrambinMatchesTheAnalyticalSes) {
+    for (int refine : {0, 1}) {
+        const SurfaceResult r = engine().make_surface(
+            crambin(), SurfaceOptions{.method = SesMethod::Edt, .spacing = 0.5f, .refine = refine});
+        ASSERT_TRUE(IsClosedManifold(r.mesh));
+        const CompareResult c = against_reference(r, 0.5);
+        std::printf("  1crn edt refine %d: RMSD %.4f Å, dA %+.2f%%, dV %+.2f%%, Hausdorff %.3f Å\n",
+                    refine, c.rmsd_weighted, 100.0 * c.area_rel_error, 100.0 * c.volume_rel_error,
+                    c.hausdorff);
+        EXPECT_LE(c.rmsd_weighted, refine == 0 ? 0.04 : 0.015);
+        EXPECT_LE(std::abs(c.area_rel_error), refine == 0 ? 0.01 : 0.003);
+        EXPECT_LE(std::abs(c.volume_rel_error), refine == 0 ? 0.005 : 0.003);
+        EXPECT_EQ(c.share_beyond_spacing, 0.0);
+        EXPECT_LE(c.hausdorff, 0.25);
+        // The outer surface and crambin's one internal cavity, as in the reference.
+        EXPECT_EQ(fdmsurf::compute_stats(r.mesh).pieces, 2u);
+        EXPECT_EQ(r.cavities_removed, 0u);
+    }
+}
+
+TEST_F(ExactSes, NoCavitiesKeepsTheOuterSurfaceOnly) {
+    const SurfaceResult r = engine().make_surface(
+        crambin(), SurfaceOptions{.method = SesMethod::Edt,
+                                  .spacing = 0.5f,
+                                  .min_cavity_volume = std::numeric_limits<float>::infinity()});
+    EXPECT_EQ(fdmsurf::compute_stats(r.mesh).pieces, 1u);
+    EXPECT_EQ(r.cavities_removed, 1u);
+}
+
+TEST_F(ExactSes, SlabsGiveTheSameSurface) {
+    // The field is exact per point, so slabs need no overlap and change nothing.
+    const SurfaceOptions options{.method = SesMethod::Edt, .spacing = 0.5f};
+    const auto plan = fdmsurf::detail::plan_grid(crambin(), options);
+    const std::uint64_t limit = (plan.field_floats() * sizeof(float) / 3) & ~std::uint64_t(0xFFFF);
+    fdmsurf::Engine small(fdmsurf::EngineOptions{.validation = true, .max_buffer_range = limit});
+    const SurfaceResult sliced = small.make_surface(crambin(), options);
+    EXPECT_TRUE(small.take_validation_messages().empty());
+    const SurfaceResult whole = engine().make_surface(crambin(), options);
+    EXPECT_GT(sliced.grid.slabs, 2u);
+    ASSERT_TRUE(IsClosedManifold(sliced.mesh));
+    const MeshStats s = fdmsurf::compute_stats(sliced.mesh), w = fdmsurf::compute_stats(whole.mesh);
+    EXPECT_EQ(s.triangles, w.triangles);
+    EXPECT_NEAR(s.area, w.area, 1e-6 * w.area);
+    EXPECT_NEAR(s.volume, w.volume, 1e-6 * w.volume);
+}
+
+TEST_F(ExactSes, NeedsAProbe) {
+    try {
+        engine().make_surface(crambin(), SurfaceOptions{.method = SesMethod::Edt, .probe = 0.0f});
+        FAIL() << "no error";
+    } catch (const fdmsurf::Error& e) {
+        EXPECT_EQ(e.code(), fdmsurf::ErrorCode::InvalidArgument);
+        EXPECT_NE(std::string(e.what()).find("probe"), std::string::npos) << e.what();
+    }
+}
+
+}  // namespace

@@ -1,0 +1,127 @@
+// Tests of the GPU exact SES field (src/grid/ses_distance_gpu.cpp, shaders/ses_distance.comp)
+// against its CPU reference (src/grid/ses_distance_cpu.cpp) on real structures.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "fdmsurf/structure.hpp"
+#include "fdmsurf/surface.hpp"
+#include "grid/grid_plan.hpp"
+#include "grid/ses_distance_cpu.hpp"
+#include "grid/ses_features.hpp"
+#include "shader_interface.h"
+#include "support/gpu_fixture.hpp"
+
+namespace {
+
+using fdmsurf::Atoms;
+using fdmsurf::SesMethod;
+using fdmsurf::SurfaceOptions;
+using fdmsurf::detail::GridPlan;
+using fdmsurf::detail::plan_grid;
+
+std::string data_path(const std::string& name) {
+    return std::string(FDMSURF_TEST_DATA_DIR) + "/" + name;
+}
+
+// Tolerance: the shader works in float. Coordinates are ~30 Å from the origin (float ulp ~2e-6
+// Å), |p - c| and the arc distance (sqrt of sums of squares of terms up to ~6 Å) lose a few ulps
+// each, and the float atan and sin of the arc angle are good to ~1e-6 rad over a radius of
+// at most ~3.3 Å: |gpu - cpu| <= 5e-5 Å. A burial decided differently in float and double
+// (a projection within ~1e-5 Å of another sphere) changes d by less than that too: where a face
+// point is barely buried, the nearest arc point is next to it.
+constexpr double kTolerance = 5e-5;
+
+struct FieldDiff {
+    std::size_t points = 0, band = 0, bad = 0;
+    double max_diff = 0.0;
+};
+
+FieldDiff compare(const std::vector<float>& gpu, const std::vector<float>& cpu,
+                  const GridPlan& plan) {
+    FieldDiff r;
+    const auto& d = plan.info.dims;
+    for (std::uint32_t z = 0; z < d[2]; ++z)
+        for (std::uint32_t y = 0; y < d[1]; ++y)
+            for (std::uint32_t x = 0; x < d[0]; ++x) {
+                const std::size_t i = (std::size_t(z) * d[1] + y) * plan.pitch + x;
+                const double diff = std::abs(double(gpu[i]) - cpu[i]);
+                ++r.points;
+                r.band += std::abs(cpu[i]) < plan.ses_d_max;
+                r.max_diff = std::max(r.max_diff, diff);
+                r.bad += !(diff <= kTolerance);
+            }
+    return r;
+}
+
+class SesDistanceGpu : public GpuTest {};
+
+TEST_F(SesDistanceGpu, MatchesCpuReferenceOnCrambin) {
+    const Atoms atoms = fdmsurf::read_structure(data_path("1crn.xyzr")).atoms;
+    const SurfaceOptions options{.method = SesMethod::Edt, .spacing = 0.5f};
+    const GridPlan plan = plan_grid(atoms, options);
+    ASSERT_TRUE(plan.exact_ses);
+    const auto features = fdmsurf::detail::build_ses_features(atoms, options.probe);
+    const std::vector<float> cpu = fdmsurf::detail::ses_field_cpu(features, plan);
+    const std::vector<float> gpu = impl().compute_ses_field(atoms, plan, options.probe);
+    ASSERT_EQ(gpu.size(), cpu.size());
+    const FieldDiff r = compare(gpu, cpu, plan);
+    std::printf("  ses field: %zu points, %zu in the band, max |gpu - cpu| %.3g Å\n", r.points,
+                r.band, r.max_diff);
+    EXPECT_EQ(r.bad, 0u) << "max |gpu - cpu| " << r.max_diff;
+    EXPECT_GT(r.band, r.points / 10);  // the comparison covers the surface band, not only clamps
+}
+
+TEST_F(SesDistanceGpu, PerPointFallbackMatchesTheSharedLists) {
+    // The fallback (boxes whose candidates overflow shared memory) forced everywhere.
+    const Atoms atoms = fdmsurf::read_structure(data_path("1crn.xyzr")).atoms;
+    const SurfaceOptions options{.method = SesMethod::Edt, .spacing = 1.0f};
+    const GridPlan plan = plan_grid(atoms, options);
+    const std::vector<float> shared = impl().compute_ses_field(atoms, plan, options.probe);
+    const std::vector<float> global = impl().compute_ses_field(atoms, plan, options.probe, true);
+    const auto features = fdmsurf::detail::build_ses_features(atoms, options.probe);
+    const std::vector<float> cpu = fdmsurf::detail::ses_field_cpu(features, plan);
+    const FieldDiff a = compare(global, cpu, plan), b = compare(shared, cpu, plan);
+    EXPECT_EQ(a.bad, 0u) << "fallback: max |gpu - cpu| " << a.max_diff;
+    EXPECT_EQ(b.bad, 0u) << "shared lists: max |gpu - cpu| " << b.max_diff;
+}
+
+TEST_F(SesDistanceGpu, CoarseGridsOverflowIntoTheFallbackAndStayExact) {
+    // At 4 Å a 4x4x4 box spans 12 Å and its candidates (spheres within R + d_max = 3.2 + 13.4 Å)
+    // exceed kSesCapacity in hemoglobin's core: those boxes take the per-point path.
+    const Atoms atoms = fdmsurf::read_structure(data_path("4hhb.xyzr")).atoms;
+    const SurfaceOptions options{.method = SesMethod::Edt, .spacing = 4.0f};
+    const GridPlan plan = plan_grid(atoms, options);
+    const auto features = fdmsurf::detail::build_ses_features(atoms, options.probe);
+    // The shader's gather, for the box holding the grid's centre point.
+    const auto& dims = plan.info.dims;
+    float lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+        const std::uint32_t first = dims[a] / 2 / 4 * 4;
+        const std::uint32_t last = std::min(first + 3, dims[a] - 1);
+        lo[a] = plan.info.origin[a] + plan.info.spacing * float(first);
+        hi[a] = plan.info.origin[a] + plan.info.spacing * float(last);
+    }
+    std::size_t gathered = 0;
+    for (std::size_t s = 0; s < features.sphere_count(); ++s) {
+        float gap2 = 0.0f;
+        for (int a = 0; a < 3; ++a) {
+            const float c = features.spheres[4 * s + a];
+            const float g = std::max({lo[a] - c, c - hi[a], 0.0f});
+            gap2 += g * g;
+        }
+        const float r = features.spheres[4 * s + 3] + plan.ses_d_max;
+        gathered += gap2 < r * r;
+    }
+    EXPECT_GT(gathered, fdmsurf::detail::shader::kSesCapacity);
+    const std::vector<float> cpu = fdmsurf::detail::ses_field_cpu(features, plan);
+    const std::vector<float> gpu = impl().compute_ses_field(atoms, plan, options.probe);
+    const FieldDiff r = compare(gpu, cpu, plan);
+    EXPECT_EQ(r.bad, 0u) << "max |gpu - cpu| " << r.max_diff;
+}
+
+}  // namespace

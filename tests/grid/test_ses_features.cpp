@@ -1,0 +1,204 @@
+// Tests of the exact SES distance on the host (src/grid/ses_features.cpp, ses_distance_cpu.cpp):
+// arcs of simple sphere sets, analytic distances, and the binned evaluation against the
+// independent brute force on crambin.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <string>
+
+#include "fdmsurf/error.hpp"
+#include "fdmsurf/structure.hpp"
+#include "grid/ses_distance_cpu.hpp"
+#include "grid/ses_features.hpp"
+
+namespace {
+
+using fdmsurf::Atoms;
+using fdmsurf::detail::arc_distance;
+using fdmsurf::detail::build_ses_features;
+using fdmsurf::detail::ses_distance;
+using fdmsurf::detail::ses_distance_brute;
+using fdmsurf::detail::SesArc;
+using fdmsurf::detail::SesFeatures;
+
+constexpr double kPi = std::numbers::pi;
+
+std::string data_path(const std::string& name) {
+    return std::string(FDMSURF_TEST_DATA_DIR) + "/" + name;
+}
+
+Atoms make_atoms(std::initializer_list<std::array<float, 4>> balls) {
+    Atoms a;
+    for (const auto& b : balls) {
+        a.xyz.insert(a.xyz.end(), {b[0], b[1], b[2]});
+        a.radius.push_back(b[3]);
+    }
+    return a;
+}
+
+// A point of arc `a` at angle theta.
+std::array<double, 3> arc_point(const SesArc& a, double theta) {
+    std::array<double, 3> p;
+    for (int k = 0; k < 3; ++k)
+        p[k] = a.m[k] + a.rho * (std::cos(theta) * a.e1[k] + std::sin(theta) * a.e2[k]);
+    return p;
+}
+
+double dist(const std::array<double, 3>& p, const float* c) {
+    return std::sqrt((p[0] - c[0]) * (p[0] - c[0]) + (p[1] - c[1]) * (p[1] - c[1]) +
+                     (p[2] - c[2]) * (p[2] - c[2]));
+}
+
+TEST(SesFeatures, TwoBallsMeetInOneWholeCircle) {
+    // Inflated radii 3.0 and 3.0 at 3.6 Å: the circle halfway, radius sqrt(9 - 1.8^2) = 2.4.
+    const SesFeatures f =
+        build_ses_features(make_atoms({{0, 0, 0, 1.6f}, {3.6f, 0, 0, 1.6f}}), 1.4f);
+    ASSERT_EQ(f.arcs.size(), 1u);
+    EXPECT_EQ(f.circles, 1u);
+    const SesArc& a = f.arcs[0];
+    EXPECT_NEAR(a.m[0], 1.8, 1e-6);
+    EXPECT_NEAR(a.rho, 2.4, 1e-6);
+    EXPECT_NEAR(a.length, 2.0 * kPi, 1e-6);
+    EXPECT_FLOAT_EQ(f.r_max, 3.0f);
+    // From the circle's centre every point of it is rho away, and the faces' projections there
+    // are buried by the other ball: d = rho.
+    const double m[3] = {1.8, 0.0, 0.0};
+    EXPECT_NEAR(ses_distance(f, m, 10.0), 2.4, 1e-6);
+    // On the axis beyond the first centre the face of ball 1 is nearest: d = R - |p - c|.
+    const double p[3] = {-1.0, 0.0, 0.0};
+    EXPECT_NEAR(ses_distance(f, p, 10.0), 2.0, 1e-6);
+    // Outside both balls: minus the distance to the nearer.
+    const double q[3] = {-4.0, 0.0, 0.0};
+    EXPECT_NEAR(ses_distance(f, q, 10.0), -1.0, 1e-6);
+    // Clamped far inside... and far outside.
+    EXPECT_NEAR(ses_distance(f, p, 1.5), 1.5, 1e-12);
+    const double far[3] = {-20.0, 0.0, 0.0};
+    EXPECT_NEAR(ses_distance(f, far, 2.5), -2.5, 1e-12);
+}
+
+TEST(SesFeatures, AThirdBallCutsTheCircleAtThreeSpherePoints) {
+    const Atoms atoms = make_atoms({{0, 0, 0, 1.6f}, {3.6f, 0, 0, 1.6f}, {1.8f, 3.0f, 0.0f, 1.6f}});
+    const SesFeatures f = build_ses_features(atoms, 1.4f);
+    EXPECT_EQ(f.circles, 3u);
+    ASSERT_EQ(f.arcs.size(), 3u);  // each circle loses one interval to the third ball
+    for (const SesArc& a : f.arcs) {
+        EXPECT_GT(a.length, 0.0f);
+        EXPECT_LT(a.length, 2.0 * kPi);
+        // Both ends lie on all three inflated spheres (radius 3.0).
+        for (double theta : {double(a.start), double(a.start) + a.length}) {
+            const auto e = arc_point(a, theta);
+            for (std::size_t i = 0; i < 3; ++i)
+                EXPECT_NEAR(dist(e, &atoms.xyz[3 * i]), 3.0, 1e-5) << "ball " << i;
+        }
+        // The middle of the arc is outside the ball that does not make the circle.
+        const auto mid = arc_point(a, a.start + 0.5 * a.length);
+        int outside = 0;
+        for (std::size_t i = 0; i < 3; ++i) outside += dist(mid, &atoms.xyz[3 * i]) > 3.0 + 1e-6;
+        EXPECT_EQ(outside, 1);
+    }
+    // The arc distance: on the arc 0, off it the nearer end.
+    const SesArc& a = f.arcs[0];
+    const auto on = arc_point(a, a.start + 0.3 * a.length);
+    EXPECT_NEAR(arc_distance(a, on.data()), 0.0, 1e-5);
+    const auto off = arc_point(a, a.start - 0.2);  // just before the start
+    const auto end = arc_point(a, a.start);
+    const double expect = std::hypot(off[0] - end[0], off[1] - end[1], off[2] - end[2]);
+    EXPECT_NEAR(arc_distance(a, off.data()), expect, 1e-5);
+}
+
+TEST(SesFeatures, ABallInsideAnotherMakesNoCircle) {
+    const SesFeatures f =
+        build_ses_features(make_atoms({{0, 0, 0, 2.0f}, {0.3f, 0, 0, 1.0f}}), 1.4f);
+    EXPECT_EQ(f.circles, 0u);
+    EXPECT_TRUE(f.arcs.empty());
+    // The inner ball's face is buried: inside, d is the outer ball's face distance.
+    const double p[3] = {0.9, 0.0, 0.0};
+    EXPECT_NEAR(ses_distance(f, p, 10.0), 3.4 - 0.9, 1e-6);
+}
+
+TEST(SesFeatures, BadInputIsRefused) {
+    EXPECT_THROW(build_ses_features(Atoms{}, 1.4f), fdmsurf::Error);
+    EXPECT_THROW(build_ses_features(make_atoms({{0, 0, 0, 1.6f}}), 0.0f), fdmsurf::Error);
+    EXPECT_THROW(build_ses_features(make_atoms({{0, 0, 0, -1.0f}}), 1.4f), fdmsurf::Error);
+    EXPECT_THROW(build_ses_features(make_atoms({{0, NAN, 0, 1.0f}}), 1.4f), fdmsurf::Error);
+}
+
+// The binned evaluation from arcs against the brute force over faces, circles and three-sphere
+// points, at random points of crambin's surface band. Arcs are stored in float (1e-7 relative,
+// ~1e-5 Å at these coordinates), hence the tolerance.
+TEST(SesFeatures, BinnedDistanceMatchesBruteForceOnCrambin) {
+    const Atoms atoms = fdmsurf::read_structure(data_path("1crn.xyzr")).atoms;
+    const float probe = 1.4f;
+    const SesFeatures f = build_ses_features(atoms, probe);
+    EXPECT_GT(f.arcs.size(), atoms.size());
+    const double d_max = probe + 1.5;
+    std::mt19937 rng(1310);
+    std::uniform_int_distribution<std::size_t> pick(0, atoms.size() - 1);
+    std::normal_distribution<double> offset(0.0, 1.0);
+    std::size_t compared = 0, band = 0, arcs_won = 0;
+    double worst = 0.0;
+    for (int n = 0; n < 3000; ++n) {
+        // Around a random atom, about at its inflated radius: inside the balls, near their surface.
+        const std::size_t i = pick(rng);
+        double dir[3] = {offset(rng), offset(rng), offset(rng)};
+        const double len = std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+        const double r =
+            atoms.radius[i] + probe * std::uniform_real_distribution<double>(0.0, 1.6)(rng);
+        double p[3];
+        for (int k = 0; k < 3; ++k) p[k] = atoms.xyz[3 * i + k] + r * dir[k] / len;
+        const double fast = ses_distance(f, p, d_max);
+        const double brute = ses_distance_brute(atoms, probe, p, d_max);
+        worst = std::max(worst, std::abs(fast - brute));
+        ++compared;
+        band += fast > 0.0 && fast < d_max;
+        // The SES's re-entrant part: where the nearest point is not the radial projection of any
+        // single ball (checked crudely: no ball's face distance equals d).
+        bool face = false;
+        for (std::size_t k = 0; k < atoms.size() && !face; ++k) {
+            const float* c = &atoms.xyz[3 * k];
+            const double L =
+                std::sqrt((p[0] - c[0]) * (p[0] - c[0]) + (p[1] - c[1]) * (p[1] - c[1]) +
+                          (p[2] - c[2]) * (p[2] - c[2]));
+            face = std::abs(std::abs(L - (atoms.radius[k] + probe)) - fast) < 1e-6;
+        }
+        arcs_won += fast > 0.0 && fast < d_max && !face;
+        ASSERT_NEAR(fast, brute, 1e-4) << "point " << p[0] << " " << p[1] << " " << p[2];
+    }
+    std::printf("  ses distance: %zu points, %zu in the band, %zu re-entrant, max |diff| %.3g Å\n",
+                compared, band, arcs_won, worst);
+    // The sample covers the band and its re-entrant part (not only faces).
+    EXPECT_GT(band, 1000u);
+    EXPECT_GT(arcs_won, 200u);
+}
+
+TEST(SesFeatures, GradientIsTheUnitDirectionFromTheNearestPoint) {
+    const Atoms atoms = fdmsurf::read_structure(data_path("1crn.xyzr")).atoms;
+    const SesFeatures f = build_ses_features(atoms, 1.4f);
+    std::mt19937 rng(7);
+    std::uniform_int_distribution<std::size_t> pick(0, atoms.size() - 1);
+    std::size_t checked = 0;
+    for (int n = 0; n < 300; ++n) {
+        const std::size_t i = pick(rng);
+        const double p[3] = {atoms.xyz[3 * i] + 2.5, atoms.xyz[3 * i + 1] + 0.7,
+                             atoms.xyz[3 * i + 2] - 0.4};
+        double g[3];
+        const double d = ses_distance(f, p, 3.0, g);
+        if (!(std::abs(d) < 2.9)) continue;
+        // Central differences of d (smooth away from the medial axis: most points).
+        const double e = 1e-4;
+        double num[3];
+        for (int k = 0; k < 3; ++k) {
+            double a[3] = {p[0], p[1], p[2]}, b[3] = {p[0], p[1], p[2]};
+            a[k] += e, b[k] -= e;
+            num[k] = (ses_distance(f, a, 3.0) - ses_distance(f, b, 3.0)) / (2 * e);
+        }
+        const double diff = std::hypot(num[0] - g[0], num[1] - g[1], num[2] - g[2]);
+        EXPECT_NEAR(std::hypot(g[0], g[1], g[2]), 1.0, 1e-9);
+        checked += diff < 1e-3;
+    }
+    EXPECT_GT(checked, 200u);
+}
+
+}  // namespace
