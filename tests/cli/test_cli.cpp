@@ -490,3 +490,29 @@ TEST_F(CliProgram, RefineOutOfRangeIsAUsageError) {
     expect_failure(run({input, "-o", path("out.ply"), "--refine", "0.5"}), 2,
                    {"--refine", "not a whole number"});
 }
+
+TEST_F(CliProgram, ExactSesIsReportedAsTheEdtMethod) {
+    if (const auto why = no_usable_device()) {
+        if (device_required()) FAIL() << *why << "(FDMSURF_REQUIRE_DEVICE=1)";
+        GTEST_SKIP() << *why;
+    }
+    const std::string input = write_file("atoms.xyzr", kTwoAtomsXyzr);
+    const std::string output = path("edt.ply");
+    const CliRun r = run({input, "-o", output, "--stats", "json", "--method", "edt"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(r.error_lines().empty()) << r.err;
+    const auto json = parse_json(lines_of(r.out).at(0));
+    ASSERT_TRUE(json) << r.out;
+    EXPECT_EQ(json->find("method")->string, "edt");
+    EXPECT_EQ(json->find("closed_manifold")->boolean, true) << r.out;
+    EXPECT_NE(json->find("times")->find("ses-distance"), nullptr) << r.out;
+    EXPECT_EQ(json->find("times")->find("fft-forward"), nullptr) << r.out;
+    EXPECT_TRUE(fs::exists(output));
+    // The text summary names the method; FDM-only options are refused before any work.
+    const CliRun text = run({input, "-o", path("edt2.ply"), "--method", "edt"});
+    ASSERT_EQ(text.exit_code, 0) << text.err;
+    EXPECT_NE(text.out.find("ses surface (exact, edt)"), std::string::npos) << text.out;
+    expect_failure(run({input, "-o", path("edt3.ply"), "--method", "edt", "--cutoff", "0.2"}), 2,
+                   {"--cutoff", "FDM method"});
+    EXPECT_FALSE(fs::exists(path("edt3.ply")));
+}
