@@ -31,7 +31,8 @@ REF_PIECES = {"1crn": 2, "4hhb": 25}
 METHODS = {
     "fdm": ("fdm (defaults)", []),
     "fdm-refine": ("fdm + refine 1", ["--refine", "1"]),
-    "edt": ("edt", ["--method", "edt"]),
+    "edt": ("edt (exact SES)", ["--method", "edt"]),
+    "edt-refine": ("edt + refine 1", ["--method", "edt", "--refine", "1"]),
     "paper": ("fdm, paper settings", ["--paper"]),
 }
 
@@ -68,7 +69,7 @@ def main():
     ap.add_argument("--fdmsurf", default=os.path.join(ROOT, "build", "fdmsurf"))
     ap.add_argument("--structures", default="1crn,4hhb")
     ap.add_argument("--spacings", nargs="+", type=float, default=[1.0, 0.5, 0.25])
-    ap.add_argument("--methods", default="fdm,fdm-refine,edt,paper",
+    ap.add_argument("--methods", default="fdm,fdm-refine,edt,edt-refine,paper",
                     help="comma-separated: " + ", ".join(METHODS))
     ap.add_argument("--molstar", action="store_true", help="also run Mol* at each spacing")
     ap.add_argument("--json", help="write every row to this file")
