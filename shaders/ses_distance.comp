@@ -17,7 +17,9 @@ layout(local_size_x = kSesGroupX, local_size_y = kSesGroupY, local_size_z = kSes
 layout(std430, binding = 0) writeonly buffer Field { float field[]; };
 layout(std430, binding = 1) readonly buffer Spheres { vec4 spheres[]; };  // xyz, R
 layout(std430, binding = 2) readonly buffer SphereStart { uint sphere_start[]; };
-layout(std430, binding = 3) readonly buffer Arcs { vec4 arcs[]; };  // (m, rho), (e1, start), (e2, length)
+layout(std430, binding = 3) readonly buffer Arcs {
+    vec4 arcs[];
+};  // (m, rho), (e1, start), (e2, length)
 layout(std430, binding = 4) readonly buffer ArcStart { uint arc_start[]; };
 
 layout(push_constant) uniform Push { SesDistancePush pc; };
@@ -29,8 +31,10 @@ shared uint sphere_list[kSesCapacity];
 shared uint arc_list[kSesCapacity];
 shared uint sphere_count;
 shared uint arc_count;
+shared uint deep;  // 1: one ball holds the whole box d_max deep, so d = d_max throughout
 
 vec3 box_gap(vec3 c, vec3 lo, vec3 hi) { return max(max(lo - c, c - hi), vec3(0.0)); }
+vec3 box_far(vec3 c, vec3 lo, vec3 hi) { return max(abs(c - lo), abs(c - hi)); }
 
 ivec3 bin_dims() { return ivec3(pc.bin_nx, pc.bin_ny, pc.bin_nz); }
 ivec3 bin_of(vec3 p) {
@@ -39,20 +43,24 @@ ivec3 bin_of(vec3 p) {
 }
 uint bin_id(ivec3 b) { return (uint(b.z) * pc.bin_ny + uint(b.y)) * pc.bin_nx + uint(b.x); }
 
-// Distance from p to exposed arc a (mirrors arc_distance in ses_features.cpp).
-float arc_distance(uint a, vec3 p) {
+// Distance from p to exposed arc a (mirrors arc_distance in ses_features.cpp), or a value
+// >= `bound` when the arc is certainly not nearer than `bound` (cheap rejections first).
+float arc_distance(uint a, vec3 p, float bound) {
     vec4 m = arcs[3u * a];
     vec4 e1 = arcs[3u * a + 1u];
     vec4 e2 = arcs[3u * a + 2u];
     vec3 v = p - m.xyz;
-    float x = dot(v, e1.xyz), y = dot(v, e2.xyz), height = dot(v, cross(e1.xyz, e2.xyz));
+    float height = dot(v, cross(e1.xyz, e2.xyz));
+    if (abs(height) >= bound) return bound;
+    float x = dot(v, e1.xyz), y = dot(v, e2.xyz);
     float r = sqrt(x * x + y * y);
+    float rr = r - m.w;
+    if (abs(rr) >= bound) return bound;
     float rel = r > 0.0 ? atan(y, x) - e1.w : 0.0;
     rel -= kTwoPi * floor(rel / kTwoPi);
     // Off the arc, the nearer end (in angle) is the nearer point.
     float delta = rel <= e2.w ? 0.0 : min(rel - e2.w, kTwoPi - rel);
     float s = sin(0.5 * delta);
-    float rr = r - m.w;
     return sqrt(height * height + rr * rr + 4.0 * r * m.w * s * s);
 }
 
@@ -73,7 +81,7 @@ float evaluate_shared(vec3 p) {
     if (lb <= 0.0) return max(lb, -pc.d_max);
     if (lb >= pc.d_max) return pc.d_max;
     float best = pc.d_max;
-    for (uint k = 0u; k < na; ++k) best = min(best, arc_distance(arc_list[k], p));
+    for (uint k = 0u; k < na; ++k) best = min(best, arc_distance(arc_list[k], p, best));
     for (uint i = 0u; i < ns; ++i) {
         vec4 s = spheres[sphere_list[i]];
         float face = abs(distance(p, s.xyz) - s.w);
@@ -113,7 +121,7 @@ float evaluate_global(vec3 p) {
             for (int x = alo.x; x <= ahi.x; ++x) {
                 uint b = bin_id(ivec3(x, y, z));
                 for (uint k = arc_start[b]; k < arc_start[b + 1u]; ++k)
-                    best = min(best, arc_distance(k, p));
+                    best = min(best, arc_distance(k, p, best));
             }
     for (int z = lo.z; z <= hi.z; ++z)
         for (int y = lo.y; y <= hi.y; ++y)
@@ -130,7 +138,8 @@ float evaluate_global(vec3 p) {
                         for (int qy = qlo.y; qy <= qhi.y && exposed; ++qy)
                             for (int qx = qlo.x; qx <= qhi.x && exposed; ++qx) {
                                 uint c = bin_id(ivec3(qx, qy, qz));
-                                for (uint k = sphere_start[c]; k < sphere_start[c + 1u] && exposed; ++k) {
+                                for (uint k = sphere_start[c]; k < sphere_start[c + 1u] && exposed;
+                                     ++k) {
                                     if (k == i) continue;
                                     vec3 w = q - spheres[k].xyz;
                                     exposed = dot(w, w) >= spheres[k].w * spheres[k].w;
@@ -154,6 +163,7 @@ void main() {
     if (t == 0u) {
         sphere_count = 0u;
         arc_count = 0u;
+        deep = 0u;
     }
     barrier();
     // Candidates: spheres within R + d_max of the box, arcs within rho + d_max.
@@ -169,32 +179,54 @@ void main() {
             vec3 gap = box_gap(s.xyz, box_lo, box_hi);
             float r = s.w + pc.d_max;
             if (dot(gap, gap) >= r * r) continue;
+            vec3 far = box_far(s.xyz, box_lo, box_hi);
+            float inner = s.w - pc.d_max;
+            if (inner > 0.0 && dot(far, far) <= inner * inner) deep = 1u;
             uint slot = atomicAdd(sphere_count, 1u);
             if (slot < kSesCapacity) sphere_list[slot] = i;
         }
     }
-    reach = pc.rho_max + pc.d_max;
-    b_lo = bin_of(box_lo - reach);
-    b_hi = bin_of(box_hi + reach);
-    b_n = b_hi - b_lo + 1;
-    bins = uint(b_n.x * b_n.y * b_n.z);
-    for (uint k = t; k < bins; k += kGroupSize) {
-        ivec3 b = b_lo + ivec3(int(k) % b_n.x, (int(k) / b_n.x) % b_n.y, int(k) / (b_n.x * b_n.y));
-        uint id = bin_id(b);
-        for (uint a = arc_start[id]; a < arc_start[id + 1u]; ++a) {
-            vec4 m = arcs[3u * a];
-            vec3 gap = box_gap(m.xyz, box_lo, box_hi);
-            float r = m.w + pc.d_max;
-            if (dot(gap, gap) >= r * r) continue;
-            uint slot = atomicAdd(arc_count, 1u);
-            if (slot < kSesCapacity) arc_list[slot] = a;
+    barrier();
+    // Arcs within d_max of the box: near the circle's bounding ball, not wholly inside the ball
+    // of radius rho - d_max around its centre, and within d_max of its plane. A deep box skips
+    // this (deep is read after the barrier: the same for the whole workgroup).
+    if (deep == 0u) {
+        vec3 centre = 0.5 * (box_lo + box_hi), half_extent = 0.5 * (box_hi - box_lo);
+        reach = pc.rho_max + pc.d_max;
+        b_lo = bin_of(box_lo - reach);
+        b_hi = bin_of(box_hi + reach);
+        b_n = b_hi - b_lo + 1;
+        bins = uint(b_n.x * b_n.y * b_n.z);
+        for (uint k = t; k < bins; k += kGroupSize) {
+            ivec3 b =
+                b_lo + ivec3(int(k) % b_n.x, (int(k) / b_n.x) % b_n.y, int(k) / (b_n.x * b_n.y));
+            uint id = bin_id(b);
+            for (uint a = arc_start[id]; a < arc_start[id + 1u]; ++a) {
+                vec4 m = arcs[3u * a];
+                vec3 gap = box_gap(m.xyz, box_lo, box_hi);
+                float r = m.w + pc.d_max;
+                if (dot(gap, gap) >= r * r) continue;
+                vec3 far = box_far(m.xyz, box_lo, box_hi);
+                float inner = m.w - pc.d_max;
+                if (inner > 0.0 && dot(far, far) < inner * inner) continue;
+                vec3 axis = cross(arcs[3u * a + 1u].xyz, arcs[3u * a + 2u].xyz);
+                if (abs(dot(centre - m.xyz, axis)) - dot(half_extent, abs(axis)) >= pc.d_max)
+                    continue;
+                uint slot = atomicAdd(arc_count, 1u);
+                if (slot < kSesCapacity) arc_list[slot] = a;
+            }
         }
     }
     barrier();
 
     if (any(greaterThanEqual(g, uvec3(pc.nx, pc.ny, pc.nz)))) return;
+    uint at = (g.z * pc.ny + g.y) * pc.pitch + g.x;
+    if (deep != 0u) {
+        field[at] = pc.d_max;
+        return;
+    }
     vec3 p = origin + pc.spacing * vec3(g);
     bool overflow = sphere_count > kSesCapacity || arc_count > kSesCapacity;
     float value = (overflow || pc.force_global != 0u) ? evaluate_global(p) : evaluate_shared(p);
-    field[(g.z * pc.ny + g.y) * pc.pitch + g.x] = value;
+    field[at] = value;
 }

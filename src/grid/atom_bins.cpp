@@ -19,7 +19,8 @@ AtomBins bin_atoms(const Atoms& atoms, const GridPlan& plan) {
     for (int a = 0; a < 3; ++a) {
         bins.origin[a] = g.origin[a];
         float extent = (g.dims[a] - 1) * g.spacing;
-        bins.dims[a] = std::max<std::uint32_t>(1, static_cast<std::uint32_t>(std::floor(extent / bins.size)) + 1);
+        bins.dims[a] = std::max<std::uint32_t>(
+            1, static_cast<std::uint32_t>(std::floor(extent / bins.size)) + 1);
     }
     float reach = std::sqrt(plan.density.pi_cut + bins.r2_max);
     bins.max_shell = static_cast<std::uint32_t>(std::ceil(reach / bins.size)) + 1;

@@ -11,9 +11,9 @@ namespace fdmsurf::detail {
 
 struct AtomBins {
     float origin[3] = {0, 0, 0};
-    float size = 0.0f;                 // bin edge, Å
+    float size = 0.0f;  // bin edge, Å
     std::uint32_t dims[3] = {0, 0, 0};
-    std::uint32_t max_shell = 0;       // shells beyond this hold only atoms with pi > pi_cut
+    std::uint32_t max_shell = 0;  // shells beyond this hold only atoms with pi > pi_cut
     float r2_max = 0.0f;
     std::vector<float> atoms;          // x, y, z, r² per atom, grouped by bin
     std::vector<std::uint32_t> start;  // bin b holds atoms[start[b] .. start[b+1])

@@ -10,7 +10,8 @@ namespace fdmsurf::detail {
 
 DensityPass::DensityPass(Context& ctx) : ctx_(ctx) {
     ShaderCode code = shader_code(Shader::Density);
-    pipeline_ = ComputePipeline(ctx, code.words, code.bytes, 4, sizeof(shader::DensityPush), "density");
+    pipeline_ =
+        ComputePipeline(ctx, code.words, code.bytes, 4, sizeof(shader::DensityPush), "density");
 }
 
 void DensityPass::record(Commands& cmds, StagingArena& arena, const AtomBins& bins,
@@ -19,8 +20,9 @@ void DensityPass::record(Commands& cmds, StagingArena& arena, const AtomBins& bi
                            "atoms");
     start_ = upload_buffer(ctx_, cmds, arena, bins.start.data(),
                            bins.start.size() * sizeof(std::uint32_t), "bin_start");
-    first_shell_ = upload_buffer(ctx_, cmds, arena, bins.first_shell.data(),
-                                 bins.first_shell.size() * sizeof(std::uint32_t), "bin_first_shell");
+    first_shell_ =
+        upload_buffer(ctx_, cmds, arena, bins.first_shell.data(),
+                      bins.first_shell.size() * sizeof(std::uint32_t), "bin_first_shell");
     cmds.barrier_compute();
     const GridInfo& g = plan.info;
     shader::DensityPush p{};
@@ -46,7 +48,8 @@ void DensityPass::record(Commands& cmds, StagingArena& arena, const AtomBins& bi
     p.level_t = plan.density.level_t;
     auto groups = [](std::uint32_t n, std::uint32_t g) { return (n + g - 1) / g; };
     cmds.dispatch(pipeline_, {whole(field), whole(atoms_), whole(start_), whole(first_shell_)}, &p,
-                  groups(g.dims[0], shader::kDensityGroupX), groups(g.dims[1], shader::kDensityGroupY),
+                  groups(g.dims[0], shader::kDensityGroupX),
+                  groups(g.dims[1], shader::kDensityGroupY),
                   groups(g.dims[2], shader::kDensityGroupZ));
     cmds.mark("density");
     cmds.barrier_compute();

@@ -12,17 +12,22 @@ namespace fdmsurf {
 
 const char* to_string(SurfaceKind kind) noexcept {
     switch (kind) {
-        case SurfaceKind::Ses: return "ses";
-        case SurfaceKind::Vdw: return "vdw";
-        case SurfaceKind::Sas: return "sas";
+        case SurfaceKind::Ses:
+            return "ses";
+        case SurfaceKind::Vdw:
+            return "vdw";
+        case SurfaceKind::Sas:
+            return "sas";
     }
     return "?";
 }
 
 const char* to_string(SesMethod method) noexcept {
     switch (method) {
-        case SesMethod::Fdm: return "fdm";
-        case SesMethod::Edt: return "edt";
+        case SesMethod::Fdm:
+            return "fdm";
+        case SesMethod::Edt:
+            return "edt";
     }
     return "?";
 }
@@ -41,8 +46,7 @@ float effective_cutoff(const SurfaceOptions& o) {
         bad("level must be a positive multiple of T, or 0 for the default (got " +
             std::to_string(o.level) + ")");
     if (std::isnan(o.padding)) bad("padding must be a number of Å");
-    if (!(o.density_cut > 0.0f && o.density_cut < 1.0f))
-        bad("density cut must lie in (0, 1)");
+    if (!(o.density_cut > 0.0f && o.density_cut < 1.0f)) bad("density cut must lie in (0, 1)");
     if (o.surface != SurfaceKind::Ses) return 0.0f;
     if (o.method == SesMethod::Edt) {
         if (o.probe <= 0.0f)

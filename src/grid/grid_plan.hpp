@@ -13,24 +13,22 @@ namespace fdmsurf::detail {
 // taken as 0 where pi > pi_cut (G below density_cut * T).
 struct DensityParams {
     float sigma = 3.0f;
-    float level_t = 1.0f;  // T
-    float pi_cut = 0.0f;   // sigma^2 ln(1 / density_cut)
+    float level_t = 1.0f;     // T
+    float pi_cut = 0.0f;      // sigma^2 ln(1 / density_cut)
     float radius_add = 0.0f;  // added to every radius (the probe, for sas)
 };
 
 struct GridPlan {
     GridInfo info;
-    std::uint32_t pitch = 0;     // floats per x row in the field buffer: 2 (nx/2 + 1)
-    bool filtered = false;       // ses: FFT low-pass
+    std::uint32_t pitch = 0;  // floats per x row in the field buffer: 2 (nx/2 + 1)
+    bool filtered = false;    // ses: FFT low-pass
     DensityParams density;
-    float iso = 1.0f;            // iso-level of the field, absolute
+    float iso = 1.0f;  // iso-level of the field, absolute
     // --method edt: the field is the exact SES distance (ses_distance.comp), clamped to
     // [-ses_d_max, ses_d_max], iso = probe; not filtered, linear interpolation.
     bool exact_ses = false;
     float ses_d_max = 0.0f;
-    std::size_t points() const {
-        return std::size_t(info.dims[0]) * info.dims[1] * info.dims[2];
-    }
+    std::size_t points() const { return std::size_t(info.dims[0]) * info.dims[1] * info.dims[2]; }
     std::size_t field_floats() const { return std::size_t(pitch) * info.dims[1] * info.dims[2]; }
 };
 

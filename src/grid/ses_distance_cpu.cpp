@@ -100,7 +100,7 @@ double ses_distance(const SesFeatures& f, const double p_in[3], double d_max, do
     for_bins(f, bins_near(f, p, f.rho_max + d_max), [&](std::size_t b) {
         for (std::uint32_t a = f.arc_start[b]; a < f.arc_start[b + 1]; ++a) {
             double q[3];
-            const double d = arc_distance(f.arcs[a], p_in, q);
+            const double d = arc_distance(f.arcs[a], p_in, q, best);
             if (d < best) best = d, nearest = {q[0], q[1], q[2]}, found = true;
         }
     });

@@ -68,13 +68,16 @@ std::vector<std::pair<double, double>> exposed_parts(
 
 }  // namespace
 
-double arc_distance(const SesArc& arc, const double p[3], double* nearest) {
+double arc_distance(const SesArc& arc, const double p[3], double* nearest, double bound) {
     const V3 m{arc.m[0], arc.m[1], arc.m[2]};
     const V3 e1{arc.e1[0], arc.e1[1], arc.e1[2]};
     const V3 e2{arc.e2[0], arc.e2[1], arc.e2[2]};
     const V3 v = V3{p[0], p[1], p[2]} - m;
-    const double a = dot(v, e1), b = dot(v, e2), height = dot(v, cross(e1, e2));
+    const double height = dot(v, cross(e1, e2));
+    if (std::abs(height) >= bound) return bound;
+    const double a = dot(v, e1), b = dot(v, e2);
     const double r = std::sqrt(a * a + b * b);
+    if (std::abs(r - arc.rho) >= bound) return bound;
     double rel = r > 0.0 ? std::atan2(b, a) - arc.start : 0.0;
     rel -= kTwoPi * std::floor(rel / kTwoPi);
     // Off the arc, the nearer end (in angle) is the nearer point.

@@ -12,6 +12,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "fdmsurf/structure.hpp"
@@ -55,7 +56,10 @@ struct SesFeatures {
 SesFeatures build_ses_features(const Atoms& atoms, float probe);
 
 // The distance from p to the exposed arc `a` (double precision; the shader mirrors it), and,
-// with `nearest` not null, the arc's point at that distance.
-double arc_distance(const SesArc& a, const double p[3], double* nearest = nullptr);
+// with `nearest` not null, the arc's point at that distance. When the arc is certainly not
+// nearer than `bound` (by the distance to its plane or to its circle's cylinder), returns
+// `bound` at once and leaves `nearest` alone.
+double arc_distance(const SesArc& a, const double p[3], double* nearest = nullptr,
+                    double bound = std::numeric_limits<double>::infinity());
 
 }  // namespace fdmsurf::detail

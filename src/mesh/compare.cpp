@@ -22,6 +22,7 @@
 
 #include "fdmsurf/error.hpp"
 #include "mesh/compare_detail.hpp"
+#include "mesh/parallel.hpp"
 #include "mesh/union_find.hpp"
 
 namespace fdmsurf {
@@ -49,37 +50,6 @@ std::array<Vec3, 3> corners(const CleanMesh& mesh, std::size_t t) {
 double triangle_area(const std::array<Vec3, 3>& v) {
     const Vec3 x = cross(sub(v[1], v[0]), sub(v[2], v[0]));
     return 0.5 * std::sqrt(dot(x, x));
-}
-
-unsigned thread_count(unsigned requested) {
-    if (requested != 0) return requested;
-    return std::clamp(std::thread::hardware_concurrency(), 1u, 64u);
-}
-
-// Runs body(i) for i in [0, count) on up to `threads` threads, chunks taken in order; rethrows
-// the first exception.
-void parallel_chunks(std::size_t count, unsigned threads,
-                     const std::function<void(std::size_t)>& body) {
-    threads = unsigned(std::min<std::size_t>(threads, count));
-    if (threads <= 1) {
-        for (std::size_t i = 0; i < count; ++i) body(i);
-        return;
-    }
-    std::atomic<std::size_t> next{0};
-    std::atomic<bool> failed{false};
-    std::exception_ptr error;
-    auto work = [&] {
-        try {
-            for (std::size_t i; !failed && (i = next++) < count;) body(i);
-        } catch (...) {
-            if (!failed.exchange(true)) error = std::current_exception();
-        }
-    };
-    std::vector<std::thread> pool;
-    for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work);
-    work();
-    for (std::thread& t : pool) t.join();
-    if (error) std::rethrow_exception(error);
 }
 
 // Runs a() here and b() on another thread when `parallel`; rethrows a's exception, else b's.

@@ -12,6 +12,7 @@
 
 #include "fdmsurf/error.hpp"
 #include "mesh/mesh_validate.hpp"
+#include "mesh/parallel.hpp"
 
 namespace fdmsurf::detail {
 namespace {
@@ -230,7 +231,7 @@ Stencil edge_stencil(const HalfEdges& he, const std::vector<Index>& idx, Index e
     return s;
 }
 
-Vec3 apply(const Stencil& s, const std::vector<float>& xyz) {
+Vec3 apply_stencil(const Stencil& s, const std::vector<float>& xyz) {
     Vec3 p{};
     for (int i = 0; i < s.n; ++i)
         for (int k = 0; k < 3; ++k) p[k] += s.w[i] * double(xyz[3 * std::size_t(s.v[i]) + k]);
@@ -345,14 +346,14 @@ void subdivide_butterfly(Mesh& mesh, ButterflyOffset offset) {
     if (normals) std::copy(mesh.normals.begin(), mesh.normals.end(), out_normals.begin());
     for (Index e = 0; e < ne; ++e) {
         const Stencil s = edge_stencil(he, idx, e);
-        Vec3 p = apply(s, mesh.positions);
+        Vec3 p = apply_stencil(s, mesh.positions);
         Vec3 edge_normal{};
         if (offset == ButterflyOffset::Normal) p = along_normal(mesh, he, e, p, edge_normal);
         for (int k = 0; k < 3; ++k) positions[3 * (nv + e) + k] = float(p[k]);
         if (!normals) continue;
         Vec3 n = offset == ButterflyOffset::Normal && dot(edge_normal, edge_normal) > 0.0
                      ? edge_normal
-                     : apply(s, mesh.normals);
+                     : apply_stencil(s, mesh.normals);
         double len = std::sqrt(dot(n, n));
         if (!(len > 1e-12)) {  // the stencil cancelled out: the ends' mean
             const Index a = idx[he.first[e]], b = idx[next_he(he.first[e])];
@@ -624,41 +625,59 @@ Vec3 vertex(const Mesh& mesh, std::size_t v) {
 
 ProjectStats project_onto_field(Mesh& mesh, std::size_t first, const SurfaceField& field,
                                 const ProjectOptions& options) {
-    ProjectStats stats;
-    for (std::size_t v = first; v < mesh.vertex_count(); ++v) {
-        Vec3 out;
-        if (options.along_normals && mesh.normals.size() == 3 * mesh.vertex_count()) {
-            const Vec3 dir{mesh.normals[3 * v], mesh.normals[3 * v + 1], mesh.normals[3 * v + 2]};
-            const double len = std::sqrt(dot(dir, dir));
-            if (len > 0.5) {
-                const Vec3 unit{dir[0] / len, dir[1] / len, dir[2] / len};
-                const LineOutcome o = newton_on_line(field, vertex(mesh, v), unit, options, out);
-                if (o == LineOutcome::Converged) {
+    // Vertices are independent: chunks of them on all threads, each chunk with its own counts.
+    constexpr std::size_t kChunk = 512;
+    const std::size_t nv = mesh.vertex_count();
+    const std::size_t chunks = first < nv ? (nv - first + kChunk - 1) / kChunk : 0;
+    std::vector<ProjectStats> per_chunk(chunks);
+    const bool along = options.along_normals && mesh.normals.size() == 3 * nv;
+    parallel_chunks(chunks, thread_count(), [&](std::size_t c) {
+        ProjectStats& stats = per_chunk[c];
+        const std::size_t end = std::min(nv, first + (c + 1) * kChunk);
+        for (std::size_t v = first + c * kChunk; v < end; ++v) {
+            Vec3 out;
+            if (along) {
+                const Vec3 dir{mesh.normals[3 * v], mesh.normals[3 * v + 1],
+                               mesh.normals[3 * v + 2]};
+                const double len = std::sqrt(dot(dir, dir));
+                if (len > 0.5) {
+                    const Vec3 unit{dir[0] / len, dir[1] / len, dir[2] / len};
+                    const LineOutcome o =
+                        newton_on_line(field, vertex(mesh, v), unit, options, out);
+                    if (o == LineOutcome::Converged) {
+                        for (int a = 0; a < 3; ++a) mesh.positions[3 * v + a] = float(out[a]);
+                        ++stats.projected;
+                        continue;
+                    }
+                    if (o == LineOutcome::Outside) {
+                        ++stats.outside_field;
+                        continue;
+                    }
+                    ++stats.off_normal;  // grazing or not converged on the line: along the gradient
+                }
+            }
+            switch (newton(field, vertex(mesh, v), options, out)) {
+                case Outcome::Converged:
                     for (int a = 0; a < 3; ++a) mesh.positions[3 * v + a] = float(out[a]);
                     ++stats.projected;
-                    continue;
-                }
-                if (o == LineOutcome::Outside) {
+                    break;
+                case Outcome::NotConverged:
+                    ++stats.not_converged;
+                    break;
+                case Outcome::Outside:
                     ++stats.outside_field;
-                    continue;
-                }
-                ++stats.off_normal;  // grazing or not converged on the line: along the gradient
+                    break;
             }
         }
-        switch (newton(field, vertex(mesh, v), options, out)) {
-            case Outcome::Converged:
-                for (int a = 0; a < 3; ++a) mesh.positions[3 * v + a] = float(out[a]);
-                ++stats.projected;
-                break;
-            case Outcome::NotConverged:
-                ++stats.not_converged;
-                break;
-            case Outcome::Outside:
-                ++stats.outside_field;
-                break;
-        }
+    });
+    ProjectStats total;
+    for (const ProjectStats& s : per_chunk) {
+        total.projected += s.projected;
+        total.not_converged += s.not_converged;
+        total.outside_field += s.outside_field;
+        total.off_normal += s.off_normal;
     }
-    return stats;
+    return total;
 }
 
 void normals_from_field(Mesh& mesh, const SurfaceField& field, std::size_t first,
@@ -686,14 +705,20 @@ void normals_from_field(Mesh& mesh, const SurfaceField& field, std::size_t first
                 for (int a = 0; a < 3; ++a) mesh.normals[3 * v + a] = float(n[a] / len);
         }
     }
-    for (std::size_t v = first; v < last; ++v) {
-        double value = 0.0;
-        Vec3 g;
-        if (!field.sample(vertex(mesh, v), value, g)) continue;
-        const double len = std::sqrt(dot(g, g));
-        if (!(len > 0.0) || !std::isfinite(len)) continue;
-        for (int a = 0; a < 3; ++a) mesh.normals[3 * v + a] = float(field.outward() * g[a] / len);
-    }
+    constexpr std::size_t kChunk = 1024;
+    const std::size_t chunks = first < last ? (last - first + kChunk - 1) / kChunk : 0;
+    parallel_chunks(chunks, thread_count(), [&](std::size_t c) {
+        const std::size_t end = std::min(last, first + (c + 1) * kChunk);
+        for (std::size_t v = first + c * kChunk; v < end; ++v) {
+            double value = 0.0;
+            Vec3 g;
+            if (!field.sample(vertex(mesh, v), value, g)) continue;
+            const double len = std::sqrt(dot(g, g));
+            if (!(len > 0.0) || !std::isfinite(len)) continue;
+            for (int a = 0; a < 3; ++a)
+                mesh.normals[3 * v + a] = float(field.outward() * g[a] / len);
+        }
+    });
 }
 
 RefineStats refine_mesh(Mesh& mesh, int levels, const SurfaceField* field,
