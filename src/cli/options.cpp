@@ -486,7 +486,8 @@ Surface:
                          all cavities kept (options given explicitly still apply)
   --no-cavities          keep only outer surfaces: remove every cavity
   --min-cavity-volume V  remove cavities enclosing less than V Å³ (>= 0; default:
-                         the volume of one probe sphere for fdm, 0 otherwise)
+                         for fdm, remove the cavities no probe sphere fits in; for
+                         edt, vdw and sas keep all)
   --padding P            empty space around the atoms, Å (>= 0; default one filter
                          wavelength 1/F for ses, 1 Å for vdw and sas)
   --refine N             refine the mesh N times (0 to 4, default 0): each level

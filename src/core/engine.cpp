@@ -14,6 +14,7 @@
 #include "grid/ses_features.hpp"
 #include "isosurface/marching_cubes_gpu.hpp"
 #include "isosurface/slab_stitch.hpp"
+#include "mesh/cavities.hpp"
 #include "mesh/refine.hpp"
 #include "vulkan/check.hpp"
 #include "vulkan/commands.hpp"
@@ -364,18 +365,22 @@ Engine& Engine::operator=(Engine&&) noexcept = default;
 
 SurfaceResult Engine::make_surface(const Atoms& atoms, const SurfaceOptions& options) {
     SurfaceResult result = impl_->run(atoms, options);
-    double min_volume = options.min_cavity_volume;
-    if (min_volume < 0.0) {
-        const double r = options.probe;
-        const bool fdm = options.surface == SurfaceKind::Ses && options.method == SesMethod::Fdm;
-        min_volume = fdm ? 4.0 / 3.0 * 3.14159265358979 * r * r * r : 0.0;
+    const double t0 = detail::now_ms();
+    const bool fdm = options.surface == SurfaceKind::Ses && options.method == SesMethod::Fdm;
+    std::size_t removed = 0;
+    if (options.min_cavity_volume >= 0.0f) {
+        if (options.min_cavity_volume > 0.0f)
+            removed = remove_cavities(result.mesh, options.min_cavity_volume);
+    } else if (fdm) {
+        // A void is part of the SES only if the probe fits in it; the filter also opens voids
+        // where it does not (and closes some where it does).
+        removed = detail::remove_cavities_without_probe(result.mesh, atoms, options.probe);
+    } else {
+        result.cavities_removed = 0;  // the exact SES, vdw and sas keep every cavity
+        return result;
     }
-    if (min_volume > 0.0) {
-        const double t0 = detail::now_ms();
-        const std::size_t removed = remove_cavities(result.mesh, min_volume);
-        result.times.push_back({"cavities", detail::now_ms() - t0, false});
-        result.cavities_removed = removed;
-    }
+    result.times.push_back({"cavities", detail::now_ms() - t0, false});
+    result.cavities_removed = removed;
     return result;
 }
 

@@ -1,7 +1,13 @@
 // Removing cavities: closed pieces with negative signed volume (inward-facing shells inside
-// another piece), either all of them or those too small to hold the solvent probe.
+// another piece): all of them, those below a volume, or those no solvent probe fits in.
+#include "mesh/cavities.hpp"
+
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
+#include <functional>
+#include <limits>
 #include <vector>
 
 #include "fdmsurf/mesh.hpp"
@@ -9,10 +15,107 @@
 
 namespace fdmsurf {
 
-std::size_t remove_cavities(Mesh& mesh, double max_volume) {
+namespace detail {
+
+namespace {
+
+using P3 = std::array<double, 3>;
+
+// Does the ray from p along a fixed, generic direction cross the piece an odd number of times?
+// (Möller-Trumbore; the direction avoids the grid's axes and planes.)
+bool inside_piece(const P3& p, const std::vector<std::array<P3, 3>>& tris) {
+    constexpr P3 d{0.5773502691896258, 0.5773502691896257 + 1.1e-3, 0.5773502691896259 - 2.3e-3};
+    int crossings = 0;
+    for (const auto& t : tris) {
+        const P3 e1{t[1][0] - t[0][0], t[1][1] - t[0][1], t[1][2] - t[0][2]};
+        const P3 e2{t[2][0] - t[0][0], t[2][1] - t[0][1], t[2][2] - t[0][2]};
+        const P3 q{d[1] * e2[2] - d[2] * e2[1], d[2] * e2[0] - d[0] * e2[2],
+                   d[0] * e2[1] - d[1] * e2[0]};
+        const double det = e1[0] * q[0] + e1[1] * q[1] + e1[2] * q[2];
+        if (std::abs(det) < 1e-14) continue;
+        const P3 s{p[0] - t[0][0], p[1] - t[0][1], p[2] - t[0][2]};
+        const double u = (s[0] * q[0] + s[1] * q[1] + s[2] * q[2]) / det;
+        if (u < 0.0 || u > 1.0) continue;
+        const P3 r{s[1] * e1[2] - s[2] * e1[1], s[2] * e1[0] - s[0] * e1[2],
+                   s[0] * e1[1] - s[1] * e1[0]};
+        const double v = (d[0] * r[0] + d[1] * r[1] + d[2] * r[2]) / det;
+        if (v < 0.0 || u + v > 1.0) continue;
+        if ((e2[0] * r[0] + e2[1] * r[1] + e2[2] * r[2]) / det > 0.0) ++crossings;
+    }
+    return crossings % 2 == 1;
+}
+
+}  // namespace
+
+double cavity_clearance(const std::vector<std::array<P3, 3>>& tris, const Atoms& atoms,
+                        double step) {
+    P3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+    for (const auto& t : tris)
+        for (const auto& v : t)
+            for (int a = 0; a < 3; ++a)
+                lo[a] = std::min(lo[a], v[a]), hi[a] = std::max(hi[a], v[a]);
+    // The atoms that can be nearest to a point of the box: within the largest radius plus the
+    // box's half diagonal of it (any farther atom is beaten by the nearest centre's atom).
+    float r_max = 0.0f;
+    for (float r : atoms.radius) r_max = std::max(r_max, r);
+    const double margin = std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]) + 2.0 * r_max;
+    std::vector<std::array<double, 4>> near;
+    for (std::size_t i = 0; i < atoms.size(); ++i) {
+        const P3 ci{atoms.xyz[3 * i], atoms.xyz[3 * i + 1], atoms.xyz[3 * i + 2]};
+        bool close = true;
+        for (int a = 0; a < 3; ++a)
+            close = close && ci[a] > lo[a] - margin && ci[a] < hi[a] + margin;
+        if (close) near.push_back({ci[0], ci[1], ci[2], double(atoms.radius[i])});
+    }
+    if (near.empty()) return std::numeric_limits<double>::infinity();
+    auto clearance = [&](const P3& p) {
+        double best = std::numeric_limits<double>::infinity();
+        for (const auto& a : near)
+            best = std::min(best, std::hypot(p[0] - a[0], p[1] - a[1], p[2] - a[2]) - a[3]);
+        return best;
+    };
+    // Samples on a grid inside the piece, then a pattern search from the best few.
+    std::vector<std::pair<double, P3>> samples;
+    for (double z = lo[2] + 0.5 * step; z < hi[2]; z += step)
+        for (double y = lo[1] + 0.5 * step; y < hi[1]; y += step)
+            for (double x = lo[0] + 0.5 * step; x < hi[0]; x += step) {
+                const P3 p{x, y, z};
+                if (inside_piece(p, tris)) samples.push_back({clearance(p), p});
+            }
+    if (samples.empty()) return -std::numeric_limits<double>::infinity();
+    const std::size_t keep = std::min<std::size_t>(4, samples.size());
+    std::partial_sort(samples.begin(), samples.begin() + keep, samples.end(),
+                      [](const auto& a, const auto& b) { return a.first > b.first; });
+    double best = samples.front().first;
+    for (std::size_t k = 0; k < keep; ++k) {
+        auto [value, p] = samples[k];
+        // All 26 directions of a cube's neighbours: at a point where several atoms are equally
+        // near (a kink of the min), only a diagonal move raises all their distances at once.
+        for (double h = 0.5 * step; h > 1e-3; h *= 0.5) {
+            bool moved = true;
+            while (moved) {
+                moved = false;
+                for (int dz = -1; dz <= 1; ++dz)
+                    for (int dy = -1; dy <= 1; ++dy)
+                        for (int dx = -1; dx <= 1; ++dx) {
+                            if (dx == 0 && dy == 0 && dz == 0) continue;
+                            const double len = std::sqrt(double(dx * dx + dy * dy + dz * dz));
+                            const P3 q{p[0] + h * dx / len, p[1] + h * dy / len,
+                                       p[2] + h * dz / len};
+                            const double c = clearance(q);
+                            if (c > value && inside_piece(q, tris)) value = c, p = q, moved = true;
+                        }
+            }
+        }
+        best = std::max(best, value);
+    }
+    return best;
+}
+
+std::size_t remove_cavities_if(Mesh& mesh, const std::function<bool(const CavityPiece&)>& remove) {
     const std::size_t nv = mesh.vertex_count(), nt = mesh.triangle_count();
     if (nt == 0) return 0;
-    detail::DisjointSets sets(nv);
+    DisjointSets sets(nv);
     for (std::size_t t = 0; t < nt; ++t) {
         sets.unite(mesh.indices[3 * t], mesh.indices[3 * t + 1]);
         sets.unite(mesh.indices[3 * t], mesh.indices[3 * t + 2]);
@@ -29,14 +132,29 @@ std::size_t remove_cavities(Mesh& mesh, double max_volume) {
                      double(a[2]) * (double(b[0]) * c[1] - double(b[1]) * c[0]);
         volume[sets.find(mesh.indices[3 * t])] += det / 6.0;
     }
+    // The triangles of each cavity, for the predicate.
+    std::vector<std::uint32_t> cavity_of(nv, UINT32_MAX);
+    std::vector<CavityPiece> cavities;
+    for (std::size_t v = 0; v < nv; ++v) {
+        if (sets.find(static_cast<std::uint32_t>(v)) != v || !(volume[v] < 0.0)) continue;
+        cavity_of[v] = static_cast<std::uint32_t>(cavities.size());
+        cavities.push_back(CavityPiece{-volume[v], {}});
+    }
+    if (cavities.empty()) return 0;
+    for (std::size_t t = 0; t < nt; ++t) {
+        const std::uint32_t c = cavity_of[sets.find(mesh.indices[3 * t])];
+        if (c == UINT32_MAX) continue;
+        std::array<P3, 3> tri;
+        for (int k = 0; k < 3; ++k)
+            for (int a = 0; a < 3; ++a) tri[k][a] = p[3 * mesh.indices[3 * t + k] + a];
+        cavities[c].triangles.push_back(tri);
+    }
     std::vector<char> drop(nv, 0);
     std::size_t removed = 0;
     for (std::size_t v = 0; v < nv; ++v) {
-        if (sets.find(static_cast<std::uint32_t>(v)) != v) continue;
-        if (volume[v] < 0.0 && -volume[v] < max_volume) {
-            drop[v] = 1;
-            ++removed;
-        }
+        if (cavity_of[v] == UINT32_MAX || !remove(cavities[cavity_of[v]])) continue;
+        drop[v] = 1;
+        ++removed;
     }
     if (removed == 0) return 0;
     std::vector<std::uint32_t> remap(nv, UINT32_MAX);
@@ -60,6 +178,20 @@ std::size_t remove_cavities(Mesh& mesh, double max_volume) {
     }
     mesh.indices.resize(3 * out);
     return removed;
+}
+
+std::size_t remove_cavities_without_probe(Mesh& mesh, const Atoms& atoms, double probe,
+                                          double step) {
+    return remove_cavities_if(mesh, [&](const CavityPiece& c) {
+        return cavity_clearance(c.triangles, atoms, step) < probe;
+    });
+}
+
+}  // namespace detail
+
+std::size_t remove_cavities(Mesh& mesh, double max_volume) {
+    return detail::remove_cavities_if(
+        mesh, [&](const detail::CavityPiece& c) { return c.volume < max_volume; });
 }
 
 }  // namespace fdmsurf

@@ -51,10 +51,10 @@ struct SurfaceOptions {
     float padding = -1.0f;  // empty space around the Gaussian support, Å; < 0: one filter
                             // wavelength (1/f_c) for ses, 1 Å otherwise
     float density_cut = 1e-2f;  // G_i is taken as 0 where it falls below density_cut * T
-    // Cavities (closed inward-facing pieces) enclosing less than this volume (Å³) are removed:
-    // < 0 means the volume of one probe sphere for ses with the FDM method (a void no probe fits
-    // in is not part of the SES) and 0 (keep all) for the exact SES (Edt), vdw and sas.
-    // Infinity removes every cavity.
+    // Cavities (closed inward-facing pieces) enclosing less than this volume (Å³) are removed.
+    // < 0 (the default): for ses with the FDM method, every cavity in which no probe sphere fits
+    // between the atoms (a void that is not part of the SES, whatever its volume); nothing for
+    // the exact SES (Edt), vdw and sas. Infinity removes every cavity.
     float min_cavity_volume = -1.0f;
     // Refinement levels (0 to 4): each level splits every triangle into four by modified
     // butterfly subdivision (Zorin et al. 1996) and moves the new vertices onto the iso-surface
