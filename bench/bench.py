@@ -56,8 +56,9 @@ STRUCTURES = {
 NANOSHAPER_S = {"4hhb": 0.8, "1aon": 10.7}   # ../shared/reference/ses/README.md, 2 cores
 SKIP_WHY = {"1aon:pymol-q1": "skipped by default (--skip): a trial run on this machine was killed "
                              "unfinished after 358 s at 4.0 GB"}
-ALL_TOOLS = ["fdmsurf", "molstar", "pymol-q0", "pymol-q1", "edtsurf"]
-LABEL = {"fdmsurf": "fdmsurf (SES 0.5 Å)", "molstar": "Mol* (0.5 Å)",
+ALL_TOOLS = ["fdmsurf", "fdmsurf-edt", "molstar", "pymol-q0", "pymol-q1", "edtsurf"]
+LABEL = {"fdmsurf": "fdmsurf (SES 0.5 Å)", "fdmsurf-edt": "fdmsurf --method edt (exact SES 0.5 Å)",
+         "molstar": "Mol* (0.5 Å)",
          "pymol-q0": "PyMOL (surface_quality 0)", "pymol-q1": "PyMOL (surface_quality 1)",
          "edtsurf": "EDTSurf (-f 4)"}
 STAGE_ORDER = ["parse", "init", "bin-atoms", "density", "fft-forward", "mask", "fft-inverse",
@@ -401,7 +402,7 @@ class Bench:
             self.notes.append(f"peers.py unusable ({e}): PyMOL and EDTSurf skipped "
                               "(apt-get install python3-gemmi python3-numpy python3-scipy)")
         for t in tools:
-            if t == "fdmsurf":
+            if t.startswith("fdmsurf"):
                 if not os.access(self.fdm, os.X_OK):
                     raise SystemExit(f"{self.fdm} not built (cd build && ninja)")
                 ok.append(t)
@@ -455,11 +456,12 @@ class Bench:
     def run_tool(self, tool, name, info, cache, tag):
         wd = info["dir"]
         timeout = self.a.timeout
-        if tool == "fdmsurf":
-            mesh = os.path.join(wd, "fdmsurf.ply")
+        if tool.startswith("fdmsurf"):
+            mesh = os.path.join(wd, f"{tool}.ply")
             env = dict(os.environ, MESA_SHADER_CACHE_DIR=os.path.join(cache, "mesa"),
                        FDMSURF_CACHE_DIR=os.path.join(cache, "fdmsurf"))
-            r = timed([self.fdm, info["xyzr"], "-o", mesh, "--stats", "json", "--quiet"], wd,
+            method = ["--method", "edt"] if tool == "fdmsurf-edt" else []
+            r = timed([self.fdm, info["xyzr"], "-o", mesh, "--stats", "json", "--quiet"] + method, wd,
                       timeout, env, f"{name} {tool} {tag}")
             js = json_line(r["stdout"]) if r["status"] == "ok" else None
             if js:
@@ -537,7 +539,7 @@ class Bench:
                     f"{r.get('rss_mib', 0):6.0f} MiB (load {r['load1']:.2f})")
                 if r["status"] != "ok":
                     stopped[t] = r["status"]
-                elif t != "fdmsurf" and rep == 0 and r["wall_s"] > self.a.long:
+                elif not t.startswith("fdmsurf") and rep == 0 and r["wall_s"] > self.a.long:
                     stopped[t] = f"one run (over {self.a.long:g} s)"
         res["stopped"] = stopped
         # mesh sizes (welded, as `fdmsurf compare` cleans them) and accuracy of the last mesh
@@ -655,17 +657,20 @@ class Bench:
         for name, s in R["structures"].items():
             meds = {t: med([r["wall_s"] for r in s["runs"][t] if r["status"] == "ok"]) for t in tools}
             fd = meds.get("fdmsurf")
-            peers = {t: w for t, w in meds.items() if t != "fdmsurf" and w is not None}
+            peers = {t: w for t, w in meds.items() if not t.startswith("fdmsurf") and w is not None}
             if fd is None or not peers:
                 continue
             fastest = min(peers, key=peers.get)
             ms = meds.get("molstar")
             ns = NANOSHAPER_S.get(name)
+            ed = meds.get("fdmsurf-edt")
             rows.append([name.upper(), f"{s['atoms']:,}", fmt(fd), fmt(s.get("cold", {}).get("wall_s")),
                          f"{LABEL[fastest]}: {peers[fastest]:.2f}", f"**{fd / peers[fastest]:.2f}**",
-                         fmt(ms), fmt(fd / ms if ms else None), fmt(ns, "{:g}"), fmt(fd / ns if ns else None, "{:.1f}")])
+                         fmt(ms), fmt(fd / ms if ms else None), fmt(ed), fmt(ed / ms if ed and ms else None),
+                         fmt(ns, "{:g}"), fmt(fd / ns if ns else None, "{:.1f}")])
         md.append(table(["structure", "atoms", "fdmsurf warm", "fdmsurf cold", "fastest peer", "fdmsurf ÷ fastest",
-                         "Mol*", "fdmsurf ÷ Mol*", "NanoShaper (published)", "fdmsurf ÷ NanoShaper"], rows))
+                         "Mol*", "fdmsurf ÷ Mol*", "fdmsurf edt warm", "edt ÷ Mol*",
+                         "NanoShaper (published)", "fdmsurf ÷ NanoShaper"], rows))
 
         md.append("\n## Side by side: SES, probe 1.4 Å, 0.5 Å grid\n")
         md.append("Median wall time over the runs (GNU time, whole process), largest peak RSS, median "
@@ -679,7 +684,7 @@ class Bench:
         rows = []
         for name, s in R["structures"].items():
             meds = {t: med([r["wall_s"] for r in s["runs"][t] if r["status"] == "ok"]) for t in tools}
-            peers_ok = [meds[t] for t in tools if t != "fdmsurf" and meds[t] is not None]
+            peers_ok = [meds[t] for t in tools if not t.startswith("fdmsurf") and meds[t] is not None]
             fastest = min(peers_ok) if peers_ok else None
             for t in tools:
                 runs = s["runs"][t]
