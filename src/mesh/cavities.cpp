@@ -112,7 +112,8 @@ double cavity_clearance(const std::vector<std::array<P3, 3>>& tris, const Atoms&
     return best;
 }
 
-std::size_t remove_cavities_if(Mesh& mesh, const std::function<bool(const CavityPiece&)>& remove) {
+std::size_t remove_pieces_if(Mesh& mesh, const std::function<bool(double)>& candidate,
+                             const std::function<bool(const MeshPiece&)>& remove) {
     const std::size_t nv = mesh.vertex_count(), nt = mesh.triangle_count();
     if (nt == 0) return 0;
     DisjointSets sets(nv);
@@ -132,27 +133,27 @@ std::size_t remove_cavities_if(Mesh& mesh, const std::function<bool(const Cavity
                      double(a[2]) * (double(b[0]) * c[1] - double(b[1]) * c[0]);
         volume[sets.find(mesh.indices[3 * t])] += det / 6.0;
     }
-    // The triangles of each cavity, for the predicate.
-    std::vector<std::uint32_t> cavity_of(nv, UINT32_MAX);
-    std::vector<CavityPiece> cavities;
+    // The triangles of each candidate piece, for the predicate.
+    std::vector<std::uint32_t> piece_of(nv, UINT32_MAX);
+    std::vector<MeshPiece> pieces;
     for (std::size_t v = 0; v < nv; ++v) {
-        if (sets.find(static_cast<std::uint32_t>(v)) != v || !(volume[v] < 0.0)) continue;
-        cavity_of[v] = static_cast<std::uint32_t>(cavities.size());
-        cavities.push_back(CavityPiece{-volume[v], {}});
+        if (sets.find(static_cast<std::uint32_t>(v)) != v || !candidate(volume[v])) continue;
+        piece_of[v] = static_cast<std::uint32_t>(pieces.size());
+        pieces.push_back(MeshPiece{volume[v], {}});
     }
-    if (cavities.empty()) return 0;
+    if (pieces.empty()) return 0;
     for (std::size_t t = 0; t < nt; ++t) {
-        const std::uint32_t c = cavity_of[sets.find(mesh.indices[3 * t])];
+        const std::uint32_t c = piece_of[sets.find(mesh.indices[3 * t])];
         if (c == UINT32_MAX) continue;
         std::array<P3, 3> tri;
         for (int k = 0; k < 3; ++k)
             for (int a = 0; a < 3; ++a) tri[k][a] = p[3 * mesh.indices[3 * t + k] + a];
-        cavities[c].triangles.push_back(tri);
+        pieces[c].triangles.push_back(tri);
     }
     std::vector<char> drop(nv, 0);
     std::size_t removed = 0;
     for (std::size_t v = 0; v < nv; ++v) {
-        if (cavity_of[v] == UINT32_MAX || !remove(cavities[cavity_of[v]])) continue;
+        if (piece_of[v] == UINT32_MAX || !remove(pieces[piece_of[v]])) continue;
         drop[v] = 1;
         ++removed;
     }
@@ -180,18 +181,29 @@ std::size_t remove_cavities_if(Mesh& mesh, const std::function<bool(const Cavity
     return removed;
 }
 
+std::size_t remove_cavities_if(Mesh& mesh, const std::function<bool(const MeshPiece&)>& remove) {
+    return remove_pieces_if(
+        mesh, [](double volume) { return volume < 0.0; }, remove);
+}
+
 std::size_t remove_cavities_without_probe(Mesh& mesh, const Atoms& atoms, double probe,
                                           double step) {
-    return remove_cavities_if(mesh, [&](const CavityPiece& c) {
+    return remove_cavities_if(mesh, [&](const MeshPiece& c) {
         return cavity_clearance(c.triangles, atoms, step) < probe;
     });
+}
+
+std::size_t remove_specks(Mesh& mesh, double max_volume) {
+    return remove_pieces_if(
+        mesh, [&](double volume) { return std::abs(volume) < max_volume; },
+        [](const MeshPiece&) { return true; });
 }
 
 }  // namespace detail
 
 std::size_t remove_cavities(Mesh& mesh, double max_volume) {
     return detail::remove_cavities_if(
-        mesh, [&](const detail::CavityPiece& c) { return c.volume < max_volume; });
+        mesh, [&](const detail::MeshPiece& c) { return -c.volume < max_volume; });
 }
 
 }  // namespace fdmsurf

@@ -12,15 +12,24 @@
 
 namespace fdmsurf::detail {
 
-// A closed inward-facing piece: the void it encloses (Å³, > 0) and its triangles.
-struct CavityPiece {
+// A connected piece of a mesh: its signed volume (Å³; < 0 for a cavity, an inward-facing
+// shell) and its triangles.
+struct MeshPiece {
     double volume = 0.0;
     std::vector<std::array<std::array<double, 3>, 3>> triangles;
 };
 
-// Removes the cavities (pieces of negative signed volume) for which `remove` is true, keeping
-// the order of the other vertices and triangles; returns how many were removed.
-std::size_t remove_cavities_if(Mesh& mesh, const std::function<bool(const CavityPiece&)>& remove);
+// Removes the pieces whose signed volume passes `candidate` and for which `remove` is true
+// (triangles are gathered for candidates only), keeping the order of the other vertices and
+// triangles; returns how many were removed.
+std::size_t remove_pieces_if(Mesh& mesh, const std::function<bool(double)>& candidate,
+                             const std::function<bool(const MeshPiece&)>& remove);
+// The same for cavities (pieces of negative volume).
+std::size_t remove_cavities_if(Mesh& mesh, const std::function<bool(const MeshPiece&)>& remove);
+
+// Removes pieces, inward or outward, enclosing less than `max_volume` Å³: specks smaller than a
+// grid cell, where the exact SES touches itself at a point (no probe-sized feature is that small).
+std::size_t remove_specks(Mesh& mesh, double max_volume);
 
 // The largest clearance min_i (|p - c_i| - r_i) from the atoms' van der Waals spheres over the
 // points p enclosed by the cavity's triangles: the radius of the largest ball that fits in the

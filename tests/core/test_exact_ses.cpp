@@ -215,7 +215,7 @@ namespace {
 // Centroids of the cavities (pieces of negative volume) of a mesh, their vertices averaged.
 std::vector<std::array<double, 3>> cavity_centroids(fdmsurf::Mesh mesh) {
     std::vector<std::array<double, 3>> out;
-    fdmsurf::detail::remove_cavities_if(mesh, [&](const fdmsurf::detail::CavityPiece& c) {
+    fdmsurf::detail::remove_cavities_if(mesh, [&](const fdmsurf::detail::MeshPiece& c) {
         std::array<double, 3> sum{0, 0, 0};
         for (const auto& t : c.triangles)
             for (const auto& v : t)

@@ -14,7 +14,7 @@ namespace {
 
 using fdmsurf::Atoms;
 using fdmsurf::Mesh;
-using fdmsurf::detail::CavityPiece;
+using fdmsurf::detail::MeshPiece;
 
 // An outer sphere of radius 10 with an inward-facing sphere of radius `r` at `c` inside.
 Mesh shell_with_cavity(double r, std::array<double, 3> c) {
@@ -87,9 +87,9 @@ TEST(Cavities, PredicateSeesEachCavityOnce) {
     Mesh m = shell_with_cavity(2.0, {1, 0, 0});
     std::size_t calls = 0;
     double volume = 0.0;
-    const std::size_t removed = fdmsurf::detail::remove_cavities_if(m, [&](const CavityPiece& c) {
+    const std::size_t removed = fdmsurf::detail::remove_cavities_if(m, [&](const MeshPiece& c) {
         ++calls;
-        volume = c.volume;
+        volume = -c.volume;
         return false;
     });
     EXPECT_EQ(removed, 0u);
@@ -97,6 +97,35 @@ TEST(Cavities, PredicateSeesEachCavityOnce) {
     EXPECT_NEAR(volume, 4.0 / 3.0 * 3.14159265358979 * 8.0, 0.02 * 33.5);
     EXPECT_EQ(fdmsurf::remove_cavities(m, 1000.0), 1u);
     EXPECT_EQ(fdmsurf::compute_stats(m).pieces, 1u);
+}
+
+}  // namespace
+
+namespace {
+
+TEST(Cavities, SpecksOfEitherOrientationAreRemoved) {
+    // A real cavity (radius 2), a speck facing outwards (radius 0.1 at (5, 0, 0)) and one
+    // facing inwards (radius 0.1 at (-5, 0, 0)): only the specks go.
+    Mesh m = shell_with_cavity(2.0, {0, 0, 0});
+    const Mesh speck = fdmsurf::test::icosphere(0.1, 1, {5, 0, 0});
+    const Mesh hole = fdmsurf::test::icosphere(0.1, 1, {-5, 0, 0});
+    for (const Mesh* add : {&speck, &hole}) {
+        const auto base = static_cast<std::uint32_t>(m.vertex_count());
+        m.positions.insert(m.positions.end(), add->positions.begin(), add->positions.end());
+        if (!m.normals.empty())
+            m.normals.insert(m.normals.end(), add->normals.begin(), add->normals.end());
+        for (std::size_t t = 0; t < add->triangle_count(); ++t) {
+            const bool flip = add == &hole;
+            m.indices.push_back(base + add->indices[3 * t]);
+            m.indices.push_back(base + add->indices[3 * t + (flip ? 2 : 1)]);
+            m.indices.push_back(base + add->indices[3 * t + (flip ? 1 : 2)]);
+        }
+    }
+    ASSERT_EQ(fdmsurf::compute_stats(m).pieces, 4u);
+    EXPECT_EQ(fdmsurf::detail::remove_specks(m, 0.01), 2u);
+    const auto stats = fdmsurf::compute_stats(m);
+    EXPECT_EQ(stats.pieces, 2u);
+    EXPECT_TRUE(stats.is_closed_manifold());
 }
 
 }  // namespace

@@ -86,6 +86,7 @@ struct SurfaceResult {
     std::vector<StageTime> times;
     std::vector<std::string> warnings;
     std::size_t cavities_removed = 0;  // pieces removed by SurfaceOptions::min_cavity_volume
+    std::size_t specks_removed = 0;    // edt: closed pieces enclosing less than one grid cell
 };
 
 struct DeviceInfo {
