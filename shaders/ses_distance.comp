@@ -71,33 +71,62 @@ vec3 projection(vec4 s, vec3 p) {
     return s.xyz + s.w * (len > 1e-6 ? v / len : vec3(1.0, 0.0, 0.0));
 }
 
+// Is q (a point of listed sphere `self`) inside another listed ball? A ball burying a point
+// within d_max of the box is within R + d_max of it: it is on the list.
+bool buried_shared(vec3 q, uint self, uint ns) {
+    for (uint k = 0u; k < ns; ++k) {
+        if (k == self) continue;
+        vec4 o = spheres[sphere_list[k]];
+        vec3 w = q - o.xyz;
+        if (dot(w, w) < o.w * o.w) return true;
+    }
+    return false;
+}
+
 float evaluate_shared(vec3 p) {
     uint ns = sphere_count, na = arc_count;
     float lb = -3.0e38;  // max_i (R_i - |p - c_i|): > 0 inside the balls, a lower bound of d
+    uint deepest = 0u;
     for (uint i = 0u; i < ns; ++i) {
         vec4 s = spheres[sphere_list[i]];
-        lb = max(lb, s.w - distance(p, s.xyz));
+        float depth = s.w - distance(p, s.xyz);
+        if (depth > lb) {
+            lb = depth;
+            deepest = i;
+        }
     }
     if (lb <= 0.0) return max(lb, -pc.d_max);
     if (lb >= pc.d_max) return pc.d_max;
+    // The deepest ball's face is lb away, the least d can be: exposed, it is the answer (a
+    // contact patch, most of the surface).
+    if (!buried_shared(projection(spheres[sphere_list[deepest]], p), deepest, ns)) return lb;
     float best = pc.d_max;
     for (uint k = 0u; k < na; ++k) best = min(best, arc_distance(arc_list[k], p, best));
     for (uint i = 0u; i < ns; ++i) {
         vec4 s = spheres[sphere_list[i]];
         float face = abs(distance(p, s.xyz) - s.w);
-        if (face >= best) continue;
-        vec3 q = projection(s, p);
-        bool exposed = true;
-        // A ball burying q is within R + d_max of the box: it is on the list.
-        for (uint k = 0u; k < ns && exposed; ++k) {
-            if (k == i) continue;
-            vec4 o = spheres[sphere_list[k]];
-            vec3 w = q - o.xyz;
-            exposed = dot(w, w) >= o.w * o.w;
-        }
-        if (exposed) best = face;
+        // d >= lb: an exposed face is never nearer than lb, so a nearer one is buried (every
+        // ball holding p but the deepest, done above).
+        if (i == deepest || face < lb || face >= best) continue;
+        if (!buried_shared(projection(s, p), i, ns)) best = face;
     }
     return best;
+}
+
+// Is q (a point of sphere `self`) inside another ball? From the bins around q.
+bool buried_global(vec3 q, uint self) {
+    ivec3 lo = bin_of(q - pc.r_max), hi = bin_of(q + pc.r_max);
+    for (int z = lo.z; z <= hi.z; ++z)
+        for (int y = lo.y; y <= hi.y; ++y)
+            for (int x = lo.x; x <= hi.x; ++x) {
+                uint b = bin_id(ivec3(x, y, z));
+                for (uint k = sphere_start[b]; k < sphere_start[b + 1u]; ++k) {
+                    if (k == self) continue;
+                    vec3 w = q - spheres[k].xyz;
+                    if (dot(w, w) < spheres[k].w * spheres[k].w) return true;
+                }
+            }
+    return false;
 }
 
 // The same from the bins, per point: boxes whose lists overflow shared memory.
@@ -105,15 +134,22 @@ float evaluate_global(vec3 p) {
     float reach = pc.r_max + pc.d_max;
     ivec3 lo = bin_of(p - reach), hi = bin_of(p + reach);
     float lb = -3.0e38;
+    uint deepest = 0u;
     for (int z = lo.z; z <= hi.z; ++z)
         for (int y = lo.y; y <= hi.y; ++y)
             for (int x = lo.x; x <= hi.x; ++x) {
                 uint b = bin_id(ivec3(x, y, z));
-                for (uint i = sphere_start[b]; i < sphere_start[b + 1u]; ++i)
-                    lb = max(lb, spheres[i].w - distance(p, spheres[i].xyz));
+                for (uint i = sphere_start[b]; i < sphere_start[b + 1u]; ++i) {
+                    float depth = spheres[i].w - distance(p, spheres[i].xyz);
+                    if (depth > lb) {
+                        lb = depth;
+                        deepest = i;
+                    }
+                }
             }
     if (lb <= 0.0) return max(lb, -pc.d_max);
     if (lb >= pc.d_max) return pc.d_max;
+    if (!buried_global(projection(spheres[deepest], p), deepest)) return lb;
     float best = pc.d_max;
     ivec3 alo = bin_of(p - (pc.rho_max + pc.d_max)), ahi = bin_of(p + (pc.rho_max + pc.d_max));
     for (int z = alo.z; z <= ahi.z; ++z)
@@ -130,22 +166,8 @@ float evaluate_global(vec3 p) {
                 for (uint i = sphere_start[b]; i < sphere_start[b + 1u]; ++i) {
                     vec4 s = spheres[i];
                     float face = abs(distance(p, s.xyz) - s.w);
-                    if (face >= best) continue;
-                    vec3 q = projection(s, p);
-                    bool exposed = true;
-                    ivec3 qlo = bin_of(q - pc.r_max), qhi = bin_of(q + pc.r_max);
-                    for (int qz = qlo.z; qz <= qhi.z && exposed; ++qz)
-                        for (int qy = qlo.y; qy <= qhi.y && exposed; ++qy)
-                            for (int qx = qlo.x; qx <= qhi.x && exposed; ++qx) {
-                                uint c = bin_id(ivec3(qx, qy, qz));
-                                for (uint k = sphere_start[c]; k < sphere_start[c + 1u] && exposed;
-                                     ++k) {
-                                    if (k == i) continue;
-                                    vec3 w = q - spheres[k].xyz;
-                                    exposed = dot(w, w) >= spheres[k].w * spheres[k].w;
-                                }
-                            }
-                    if (exposed) best = face;
+                    if (i == deepest || face < lb || face >= best) continue;
+                    if (!buried_global(projection(s, p), i)) best = face;
                 }
             }
     return best;

@@ -70,15 +70,32 @@ double ses_distance(const SesFeatures& f, const double p_in[3], double d_max, do
     const BinRange near = bins_near(f, p, f.r_max + d_max);
     double lb = -std::numeric_limits<double>::infinity();
     V3 lb_centre{0, 0, 0};
+    double lb_radius = 0.0;
+    std::uint32_t deepest = 0;
     for_bins(f, near, [&](std::size_t b) {
         for (std::uint32_t s = f.sphere_start[b]; s < f.sphere_start[b + 1]; ++s) {
             V3 c;
             double R;
             sphere(s, c, R);
             const double v = R - norm(p - c);
-            if (v > lb) lb = v, lb_centre = c;
+            if (v > lb) lb = v, lb_centre = c, lb_radius = R, deepest = s;
         }
     });
+    // Is q (on sphere `self`) inside another ball?
+    auto buried = [&](V3 q, std::uint32_t self) {
+        bool inside = false;
+        for_bins(f, bins_near(f, q, f.r_max), [&](std::size_t qb) {
+            for (std::uint32_t k = f.sphere_start[qb]; k < f.sphere_start[qb + 1] && !inside; ++k) {
+                if (k == self) continue;
+                V3 ck;
+                double Rk;
+                sphere(k, ck, Rk);
+                const V3 w = q - ck;
+                inside = dot(w, w) < Rk * Rk;
+            }
+        });
+        return inside;
+    };
     if (lb <= 0.0) {
         // Outside the balls: minus the distance to them, which falls towards the nearest centre.
         if (lb <= -d_max) {
@@ -93,6 +110,15 @@ double ses_distance(const SesFeatures& f, const double p_in[3], double d_max, do
     if (lb >= d_max) {
         set_gradient({0, 0, 0});
         return d_max;
+    }
+    // The deepest ball's face is lb away, the least d can be: exposed, it is the answer.
+    {
+        const V3 q = projection(lb_centre, lb_radius, p);
+        if (!buried(q, deepest)) {
+            const double len = norm(p - q);
+            set_gradient(len > 0.0 ? (1.0 / len) * (p - q) : V3{0, 0, 0});
+            return lb;
+        }
     }
     double best = d_max;
     V3 nearest{0, 0, 0};
@@ -110,21 +136,11 @@ double ses_distance(const SesFeatures& f, const double p_in[3], double d_max, do
             double R;
             sphere(s, c, R);
             const double face = std::abs(norm(p - c) - R);
-            if (face >= best) continue;
+            // d >= lb: an exposed face is never nearer than lb, so a nearer one is buried (every
+            // ball holding p but the deepest, done above).
+            if (s == deepest || face < lb || face >= best) continue;
             const V3 q = projection(c, R, p);
-            bool exposed = true;
-            for_bins(f, bins_near(f, q, f.r_max), [&](std::size_t qb) {
-                for (std::uint32_t k = f.sphere_start[qb]; k < f.sphere_start[qb + 1] && exposed;
-                     ++k) {
-                    if (k == s) continue;
-                    V3 ck;
-                    double Rk;
-                    sphere(k, ck, Rk);
-                    const V3 w = q - ck;
-                    exposed = dot(w, w) >= Rk * Rk;
-                }
-            });
-            if (exposed) best = face, nearest = q, found = true;
+            if (!buried(q, s)) best = face, nearest = q, found = true;
         }
     });
     const double len = norm(p - nearest);
