@@ -296,39 +296,44 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
     return result;
 }
 
+namespace {
+
+// Ends the recording (begun by the caller, who recorded the passes that fill `field`) with a
+// read-back of `field`, submits, waits and copies the values out.
+std::vector<float> read_field(EngineImpl& e, StagingArena& arena, const Buffer& field,
+                              std::size_t floats) {
+    const std::size_t bytes = floats * sizeof(float);
+    const Buffer& host =
+        readback_buffer(e.context, e.commands, arena, field, bytes, "field_readback");
+    e.commands.barrier_to_host();
+    e.commands.submit_and_wait();
+    host.invalidate();
+    std::vector<float> out(floats);
+    std::memcpy(out.data(), host.mapped(), bytes);
+    return out;
+}
+
+}  // namespace
+
 std::vector<float> EngineImpl::compute_ses_field(const Atoms& atoms, const GridPlan& plan,
                                                  float probe, bool force_global) {
     const SesFeatures features = build_ses_features(atoms, probe);
     StagingArena arena;
-    const std::size_t bytes = plan.field_floats() * sizeof(float);
-    Buffer field(context, bytes, MemoryUse::Device, "field");
+    Buffer field(context, plan.field_floats() * sizeof(float), MemoryUse::Device, "field");
     commands.begin();
     ses_distance.record(commands, arena, features, plan, field, force_global);
-    const Buffer& host = readback_buffer(context, commands, arena, field, bytes, "field_readback");
-    commands.barrier_to_host();
-    commands.submit_and_wait();
-    host.invalidate();
-    std::vector<float> out(plan.field_floats());
-    std::memcpy(out.data(), host.mapped(), bytes);
-    return out;
+    return read_field(*this, arena, field, plan.field_floats());
 }
 
 std::vector<float> EngineImpl::compute_field(const Atoms& atoms, const GridPlan& plan,
                                              bool filtered, FilterShape shape) {
     AtomBins bins = bin_atoms(atoms, plan);
     StagingArena arena;
-    const std::size_t bytes = plan.field_floats() * sizeof(float);
-    Buffer field(context, bytes, MemoryUse::Device, "field");
+    Buffer field(context, plan.field_floats() * sizeof(float), MemoryUse::Device, "field");
     commands.begin();
     density.record(commands, arena, bins, plan, field);
     if (filtered) filter.record(commands, field, plan, shape);
-    const Buffer& host = readback_buffer(context, commands, arena, field, bytes, "field_readback");
-    commands.barrier_to_host();
-    commands.submit_and_wait();
-    host.invalidate();
-    std::vector<float> out(plan.field_floats());
-    std::memcpy(out.data(), host.mapped(), bytes);
-    return out;
+    return read_field(*this, arena, field, plan.field_floats());
 }
 
 void EngineImpl::filter_field(std::vector<float>& values, const GridPlan& plan, FilterShape shape) {

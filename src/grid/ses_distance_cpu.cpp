@@ -6,21 +6,16 @@
 #include <cmath>
 #include <limits>
 
+#include "grid/v3.hpp"
+
 namespace fdmsurf::detail {
 
 namespace {
 
-struct V3 {
-    double x, y, z;
-};
-V3 operator-(V3 a, V3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-V3 operator+(V3 a, V3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-V3 operator*(double s, V3 a) { return {s * a.x, s * a.y, s * a.z}; }
-double dot(V3 a, V3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-double norm(V3 a) { return std::sqrt(dot(a, a)); }
-V3 cross(V3 a, V3 b) {
-    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
+using geom::cross;
+using geom::dot;
+using geom::norm;
+using geom::V3;
 
 // The radial projection of p onto the sphere (c, R) (any point of it when p = c; the shader's
 // choice, +x, below 1e-6 Å).

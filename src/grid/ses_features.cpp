@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "fdmsurf/error.hpp"
+#include "grid/v3.hpp"
 
 namespace fdmsurf::detail {
 
@@ -15,16 +16,10 @@ namespace {
 
 constexpr double kTwoPi = 6.283185307179586;
 
-struct V3 {
-    double x, y, z;
-};
-V3 operator-(V3 a, V3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-V3 operator+(V3 a, V3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-V3 operator*(double s, V3 a) { return {s * a.x, s * a.y, s * a.z}; }
-double dot(V3 a, V3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-V3 cross(V3 a, V3 b) {
-    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
+using geom::cross;
+using geom::dot;
+using geom::norm;
+using geom::V3;
 
 // A unit vector perpendicular to the unit vector u.
 V3 perpendicular(V3 u) {

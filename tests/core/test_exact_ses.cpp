@@ -20,6 +20,7 @@
 #include "mesh/cavities.hpp"
 #include "support/gpu_fixture.hpp"
 #include "support/mesh_checks.hpp"
+#include "support/test_atoms.hpp"
 
 namespace {
 
@@ -36,14 +37,7 @@ std::string data_path(const std::string& name) {
     return std::string(FDMSURF_TEST_DATA_DIR) + "/" + name;
 }
 
-Atoms make_atoms(std::initializer_list<std::array<float, 4>> balls) {
-    Atoms a;
-    for (const auto& b : balls) {
-        a.xyz.insert(a.xyz.end(), {b[0], b[1], b[2]});
-        a.radius.push_back(b[3]);
-    }
-    return a;
-}
+using fdmsurf_test::make_atoms;
 
 // Area and volume of the SES of two balls (radii r1, r2, centres D apart on the z axis, probe
 // p) when the probe rolling around their contact stays off the axis: a surface of revolution

@@ -12,6 +12,7 @@
 #include "fdmsurf/structure.hpp"
 #include "grid/ses_distance_cpu.hpp"
 #include "grid/ses_features.hpp"
+#include "support/test_atoms.hpp"
 
 namespace {
 
@@ -29,14 +30,7 @@ std::string data_path(const std::string& name) {
     return std::string(FDMSURF_TEST_DATA_DIR) + "/" + name;
 }
 
-Atoms make_atoms(std::initializer_list<std::array<float, 4>> balls) {
-    Atoms a;
-    for (const auto& b : balls) {
-        a.xyz.insert(a.xyz.end(), {b[0], b[1], b[2]});
-        a.radius.push_back(b[3]);
-    }
-    return a;
-}
+using fdmsurf_test::make_atoms;
 
 // A point of arc `a` at angle theta.
 std::array<double, 3> arc_point(const SesArc& a, double theta) {
