@@ -7,6 +7,7 @@
 #include <string>
 #include <utility>
 
+#include "core/parallel.hpp"
 #include "fdmsurf/error.hpp"
 #include "grid/v3.hpp"
 
@@ -183,64 +184,78 @@ SesFeatures build_ses_features(const Atoms& atoms, float probe) {
         nb_start[i + 1] = static_cast<std::uint32_t>(nb.size());
     }
 
-    // Circles of the pairs i < j, cut by the other neighbours of i.
-    std::vector<SesArc> arcs;
-    std::vector<std::pair<double, double>> buried;
-    for (std::size_t i = 0; i < n; ++i) {
-        for (std::uint32_t q = nb_start[i]; q < nb_start[i + 1]; ++q) {
-            const std::uint32_t j = nb[q];
-            if (j <= i) continue;
-            const V3 dij = c[j] - c[i];
-            const double d = std::sqrt(dot(dij, dij));
-            if (d <= std::abs(R[i] - R[j]) || d == 0.0) continue;  // one ball inside the other
-            const V3 u = (1.0 / d) * dij;
-            const double a = (d * d + R[i] * R[i] - R[j] * R[j]) / (2.0 * d);
-            const double rho2 = R[i] * R[i] - a * a;
-            if (rho2 <= 0.0) continue;
-            const double rho = std::sqrt(rho2);
-            const V3 m = c[i] + a * u;
-            const V3 e1 = perpendicular(u);
-            const V3 e2 = cross(u, e1);
-            ++f.circles;
-            buried.clear();
-            bool all_buried = false;
-            for (std::uint32_t t = nb_start[i]; t < nb_start[i + 1] && !all_buried; ++t) {
-                const std::uint32_t k = nb[t];
-                if (k == j) continue;
-                const V3 w = m - c[k];
-                // |P(theta) - c_k|^2 = |w|^2 + rho^2 + 2 rho (A cos theta + B sin theta) < R_k^2
-                const double A = dot(w, e1), B = dot(w, e2);
-                const double M = std::sqrt(A * A + B * B);
-                const double E = R[k] * R[k] - dot(w, w) - rho2;
-                if (E <= -2.0 * rho * M) continue;  // no point inside ball k
-                if (E >= 2.0 * rho * M) {
-                    all_buried = true;
-                    break;
+    // Circles of the pairs i < j, cut by the other neighbours of i: chunks of atoms on all
+    // threads, each with its own arcs, joined in atom order (the result does not depend on the
+    // thread count).
+    constexpr std::size_t kChunk = 256;
+    struct ChunkArcs {
+        std::vector<SesArc> arcs;
+        std::size_t circles = 0, buried_circles = 0;
+    };
+    std::vector<ChunkArcs> chunks((n + kChunk - 1) / kChunk);
+    parallel_chunks(chunks.size(), thread_count(), [&](std::size_t chunk) {
+        ChunkArcs& out = chunks[chunk];
+        std::vector<std::pair<double, double>> buried;
+        for (std::size_t i = chunk * kChunk; i < std::min(n, (chunk + 1) * kChunk); ++i) {
+            for (std::uint32_t q = nb_start[i]; q < nb_start[i + 1]; ++q) {
+                const std::uint32_t j = nb[q];
+                if (j <= i) continue;
+                const V3 dij = c[j] - c[i];
+                const double d = std::sqrt(dot(dij, dij));
+                if (d <= std::abs(R[i] - R[j]) || d == 0.0) continue;  // one ball inside the other
+                const V3 u = (1.0 / d) * dij;
+                const double a = (d * d + R[i] * R[i] - R[j] * R[j]) / (2.0 * d);
+                const double rho2 = R[i] * R[i] - a * a;
+                if (rho2 <= 0.0) continue;
+                const double rho = std::sqrt(rho2);
+                const V3 m = c[i] + a * u;
+                const V3 e1 = perpendicular(u);
+                const V3 e2 = cross(u, e1);
+                ++out.circles;
+                buried.clear();
+                bool all_buried = false;
+                for (std::uint32_t t = nb_start[i]; t < nb_start[i + 1] && !all_buried; ++t) {
+                    const std::uint32_t k = nb[t];
+                    if (k == j) continue;
+                    const V3 w = m - c[k];
+                    // |P(theta) - c_k|^2 = |w|^2 + rho^2 + 2 rho (A cos theta + B sin theta) <
+                    // R_k^2
+                    const double A = dot(w, e1), B = dot(w, e2);
+                    const double M = std::sqrt(A * A + B * B);
+                    const double E = R[k] * R[k] - dot(w, w) - rho2;
+                    if (E <= -2.0 * rho * M) continue;  // no point inside ball k
+                    if (E >= 2.0 * rho * M) {
+                        all_buried = true;
+                        break;
+                    }
+                    const double t_cos = E / (2.0 * rho * M);  // buried: cos(theta - phi) < t_cos
+                    const double phi = std::atan2(B, A);
+                    const double open = std::acos(std::clamp(t_cos, -1.0, 1.0));
+                    buried.push_back({phi + open, kTwoPi - 2.0 * open});
                 }
-                const double t_cos = E / (2.0 * rho * M);  // buried where cos(theta - phi) < t_cos
-                const double phi = std::atan2(B, A);
-                const double open = std::acos(std::clamp(t_cos, -1.0, 1.0));
-                buried.push_back({phi + open, kTwoPi - 2.0 * open});
-            }
-            if (all_buried) {
-                ++f.buried_circles;
-                continue;
-            }
-            const auto parts = exposed_parts(buried);
-            if (parts.empty()) ++f.buried_circles;
-            for (auto [s, len] : parts) {
-                SesArc arc{};
-                arc.m[0] = float(m.x), arc.m[1] = float(m.y), arc.m[2] = float(m.z);
-                arc.rho = float(rho);
-                arc.e1[0] = float(e1.x), arc.e1[1] = float(e1.y), arc.e1[2] = float(e1.z);
-                arc.e2[0] = float(e2.x), arc.e2[1] = float(e2.y), arc.e2[2] = float(e2.z);
-                arc.start = float(s);
-                arc.length = float(len);
-                arcs.push_back(arc);
-                f.rho_max = std::max(f.rho_max, arc.rho);
+                const auto parts =
+                    all_buried ? decltype(exposed_parts(buried)){} : exposed_parts(buried);
+                if (parts.empty()) ++out.buried_circles;
+                for (auto [start, len] : parts) {
+                    SesArc arc{};
+                    arc.m[0] = float(m.x), arc.m[1] = float(m.y), arc.m[2] = float(m.z);
+                    arc.rho = float(rho);
+                    arc.e1[0] = float(e1.x), arc.e1[1] = float(e1.y), arc.e1[2] = float(e1.z);
+                    arc.e2[0] = float(e2.x), arc.e2[1] = float(e2.y), arc.e2[2] = float(e2.z);
+                    arc.start = float(start);
+                    arc.length = float(len);
+                    out.arcs.push_back(arc);
+                }
             }
         }
+    });
+    std::vector<SesArc> arcs;
+    for (const ChunkArcs& chunk : chunks) {
+        arcs.insert(arcs.end(), chunk.arcs.begin(), chunk.arcs.end());
+        f.circles += chunk.circles;
+        f.buried_circles += chunk.buried_circles;
     }
+    for (const SesArc& arc : arcs) f.rho_max = std::max(f.rho_max, arc.rho);
 
     // Arcs by the bin of their circle's centre (on the segment between two centres: in range).
     std::vector<std::size_t> arc_bin(arcs.size());

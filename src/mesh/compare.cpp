@@ -22,7 +22,7 @@
 
 #include "fdmsurf/error.hpp"
 #include "mesh/compare_detail.hpp"
-#include "mesh/parallel.hpp"
+#include "core/parallel.hpp"
 #include "mesh/union_find.hpp"
 
 namespace fdmsurf {

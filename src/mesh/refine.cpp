@@ -12,7 +12,7 @@
 
 #include "fdmsurf/error.hpp"
 #include "mesh/mesh_validate.hpp"
-#include "mesh/parallel.hpp"
+#include "core/parallel.hpp"
 
 namespace fdmsurf::detail {
 namespace {

@@ -1,5 +1,5 @@
 // A minimal parallel loop on std::thread (see parallel.hpp).
-#include "mesh/parallel.hpp"
+#include "core/parallel.hpp"
 
 #include <algorithm>
 #include <atomic>

@@ -1,4 +1,4 @@
-// A minimal parallel loop for the host stages (mesh comparison, refinement): chunks of work on
+// A minimal parallel loop for the host stages (mesh comparison, refinement, SES arcs): chunks on
 // plain std::threads, the first exception rethrown.
 #pragma once
 
