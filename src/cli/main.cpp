@@ -1,4 +1,5 @@
 // The fdmsurf program: a structure file in, its molecular-surface mesh out (see --help).
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <exception>
@@ -213,8 +214,8 @@ void make_output_folder(const std::string& output) {
                                        parent.string() + "' does not exist");
     }
     if (!fs::create_directory(folder, ec) && !fs::is_directory(folder)) {
-        throw Error(ErrorCode::Io, "cannot create the output folder '" + output + "': " +
-                                       (ec ? ec.message() : std::string("it is a file")));
+        throw Error(ErrorCode::Io, "cannot create the output folder '" + output +
+                                       "': " + (ec ? ec.message() : std::string("it is a file")));
     }
 }
 
@@ -265,11 +266,25 @@ int run(const CliOptions& options) {
                 continue;
             }
         }
+        // The models of one file get the largest of their grids: similar sizes, one FFT plan
+        // (and one set of compiled kernels) for all instead of one per size.
+        CliOptions batch = options;
+        if (structures.size() > 1) {
+            for (const Structure& s : structures) {
+                try {
+                    const GridInfo g = plan_surface_grid(s.atoms, options.surface);
+                    for (int a = 0; a < 3; ++a)
+                        batch.surface.min_grid[a] = std::max(batch.surface.min_grid[a], g.dims[a]);
+                } catch (const Error&) {
+                    // reported by its own run below
+                }
+            }
+        }
         for (std::size_t k = 0; k < structures.size(); ++k) {
             int code = kExitOk;
             const int model = structures[k].info.model;
             try {
-                code = run_one(options, engine, init_ms, input, output_of(options, input, model),
+                code = run_one(batch, engine, init_ms, input, output_of(options, input, model),
                                &structures[k], k == 0 ? parse_ms : -1.0);
             } catch (const Error& e) {
                 print_error(naming(input, e.what()) +
@@ -277,8 +292,9 @@ int run(const CliOptions& options) {
                 code = exit_code_for(e.code());
                 // A failed device (lost, out of memory) would fail every later input too.
                 if (e.code() == ErrorCode::Vulkan) {
-                    print_error("stopping: the Vulkan device failed; the remaining inputs were "
-                                "not processed");
+                    print_error(
+                        "stopping: the Vulkan device failed; the remaining inputs were "
+                        "not processed");
                     return status == kExitOk ? code : status;
                 }
             }

@@ -22,6 +22,10 @@ const char* to_string(SurfaceKind kind) noexcept {
     return "?";
 }
 
+GridInfo plan_surface_grid(const Atoms& atoms, const SurfaceOptions& options) {
+    return detail::plan_grid(atoms, options).info;
+}
+
 const char* to_string(SesMethod method) noexcept {
     switch (method) {
         case SesMethod::Fdm:
@@ -144,12 +148,16 @@ GridPlan plan_grid(const Atoms& atoms, const SurfaceOptions& options) {
                         "the grid would have " + std::to_string(static_cast<long long>(points)) +
                             " points along one axis at spacing " + std::to_string(h) +
                             " Å; use a coarser --spacing");
-        std::uint32_t n = static_cast<std::uint32_t>(points);
+        if (options.min_grid[a] > 65536)
+            throw Error(ErrorCode::InvalidArgument, "min_grid asks for " +
+                                                        std::to_string(options.min_grid[a]) +
+                                                        " points along one axis; at most 65536");
+        std::uint32_t n = std::max(static_cast<std::uint32_t>(points), options.min_grid[a]);
         // VkFFT 1.2.26 is only right for sizes with factors 2, 3, 5, 7 (NOTES.md), and wants
         // the contiguous R2C axis even.
         n = plan.filtered ? fft_friendly_size(n, a == 0) : std::max<std::uint32_t>(n, 2);
         plan.info.dims[a] = n;
-        double extra = (n - 1) * double(h) - (hi[a] - lo[a]);
+        double extra = (n - 1) * double(h) - (hi[a] - lo[a]);  // centred in a larger grid
         plan.info.origin[a] = static_cast<float>(lo[a] - extra / 2.0);
     }
     plan.pitch = plan.filtered ? 2 * (plan.info.dims[0] / 2 + 1) : plan.info.dims[0];

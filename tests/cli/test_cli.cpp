@@ -237,7 +237,8 @@ TEST_F(CliProgram, OutputInNonexistentFolder) {
 TEST_F(CliProgram, OutputFolderIsCreatedButNotItsParents) {
     const std::string a = write_file("a.xyzr", kTwoAtomsXyzr);
     const std::string b = write_file("b.xyzr", kTwoAtomsXyzr);
-    expect_failure(run({a, b, "-o", path("missing/meshes") + "/"}), 3, {"missing", "does not exist"});
+    expect_failure(run({a, b, "-o", path("missing/meshes") + "/"}), 3,
+                   {"missing", "does not exist"});
     EXPECT_FALSE(fs::exists(path("missing")));
     if (const auto why = no_usable_device()) {
         if (device_required()) FAIL() << *why << "(FDMSURF_REQUIRE_DEVICE=1)";
@@ -298,8 +299,8 @@ TEST_F(CliProgram, NoAtomsLeftAfterSelection) {
 TEST_F(CliProgram, NoVulkanDriverNamesThePackageToInstall) {
     const std::string input = write_file("atoms.xyzr", kTwoAtomsXyzr);
     // The loader finds no driver when both variables point at nothing.
-    const std::string env = "VK_ICD_FILENAMES=" + path("none.json") +
-                            " VK_DRIVER_FILES=" + path("none.json");
+    const std::string env =
+        "VK_ICD_FILENAMES=" + path("none.json") + " VK_DRIVER_FILES=" + path("none.json");
     expect_failure(run({input, "-o", path("out.ply")}, env), 4, {"mesa-vulkan-drivers"});
 }
 
@@ -430,11 +431,17 @@ TEST_F(CliProgram, ModelsAllWritesOneClosedMeshPerModel) {
     EXPECT_TRUE(r.error_lines().empty()) << r.err;
     const std::vector<std::string> lines = lines_of(r.out);
     ASSERT_EQ(lines.size(), 10u) << r.out;
+    std::vector<double> first_dims;
     for (int m = 1; m <= 10; ++m) {
         SCOPED_TRACE("model " + std::to_string(m));
         const auto json = parse_json(lines[static_cast<std::size_t>(m - 1)]);
         ASSERT_TRUE(json) << lines[static_cast<std::size_t>(m - 1)];
         EXPECT_EQ(json->find("model")->number, m);
+        // One grid size for the whole ensemble (the largest model's): one FFT plan.
+        std::vector<double> dims;
+        for (const JsonValue& d : json->find("grid")->find("dims")->array) dims.push_back(d.number);
+        if (m == 1) first_dims = dims;
+        EXPECT_EQ(dims, first_dims);
         EXPECT_EQ(json->find("models_in_file")->number, 10);
         EXPECT_EQ(json->find("atoms_used")->number, 602);
         EXPECT_TRUE(json->find("closed_manifold")->boolean);
@@ -469,8 +476,8 @@ TEST_F(CliProgram, RefineQuadruplesTheTrianglesAndIsTimed) {
     double triangles[2] = {0, 0};
     for (int level = 0; level < 2; ++level) {
         const std::string output = path("atoms" + std::to_string(level) + ".ply");
-        const CliRun r = run({input, "-o", output, "--stats", "json", "--refine",
-                              std::to_string(level)});
+        const CliRun r =
+            run({input, "-o", output, "--stats", "json", "--refine", std::to_string(level)});
         ASSERT_EQ(r.exit_code, 0) << r.err;
         EXPECT_TRUE(r.error_lines().empty()) << r.err;
         const auto json = parse_json(lines_of(r.out).at(0));

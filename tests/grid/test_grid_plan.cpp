@@ -136,9 +136,10 @@ TEST(GridPlan, GridContainsEveryAtomAndItsSupport) {
 }
 
 TEST(GridPlan, DensityParametersFollowTheOptions) {
-    const GridPlan plan =
-        plan_grid(one_atom(), {.sigma = 2.0f, .level = 1.5f, .filter = fdmsurf::FilterShape::Ideal,
-                               .density_cut = 1e-2f});
+    const GridPlan plan = plan_grid(one_atom(), {.sigma = 2.0f,
+                                                 .level = 1.5f,
+                                                 .filter = fdmsurf::FilterShape::Ideal,
+                                                 .density_cut = 1e-2f});
     EXPECT_FLOAT_EQ(plan.density.sigma, 2.0f);
     EXPECT_NEAR(plan.density.pi_cut, 4.0 * std::log(100.0), 1e-4);
     EXPECT_FLOAT_EQ(plan.iso, 1.5f * plan.density.level_t);
@@ -179,6 +180,36 @@ TEST(GridPlan, RejectsBadAtoms) {
     } catch (const Error& e) {
         EXPECT_EQ(e.code(), ErrorCode::EmptySelection) << e.what();
     }
+}
+
+}  // namespace
+
+namespace {
+
+TEST(GridPlan, MinGridGrowsTheGridAroundTheSameCentre) {
+    const Atoms atoms = one_atom();
+    const GridPlan own = plan_grid(atoms, SurfaceOptions{});
+    SurfaceOptions larger;
+    larger.min_grid = {own.info.dims[0] + 10, 0, own.info.dims[2] + 30};
+    const GridPlan big = plan_grid(atoms, larger);
+    EXPECT_GE(big.info.dims[0], own.info.dims[0] + 10);
+    EXPECT_EQ(big.info.dims[1], own.info.dims[1]);
+    EXPECT_GE(big.info.dims[2], own.info.dims[2] + 30);
+    for (int a = 0; a < 3; ++a) {
+        // FFT-friendly, and centred where the smaller grid was.
+        EXPECT_EQ(fft_friendly_size(big.info.dims[a], a == 0), big.info.dims[a]);
+        const double c_own = own.info.origin[a] + 0.5 * (own.info.dims[a] - 1) * own.info.spacing;
+        const double c_big = big.info.origin[a] + 0.5 * (big.info.dims[a] - 1) * big.info.spacing;
+        EXPECT_NEAR(c_big, c_own, 1e-4);
+    }
+    // A smaller minimum changes nothing; the public entry point agrees.
+    SurfaceOptions smaller;
+    smaller.min_grid = {2, 2, 2};
+    EXPECT_EQ(plan_grid(atoms, smaller).info.dims, own.info.dims);
+    EXPECT_EQ(fdmsurf::plan_surface_grid(atoms, larger).dims, big.info.dims);
+    SurfaceOptions absurd;
+    absurd.min_grid = {70000, 0, 0};
+    EXPECT_THROW(plan_grid(atoms, absurd), Error);
 }
 
 }  // namespace

@@ -60,6 +60,10 @@ struct SurfaceOptions {
     // butterfly subdivision (Zorin et al. 1996) and moves the new vertices onto the iso-surface
     // of the field (ses) or onto the atoms' balls (vdw, sas); on the host, before cavity removal.
     int refine = 0;
+    // Grid points per axis at least (0: as many as the atoms need). A batch of similar
+    // structures (the models of an NMR ensemble) given the largest grid of the batch shares one
+    // FFT plan and one set of compiled kernels (plan_surface_grid gives each one's grid).
+    std::array<std::uint32_t, 3> min_grid{0, 0, 0};
 };
 
 // The settings of Giard & Macq (2010): ideal mask at f_c = 1/(4 probe), level T, cavities kept.
@@ -149,6 +153,10 @@ private:
 // All physical devices with the reason each is or is not usable. Throws Error(NoDevice) when
 // the Vulkan loader or any driver is missing.
 std::vector<DeviceInfo> list_devices();
+
+// The grid make_surface would use for `atoms` (no device work); throws as make_surface does
+// for invalid options or atoms.
+GridInfo plan_surface_grid(const Atoms& atoms, const SurfaceOptions& options = {});
 
 // Checks options and returns the effective cut-off (1/Å); throws Error(InvalidArgument).
 float effective_cutoff(const SurfaceOptions& options);
