@@ -17,6 +17,7 @@ layout(std430, binding = 0) writeonly buffer Field { float field[]; };
 layout(std430, binding = 1) readonly buffer AtomsBuf { vec4 atoms[]; };  // xyz, r^2
 layout(std430, binding = 2) readonly buffer BinStart { uint bin_start[]; };
 layout(std430, binding = 3) readonly buffer FirstShell { uint first_shell[]; };
+layout(std430, binding = 4) readonly buffer Reached { uint reached[]; };
 
 layout(push_constant) uniform Push { DensityPush pc; };
 
@@ -76,6 +77,14 @@ void main() {
     uvec3 last = min(first + gl_WorkGroupSize, uvec3(pc.nx, pc.ny, pc.nz)) - 1u;
     vec3 box_lo = origin + pc.spacing * vec3(first);
     vec3 box_hi = origin + pc.spacing * vec3(last);
+
+    uint group_id = (gl_WorkGroupID.z * gl_NumWorkGroups.y + gl_WorkGroupID.y) * gl_NumWorkGroups.x +
+                    gl_WorkGroupID.x;
+    if (reached[group_id] == 0u) {
+        if (all(lessThan(g, uvec3(pc.nx, pc.ny, pc.nz))))
+            field[(g.z * pc.ny + g.y) * pc.pitch + g.x] = 0.0;
+        return;
+    }
 
     if (t == 0u) {
         list_count = 0u;

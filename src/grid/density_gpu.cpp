@@ -10,7 +10,7 @@ namespace fdmsurf::detail {
 
 DensityPass::DensityPass(Context& ctx) : ctx_(ctx) {
     ShaderCode code = shader_code(Shader::Density);
-    pipeline_ = ComputePipeline(ctx, code.words, code.bytes, 4, sizeof(shader::DensityPush), "density");
+    pipeline_ = ComputePipeline(ctx, code.words, code.bytes, 5, sizeof(shader::DensityPush), "density");
 }
 
 void DensityPass::record(Commands& cmds, StagingArena& arena, const AtomBins& bins,
@@ -21,6 +21,12 @@ void DensityPass::record(Commands& cmds, StagingArena& arena, const AtomBins& bi
                            bins.start.size() * sizeof(std::uint32_t), "bin_start");
     first_shell_ = upload_buffer(ctx_, cmds, arena, bins.first_shell.data(),
                                  bins.first_shell.size() * sizeof(std::uint32_t), "bin_first_shell");
+    const std::uint32_t group[3] = {shader::kDensityGroupX, shader::kDensityGroupY,
+                                    shader::kDensityGroupZ};
+    std::vector<std::uint8_t> reached = reached_groups(bins, plan, group);
+    std::vector<std::uint32_t> words(reached.begin(), reached.end());
+    reached_ = upload_buffer(ctx_, cmds, arena, words.data(), words.size() * sizeof(std::uint32_t),
+                             "density_groups");
     cmds.barrier_compute();
     const GridInfo& g = plan.info;
     shader::DensityPush p{};
@@ -45,7 +51,7 @@ void DensityPass::record(Commands& cmds, StagingArena& arena, const AtomBins& bi
     p.r2_max = bins.r2_max;
     p.level_t = plan.density.level_t;
     auto groups = [](std::uint32_t n, std::uint32_t g) { return (n + g - 1) / g; };
-    cmds.dispatch(pipeline_, {whole(field), whole(atoms_), whole(start_), whole(first_shell_)}, &p,
+    cmds.dispatch(pipeline_, {whole(field), whole(atoms_), whole(start_), whole(first_shell_), whole(reached_)}, &p,
                   groups(g.dims[0], shader::kDensityGroupX), groups(g.dims[1], shader::kDensityGroupY),
                   groups(g.dims[2], shader::kDensityGroupZ));
     cmds.mark("density");

@@ -22,7 +22,7 @@ public:
 private:
     Context& ctx_;
     ComputePipeline pipeline_;
-    Buffer atoms_, start_, first_shell_;
+    Buffer atoms_, start_, first_shell_, reached_;
 };
 
 }  // namespace fdmsurf::detail
