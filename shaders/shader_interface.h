@@ -12,10 +12,12 @@ using uint = std::uint32_t;
 #define FDM_CONST const uint
 #endif
 
-// Density: one invocation per grid point, 3D workgroups.
+// Density: the grid is cut into boxes (tiles) of kDensityGroup* points; density.comp runs one
+// invocation per point, one workgroup per tile; density_tiles.comp one invocation per tile.
 FDM_CONST kDensityGroupX = 4;
 FDM_CONST kDensityGroupY = 4;
 FDM_CONST kDensityGroupZ = 4;
+FDM_CONST kDensityTileGroup = 64;
 
 // Spectral mask: one invocation per complex coefficient of the half spectrum.
 FDM_CONST kMaskGroupX = 64;
@@ -39,6 +41,10 @@ struct DensityPush {
     float pi_cut;      // power distance beyond which G < cut · T: the density is 0 there
     float r2_max;      // largest r² among atoms
     float level_t;     // T
+    uint boxes_x, boxes_y;  // tiles per axis of the whole grid (x, y)
+    uint tile_count;        // tiles in the `tiles` buffer (the boxes some atom reaches)
+    uint groups_x;          // workgroups along x of the 2D dispatch (tiles folded into rows)
+    uint capacity;          // candidate atoms stored per tile
 };
 
 struct SpectralMaskPush {

@@ -80,12 +80,13 @@ AtomBins bin_atoms(const Atoms& atoms, const GridPlan& plan) {
     return bins;
 }
 
-std::vector<std::uint8_t> reached_groups(const AtomBins& bins, const GridPlan& plan,
+std::vector<std::uint32_t> reached_boxes(const AtomBins& bins, const GridPlan& plan,
                                          const std::uint32_t group[3]) {
     const GridInfo& g = plan.info;
     std::uint32_t n[3];
     for (int a = 0; a < 3; ++a) n[a] = (g.dims[a] + group[a] - 1) / group[a];
-    std::vector<std::uint8_t> reached(std::size_t(n[0]) * n[1] * n[2], 0);
+    const std::size_t box_count = std::size_t{n[0]} * n[1] * n[2];
+    std::vector<std::uint8_t> reached(box_count, 0);
     const double h = g.spacing;
     // Box k along axis a spans the points [k G, min(k G + G - 1, dims - 1)]; its distance to c.
     auto gap = [&](int a, std::uint32_t k, double c) {
@@ -126,7 +127,10 @@ std::vector<std::uint8_t> reached_groups(const AtomBins& bins, const GridPlan& p
             }
         }
     }
-    return reached;
+    std::vector<std::uint32_t> boxes;
+    for (std::size_t b = 0; b < reached.size(); ++b)
+        if (reached[b]) boxes.push_back(static_cast<std::uint32_t>(b));
+    return boxes;
 }
 
 }  // namespace fdmsurf::detail

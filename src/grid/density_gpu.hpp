@@ -1,4 +1,5 @@
-// The density pass on the GPU: bins the atoms on the host, then one compute dispatch.
+// The density pass on the GPU: the host bins the atoms and lists the boxes of grid points (tiles)
+// that some atom reaches; one dispatch finds each tile's candidate atoms, a second the density.
 #pragma once
 
 #include "grid/atom_bins.hpp"
@@ -21,8 +22,8 @@ public:
 
 private:
     Context& ctx_;
-    ComputePipeline pipeline_;
-    Buffer atoms_, start_, first_shell_, reached_;
+    ComputePipeline tiles_pipeline_, pipeline_;
+    Buffer atoms_, start_, first_shell_, tiles_, candidates_;
 };
 
 }  // namespace fdmsurf::detail
