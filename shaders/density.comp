@@ -1,16 +1,22 @@
 // Density pass, step 2 of 2 (Giard & Macq 2010; ALGORITHM.md §2): rho(p) = T exp(-pi(p)/sigma^2),
 // with pi(p) = min_i |p - c_i|^2 - r_i^2 the power distance, 0 where pi > pi_cut.
 //
-// One workgroup per tile (a box of grid points that some atom's Gaussian support reaches; the
-// host zero-fills the field, so the other boxes are never visited), one invocation per point.
-// Each point scans the candidates density_tiles.comp found for its tile, or, when they overflowed
-// the tile's capacity, searches shells of bins around itself. Exact either way.
+// Only the tiles (boxes of grid points that some atom's Gaussian support reaches) are visited;
+// the host zero-fills the field first. Each point scans the candidates density_tiles.comp found
+// for its tile, or, when they overflowed the tile's capacity, searches shells of bins around
+// itself. Exact either way.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "shader_interface.h"
 
-layout(local_size_x = kDensityGroupX, local_size_y = kDensityGroupY,
-       local_size_z = kDensityGroupZ) in;
+// kDensityTileLanes invocations per tile, each evaluating kQuads quads (4 consecutive points
+// along x) and loading each candidate once for all of them: on lavapipe every storage-buffer load
+// is a per-lane scalar loop, and that is what costs. A workgroup holds kDensityPointGroup /
+// kDensityTileLanes tiles in a flat local size (lavapipe vectorises along local x only, so a 3D
+// local size would leave lanes idle).
+const uint kQuadsX = kDensityGroupX / 4u;
+const uint kQuads = kQuadsX * kDensityGroupY * kDensityGroupZ / kDensityTileLanes;
+layout(local_size_x = kDensityPointGroup) in;
 
 #include "density_common.glsl"
 
@@ -42,24 +48,48 @@ float shell_search(vec3 p) {
 }
 
 void main() {
-    uint tile = gl_WorkGroupID.y * pc.groups_x + gl_WorkGroupID.x;
+    uint group = gl_WorkGroupID.y * pc.groups_x + gl_WorkGroupID.x;
+    uint lane = gl_LocalInvocationIndex % kDensityTileLanes;
+    uint tile = group * (kDensityPointGroup / kDensityTileLanes) + gl_LocalInvocationIndex / kDensityTileLanes;
     if (tile >= pc.tile_count) return;
     Box box = tile_box(tile);
-    uvec3 g = box.first + gl_LocalInvocationID;
-    if (any(greaterThanEqual(g, uvec3(pc.nx, pc.ny, pc.nz)))) return;
-    vec3 p = vec3(pc.origin_x, pc.origin_y, pc.origin_z) + pc.spacing * vec3(g);
+    vec3 origin = vec3(pc.origin_x, pc.origin_y, pc.origin_z);
+    uvec3 g[kQuads];
+    vec4 px[kQuads];
+    vec2 pyz[kQuads];
+    vec4 best[kQuads];
+    for (uint j = 0u; j < kQuads; ++j) {
+        uint q = lane + kDensityTileLanes * j;
+        g[j] = box.first + uvec3(4u * (q % kQuadsX), (q / kQuadsX) % kDensityGroupY,
+                                 q / (kQuadsX * kDensityGroupY));
+        px[j] = vec4(origin.x) + pc.spacing * vec4(g[j].x, g[j].x + 1u, g[j].x + 2u, g[j].x + 3u);
+        pyz[j] = origin.yz + pc.spacing * vec2(g[j].yz);
+        best[j] = vec4(3.0e38);
+    }
     uint base = tile * (pc.capacity + 1u);
     uint n = candidates[base];
-    float best = 3.0e38;
     if (n <= pc.capacity) {
         for (uint k = 0u; k < n; ++k) {
             vec4 a = atoms[candidates[base + 1u + k]];
-            vec3 d = p - a.xyz;
-            best = min(best, dot(d, d) - a.w);
+            for (uint j = 0u; j < kQuads; ++j) {
+                vec2 dyz = pyz[j] - a.yz;
+                vec4 dx = px[j] - a.x;
+                best[j] = min(best[j], dx * dx + (dot(dyz, dyz) - a.w));
+            }
         }
     } else {
-        best = shell_search(p);
+        for (uint j = 0u; j < kQuads; ++j)
+            best[j] = vec4(shell_search(vec3(px[j].x, pyz[j])), shell_search(vec3(px[j].y, pyz[j])),
+                           shell_search(vec3(px[j].z, pyz[j])), shell_search(vec3(px[j].w, pyz[j])));
     }
-    float rho = best <= pc.pi_cut ? pc.level_t * exp(-best * pc.inv_sigma2) : 0.0;
-    field[(g.z * pc.ny + g.y) * pc.pitch + g.x] = rho;
+    for (uint j = 0u; j < kQuads; ++j) {
+        if (g[j].y >= pc.ny || g[j].z >= pc.nz) continue;
+        vec4 rho = pc.level_t * exp(-best[j] * pc.inv_sigma2);
+        rho = mix(vec4(0.0), rho, lessThanEqual(best[j], vec4(pc.pi_cut)));
+        uint at = (g[j].z * pc.ny + g[j].y) * pc.pitch + g[j].x;
+        if (g[j].x < pc.nx) field[at] = rho.x;
+        if (g[j].x + 1u < pc.nx) field[at + 1u] = rho.y;
+        if (g[j].x + 2u < pc.nx) field[at + 2u] = rho.z;
+        if (g[j].x + 3u < pc.nx) field[at + 3u] = rho.w;
+    }
 }

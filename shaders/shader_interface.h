@@ -12,12 +12,16 @@ using uint = std::uint32_t;
 #define FDM_CONST const uint
 #endif
 
-// Density: the grid is cut into boxes (tiles) of kDensityGroup* points; density.comp runs one
-// invocation per point, one workgroup per tile; density_tiles.comp one invocation per tile.
+// Density: the grid is cut into boxes (tiles) of kDensityGroup* points (x a multiple of 4).
+// density_tiles.comp: one invocation per tile, kDensityTileGroup per workgroup. density.comp:
+// kDensityTileLanes invocations per tile (each evaluates quads of 4 points along x),
+// kDensityPointGroup per workgroup. Flat workgroups: lavapipe vectorises along local x only.
 FDM_CONST kDensityGroupX = 4;
 FDM_CONST kDensityGroupY = 4;
 FDM_CONST kDensityGroupZ = 4;
 FDM_CONST kDensityTileGroup = 64;
+FDM_CONST kDensityTileLanes = 8;
+FDM_CONST kDensityPointGroup = 64;
 
 // Spectral mask: one invocation per complex coefficient of the half spectrum.
 FDM_CONST kMaskGroupX = 64;
@@ -43,7 +47,7 @@ struct DensityPush {
     float level_t;     // T
     uint boxes_x, boxes_y;  // tiles per axis of the whole grid (x, y)
     uint tile_count;        // tiles in the `tiles` buffer (the boxes some atom reaches)
-    uint groups_x;          // workgroups along x of the 2D dispatch (tiles folded into rows)
+    uint groups_x;          // workgroups along x of the 2D dispatch (folded into rows)
     uint capacity;          // candidate atoms stored per tile
 };
 

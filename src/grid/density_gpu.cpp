@@ -12,9 +12,17 @@ namespace fdmsurf::detail {
 
 namespace {
 
-// Candidate atoms stored per tile. The tiles of 4HHB at 0.5 Å have 10 on average and at most 78;
-// a tile with more falls back to the (exact, slower) search per point.
-constexpr std::uint32_t kTileCapacity = 127;
+// Candidate atoms stored per tile: at most kMaxCapacity, and all tiles' lists within
+// kCandidateBudget bytes. At 0.5 Å the tiles of 4HHB have 10 on average and at most 78; at 2 Å,
+// up to 267. A tile with more falls back to the (exact, slower) search per point.
+constexpr std::uint64_t kMaxCapacity = 1535;
+constexpr std::uint64_t kCandidateBudget = 64ull << 20;
+
+static_assert(shader::kDensityGroupX % 4 == 0, "density.comp evaluates quads of 4 points along x");
+static_assert(shader::kDensityGroupX / 4 * shader::kDensityGroupY * shader::kDensityGroupZ %
+                          shader::kDensityTileLanes == 0 &&
+                      shader::kDensityPointGroup % shader::kDensityTileLanes == 0,
+              "a tile's quads must split evenly over its lanes, and tiles over a workgroup");
 
 }  // namespace
 
@@ -32,11 +40,9 @@ void DensityPass::record(Commands& cmds, StagingArena& arena, const AtomBins& bi
                                     shader::kDensityGroupZ};
     const std::vector<std::uint32_t> tiles = reached_boxes(bins, plan, group);
     const GridInfo& g = plan.info;
-    const std::uint64_t max_range = ctx_.limits().max_storage_buffer_range;
-    // Every tile gets capacity + 1 words; fewer if that would not fit one binding (the overflow
-    // search keeps the result exact whatever the capacity).
-    const std::uint64_t per_tile = std::max<std::uint64_t>(1, max_range / 4 / std::max<std::size_t>(tiles.size(), 1));
-    const std::uint32_t capacity = static_cast<std::uint32_t>(std::min<std::uint64_t>(kTileCapacity, per_tile - 1));
+    const std::uint64_t budget = std::min<std::uint64_t>(kCandidateBudget, ctx_.limits().max_storage_buffer_range);
+    const std::uint64_t words = budget / sizeof(std::uint32_t) / std::max<std::size_t>(tiles.size(), 1);
+    const std::uint32_t capacity = static_cast<std::uint32_t>(std::min(kMaxCapacity, std::max<std::uint64_t>(words, 1) - 1));
 
     atoms_ = upload_buffer(ctx_, cmds, arena, bins.atoms.data(), bins.atoms.size() * sizeof(float),
                            "atoms");
@@ -93,7 +99,9 @@ void DensityPass::record(Commands& cmds, StagingArena& arena, const AtomBins& bi
         fold((tiles.size() + shader::kDensityTileGroup - 1) / shader::kDensityTileGroup, p.groups_x, gy);
         cmds.dispatch(tiles_pipeline_, buffers, &p, p.groups_x, gy);
         cmds.barrier_compute();
-        fold(tiles.size(), p.groups_x, gy);
+
+        const std::uint32_t tiles_per_group = shader::kDensityPointGroup / shader::kDensityTileLanes;
+        fold((tiles.size() + tiles_per_group - 1) / tiles_per_group, p.groups_x, gy);
         cmds.dispatch(pipeline_, buffers, &p, p.groups_x, gy);
     }
     cmds.mark("density");
