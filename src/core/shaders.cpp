@@ -14,7 +14,8 @@ namespace fdmsurf::detail {
 
 ShaderCode shader_code(Shader shader) {
     switch (shader) {
-        case Shader::DensityTiles: return {density_tiles_spv, sizeof(density_tiles_spv)};
+        case Shader::DensityTiles:
+            return {density_tiles_spv, sizeof(density_tiles_spv)};
         case Shader::Density: return {density_spv, sizeof(density_spv)};
         case Shader::SpectralMask: return {spectral_mask_spv, sizeof(spectral_mask_spv)};
         case Shader::McClassify: return {mc_classify_spv, sizeof(mc_classify_spv)};

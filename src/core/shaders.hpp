@@ -11,7 +11,15 @@ struct ShaderCode {
     std::size_t bytes;
 };
 
-enum class Shader { DensityTiles, Density, SpectralMask, McClassify, McScan, McVertices, McTriangles };
+enum class Shader {
+    DensityTiles,
+    Density,
+    SpectralMask,
+    McClassify,
+    McScan,
+    McVertices,
+    McTriangles
+};
 
 ShaderCode shader_code(Shader shader);
 

@@ -91,7 +91,8 @@ std::vector<std::uint32_t> reached_boxes(const AtomBins& bins, const GridPlan& p
     // Box k along axis a spans the points [k G, min(k G + G - 1, dims - 1)]; its distance to c.
     auto gap = [&](int a, std::uint32_t k, double c) {
         double lo = g.origin[a] + h * (double(k) * group[a]);
-        double hi = g.origin[a] + h * std::min<double>(double(k) * group[a] + group[a] - 1, g.dims[a] - 1);
+        double hi =
+            g.origin[a] + h * std::min<double>(double(k) * group[a] + group[a] - 1, g.dims[a] - 1);
         return std::max({lo - c, c - hi, 0.0});
     };
     // Boxes along axis a within `s` of c (an over-estimate by a point's width each way).
@@ -107,7 +108,8 @@ std::vector<std::uint32_t> reached_boxes(const AtomBins& bins, const GridPlan& p
     for (std::size_t i = 0; i < count; ++i) {
         const double c[3] = {bins.atoms[4 * i], bins.atoms[4 * i + 1], bins.atoms[4 * i + 2]};
         // Slack so that float rounding on the GPU never turns a skipped box into a reached one.
-        const double reach2 = (double(plan.density.pi_cut) + bins.atoms[4 * i + 3]) * (1.0 + 1e-4) + 1e-4;
+        const double reach2 =
+            (double(plan.density.pi_cut) + bins.atoms[4 * i + 3]) * (1.0 + 1e-4) + 1e-4;
         const double reach = std::sqrt(reach2);
         std::uint32_t z0, z1, y0, y1, x0, x1;
         range(2, c[2], reach, z0, z1);

@@ -19,10 +19,11 @@ constexpr std::uint64_t kMaxCapacity = 1535;
 constexpr std::uint64_t kCandidateBudget = 64ull << 20;
 
 static_assert(shader::kDensityGroupX % 4 == 0, "density.comp evaluates quads of 4 points along x");
-static_assert(shader::kDensityGroupX / 4 * shader::kDensityGroupY * shader::kDensityGroupZ %
-                          shader::kDensityTileLanes == 0 &&
-                      shader::kDensityPointGroup % shader::kDensityTileLanes == 0,
-              "a tile's quads must split evenly over its lanes, and tiles over a workgroup");
+constexpr std::uint32_t kQuadsPerTile =
+    shader::kDensityGroupX / 4 * shader::kDensityGroupY * shader::kDensityGroupZ;
+static_assert(kQuadsPerTile % shader::kDensityTileLanes == 0, "quads split evenly over lanes");
+static_assert(shader::kDensityPointGroup % shader::kDensityTileLanes == 0,
+              "whole tiles per workgroup");
 
 }  // namespace
 
@@ -31,7 +32,8 @@ DensityPass::DensityPass(Context& ctx) : ctx_(ctx) {
     tiles_pipeline_ = ComputePipeline(ctx, tiles.words, tiles.bytes, 6, sizeof(shader::DensityPush),
                                       "density_tiles");
     ShaderCode code = shader_code(Shader::Density);
-    pipeline_ = ComputePipeline(ctx, code.words, code.bytes, 6, sizeof(shader::DensityPush), "density");
+    pipeline_ =
+        ComputePipeline(ctx, code.words, code.bytes, 6, sizeof(shader::DensityPush), "density");
 }
 
 void DensityPass::record(Commands& cmds, StagingArena& arena, const AtomBins& bins,
@@ -40,9 +42,12 @@ void DensityPass::record(Commands& cmds, StagingArena& arena, const AtomBins& bi
                                     shader::kDensityGroupZ};
     const std::vector<std::uint32_t> tiles = reached_boxes(bins, plan, group);
     const GridInfo& g = plan.info;
-    const std::uint64_t budget = std::min<std::uint64_t>(kCandidateBudget, ctx_.limits().max_storage_buffer_range);
-    const std::uint64_t words = budget / sizeof(std::uint32_t) / std::max<std::size_t>(tiles.size(), 1);
-    const std::uint32_t capacity = static_cast<std::uint32_t>(std::min(kMaxCapacity, std::max<std::uint64_t>(words, 1) - 1));
+    const std::uint64_t budget =
+        std::min<std::uint64_t>(kCandidateBudget, ctx_.limits().max_storage_buffer_range);
+    const std::uint64_t words =
+        budget / sizeof(std::uint32_t) / std::max<std::size_t>(tiles.size(), 1);
+    const std::uint32_t capacity = static_cast<std::uint32_t>(std::min(
+        {kMaxCapacity, std::max<std::uint64_t>(words, 1) - 1, std::uint64_t{capacity_limit_}}));
 
     atoms_ = upload_buffer(ctx_, cmds, arena, bins.atoms.data(), bins.atoms.size() * sizeof(float),
                            "atoms");
@@ -53,9 +58,11 @@ void DensityPass::record(Commands& cmds, StagingArena& arena, const AtomBins& bi
     // An empty buffer cannot be bound: one word stands in when no box is reached.
     const std::uint32_t none = 0;
     tiles_ = upload_buffer(ctx_, cmds, arena, tiles.empty() ? &none : tiles.data(),
-                           std::max<std::size_t>(tiles.size(), 1) * sizeof(std::uint32_t), "density_tiles");
-    candidates_ = Buffer(ctx_, std::max<std::size_t>(tiles.size(), 1) * (capacity + 1) * sizeof(std::uint32_t),
-                         MemoryUse::Device, "density_candidates");
+                           std::max<std::size_t>(tiles.size(), 1) * sizeof(std::uint32_t),
+                           "density_tiles");
+    candidates_ = Buffer(
+        ctx_, std::max<std::size_t>(tiles.size(), 1) * (capacity + 1) * sizeof(std::uint32_t),
+        MemoryUse::Device, "density_candidates");
     // Boxes no atom reaches are 0; the dispatches below visit only the others.
     cmds.fill(field, 0);
     cmds.barrier_compute();
@@ -93,14 +100,16 @@ void DensityPass::record(Commands& cmds, StagingArena& arena, const AtomBins& bi
             gy = static_cast<std::uint32_t>((groups + gx - 1) / gx);
         };
         std::uint32_t gy = 0;
-        std::initializer_list<BufferRange> buffers = {whole(field),  whole(atoms_), whole(start_),
-                                                      whole(first_shell_), whole(tiles_),
-                                                      whole(candidates_)};
-        fold((tiles.size() + shader::kDensityTileGroup - 1) / shader::kDensityTileGroup, p.groups_x, gy);
+        std::initializer_list<BufferRange> buffers = {whole(field),  whole(atoms_),
+                                                      whole(start_), whole(first_shell_),
+                                                      whole(tiles_), whole(candidates_)};
+        fold((tiles.size() + shader::kDensityTileGroup - 1) / shader::kDensityTileGroup, p.groups_x,
+             gy);
         cmds.dispatch(tiles_pipeline_, buffers, &p, p.groups_x, gy);
         cmds.barrier_compute();
 
-        const std::uint32_t tiles_per_group = shader::kDensityPointGroup / shader::kDensityTileLanes;
+        const std::uint32_t tiles_per_group =
+            shader::kDensityPointGroup / shader::kDensityTileLanes;
         fold((tiles.size() + tiles_per_group - 1) / tiles_per_group, p.groups_x, gy);
         cmds.dispatch(pipeline_, buffers, &p, p.groups_x, gy);
     }
