@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """How much arithmetic does fdmsurf's density pass do? (docs/performance.md, "what bounds it")
 
-Replays, on the CPU with numpy/scipy, the work-list logic of shaders/density.comp for one
+Replays, on the CPU with numpy/scipy, the candidate logic of shaders/density_tiles.comp for one
 structure and grid: for every 4x4x4 workgroup box, U = min(pi_cut, min over the atoms near the
 box of their largest power distance in the box), then the candidate list = atoms whose smallest
 power distance to the box is <= U, and the pair evaluations = points of the box x list length.

@@ -1,45 +1,26 @@
-// Density pass (Giard & Macq 2010; ALGORITHM.md §2): rho(p) = T exp(-pi(p)/sigma^2), with
-// pi(p) = min_i |p - c_i|^2 - r_i^2 the power distance, 0 where pi > pi_cut.
+// Density pass, step 2 of 2 (Giard & Macq 2010; ALGORITHM.md §2): rho(p) = T exp(-pi(p)/sigma^2),
+// with pi(p) = min_i |p - c_i|^2 - r_i^2 the power distance, 0 where pi > pi_cut.
 //
-// Each workgroup covers a small box of grid points and first gathers, into shared memory, the
-// atoms that can be the minimiser for some point of the box: with U = min_a max_{p in box} pi_a(p)
-// (an upper bound on pi everywhere in the box), only atoms with min_{p in box} pi_a(p) <= U can
-// win, and they lie within sqrt(U + r_max^2) of the box. Every point then scans that short list.
-// The result is exact; cost grows with points plus atoms, never with their product.
+// Only the tiles (boxes of grid points that some atom's Gaussian support reaches) are visited;
+// the host zero-fills the field first. Each point scans the candidates density_tiles.comp found
+// for its tile, or, when they overflowed the tile's capacity, searches shells of bins around
+// itself. Exact either way.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "shader_interface.h"
 
-layout(local_size_x = kDensityGroupX, local_size_y = kDensityGroupY,
-       local_size_z = kDensityGroupZ) in;
+// kDensityTileLanes invocations per tile, each evaluating kQuads quads (4 consecutive points
+// along x) and loading each candidate once for all of them: on lavapipe every storage-buffer load
+// is a per-lane scalar loop, and that is what costs. A workgroup holds kDensityPointGroup /
+// kDensityTileLanes tiles in a flat local size (lavapipe vectorises along local x only, so a 3D
+// local size would leave lanes idle).
+const uint kQuadsX = kDensityGroupX / 4u;
+const uint kQuads = kQuadsX * kDensityGroupY * kDensityGroupZ / kDensityTileLanes;
+layout(local_size_x = kDensityPointGroup) in;
 
-layout(std430, binding = 0) writeonly buffer Field { float field[]; };
-layout(std430, binding = 1) readonly buffer AtomsBuf { vec4 atoms[]; };  // xyz, r^2
-layout(std430, binding = 2) readonly buffer BinStart { uint bin_start[]; };
-layout(std430, binding = 3) readonly buffer FirstShell { uint first_shell[]; };
+#include "density_common.glsl"
 
-layout(push_constant) uniform Push { DensityPush pc; };
-
-const uint kGroupSize = kDensityGroupX * kDensityGroupY * kDensityGroupZ;
-const uint kCapacity = 1536u;  // atoms in shared memory (24 KiB)
-
-shared vec4 list[kCapacity];
-shared uint list_count;
-shared uint upper_bits;  // U as an order-preserving uint
-
-// Order-preserving map between floats and uints, for atomicMin on floats of any sign.
-uint to_ordered(float f) {
-    uint u = floatBitsToUint(f);
-    return (u & 0x80000000u) != 0u ? ~u : (u | 0x80000000u);
-}
-float from_ordered(uint u) {
-    return uintBitsToFloat((u & 0x80000000u) != 0u ? (u & 0x7fffffffu) : ~u);
-}
-
-vec3 box_gap(vec3 c, vec3 lo, vec3 hi) { return max(max(lo - c, c - hi), vec3(0.0)); }
-vec3 box_far(vec3 c, vec3 lo, vec3 hi) { return max(abs(c - lo), abs(c - hi)); }
-
-// Fallback when the list overflows: per-point search in shells of bins.
+// Fallback when the candidates overflow: per-point search in shells of bins.
 float shell_search(vec3 p) {
     ivec3 dims = ivec3(pc.bin_nx, pc.bin_ny, pc.bin_nz);
     vec3 bin_origin = vec3(pc.bin_origin_x, pc.bin_origin_y, pc.bin_origin_z);
@@ -67,78 +48,48 @@ float shell_search(vec3 p) {
 }
 
 void main() {
-    uvec3 g = gl_GlobalInvocationID;
-    uint t = gl_LocalInvocationIndex;
+    uint group = gl_WorkGroupID.y * pc.groups_x + gl_WorkGroupID.x;
+    uint lane = gl_LocalInvocationIndex % kDensityTileLanes;
+    uint tile = group * (kDensityPointGroup / kDensityTileLanes) + gl_LocalInvocationIndex / kDensityTileLanes;
+    if (tile >= pc.tile_count) return;
+    Box box = tile_box(tile);
     vec3 origin = vec3(pc.origin_x, pc.origin_y, pc.origin_z);
-    vec3 bin_origin = vec3(pc.bin_origin_x, pc.bin_origin_y, pc.bin_origin_z);
-    ivec3 dims = ivec3(pc.bin_nx, pc.bin_ny, pc.bin_nz);
-    uvec3 first = gl_WorkGroupID * gl_WorkGroupSize;
-    uvec3 last = min(first + gl_WorkGroupSize, uvec3(pc.nx, pc.ny, pc.nz)) - 1u;
-    vec3 box_lo = origin + pc.spacing * vec3(first);
-    vec3 box_hi = origin + pc.spacing * vec3(last);
-
-    if (t == 0u) {
-        list_count = 0u;
-        upper_bits = to_ordered(pc.pi_cut);
+    uvec3 g[kQuads];
+    vec4 px[kQuads];
+    vec2 pyz[kQuads];
+    vec4 best[kQuads];
+    for (uint j = 0u; j < kQuads; ++j) {
+        uint q = lane + kDensityTileLanes * j;
+        g[j] = box.first + uvec3(4u * (q % kQuadsX), (q / kQuadsX) % kDensityGroupY,
+                                 q / (kQuadsX * kDensityGroupY));
+        px[j] = vec4(origin.x) + pc.spacing * vec4(g[j].x, g[j].x + 1u, g[j].x + 2u, g[j].x + 3u);
+        pyz[j] = origin.yz + pc.spacing * vec2(g[j].yz);
+        best[j] = vec4(3.0e38);
     }
-    barrier();
-
-    // 1. U from the atoms near the box (within r_max + half a bin).
-    float near = sqrt(pc.r2_max) + 0.5 * pc.bin_size;
-    ivec3 b_lo = clamp(ivec3(floor((box_lo - near - bin_origin) / pc.bin_size)), ivec3(0), dims - 1);
-    ivec3 b_hi = clamp(ivec3(floor((box_hi + near - bin_origin) / pc.bin_size)), ivec3(0), dims - 1);
-    ivec3 b_n = b_hi - b_lo + 1;
-    uint bins = uint(b_n.x * b_n.y * b_n.z);
-    float local_u = 3.0e38;
-    for (uint k = t; k < bins; k += kGroupSize) {
-        ivec3 b = b_lo + ivec3(int(k) % b_n.x, (int(k) / b_n.x) % b_n.y, int(k) / (b_n.x * b_n.y));
-        uint id = (uint(b.z) * pc.bin_ny + uint(b.y)) * pc.bin_nx + uint(b.x);
-        for (uint i = bin_start[id]; i < bin_start[id + 1]; ++i) {
-            vec3 f = box_far(atoms[i].xyz, box_lo, box_hi);
-            local_u = min(local_u, dot(f, f) - atoms[i].w);
-        }
-    }
-    if (local_u < 3.0e38) atomicMin(upper_bits, to_ordered(local_u));
-    barrier();
-    // <= pi_cut: beyond it nothing counts. The slack keeps float rounding in the bounds below
-    // from dropping the true minimiser.
-    float u = from_ordered(upper_bits);
-    u += 1e-3 * (1.0 + abs(u));
-
-    // 2. The candidates: atoms that can reach pi <= u somewhere in the box.
-    float reach = sqrt(max(u + pc.r2_max, 0.0));
-    b_lo = clamp(ivec3(floor((box_lo - reach - bin_origin) / pc.bin_size)), ivec3(0), dims - 1);
-    b_hi = clamp(ivec3(floor((box_hi + reach - bin_origin) / pc.bin_size)), ivec3(0), dims - 1);
-    b_n = b_hi - b_lo + 1;
-    bins = uint(b_n.x * b_n.y * b_n.z);
-    for (uint k = t; k < bins; k += kGroupSize) {
-        ivec3 b = b_lo + ivec3(int(k) % b_n.x, (int(k) / b_n.x) % b_n.y, int(k) / (b_n.x * b_n.y));
-        vec3 lo = bin_origin + vec3(b) * pc.bin_size;
-        vec3 gap = max(max(lo - box_hi, box_lo - (lo + pc.bin_size)), vec3(0.0));
-        if (dot(gap, gap) - pc.r2_max > u) continue;
-        uint id = (uint(b.z) * pc.bin_ny + uint(b.y)) * pc.bin_nx + uint(b.x);
-        for (uint i = bin_start[id]; i < bin_start[id + 1]; ++i) {
-            vec4 a = atoms[i];
-            vec3 d = box_gap(a.xyz, box_lo, box_hi);
-            if (dot(d, d) - a.w > u) continue;
-            uint slot = atomicAdd(list_count, 1u);
-            if (slot < kCapacity) list[slot] = a;
-        }
-    }
-    barrier();
-
-    if (any(greaterThanEqual(g, uvec3(pc.nx, pc.ny, pc.nz)))) return;
-    vec3 p = origin + pc.spacing * vec3(g);
-    float best = 3.0e38;
-    uint n = list_count;
-    if (n <= kCapacity) {
-        for (uint i = 0u; i < n; ++i) {
-            vec3 d = p - list[i].xyz;
-            best = min(best, dot(d, d) - list[i].w);
+    uint base = tile * (pc.capacity + 1u);
+    uint n = candidates[base];
+    if (n <= pc.capacity) {
+        for (uint k = 0u; k < n; ++k) {
+            vec4 a = atoms[candidates[base + 1u + k]];
+            for (uint j = 0u; j < kQuads; ++j) {
+                vec2 dyz = pyz[j] - a.yz;
+                vec4 dx = px[j] - a.x;
+                best[j] = min(best[j], dx * dx + (dot(dyz, dyz) - a.w));
+            }
         }
     } else {
-        best = shell_search(p);
+        for (uint j = 0u; j < kQuads; ++j)
+            best[j] = vec4(shell_search(vec3(px[j].x, pyz[j])), shell_search(vec3(px[j].y, pyz[j])),
+                           shell_search(vec3(px[j].z, pyz[j])), shell_search(vec3(px[j].w, pyz[j])));
     }
-    float rho = best <= pc.pi_cut ? pc.level_t * exp(-best * pc.inv_sigma2) : 0.0;
-    field[(g.z * pc.ny + g.y) * pc.pitch + g.x] = rho;
+    for (uint j = 0u; j < kQuads; ++j) {
+        if (g[j].y >= pc.ny || g[j].z >= pc.nz) continue;
+        vec4 rho = pc.level_t * exp(-best[j] * pc.inv_sigma2);
+        rho = mix(vec4(0.0), rho, lessThanEqual(best[j], vec4(pc.pi_cut)));
+        uint at = (g[j].z * pc.ny + g[j].y) * pc.pitch + g[j].x;
+        if (g[j].x < pc.nx) field[at] = rho.x;
+        if (g[j].x + 1u < pc.nx) field[at + 1u] = rho.y;
+        if (g[j].x + 2u < pc.nx) field[at + 2u] = rho.z;
+        if (g[j].x + 3u < pc.nx) field[at + 3u] = rho.w;
+    }
 }

@@ -12,10 +12,16 @@ using uint = std::uint32_t;
 #define FDM_CONST const uint
 #endif
 
-// Density: one invocation per grid point, 3D workgroups.
+// Density: the grid is cut into boxes (tiles) of kDensityGroup* points (x a multiple of 4).
+// density_tiles.comp: one invocation per tile, kDensityTileGroup per workgroup. density.comp:
+// kDensityTileLanes invocations per tile (each evaluates quads of 4 points along x),
+// kDensityPointGroup per workgroup. Flat workgroups: lavapipe vectorises along local x only.
 FDM_CONST kDensityGroupX = 4;
 FDM_CONST kDensityGroupY = 4;
 FDM_CONST kDensityGroupZ = 4;
+FDM_CONST kDensityTileGroup = 64;
+FDM_CONST kDensityTileLanes = 8;
+FDM_CONST kDensityPointGroup = 64;
 
 // Exact SES distance (ses_distance.comp): one invocation per grid point, 3D workgroups.
 FDM_CONST kSesGroupX = 4;
@@ -47,6 +53,10 @@ struct DensityPush {
     float pi_cut;      // power distance beyond which G < cut · T: the density is 0 there
     float r2_max;      // largest r² among atoms
     float level_t;     // T
+    uint boxes_x, boxes_y;  // tiles per axis of the whole grid (x, y)
+    uint tile_count;        // tiles in the `tiles` buffer (the boxes some atom reaches)
+    uint groups_x;          // workgroups along x of the 2D dispatch (folded into rows)
+    uint capacity;          // candidate atoms stored per tile
 };
 
 struct SesDistancePush {

@@ -3,6 +3,7 @@
 
 #include "fdmsurf/error.hpp"
 #include "fdmsurf_generated/shaders/density.spv.h"
+#include "fdmsurf_generated/shaders/density_tiles.spv.h"
 #include "fdmsurf_generated/shaders/mc_classify.spv.h"
 #include "fdmsurf_generated/shaders/mc_scan.spv.h"
 #include "fdmsurf_generated/shaders/mc_triangles.spv.h"
@@ -14,6 +15,8 @@ namespace fdmsurf::detail {
 
 ShaderCode shader_code(Shader shader) {
     switch (shader) {
+        case Shader::DensityTiles:
+            return {density_tiles_spv, sizeof(density_tiles_spv)};
         case Shader::Density: return {density_spv, sizeof(density_spv)};
         case Shader::SesDistance: return {ses_distance_spv, sizeof(ses_distance_spv)};
         case Shader::SpectralMask: return {spectral_mask_spv, sizeof(spectral_mask_spv)};

@@ -11,7 +11,16 @@ struct ShaderCode {
     std::size_t bytes;
 };
 
-enum class Shader { Density, SesDistance, SpectralMask, McClassify, McScan, McVertices, McTriangles };
+enum class Shader {
+    DensityTiles,
+    Density,
+    SesDistance,
+    SpectralMask,
+    McClassify,
+    McScan,
+    McVertices,
+    McTriangles
+};
 
 ShaderCode shader_code(Shader shader);
 

@@ -26,4 +26,11 @@ struct AtomBins {
 // Bins covering the grid of `plan`; radii get plan.density.radius_add.
 AtomBins bin_atoms(const Atoms& atoms, const GridPlan& plan);
 
+// The grid cut into boxes of group[0] x group[1] x group[2] points (the density pass's tiles),
+// numbered x fastest: the boxes that the Gaussian support (pi <= pi_cut) of some atom of `bins`
+// reaches, ascending. Elsewhere the density is 0 at every point. Conservative: a listed box may
+// still be 0 throughout, an unlisted one never holds a point with pi <= pi_cut.
+std::vector<std::uint32_t> reached_boxes(const AtomBins& bins, const GridPlan& plan,
+                                         const std::uint32_t group[3]);
+
 }  // namespace fdmsurf::detail

@@ -1,5 +1,8 @@
-// The density pass on the GPU: bins the atoms on the host, then one compute dispatch.
+// The density pass on the GPU: the host bins the atoms and lists the boxes of grid points (tiles)
+// that some atom reaches; one dispatch finds each tile's candidate atoms, a second the density.
 #pragma once
+
+#include <cstdint>
 
 #include "grid/atom_bins.hpp"
 #include "grid/grid_plan.hpp"
@@ -18,11 +21,15 @@ public:
     // Records the density of `bins` into `field` (plan's layout). Uploads go to `arena`.
     void record(Commands& cmds, StagingArena& arena, const AtomBins& bins, const GridPlan& plan,
                 const Buffer& field);
+    // Caps the candidate atoms stored per tile; tiles with more take the per-point search
+    // (tests: a small cap exercises that fallback everywhere).
+    void set_capacity_limit(std::uint32_t limit) { capacity_limit_ = limit; }
 
 private:
     Context& ctx_;
-    ComputePipeline pipeline_;
-    Buffer atoms_, start_, first_shell_;
+    ComputePipeline tiles_pipeline_, pipeline_;
+    Buffer atoms_, start_, first_shell_, tiles_, candidates_;
+    std::uint32_t capacity_limit_ = 0xffffffffu;
 };
 
 }  // namespace fdmsurf::detail

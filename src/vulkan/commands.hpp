@@ -40,6 +40,9 @@ public:
     // Compute writes visible to transfer, then transfer writes visible to the host.
     void copy(const Buffer& src, const Buffer& dst, VkDeviceSize bytes, VkDeviceSize src_offset = 0,
               VkDeviceSize dst_offset = 0);
+    // Sets every 32-bit word of `dst` to `value` (a transfer, after earlier compute and host
+    // writes; follow it with barrier_compute() before a shader reads or writes `dst`).
+    void fill(const Buffer& dst, std::uint32_t value);
     void barrier_to_host();
     void barrier_host_to_compute();
     // Marks the end of a stage named `name` (GPU timestamp when the queue has them).

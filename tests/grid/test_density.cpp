@@ -9,10 +9,13 @@
 #include <string>
 #include <vector>
 
+#include "core/engine_impl.hpp"
 #include "fdmsurf/structure.hpp"
 #include "fdmsurf/surface.hpp"
+#include "grid/atom_bins.hpp"
 #include "grid/density_cpu.hpp"
 #include "grid/grid_plan.hpp"
+#include "shader_interface.h"
 #include "support/gpu_fixture.hpp"
 
 namespace {
@@ -24,6 +27,19 @@ using fdmsurf::detail::density_at;
 using fdmsurf::detail::density_cpu;
 using fdmsurf::detail::GridPlan;
 using fdmsurf::detail::plan_grid;
+
+// Crambin, and a copy of it moved by `shift` Å along x: two clusters with empty space between.
+Atoms two_crambins(float shift) {
+    Atoms atoms = fdmsurf::read_structure(std::string(FDMSURF_TEST_DATA_DIR) + "/1crn.pdb").atoms;
+    const std::size_t n = atoms.size();
+    for (std::size_t i = 0; i < n; ++i) {
+        atoms.xyz.push_back(atoms.xyz[3 * i] + shift);
+        atoms.xyz.push_back(atoms.xyz[3 * i + 1]);
+        atoms.xyz.push_back(atoms.xyz[3 * i + 2]);
+        atoms.radius.push_back(atoms.radius[i]);
+    }
+    return atoms;
+}
 
 std::string data_path(const std::string& name) {
     return std::string(FDMSURF_TEST_DATA_DIR) + "/" + name;
@@ -139,6 +155,33 @@ TEST_F(Density, MatchesCpuReferenceOnHemoglobinRandomPoints) {
     // About a quarter of the samples fall inside the Gaussian support (4948 with this seed).
     EXPECT_GT(nonzero, 4000u);
     report(c);
+}
+
+// Two crambins 60 Å apart: most tiles lie between or around them, out of every atom's reach,
+// and are never visited (zero-filled); the field must still be the reference everywhere.
+TEST_F(Density, MatchesCpuReferenceWithLargeEmptyRegions) {
+    const Atoms atoms = two_crambins(60.0f);
+    const SurfaceOptions options{.surface = SurfaceKind::Ses, .spacing = 0.7f};
+    const GridPlan plan = plan_grid(atoms, options);
+    const std::uint32_t group[3] = {fdmsurf::detail::shader::kDensityGroupX,
+                                    fdmsurf::detail::shader::kDensityGroupY,
+                                    fdmsurf::detail::shader::kDensityGroupZ};
+    const auto reached =
+        fdmsurf::detail::reached_boxes(fdmsurf::detail::bin_atoms(atoms, plan), plan, group);
+    std::size_t boxes = 1;
+    for (int a = 0; a < 3; ++a) boxes *= (plan.info.dims[a] + group[a] - 1) / group[a];
+    EXPECT_LT(double(reached.size()), 0.5 * double(boxes));  // the skip is exercised
+    compare_whole_grid(atoms, options);
+}
+
+// With at most 2 candidates stored per tile, nearly every tile overflows and its points take
+// the per-point shell search: still the reference, and the first grid must not leak into the next.
+TEST_F(Density, MatchesCpuReferenceWhenCandidatesOverflow) {
+    impl().density.set_capacity_limit(2);
+    const Atoms atoms = fdmsurf::read_structure(data_path("1crn.pdb")).atoms;
+    compare_whole_grid(atoms, SurfaceOptions{.surface = SurfaceKind::Ses, .spacing = 0.5f});
+    compare_whole_grid(atoms, SurfaceOptions{.surface = SurfaceKind::Sas, .spacing = 0.7f});
+    impl().density.set_capacity_limit(0xffffffffu);
 }
 
 }  // namespace

@@ -1,0 +1,66 @@
+// Density pass, step 1 of 2 (Giard & Macq 2010; ALGORITHM.md §2): the candidate atoms of each
+// tile, a box of kDensityGroup* grid points that some atom's Gaussian support reaches.
+//
+// One invocation per tile, no shared memory and no barrier (lavapipe emulates both slowly).
+// With U = min_a max_{p in box} pi_a(p), an upper bound on pi everywhere in the box (capped at
+// pi_cut), only atoms with min_{p in box} pi_a(p) <= U can be the minimiser at some point of the
+// box, and they lie within sqrt(U + r_max^2) of it. Their indices go to `candidates`; density.comp
+// then scans them for each point. Exact: no atom that can win is left out.
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "shader_interface.h"
+
+layout(local_size_x = kDensityTileGroup) in;
+
+#include "density_common.glsl"
+
+vec3 box_gap(vec3 c, vec3 lo, vec3 hi) { return max(max(lo - c, c - hi), vec3(0.0)); }
+vec3 box_far(vec3 c, vec3 lo, vec3 hi) { return max(abs(c - lo), abs(c - hi)); }
+
+void main() {
+    uint tile = gl_WorkGroupID.y * (pc.groups_x * kDensityTileGroup) + gl_GlobalInvocationID.x;
+    if (tile >= pc.tile_count) return;
+    Box box = tile_box(tile);
+    vec3 bin_origin = vec3(pc.bin_origin_x, pc.bin_origin_y, pc.bin_origin_z);
+    ivec3 dims = ivec3(pc.bin_nx, pc.bin_ny, pc.bin_nz);
+
+    // 1. U from the atoms near the box (within r_max + half a bin).
+    float near = sqrt(pc.r2_max) + 0.5 * pc.bin_size;
+    ivec3 b_lo = clamp(ivec3(floor((box.lo - near - bin_origin) / pc.bin_size)), ivec3(0), dims - 1);
+    ivec3 b_hi = clamp(ivec3(floor((box.hi + near - bin_origin) / pc.bin_size)), ivec3(0), dims - 1);
+    float u = pc.pi_cut;
+    for (int z = b_lo.z; z <= b_hi.z; ++z)
+        for (int y = b_lo.y; y <= b_hi.y; ++y) {
+            uint row = (uint(z) * pc.bin_ny + uint(y)) * pc.bin_nx;
+            for (uint i = bin_start[row + uint(b_lo.x)]; i < bin_start[row + uint(b_hi.x) + 1u]; ++i) {
+                vec3 f = box_far(atoms[i].xyz, box.lo, box.hi);
+                u = min(u, dot(f, f) - atoms[i].w);
+            }
+        }
+    // The slack keeps float rounding in the bounds below from dropping the true minimiser.
+    u += 1e-3 * (1.0 + abs(u));
+
+    // 2. The candidates: atoms that can reach pi <= u somewhere in the box.
+    float reach = sqrt(max(u + pc.r2_max, 0.0));
+    b_lo = clamp(ivec3(floor((box.lo - reach - bin_origin) / pc.bin_size)), ivec3(0), dims - 1);
+    b_hi = clamp(ivec3(floor((box.hi + reach - bin_origin) / pc.bin_size)), ivec3(0), dims - 1);
+    uint base = tile * (pc.capacity + 1u);
+    uint count = 0u;
+    for (int z = b_lo.z; z <= b_hi.z; ++z)
+        for (int y = b_lo.y; y <= b_hi.y; ++y) {
+            // A row of bins (contiguous atoms) whose y-z distance to the box already exceeds the
+            // reach holds no candidate.
+            vec2 lo = bin_origin.yz + vec2(y, z) * pc.bin_size;
+            vec2 gap = max(max(lo - box.hi.yz, box.lo.yz - (lo + pc.bin_size)), vec2(0.0));
+            if (dot(gap, gap) - pc.r2_max > u) continue;
+            uint row = (uint(z) * pc.bin_ny + uint(y)) * pc.bin_nx;
+            for (uint i = bin_start[row + uint(b_lo.x)]; i < bin_start[row + uint(b_hi.x) + 1u]; ++i) {
+                vec4 a = atoms[i];
+                vec3 d = box_gap(a.xyz, box.lo, box.hi);
+                if (dot(d, d) - a.w > u) continue;
+                if (count < pc.capacity) candidates[base + 1u + count] = i;
+                ++count;
+            }
+        }
+    candidates[base] = count;  // > capacity: density.comp falls back to a search per point
+}
