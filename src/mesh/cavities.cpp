@@ -188,8 +188,11 @@ std::size_t remove_cavities_if(Mesh& mesh, const std::function<bool(const MeshPi
 
 std::size_t remove_cavities_without_probe(Mesh& mesh, const Atoms& atoms, double probe,
                                           double step) {
+    // A void that holds a probe ball encloses at least the ball's volume; below half of it
+    // (room for the approximate surface's own error) no search is needed.
+    const double half_ball = 0.5 * 4.0 / 3.0 * 3.14159265358979 * probe * probe * probe;
     return remove_cavities_if(mesh, [&](const MeshPiece& c) {
-        return cavity_clearance(c.triangles, atoms, step) < probe;
+        return -c.volume < half_ball || cavity_clearance(c.triangles, atoms, step) < probe;
     });
 }
 

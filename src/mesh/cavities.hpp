@@ -39,7 +39,8 @@ double cavity_clearance(const std::vector<std::array<std::array<double, 3>, 3>>&
                         const Atoms& atoms, double step = 0.3);
 
 // Removes the cavities in which no ball of radius `probe` fits between the atoms: voids that
-// are not part of the SES, whatever their volume (the FDM method's default).
+// are not part of the SES, whatever their volume (the FDM method's default). Voids of less than
+// half a probe ball's volume are removed without the search.
 std::size_t remove_cavities_without_probe(Mesh& mesh, const Atoms& atoms, double probe,
                                           double step = 0.3);
 

@@ -70,17 +70,23 @@ TEST(Cavities, ClearanceIsTheLargestBallBetweenTheAtoms) {
 }
 
 TEST(Cavities, VoidsWithoutRoomForTheProbeAreRemoved) {
+    // A void of radius 4 between six atoms of radius 1 at +-6 Å on the axes: a ball of radius 5
+    // fits (centred at the origin). A probe of 4.5 Å is kept, one of 5.5 Å is not. A void below
+    // half a probe ball's volume goes without a search (the radius-2 void: 33.5 Å³, less than
+    // half of a 3 Å probe's 113 Å³, although its clearance, 5 Å, would admit the probe).
     Atoms atoms;
-    atoms.xyz = {3.0f, 0.0f, 0.0f};
-    atoms.radius = {1.0f};
-    for (double probe : {3.5, 4.5}) {
-        Mesh m = shell_with_cavity(2.0, {0, 0, 0});
+    atoms.xyz = {6, 0, 0, -6, 0, 0, 0, 6, 0, 0, -6, 0, 0, 0, 6, 0, 0, -6};
+    atoms.radius.assign(6, 1.0f);
+    for (double probe : {4.5, 5.5}) {
+        Mesh m = shell_with_cavity(4.0, {0, 0, 0});
         const std::size_t before = m.triangle_count();
         const std::size_t removed = fdmsurf::detail::remove_cavities_without_probe(m, atoms, probe);
-        EXPECT_EQ(removed, probe < 4.0 ? 0u : 1u) << probe;
-        EXPECT_EQ(m.triangle_count() < before, probe > 4.0);
-        EXPECT_EQ(fdmsurf::compute_stats(m).pieces, probe < 4.0 ? 2u : 1u);
+        EXPECT_EQ(removed, probe < 5.0 ? 0u : 1u) << probe;
+        EXPECT_EQ(m.triangle_count() < before, probe > 5.0);
+        EXPECT_EQ(fdmsurf::compute_stats(m).pieces, probe < 5.0 ? 2u : 1u);
     }
+    Mesh small = shell_with_cavity(2.0, {0, 0, 0});
+    EXPECT_EQ(fdmsurf::detail::remove_cavities_without_probe(small, atoms, 3.0), 1u);
 }
 
 TEST(Cavities, PredicateSeesEachCavityOnce) {
