@@ -47,18 +47,23 @@ bool inside_piece(const P3& p, const std::vector<std::array<P3, 3>>& tris) {
 
 }  // namespace
 
-double cavity_clearance(const std::vector<std::array<P3, 3>>& tris, const Atoms& atoms,
-                        double step) {
+double cavity_clearance(const std::vector<std::array<P3, 3>>& tris, const Atoms& atoms, double step,
+                        double cap) {
     P3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
     for (const auto& t : tris)
         for (const auto& v : t)
             for (int a = 0; a < 3; ++a)
                 lo[a] = std::min(lo[a], v[a]), hi[a] = std::max(hi[a], v[a]);
+    // At most about 20,000 samples, whatever the void's size.
+    const double box = (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
+    step = std::max(step, std::cbrt(box / 20000.0));
     // The atoms that can be nearest to a point of the box: within the largest radius plus the
-    // box's half diagonal of it (any farther atom is beaten by the nearest centre's atom).
+    // box's diagonal of it, or, with a cap, within cap + the largest radius (an atom farther from
+    // every point of the box cannot bring the clearance under the cap).
     float r_max = 0.0f;
     for (float r : atoms.radius) r_max = std::max(r_max, r);
-    const double margin = std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]) + 2.0 * r_max;
+    const double diagonal = std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
+    const double margin = std::isfinite(cap) ? cap + r_max + 1e-3 : diagonal + 2.0 * r_max;
     std::vector<std::array<double, 4>> near;
     for (std::size_t i = 0; i < atoms.size(); ++i) {
         const P3 ci{atoms.xyz[3 * i], atoms.xyz[3 * i + 1], atoms.xyz[3 * i + 2]};
@@ -67,33 +72,40 @@ double cavity_clearance(const std::vector<std::array<P3, 3>>& tris, const Atoms&
             close = close && ci[a] > lo[a] - margin && ci[a] < hi[a] + margin;
         if (close) near.push_back({ci[0], ci[1], ci[2], double(atoms.radius[i])});
     }
-    if (near.empty()) return std::numeric_limits<double>::infinity();
     auto clearance = [&](const P3& p) {
-        double best = std::numeric_limits<double>::infinity();
+        double best = cap;
         for (const auto& a : near)
             best = std::min(best, std::hypot(p[0] - a[0], p[1] - a[1], p[2] - a[2]) - a[3]);
         return best;
     };
-    // Samples on a grid inside the piece, then a pattern search from the best few.
-    std::vector<std::pair<double, P3>> samples;
+    // Samples on a grid inside the piece (ending at the first that reaches the cap), keeping
+    // the best four inside; the inside test (a ray against every triangle) is the dear part, so
+    // it is asked only of samples that would enter the four. Then a pattern search from those.
+    constexpr std::size_t kSeeds = 4;
+    std::vector<std::pair<double, P3>> samples;  // best first
     for (double z = lo[2] + 0.5 * step; z < hi[2]; z += step)
         for (double y = lo[1] + 0.5 * step; y < hi[1]; y += step)
             for (double x = lo[0] + 0.5 * step; x < hi[0]; x += step) {
                 const P3 p{x, y, z};
-                if (inside_piece(p, tris)) samples.push_back({clearance(p), p});
+                const double c = clearance(p);
+                if (samples.size() == kSeeds && c <= samples.back().first) continue;
+                if (!inside_piece(p, tris)) continue;
+                if (c >= cap) return cap;
+                auto at = std::find_if(samples.begin(), samples.end(),
+                                       [&](const auto& e) { return c > e.first; });
+                samples.insert(at, {c, p});
+                if (samples.size() > kSeeds) samples.pop_back();
             }
     if (samples.empty()) return -std::numeric_limits<double>::infinity();
-    const std::size_t keep = std::min<std::size_t>(4, samples.size());
-    std::partial_sort(samples.begin(), samples.begin() + keep, samples.end(),
-                      [](const auto& a, const auto& b) { return a.first > b.first; });
+    const std::size_t keep = samples.size();
     double best = samples.front().first;
-    for (std::size_t k = 0; k < keep; ++k) {
+    for (std::size_t k = 0; k < keep && best < cap; ++k) {
         auto [value, p] = samples[k];
         // All 26 directions of a cube's neighbours: at a point where several atoms are equally
         // near (a kink of the min), only a diagonal move raises all their distances at once.
-        for (double h = 0.5 * step; h > 1e-3; h *= 0.5) {
+        for (double h = 0.5 * step; h > 1e-3 && value < cap; h *= 0.5) {
             bool moved = true;
-            while (moved) {
+            while (moved && value < cap) {
                 moved = false;
                 for (int dz = -1; dz <= 1; ++dz)
                     for (int dy = -1; dy <= 1; ++dy)
@@ -192,7 +204,7 @@ std::size_t remove_cavities_without_probe(Mesh& mesh, const Atoms& atoms, double
     // (room for the approximate surface's own error) no search is needed.
     const double half_ball = 0.5 * 4.0 / 3.0 * 3.14159265358979 * probe * probe * probe;
     return remove_cavities_if(mesh, [&](const MeshPiece& c) {
-        return -c.volume < half_ball || cavity_clearance(c.triangles, atoms, step) < probe;
+        return -c.volume < half_ball || cavity_clearance(c.triangles, atoms, step, probe) < probe;
     });
 }
 

@@ -52,6 +52,9 @@ TEST(Cavities, ClearanceIsTheLargestBallBetweenTheAtoms) {
     atoms.xyz = {3, 0, 0, -3, 0, 0, 0, 3, 0, 0, -3, 0, 0, 0, 3, 0, 0, -3};
     atoms.radius.assign(6, 1.0f);
     EXPECT_NEAR(fdmsurf::detail::cavity_clearance(cavity, atoms), 2.0, 0.005);
+    // With a cap: min(clearance, cap), the cap returned as soon as a sample reaches it.
+    EXPECT_EQ(fdmsurf::detail::cavity_clearance(cavity, atoms, 0.3, 1.5), 1.5);
+    EXPECT_NEAR(fdmsurf::detail::cavity_clearance(cavity, atoms, 0.3, 3.0), 2.0, 0.005);
     // The atoms moved by (0.2, 0.1, 0) and grown to 1.2 Å: the centre follows, the radius is 1.8.
     for (std::size_t i = 0; i < 6; ++i) {
         atoms.xyz[3 * i] += 0.2f;
