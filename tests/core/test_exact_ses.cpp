@@ -18,6 +18,7 @@
 #include "fdmsurf/surface.hpp"
 #include "grid/grid_plan.hpp"
 #include "mesh/cavities.hpp"
+#include "support/crambin_reference.hpp"
 #include "support/gpu_fixture.hpp"
 #include "support/mesh_checks.hpp"
 #include "support/test_atoms.hpp"
@@ -76,23 +77,7 @@ Revolution two_ball_ses(double r1, double r2, double D, double p) {
     return out;
 }
 
-class ExactSes : public GpuTest {
-protected:
-    static const Atoms& crambin() {
-        static const Atoms atoms = fdmsurf::read_structure(data_path("1crn.xyzr")).atoms;
-        return atoms;
-    }
-    static const fdmsurf::Mesh& nanoshaper() {
-        static const fdmsurf::Mesh mesh =
-            fdmsurf::read_mesh_any(data_path("1crn-ses-nanoshaper.ply.gz"));
-        return mesh;
-    }
-    static CompareResult against_reference(const SurfaceResult& r, double spacing) {
-        fdmsurf::CompareOptions o;
-        o.spacing = spacing;
-        return fdmsurf::compare_meshes(nanoshaper(), r.mesh, o);
-    }
-};
+class ExactSes : public CrambinReferenceTest {};
 
 TEST_F(ExactSes, OneBallIsItsOwnSes) {
     // The probe rolls over one ball without touching anything else: the SES is the ball. At

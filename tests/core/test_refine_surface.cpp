@@ -15,6 +15,7 @@
 #include "fdmsurf/surface.hpp"
 #include "fdmsurf/vulkan_interop.hpp"
 #include "grid/grid_plan.hpp"
+#include "support/crambin_reference.hpp"
 #include "support/gpu_fixture.hpp"
 #include "support/mesh_checks.hpp"
 
@@ -39,23 +40,7 @@ bool has_stage(const SurfaceResult& r, const std::string& name) {
     return false;
 }
 
-class RefineSurface : public GpuTest {
-protected:
-    static const Atoms& crambin() {
-        static const Atoms atoms = fdmsurf::read_structure(data_path("1crn.xyzr")).atoms;
-        return atoms;
-    }
-    static const fdmsurf::Mesh& nanoshaper() {
-        static const fdmsurf::Mesh mesh =
-            fdmsurf::read_mesh_any(data_path("1crn-ses-nanoshaper.ply.gz"));
-        return mesh;
-    }
-    static CompareResult against_reference(const SurfaceResult& r, double spacing) {
-        fdmsurf::CompareOptions o;
-        o.spacing = spacing;
-        return fdmsurf::compare_meshes(nanoshaper(), r.mesh, o);
-    }
-};
+class RefineSurface : public CrambinReferenceTest {};
 
 // Triangles whose geometric normal points against the mean of their vertices' normals (which
 // come from the field's gradient): folds.
