@@ -101,7 +101,6 @@ SesFeatures build_ses_features(const Atoms& atoms, float probe) {
                     "the exact SES needs a probe radius > 0 Å (probe 0 is the vdw surface)");
     const std::size_t n = atoms.size();
     SesFeatures f;
-    f.probe = probe;
     std::vector<V3> c(n);
     std::vector<double> R(n);
     double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};

@@ -35,7 +35,6 @@ static_assert(sizeof(SesArc) == 12 * sizeof(float));
 
 // Spheres and arcs sorted into cubic bins (counting sort), for the gather of each workgroup.
 struct SesFeatures {
-    float probe = 0.0f;
     float r_max = 0.0f;    // largest inflated radius r + probe, Å
     float rho_max = 0.0f;  // largest arc circle radius, Å (0 without arcs)
     float origin[3] = {0, 0, 0};
