@@ -1,6 +1,6 @@
-// Marching cubes, pass 2: exclusive prefix sum of the per-block (vertex, triangle) counts in one
+// Marching cubes, pass 3: exclusive prefix sum of the per-run (vertex, triangle) counts in one
 // workgroup; each invocation scans a contiguous chunk. Writes the totals, also after the last
-// block, so that block b holds block_sums[b + 1] - block_sums[b] vertices and triangles.
+// run, so that run r holds block_sums[r + 1] - block_sums[r] vertices and triangles.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "shader_interface.h"

@@ -1,13 +1,14 @@
-// Marching cubes, pass 3: one vertex per crossed owned edge, at the linear interpolation of the
-// iso-level, with the normal -grad(rho) interpolated from central differences. A point's first
-// vertex is its block's offset plus its offset in the block (pass 1).
+// Marching cubes, pass 4: one vertex per crossed owned edge, at the linear interpolation of the
+// iso-level, with the normal -grad(rho) interpolated from central differences. A segment's first
+// vertex is its run's offset (mc_scan.comp) plus its offset in the run (mc_count.comp).
 #version 450
 #extension GL_GOOGLE_include_directive : require
-layout(local_size_x = 256) in;
-layout(std430, binding = 0) readonly buffer Field { float field[]; };
-layout(std430, binding = 1) readonly buffer Counts { uint counts[]; };
-layout(std430, binding = 2) readonly buffer BlockSums { uvec2 block_sums[]; };
-layout(std430, binding = 3) writeonly buffer Vertices { float vertices[]; };  // pos, normal
+layout(local_size_x = 64) in;  // kMcGroup
+layout(std430, binding = 2) readonly buffer Local { uint local_offsets[]; };
+layout(std430, binding = 3) readonly buffer RunSums { uvec2 run_sums[]; };
+layout(std430, binding = 4) writeonly buffer Vertices { float vertices[]; };  // pos, normal
+#define MC_FIELD_BINDING 0
+#define MC_OCC_BINDING 1
 #include "mc_common.glsl"
 
 vec3 gradient(uvec3 p) {
@@ -47,36 +48,38 @@ float edge_crossing(float v0, float v1) {
 }
 
 void main() {
-    // Most blocks hold no surface: the whole workgroup leaves at once (uniformly, before any
-    // barrier) when its block emits nothing.
-    uint block = gl_WorkGroupID.y * pc.blocks_x + gl_WorkGroupID.x;
-    if (block * kMcBlock >= pc.owned_points) return;  // past the last block of a 2D dispatch
-    if (block_sums[block + 1u].x == block_sums[block].x) return;
-    uint i = point_index();
-    if (i >= pc.owned_points) return;
-    uvec3 p = point_coords(i);
-    uint bits = crossed_edges(p);
-    if (bits == 0u) return;
-    uint v = block_sums[block].x + (counts[i] & 0xffffu);
+    uint s = invocation_index();
+    if (s >= pc.segments) return;
+    uvec3 c = segment_coords(s);
+    uvec3 e = segment_edges(c.x, c.y, c.z);
+    uint points = e.x | e.y | e.z;
+    if (points == 0u) return;
+    uint v = run_sums[s / kMcRun].x + (local_offsets[s] & 0xffffu);
     vec3 origin = vec3(pc.origin_x, pc.origin_y, pc.origin_z);
-    float v0 = value_at(p.x, p.y, p.z);
-    vec3 g0 = gradient(p);
-    for (uint axis = 0u; axis < 3u; ++axis) {
-        if ((bits & (1u << axis)) == 0u) continue;
-        uvec3 e = uvec3(axis == 0u ? 1u : 0u, axis == 1u ? 1u : 0u, axis == 2u ? 1u : 0u);
-        uvec3 q = p + e;
-        float v1 = value_at(q.x, q.y, q.z);
-        float t = edge_crossing(v0, v1);
-        vec3 pos = origin + pc.spacing * (vec3(p) + t * vec3(e));
-        vec3 g = (1.0 - t) * g0 + t * gradient(q);
-        float len = length(g);
-        vec3 n = len > 1e-20 ? -g / len : (v0 >= pc.iso ? vec3(e) : -vec3(e));
-        vertices[6u * v + 0u] = pos.x;
-        vertices[6u * v + 1u] = pos.y;
-        vertices[6u * v + 2u] = pos.z;
-        vertices[6u * v + 3u] = n.x;
-        vertices[6u * v + 4u] = n.y;
-        vertices[6u * v + 5u] = n.z;
-        ++v;
+    while (points != 0u) {
+        uint k = uint(findLSB(points));
+        points &= points - 1u;
+        uvec3 p = uvec3(32u * c.x + k, c.y, c.z);
+        uint bits = ((e.x >> k) & 1u) | (((e.y >> k) & 1u) << 1) | (((e.z >> k) & 1u) << 2);
+        float v0 = value_at(p.x, p.y, p.z);
+        vec3 g0 = gradient(p);
+        for (uint axis = 0u; axis < 3u; ++axis) {
+            if ((bits & (1u << axis)) == 0u) continue;
+            uvec3 d = uvec3(axis == 0u ? 1u : 0u, axis == 1u ? 1u : 0u, axis == 2u ? 1u : 0u);
+            uvec3 q = p + d;
+            float v1 = value_at(q.x, q.y, q.z);
+            float t = edge_crossing(v0, v1);
+            vec3 pos = origin + pc.spacing * (vec3(p) + t * vec3(d));
+            vec3 g = (1.0 - t) * g0 + t * gradient(q);
+            float len = length(g);
+            vec3 n = len > 1e-20 ? -g / len : (v0 >= pc.iso ? vec3(d) : -vec3(d));
+            vertices[6u * v + 0u] = pos.x;
+            vertices[6u * v + 1u] = pos.y;
+            vertices[6u * v + 2u] = pos.z;
+            vertices[6u * v + 3u] = n.x;
+            vertices[6u * v + 4u] = n.y;
+            vertices[6u * v + 5u] = n.z;
+            ++v;
+        }
     }
 }

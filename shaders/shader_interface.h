@@ -35,9 +35,14 @@ FDM_CONST kSesCapacity = 2040;
 FDM_CONST kMaskGroupX = 64;
 FDM_CONST kMaskGroupY = 4;
 
-// Marching cubes: one invocation per owned grid point, 1D blocks (2D dispatch of blocks).
-FDM_CONST kMcBlock = 256;
-// Block-sum scan: one workgroup.
+// Marching cubes works on segments: 32 consecutive points of an x row, whose inside/outside
+// states are the bits of one word (mc_occupancy.comp). mc_count.comp: one invocation per run of
+// kMcRun segments; mc_occupancy, mc_vertices and mc_triangles: one invocation per segment. All
+// in flat workgroups of kMcGroup (2D dispatch of workgroups).
+FDM_CONST kMcSegment = 32;
+FDM_CONST kMcRun = 32;
+FDM_CONST kMcGroup = 64;
+// Run-sum scan: one workgroup.
 FDM_CONST kScanGroup = 1024;
 
 // Filter shapes (SpectralMaskPush::shape).
@@ -83,15 +88,16 @@ struct McPush {
     uint nx, ny, nz, pitch;  // points in the field buffer; floats per x row
     uint z_begin, z_end;     // points of planes [z_begin, z_end] are processed; cells start on
                              // planes [z_begin, z_end), so the buffer holds planes to z_end
-    uint blocks_x;           // workgroups along x of the 2D dispatch of blocks
+    uint groups_x;           // workgroups along x of this dispatch's 2D grid of workgroups
     float iso;               // iso-level
-    uint owned_points;       // nx * ny * (z_end - z_begin + 1)
+    uint words;              // segments (32-point words) per x row: ceil(nx / 32)
+    uint segments;           // words * ny * (z_end - z_begin + 1)
     float power_sigma2;      // > 0: interpolate the power distance (McParams::power_sigma2)
     float power_t;
 };
 
 struct ScanPush {
-    uint count;  // number of uvec2 block sums
+    uint count;  // number of uvec2 run sums
 };
 
 #ifdef __cplusplus

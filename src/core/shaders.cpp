@@ -4,7 +4,8 @@
 #include "fdmsurf/error.hpp"
 #include "fdmsurf_generated/shaders/density.spv.h"
 #include "fdmsurf_generated/shaders/density_tiles.spv.h"
-#include "fdmsurf_generated/shaders/mc_classify.spv.h"
+#include "fdmsurf_generated/shaders/mc_count.spv.h"
+#include "fdmsurf_generated/shaders/mc_occupancy.spv.h"
 #include "fdmsurf_generated/shaders/mc_scan.spv.h"
 #include "fdmsurf_generated/shaders/mc_triangles.spv.h"
 #include "fdmsurf_generated/shaders/mc_vertices.spv.h"
@@ -20,7 +21,8 @@ ShaderCode shader_code(Shader shader) {
         case Shader::Density: return {density_spv, sizeof(density_spv)};
         case Shader::SesDistance: return {ses_distance_spv, sizeof(ses_distance_spv)};
         case Shader::SpectralMask: return {spectral_mask_spv, sizeof(spectral_mask_spv)};
-        case Shader::McClassify: return {mc_classify_spv, sizeof(mc_classify_spv)};
+        case Shader::McOccupancy: return {mc_occupancy_spv, sizeof(mc_occupancy_spv)};
+        case Shader::McCount: return {mc_count_spv, sizeof(mc_count_spv)};
         case Shader::McScan: return {mc_scan_spv, sizeof(mc_scan_spv)};
         case Shader::McVertices: return {mc_vertices_spv, sizeof(mc_vertices_spv)};
         case Shader::McTriangles: return {mc_triangles_spv, sizeof(mc_triangles_spv)};

@@ -16,7 +16,8 @@ enum class Shader {
     Density,
     SesDistance,
     SpectralMask,
-    McClassify,
+    McOccupancy,
+    McCount,
     McScan,
     McVertices,
     McTriangles

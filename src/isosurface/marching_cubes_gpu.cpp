@@ -32,9 +32,10 @@ MarchingCubesPass::MarchingCubesPass(Context& ctx) : ctx_(ctx) {
         ShaderCode code = shader_code(s);
         return ComputePipeline(ctx, code.words, code.bytes, bindings, push, name);
     };
-    classify_ = make(Shader::McClassify, 4, sizeof(shader::McPush), "mc_classify");
+    occupancy_ = make(Shader::McOccupancy, 2, sizeof(shader::McPush), "mc_occupancy");
+    count_ = make(Shader::McCount, 4, sizeof(shader::McPush), "mc_count");
     scan_ = make(Shader::McScan, 2, sizeof(shader::ScanPush), "mc_scan");
-    vertices_ = make(Shader::McVertices, 4, sizeof(shader::McPush), "mc_vertices");
+    vertices_ = make(Shader::McVertices, 5, sizeof(shader::McPush), "mc_vertices");
     triangles_ = make(Shader::McTriangles, 5, sizeof(shader::McPush), "mc_triangles");
 }
 
@@ -43,12 +44,13 @@ GpuMesh MarchingCubesPass::run(Commands& cmds, StagingArena& arena, const Buffer
                                std::uint32_t pitch, const McParams& params) {
     if (params.z_end >= nz || params.z_begin > params.z_end || nx < 2 || ny < 2)
         throw Error(ErrorCode::Internal, "marching cubes: bad slab range");
-    const std::uint64_t points = std::uint64_t(nx) * ny * (params.z_end - params.z_begin + 1);
-    if (points >= (1ull << 32) - shader::kMcBlock)
+    const std::uint64_t points = std::uint64_t(pitch) * ny * nz;
+    if (points >= (1ull << 32))
         throw Error(ErrorCode::DeviceLimit, "marching cubes: more than 2^32 grid points in one part");
-    const std::uint64_t blocks = (points + shader::kMcBlock - 1) / shader::kMcBlock;
-    check_binding(ctx_, points * 4, "marching cubes (per-point counts)");
-    const std::uint32_t max_x = ctx_.limits().max_workgroup_count[0];
+    check_binding(ctx_, points * 4, "marching cubes (the field)");
+    const std::uint32_t words = (nx + shader::kMcSegment - 1) / shader::kMcSegment;
+    const std::uint64_t segments = std::uint64_t(words) * ny * (params.z_end - params.z_begin + 1);
+    const std::uint64_t runs = (segments + shader::kMcRun - 1) / shader::kMcRun;
     shader::McPush push{};
     push.origin_x = params.origin[0];
     push.origin_y = params.origin[1];
@@ -60,32 +62,45 @@ GpuMesh MarchingCubesPass::run(Commands& cmds, StagingArena& arena, const Buffer
     push.pitch = pitch;
     push.z_begin = params.z_begin;
     push.z_end = params.z_end;
-    push.blocks_x = static_cast<std::uint32_t>(std::min<std::uint64_t>(blocks, max_x));
     push.iso = params.iso;
-    push.owned_points = static_cast<std::uint32_t>(points);
+    push.words = words;
+    push.segments = static_cast<std::uint32_t>(segments);
     push.power_sigma2 = params.power_sigma2;
     push.power_t = params.power_t;
-    const std::uint32_t blocks_y =
-        static_cast<std::uint32_t>((blocks + push.blocks_x - 1) / push.blocks_x);
+    // One invocation per `items` (segments or runs), in flat workgroups folded into a 2D grid.
+    const std::uint32_t max_x = ctx_.limits().max_workgroup_count[0];
+    auto dispatch = [&](const ComputePipeline& pipeline, std::initializer_list<BufferRange> buffers,
+                        std::uint64_t items) {
+        const std::uint64_t groups = (items + shader::kMcGroup - 1) / shader::kMcGroup;
+        shader::McPush p = push;
+        p.groups_x = static_cast<std::uint32_t>(std::min<std::uint64_t>(groups, max_x));
+        const std::uint64_t groups_y = (groups + p.groups_x - 1) / p.groups_x;
+        if (groups_y > ctx_.limits().max_workgroup_count[1])
+            throw Error(ErrorCode::DeviceLimit, "marching cubes: too many workgroups for this device");
+        cmds.dispatch(pipeline, buffers, &p, p.groups_x, static_cast<std::uint32_t>(groups_y));
+    };
 
     if (!tables_) {
         // Same layout as McTables in shaders/mc_common.glsl.
-        std::vector<std::int32_t> words;
-        for (int c = 0; c < 256; ++c) words.push_back(mc::kTriCount[c]);
+        std::vector<std::int32_t> table;
+        for (int c = 0; c < 256; ++c) table.push_back(mc::kTriCount[c]);
         for (int c = 0; c < 256; ++c)
-            for (int k = 0; k < 3 * mc::kMaxTriangles; ++k) words.push_back(mc::kTriEdges[c][k]);
-        tables_ = upload_buffer(ctx_, cmds, arena, words.data(), words.size() * 4, "mc_tables");
+            for (int k = 0; k < 3 * mc::kMaxTriangles; ++k) table.push_back(mc::kTriEdges[c][k]);
+        tables_ = upload_buffer(ctx_, cmds, arena, table.data(), table.size() * 4, "mc_tables");
         cmds.barrier_compute();
     }
-    Buffer counts(ctx_, points * 4, MemoryUse::Device, "mc_counts");
-    Buffer block_sums(ctx_, (blocks + 1) * 8, MemoryUse::Device, "mc_block_sums");
+    Buffer occupancy(ctx_, segments * 4, MemoryUse::Device, "mc_occupancy");
+    Buffer local(ctx_, segments * 4, MemoryUse::Device, "mc_local_offsets");
+    Buffer run_sums(ctx_, (runs + 1) * 8, MemoryUse::Device, "mc_run_sums");
     Buffer totals(ctx_, 8, MemoryUse::Device, "mc_totals");
-    cmds.dispatch(classify_, {whole(field), whole(counts), whole(block_sums), whole(tables_)}, &push, push.blocks_x,
-                  blocks_y);
+    dispatch(occupancy_, {whole(field), whole(occupancy)}, segments);
+    cmds.mark("mc-occupancy");
+    cmds.barrier_compute();
+    dispatch(count_, {whole(occupancy), whole(local), whole(run_sums), whole(tables_)}, runs);
     cmds.mark("mc-count");
     cmds.barrier_compute();
-    shader::ScanPush scan{static_cast<std::uint32_t>(blocks)};
-    cmds.dispatch(scan_, {whole(block_sums), whole(totals)}, &scan, 1);
+    shader::ScanPush scan{static_cast<std::uint32_t>(runs)};
+    cmds.dispatch(scan_, {whole(run_sums), whole(totals)}, &scan, 1);
     cmds.mark("mc-scan");
     cmds.barrier_compute();
     const Buffer& totals_host = readback_buffer(ctx_, cmds, arena, totals, 8, "mc_totals_readback");
@@ -106,14 +121,15 @@ GpuMesh MarchingCubesPass::run(Commands& cmds, StagingArena& arena, const Buffer
 
     cmds.begin();
     if (total[0] > 0) {
-        cmds.dispatch(vertices_, {whole(field), whole(counts), whole(block_sums), whole(mesh.vertices)},
-                      &push, push.blocks_x, blocks_y);
+        dispatch(vertices_,
+                 {whole(field), whole(occupancy), whole(local), whole(run_sums), whole(mesh.vertices)},
+                 segments);
         cmds.barrier_compute();
     }
     if (total[1] > 0)
-        cmds.dispatch(triangles_, {whole(field), whole(counts), whole(block_sums), whole(mesh.indices),
-                                    whole(tables_)},
-                      &push, push.blocks_x, blocks_y);
+        dispatch(triangles_,
+                 {whole(occupancy), whole(local), whole(run_sums), whole(mesh.indices), whole(tables_)},
+                 segments);
     cmds.mark("mc-emit");
     cmds.barrier_compute();
     cmds.submit_and_wait();

@@ -1,4 +1,5 @@
-// Marching cubes on the GPU: count, scan, then emit vertices and triangles into exact-size buffers.
+// Marching cubes on the GPU: occupancy bits, count, scan, then emit vertices and triangles into
+// exact-size buffers.
 #pragma once
 
 #include <cstdint>
@@ -40,7 +41,7 @@ public:
 private:
     Context& ctx_;
     std::vector<StageTime> times_;
-    ComputePipeline classify_, scan_, vertices_, triangles_;
+    ComputePipeline occupancy_, count_, scan_, vertices_, triangles_;
     Buffer tables_;  // triangle counts and edges per cube case (uploaded on first use)
 };
 

@@ -205,4 +205,34 @@ TEST_F(MarchingCubesGpu, EmptyFieldGivesEmptyMesh) {
     EXPECT_EQ(gpu.triangle_count(), 0u);
 }
 
+// Noise around the iso-level: nearly every cell is crossed, so segments (32-point words of a
+// row) carry close to their maximum of vertices and triangles and every run (kMcRun segments)
+// its largest local offsets. Row lengths on, just past and just short of a word boundary.
+TEST_F(MarchingCubesGpu, MatchesCpuOnNoiseAtWordBoundaries) {
+    for (std::uint32_t nx : {64u, 33u, 95u}) {
+        SCOPED_TRACE("nx " + std::to_string(nx));
+        Field f;
+        f.nx = nx;
+        f.ny = 23;
+        f.nz = 9;
+        f.pitch = nx + 3;
+        f.params.spacing = 0.5f;
+        f.params.iso = 0.5f;
+        f.params.z_begin = 0;
+        f.params.z_end = f.nz - 1;
+        f.values.assign(std::size_t(f.pitch) * f.ny * f.nz, 1e30f);
+        std::uint32_t state = 12345u + nx;
+        for (std::uint32_t z = 0; z < f.nz; ++z)
+            for (std::uint32_t y = 0; y < f.ny; ++y)
+                for (std::uint32_t x = 0; x < f.nx; ++x) {
+                    state = state * 1664525u + 1013904223u;
+                    f.values[(std::size_t(z) * f.ny + y) * f.pitch + x] =
+                        float(state >> 8) / float(1u << 24);
+                }
+        const Mesh gpu = compare(f, f.params);
+        // About 3 crossed edges per two points and 2 triangles per cell on average.
+        EXPECT_GT(gpu.triangle_count(), std::size_t(f.nx) * f.ny * f.nz);
+    }
+}
+
 }  // namespace
