@@ -163,7 +163,9 @@ int run_one(const CliOptions& options, Engine& engine, double init_ms, const std
     write_mesh(result.mesh, output, format);
     report.times.push_back({"write", ms_since(t), false});
 
+    t = Clock::now();
     report.stats = compute_stats(result.mesh);
+    report.times.push_back({"mesh-stats", ms_since(t), false});
     report.closed_manifold = report.stats.is_closed_manifold();
     report.version = version();
     report.input = input;

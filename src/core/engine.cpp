@@ -1,6 +1,7 @@
 // The pipeline (Giard & Macq 2010): density, spectral filter, marching cubes, on one device.
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <cstring>
 #include <memory>
 #include <string>
@@ -125,6 +126,7 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
     }
     result.mesh = marching_cubes.read_back(commands, gpu);
     add_times(result.times, commands.stage_times());
+    add_times(result.times, {{"unpack-mesh", marching_cubes.unpack_ms(), false}});
     if (options.refine > 0) {
         refine(result, atoms, options, plan, &features, &field, nullptr);
         if (on_device) *on_device = upload_mesh(result.mesh);
@@ -183,16 +185,34 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
     const double h = plan.info.spacing;
     const std::uint64_t limit = field_budget();
     const std::uint64_t plane_bytes = std::uint64_t(plan.pitch) * d[1] * sizeof(float);
-    // Overlap: two filter wavelengths on each side, none without a filter (exact per point).
-    const std::uint32_t overlap =
-        plan.filtered ? static_cast<std::uint32_t>(std::ceil(2.0 / plan.info.cutoff / h)) : 0;
-    std::uint32_t slab_planes =
-        static_cast<std::uint32_t>(std::min<std::uint64_t>(limit / plane_bytes, d[2]));
+    // Overlap on each side, enough that the filter kernel's reach from outside the slab (and
+    // the circular wrap of the slab's FFT) is below float rounding in the core: for the
+    // Gaussian filter 2^-(f/F)^2, whose kernel is a Gaussian of sigma = sqrt(ln 2 / 2) / (pi F),
+    // 6 sigma (1D tail 2e-9); for the ideal filter, whose kernel decays slowly, two wavelengths
+    // 2/F. None without a filter (every point is exact on its own).
+    std::uint32_t overlap = 0;
     if (plan.filtered) {
-        while (slab_planes > 2 && fft_friendly_size(slab_planes, false) != slab_planes)
-            --slab_planes;
+        const double reach = options.filter == FilterShape::Gaussian
+                                 ? 6.0 * std::sqrt(std::log(2.0) / 2.0) / (std::numbers::pi * plan.info.cutoff)
+                                 : 2.0 / plan.info.cutoff;
+        overlap = static_cast<std::uint32_t>(std::ceil(reach / h));
     }
-    if (slab_planes < 2 * overlap + 8) {
+    // The fewest slabs whose planes fit one binding, each as thin as they allow (FFT sizes of
+    // 2, 3, 5 and 7 only): every plane beyond the grid's is FFT work for nothing.
+    const std::uint64_t fit = std::min<std::uint64_t>(limit / plane_bytes, std::uint64_t(d[2]) + 2 * overlap);
+    auto planes_for = [&](std::uint32_t count) {
+        std::uint32_t n = (d[2] + count - 1) / count + 2 * overlap;
+        return plan.filtered ? fft_friendly_size(n, false) : n;
+    };
+    std::uint32_t slab_planes = 0;
+    for (std::uint32_t count = 2; (d[2] + count - 1) / count >= 8; ++count) {
+        const std::uint32_t n = planes_for(count);
+        if (n <= fit) {
+            slab_planes = n;
+            break;
+        }
+    }
+    if (slab_planes == 0) {
         const double need = double(plane_bytes) * (2 * overlap + 8);
         throw Error(ErrorCode::DeviceLimit,
                     "the grid of " + std::to_string(d[0]) + " x " + std::to_string(d[1]) + " x " +
@@ -210,7 +230,6 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
     GridPlan sp = plan;
     sp.info.dims[2] = slab_planes;
     const std::size_t slab_bytes = sp.field_floats() * sizeof(float);
-    Buffer field(context, slab_bytes, MemoryUse::Device, "field_slab");
     // The exact SES is evaluated per point from the features of all atoms (binned once); the
     // density of each slab from the atoms that reach it.
     SesFeatures features;
@@ -219,6 +238,8 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
         features = build_ses_features(atoms, options.probe);
         add_times(result.times, {{"ses-features", now_ms() - t0, false}});
     }
+    {  // the slab buffer is released before marching cubes allocates its parts
+    Buffer field(context, slab_bytes, MemoryUse::Device, "field_slab");
     for (std::uint32_t k = 0; k < slabs; ++k) {
         double t0 = now_ms();
         const std::int64_t zc0 = std::int64_t(k) * core;
@@ -246,12 +267,15 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
         commands.submit_and_wait();
         add_times(result.times, commands.stage_times());
         host.invalidate();
+        const double t_copy = now_ms();
         const float* src = static_cast<const float*>(host.mapped());
         for (std::int64_t z = zc0; z < zc1; ++z)
             for (std::uint32_t y = 0; y < d[1]; ++y)
                 std::memcpy(&full[(std::size_t(z) * d[1] + y) * d[0]],
                             src + (std::size_t(z - z0) * d[1] + y) * sp.pitch,
                             d[0] * sizeof(float));
+        add_times(result.times, {{"assemble-field", now_ms() - t_copy, false}});
+    }
     }
 
     // Marching cubes on z-slabs of the host field, each with one extra plane on both sides so
@@ -276,16 +300,19 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
         mc.z_end = b - lo;
         set_interpolation(mc, plan);
         StagingArena arena;
+        const double t_upload = now_ms();
         commands.begin();
         Buffer part_field =
             upload_buffer(context, commands, arena, full.data() + std::size_t(lo) * d[0] * d[1],
                           std::size_t(hi - lo + 1) * mc_plane_bytes, "field_part");
+        add_times(result.times, {{"upload-part", now_ms() - t_upload, false}});
         commands.barrier_compute();
         GpuMesh gpu =
             marching_cubes.run(commands, arena, part_field, d[0], d[1], hi - lo + 1, d[0], mc);
         add_times(result.times, marching_cubes.stage_times());
         parts.push_back(marching_cubes.read_back(commands, gpu));
         add_times(result.times, commands.stage_times());
+        add_times(result.times, {{"unpack-mesh", marching_cubes.unpack_ms(), false}});
         starts.push_back(a);
     }
     starts.push_back(d[2] - 1);

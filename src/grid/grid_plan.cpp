@@ -93,6 +93,21 @@ std::uint32_t fft_friendly_size(std::uint32_t n, bool even) {
     }
 }
 
+std::uint32_t r2c_axis_size(std::uint32_t n) {
+    // VkFFT 1.2.26's R2C transform along x costs 1.3-1.8 times more per point at some
+    // 2-3-5-7 sizes than at nearby ones (bench/fft_sizes.cpp on lavapipe, two sweeps of
+    // x × 160 × 160 and x × 200 × 200 and alternating runs at x × 343 × 240; docs/performance.md):
+    // from 240 up, 270, 294, 336, 350, 378 and 400 are slow, these are not. A larger grid at one
+    // of them is cheaper overall (336 -> 384: 14% more points, 35-45% less FFT time). Below 240
+    // the differences were within the machine's noise.
+    static constexpr std::uint32_t kFast[] = {256, 288, 320, 324, 384, 420, 448, 504, 512};
+    n = fft_friendly_size(n, true);
+    if (n < 240) return n;
+    for (std::uint32_t m : kFast)
+        if (m >= n) return m;
+    return n;
+}
+
 GridPlan plan_grid(const Atoms& atoms, const SurfaceOptions& options) {
     GridPlan plan;
     const float cutoff = effective_cutoff(options);
@@ -154,8 +169,11 @@ GridPlan plan_grid(const Atoms& atoms, const SurfaceOptions& options) {
                                                         " points along one axis; at most 65536");
         std::uint32_t n = std::max(static_cast<std::uint32_t>(points), options.min_grid[a]);
         // VkFFT 1.2.26 is only right for sizes with factors 2, 3, 5, 7 (NOTES.md), and wants
-        // the contiguous R2C axis even.
-        n = plan.filtered ? fft_friendly_size(n, a == 0) : std::max<std::uint32_t>(n, 2);
+        // the contiguous R2C axis even (and fast: r2c_axis_size).
+        if (plan.filtered)
+            n = a == 0 ? r2c_axis_size(n) : fft_friendly_size(n, false);
+        else
+            n = std::max<std::uint32_t>(n, 2);
         plan.info.dims[a] = n;
         double extra = (n - 1) * double(h) - (hi[a] - lo[a]);  // centred in a larger grid
         plan.info.origin[a] = static_cast<float>(lo[a] - extra / 2.0);

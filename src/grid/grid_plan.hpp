@@ -35,6 +35,10 @@ struct GridPlan {
 // Smallest n' >= n whose prime factors are 2, 3, 5 and 7 only (and even if `even`).
 std::uint32_t fft_friendly_size(std::uint32_t n, bool even);
 
+// The size of the contiguous (R2C) axis for at least n points: fft_friendly_size(n, true), moved
+// up to a size at which VkFFT's R2C transform is fast, from 240 to 512 points.
+std::uint32_t r2c_axis_size(std::uint32_t n);
+
 // Validates `options` (throws Error(InvalidArgument)) and places the grid around the atoms.
 GridPlan plan_grid(const Atoms& atoms, const SurfaceOptions& options);
 

@@ -124,13 +124,14 @@ GpuMesh MarchingCubesPass::run(Commands& cmds, StagingArena& arena, const Buffer
         dispatch(vertices_,
                  {whole(field), whole(occupancy), whole(local), whole(run_sums), whole(mesh.vertices)},
                  segments);
+        cmds.mark("mc-vertices");
         cmds.barrier_compute();
     }
     if (total[1] > 0)
         dispatch(triangles_,
                  {whole(occupancy), whole(local), whole(run_sums), whole(mesh.indices), whole(tables_)},
                  segments);
-    cmds.mark("mc-emit");
+    cmds.mark("mc-triangles");
     cmds.barrier_compute();
     cmds.submit_and_wait();
     first.insert(first.end(), cmds.stage_times().begin(), cmds.stage_times().end());
@@ -147,6 +148,7 @@ Mesh MarchingCubesPass::read_back(Commands& cmds, const GpuMesh& gpu) {
     cmds.barrier_to_host();
     cmds.mark("read-back");
     cmds.submit_and_wait();
+    const double t0 = now_ms();
     v.invalidate();
     i.invalidate();
     Mesh mesh;
@@ -159,6 +161,7 @@ Mesh MarchingCubesPass::read_back(Commands& cmds, const GpuMesh& gpu) {
     }
     mesh.indices.resize(std::size_t(gpu.triangle_count) * 3);
     if (ibytes) std::memcpy(mesh.indices.data(), i.mapped(), ibytes);
+    unpack_ms_ = now_ms() - t0;
     return mesh;
 }
 

@@ -35,12 +35,15 @@ public:
                 std::uint32_t ny, std::uint32_t nz, std::uint32_t pitch, const McParams& params);
     // Copies a GpuMesh to the host.
     Mesh read_back(Commands& cmds, const GpuMesh& mesh);
+    // Host time of the last read_back() spent unpacking the buffers into a Mesh, ms.
+    double unpack_ms() const { return unpack_ms_; }
     // Stage times of the submissions of the last run().
     const std::vector<StageTime>& stage_times() const { return times_; }
 
 private:
     Context& ctx_;
     std::vector<StageTime> times_;
+    double unpack_ms_ = 0.0;
     ComputePipeline occupancy_, count_, scan_, vertices_, triangles_;
     Buffer tables_;  // triangle counts and edges per cube case (uploaded on first use)
 };

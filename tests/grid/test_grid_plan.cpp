@@ -22,6 +22,7 @@ using fdmsurf::SurfaceOptions;
 using fdmsurf::detail::fft_friendly_size;
 using fdmsurf::detail::GridPlan;
 using fdmsurf::detail::plan_grid;
+using fdmsurf::detail::r2c_axis_size;
 
 std::string data_path(const std::string& name) {
     return std::string(FDMSURF_TEST_DATA_DIR) + "/" + name;
@@ -73,6 +74,29 @@ TEST(GridPlan, FftFriendlySizeIsTheSmallest2357SmoothSize) {
     EXPECT_EQ(fft_friendly_size(121, false), 125u);
     EXPECT_EQ(fft_friendly_size(125, true), 126u);
     EXPECT_EQ(fft_friendly_size(49, true), 50u);
+}
+
+TEST(GridPlan, R2cAxisSizeIsAFastFriendlySizeNotFarAbove) {
+    std::uint32_t previous = 0;
+    for (std::uint32_t n = 1; n <= 3000; ++n) {
+        const std::uint32_t m = r2c_axis_size(n);
+        ASSERT_GE(m, n) << "n " << n;
+        ASSERT_TRUE(smooth_2357(m) && m % 2 == 0) << "n " << n << " gave " << m;
+        ASSERT_GE(m, previous) << "n " << n << ": not monotone";
+        previous = m;
+        const std::uint32_t friendly = fft_friendly_size(n, true);
+        if (friendly < 240 || friendly > 512) {
+            ASSERT_EQ(m, friendly) << "n " << n;
+        } else {
+            // The sizes measured slow are avoided, and the move costs at most 15% more points
+            // than the smallest friendly size.
+            for (std::uint32_t slow : {270u, 294u, 336u, 350u, 378u, 400u})
+                ASSERT_NE(m, slow) << "n " << n;
+            ASSERT_LE(m, 1.15 * friendly + 1) << "n " << n;
+        }
+    }
+    EXPECT_EQ(r2c_axis_size(330), 384u);  // 1AON's x axis at 0.5 Å (336 before)
+    EXPECT_EQ(r2c_axis_size(190), 192u);  // 4HHB's
 }
 
 // Every atom's support lies inside the grid: the Gaussian support sqrt(r² + pi_cut) plus the
