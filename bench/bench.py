@@ -62,8 +62,9 @@ LABEL = {"fdmsurf": "fdmsurf (SES 0.5 Å)", "fdmsurf-edt": "fdmsurf --method edt
          "pymol-q0": "PyMOL (surface_quality 0)", "pymol-q1": "PyMOL (surface_quality 1)",
          "edtsurf": "EDTSurf (-f 4)"}
 STAGE_ORDER = ["parse", "init", "bin-atoms", "density", "fft-forward", "mask", "fft-inverse",
-               "read-field", "mc-count", "mc-scan", "mc-emit", "read-back", "stitch", "cavities",
-               "write"]
+               "read-field", "assemble-field", "upload-part", "mc-occupancy", "mc-count", "mc-scan",
+               "mc-vertices", "mc-triangles", "mc-emit", "read-back", "unpack-mesh", "stitch",
+               "cavities", "write", "mesh-stats"]
 
 LOG = None
 
@@ -719,7 +720,9 @@ class Bench:
         md.append("\n## fdmsurf: cold and warm, stage by stage\n")
         md.append("Cold: the first run with an empty `MESA_SHADER_CACHE_DIR` and `FDMSURF_CACHE_DIR` "
                   "(fresh directories). Warm: median of the timed runs, same directories. Stage times "
-                  "(ms) from `--stats json` (`times`; GPU timestamps for GPU stages); 'outside' is the "
+                  "(ms) from `--stats json` (`times`; GPU timestamps for GPU stages); 'unstaged' is fdmsurf's "
+                  "total minus the stages (plan and pipeline set-up, buffer allocation, host work between "
+                  "submissions; cold, mostly compilation); 'outside' is the "
                   "process wall time minus fdmsurf's own total (process start-up, Vulkan instance and "
                   "device teardown, exit).\n")
         stages = []
@@ -742,10 +745,13 @@ class Bench:
                     continue
                 wall = med([r["wall_s"] for r in rs])
                 total = med([r["total_ms"] for r in rs])
+                medians = [med([r["times"].get(k) for r in rs]) for k in stages]
+                other = total - sum(m for m in medians if m is not None)
                 rows.append([name.upper(), f"{s['atoms']:,}", gtxt, label, fmt(wall)]
-                            + [fmt(med([r["times"].get(k) for r in rs]), "{:.0f}") for k in stages]
-                            + [fmt(total, "{:.0f}"), fmt(wall * 1000 - total, "{:.0f}")])
-        md.append(table(["structure", "atoms", "grid", "run", "wall (s)"] + stages + ["total (ms)", "outside (ms)"], rows))
+                            + [fmt(m, "{:.0f}") for m in medians]
+                            + [fmt(other, "{:.0f}"), fmt(total, "{:.0f}"), fmt(wall * 1000 - total, "{:.0f}")])
+        md.append(table(["structure", "atoms", "grid", "run", "wall (s)"] + stages
+                        + ["unstaged (ms)", "total (ms)", "outside (ms)"], rows))
 
         if R["scaling"]:
             md.append("\n## Scaling: fdmsurf's stage times against voxels and atoms\n")
@@ -763,8 +769,9 @@ class Bench:
                 t = {k: med([r["times"].get(k) for r in runs]) for k in runs[0]["times"]}
                 d = t.get("density") or 0.0
                 fft = (t.get("fft-forward") or 0) + (t.get("fft-inverse") or 0)
-                mc = t.get("mc-count") or 0
-                emit = t.get("mc-emit") or 0
+                # Marching cubes up to the sizes (occupancy words and counts), then the output.
+                mc = (t.get("mc-occupancy") or 0) + (t.get("mc-count") or 0)
+                emit = (t.get("mc-emit") or 0) + (t.get("mc-vertices") or 0) + (t.get("mc-triangles") or 0)
                 tri = med([r.get("triangles") for r in runs])
                 rows.append([label + mark, f"{atoms:,}", "×".join(map(str, grid)), f"{vox / 1e6:.2f}",
                              f"{d:.0f}", f"{d * 1e6 / vox:.0f}", f"{d * 1e3 / atoms:.1f}",
@@ -779,7 +786,8 @@ class Bench:
                     fit_y.append(d)
             md.append(table(["case", "atoms", "grid", "Mvoxels", "density (ms)", "density ns/voxel",
                              "density µs/atom", "FFT fwd+inv (ms)", "FFT ns/voxel", "mask (ms)",
-                             "mc-count (ms)", "mc-count ns/voxel", "mc-emit (ms)", "triangles",
+                             "mc occupancy+count (ms)", "mc occupancy+count ns/voxel",
+                             "mc vertices+triangles (ms)", "triangles",
                              "total (ms)", "wall (s)"], rows))
             if len(fit_rows) >= 4:
                 md.append(f"\nLeast-squares fits of the density time over the {len(fit_y)} single-slab rows "
