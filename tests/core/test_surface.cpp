@@ -277,12 +277,12 @@ TEST_F(Surface, GridBeyondMaxStorageBufferRangeIsProcessedInSlabs) {
     const auto plan = fdmsurf::detail::plan_grid(atoms, options);
     const std::uint64_t bytes = plan.field_floats() * sizeof(float);
     const MeshStats whole = fdmsurf::compute_stats(crambin_ses().mesh);
-    // Each slab is filtered on its own, with an overlap of two filter wavelengths on each side
-    // that absorbs the truncation and the circular wrap of the slab's FFT. Measured on lavapipe
-    // against the single grid (weighted RMSD, largest distance of a single-grid vertex to the
-    // sliced mesh, area, volume): 4 slabs 7.7e-7 Å, 1.1e-5 Å, +1.3e-8, -1.0e-8; 12 slabs
-    // 7.2e-7 Å, 4.6e-6 Å, -1.6e-8, -1.7e-8: float rounding. The bounds leave a thousandfold
-    // margin and still catch an overlap too short to hide the wrap.
+    // Each slab is filtered on its own, with an overlap of 6 sigma of the Gaussian filter's
+    // kernel on each side that absorbs the truncation and the circular wrap of the slab's FFT.
+    // Measured on lavapipe against the single grid (weighted RMSD, largest distance of a
+    // single-grid vertex to the sliced mesh, area, volume): 3 slabs 8.8e-7 Å, 7.4e-6 Å,
+    // +9.4e-8, -1.8e-7; 5 slabs 7.8e-7 Å, 1.8e-5 Å, +1.9e-8, -1.1e-7: float rounding. The
+    // bounds leave a thousandfold margin and still catch an overlap too short to hide the wrap.
     for (const double share : {0.66, 0.45}) {
         const std::uint64_t limit = std::uint64_t(double(bytes) * share) & ~std::uint64_t(0xFFFF);
         const SurfaceResult res = surface_with_limit(limit, atoms, options);
