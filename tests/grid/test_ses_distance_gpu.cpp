@@ -91,8 +91,9 @@ TEST_F(SesDistanceGpu, PerPointFallbackMatchesTheSharedLists) {
 }
 
 TEST_F(SesDistanceGpu, CoarseGridsOverflowIntoTheFallbackAndStayExact) {
-    // At 4 Å a 4x4x4 box spans 12 Å and its candidates (spheres within R + d_max = 3.2 + 13.4 Å)
-    // exceed kSesCapacity in hemoglobin's core: those boxes take the per-point path.
+    // At 4 Å a workgroup's box (8 x 4 x 2 points) spans 28 x 12 x 4 Å and its candidates
+    // (spheres within R + d_max = 3.2 + 13.4 Å) exceed kSesCapacity in hemoglobin's core: those
+    // boxes take the per-point path.
     const Atoms atoms = fdmsurf::read_structure(data_path("4hhb.xyzr")).atoms;
     const SurfaceOptions options{.method = SesMethod::Edt, .spacing = 4.0f};
     const GridPlan plan = plan_grid(atoms, options);
@@ -100,9 +101,12 @@ TEST_F(SesDistanceGpu, CoarseGridsOverflowIntoTheFallbackAndStayExact) {
     // The shader's gather, for the box holding the grid's centre point.
     const auto& dims = plan.info.dims;
     float lo[3], hi[3];
+    const std::uint32_t group[3] = {fdmsurf::detail::shader::kSesGroupX,
+                                    fdmsurf::detail::shader::kSesGroupY,
+                                    fdmsurf::detail::shader::kSesGroupZ};
     for (int a = 0; a < 3; ++a) {
-        const std::uint32_t first = dims[a] / 2 / 4 * 4;
-        const std::uint32_t last = std::min(first + 3, dims[a] - 1);
+        const std::uint32_t first = dims[a] / 2 / group[a] * group[a];
+        const std::uint32_t last = std::min(first + group[a] - 1, dims[a] - 1);
         lo[a] = plan.info.origin[a] + plan.info.spacing * float(first);
         hi[a] = plan.info.origin[a] + plan.info.spacing * float(last);
     }
