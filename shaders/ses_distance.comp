@@ -5,7 +5,7 @@
 // Inside the balls, the nearest point of E's boundary is (1) the radial projection of p onto a
 // sphere, if no other ball buries it, or (2) the nearest point of an exposed arc where two
 // spheres meet (its ends are the points where three meet); the arcs come from the host
-// (src/grid/ses_features.cpp). Each workgroup gathers into shared memory the spheres and arcs
+// (src/grid/ses_features.cpp). Each workgroup copies into shared memory the spheres and arcs
 // that can be within d_max of its box; every point then takes the least candidate distance.
 // CPU reference: src/grid/ses_distance_cpu.cpp.
 #version 450
@@ -27,8 +27,11 @@ layout(push_constant) uniform Push { SesDistancePush pc; };
 const uint kGroupSize = kSesGroupX * kSesGroupY * kSesGroupZ;
 const float kTwoPi = 6.283185307179586;
 
-shared uint sphere_list[kSesCapacity];
-shared uint arc_list[kSesCapacity];
+// The candidates' data itself, not indices: every point of the workgroup reads the same entries
+// in the same order, and shared memory spares lavapipe the bounds-checked per-lane loads of a
+// storage buffer.
+shared vec4 sphere_list[kSesSphereCapacity];    // xyz, R
+shared vec4 arc_list[3u * kSesArcCapacity];      // (m, rho), (e1, start), (e2, length)
 shared uint sphere_count;
 shared uint arc_count;
 shared uint deep;  // 1: one ball holds the whole box d_max deep, so d = d_max throughout
@@ -43,12 +46,10 @@ ivec3 bin_of(vec3 p) {
 }
 uint bin_id(ivec3 b) { return (uint(b.z) * pc.bin_ny + uint(b.y)) * pc.bin_nx + uint(b.x); }
 
-// Distance from p to exposed arc a (mirrors arc_distance in ses_features.cpp), or a value
-// >= `bound` when the arc is certainly not nearer than `bound` (cheap rejections first).
-float arc_distance(uint a, vec3 p, float bound) {
-    vec4 m = arcs[3u * a];
-    vec4 e1 = arcs[3u * a + 1u];
-    vec4 e2 = arcs[3u * a + 2u];
+// Distance from p to the exposed arc (m, e1, e2) (mirrors arc_distance in ses_features.cpp),
+// or a value >= `bound` when the arc is certainly not nearer than `bound` (cheap rejections
+// first).
+float arc_distance(vec4 m, vec4 e1, vec4 e2, vec3 p, float bound) {
     vec3 v = p - m.xyz;
     float height = dot(v, cross(e1.xyz, e2.xyz));
     if (abs(height) >= bound) return bound;
@@ -76,7 +77,7 @@ vec3 projection(vec4 s, vec3 p) {
 bool buried_shared(vec3 q, uint self, uint ns) {
     for (uint k = 0u; k < ns; ++k) {
         if (k == self) continue;
-        vec4 o = spheres[sphere_list[k]];
+        vec4 o = sphere_list[k];
         vec3 w = q - o.xyz;
         if (dot(w, w) < o.w * o.w) return true;
     }
@@ -88,7 +89,7 @@ float evaluate_shared(vec3 p) {
     float lb = -3.0e38;  // max_i (R_i - |p - c_i|): > 0 inside the balls, a lower bound of d
     uint deepest = 0u;
     for (uint i = 0u; i < ns; ++i) {
-        vec4 s = spheres[sphere_list[i]];
+        vec4 s = sphere_list[i];
         float depth = s.w - distance(p, s.xyz);
         if (depth > lb) {
             lb = depth;
@@ -99,11 +100,13 @@ float evaluate_shared(vec3 p) {
     if (lb >= pc.d_max) return pc.d_max;
     // The deepest ball's face is lb away, the least d can be: exposed, it is the answer (a
     // contact patch, most of the surface).
-    if (!buried_shared(projection(spheres[sphere_list[deepest]], p), deepest, ns)) return lb;
+    if (!buried_shared(projection(sphere_list[deepest], p), deepest, ns)) return lb;
     float best = pc.d_max;
-    for (uint k = 0u; k < na; ++k) best = min(best, arc_distance(arc_list[k], p, best));
+    for (uint k = 0u; k < na; ++k)
+        best = min(best, arc_distance(arc_list[3u * k], arc_list[3u * k + 1u], arc_list[3u * k + 2u],
+                                      p, best));
     for (uint i = 0u; i < ns; ++i) {
-        vec4 s = spheres[sphere_list[i]];
+        vec4 s = sphere_list[i];
         float face = abs(distance(p, s.xyz) - s.w);
         // d >= lb: an exposed face is never nearer than lb, so a nearer one is buried (every
         // ball holding p but the deepest, done above).
@@ -157,7 +160,8 @@ float evaluate_global(vec3 p) {
             for (int x = alo.x; x <= ahi.x; ++x) {
                 uint b = bin_id(ivec3(x, y, z));
                 for (uint k = arc_start[b]; k < arc_start[b + 1u]; ++k)
-                    best = min(best, arc_distance(k, p, best));
+                    best = min(best, arc_distance(arcs[3u * k], arcs[3u * k + 1u],
+                                                  arcs[3u * k + 2u], p, best));
             }
     for (int z = lo.z; z <= hi.z; ++z)
         for (int y = lo.y; y <= hi.y; ++y)
@@ -205,7 +209,7 @@ void main() {
             float inner = s.w - pc.d_max;
             if (inner > 0.0 && dot(far, far) <= inner * inner) deep = 1u;
             uint slot = atomicAdd(sphere_count, 1u);
-            if (slot < kSesCapacity) sphere_list[slot] = i;
+            if (slot < kSesSphereCapacity) sphere_list[slot] = s;
         }
     }
     barrier();
@@ -231,11 +235,16 @@ void main() {
                 vec3 far = box_far(m.xyz, box_lo, box_hi);
                 float inner = m.w - pc.d_max;
                 if (inner > 0.0 && dot(far, far) < inner * inner) continue;
-                vec3 axis = cross(arcs[3u * a + 1u].xyz, arcs[3u * a + 2u].xyz);
+                vec4 e1 = arcs[3u * a + 1u], e2 = arcs[3u * a + 2u];
+                vec3 axis = cross(e1.xyz, e2.xyz);
                 if (abs(dot(centre - m.xyz, axis)) - dot(half_extent, abs(axis)) >= pc.d_max)
                     continue;
                 uint slot = atomicAdd(arc_count, 1u);
-                if (slot < kSesCapacity) arc_list[slot] = a;
+                if (slot < kSesArcCapacity) {
+                    arc_list[3u * slot] = m;
+                    arc_list[3u * slot + 1u] = e1;
+                    arc_list[3u * slot + 2u] = e2;
+                }
             }
         }
     }
@@ -248,7 +257,7 @@ void main() {
         return;
     }
     vec3 p = origin + pc.spacing * vec3(g);
-    bool overflow = sphere_count > kSesCapacity || arc_count > kSesCapacity;
+    bool overflow = sphere_count > kSesSphereCapacity || arc_count > kSesArcCapacity;
     float value = (overflow || pc.force_global != 0u) ? evaluate_global(p) : evaluate_shared(p);
     field[at] = value;
 }

@@ -29,9 +29,11 @@ FDM_CONST kDensityPointGroup = 64;
 FDM_CONST kSesGroupX = 8;
 FDM_CONST kSesGroupY = 4;
 FDM_CONST kSesGroupZ = 2;
-// Sphere and arc indices each workgroup gathers in shared memory (2 x 8160 bytes: within the
-// 16 KiB every Vulkan device has); a box with more falls back to reading the bins per point.
-FDM_CONST kSesCapacity = 2040;
+// Spheres (one vec4) and arcs (three vec4) each workgroup copies into shared memory
+// (300 x 16 + 230 x 48 = 15,840 bytes: within the 16 KiB every Vulkan device has); a box with
+// more falls back to reading the bins per point. At 0.5 Å a box has about 60-100 spheres.
+FDM_CONST kSesSphereCapacity = 300;
+FDM_CONST kSesArcCapacity = 230;
 
 // Spectral mask: one invocation per complex coefficient of the half spectrum.
 FDM_CONST kMaskGroupX = 64;

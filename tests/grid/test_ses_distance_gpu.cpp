@@ -92,7 +92,7 @@ TEST_F(SesDistanceGpu, PerPointFallbackMatchesTheSharedLists) {
 
 TEST_F(SesDistanceGpu, CoarseGridsOverflowIntoTheFallbackAndStayExact) {
     // At 4 Å a workgroup's box (8 x 4 x 2 points) spans 28 x 12 x 4 Å and its candidates
-    // (spheres within R + d_max = 3.2 + 13.4 Å) exceed kSesCapacity in hemoglobin's core: those
+    // (spheres within R + d_max = 3.2 + 13.4 Å) exceed kSesSphereCapacity in hemoglobin's core: those
     // boxes take the per-point path.
     const Atoms atoms = fdmsurf::read_structure(data_path("4hhb.xyzr")).atoms;
     const SurfaceOptions options{.method = SesMethod::Edt, .spacing = 4.0f};
@@ -121,7 +121,7 @@ TEST_F(SesDistanceGpu, CoarseGridsOverflowIntoTheFallbackAndStayExact) {
         const float r = features.spheres[4 * s + 3] + plan.ses_d_max;
         gathered += gap2 < r * r;
     }
-    EXPECT_GT(gathered, fdmsurf::detail::shader::kSesCapacity);
+    EXPECT_GT(gathered, fdmsurf::detail::shader::kSesSphereCapacity);
     const std::vector<float> cpu = fdmsurf::detail::ses_field_cpu(features, plan);
     const std::vector<float> gpu = impl().compute_ses_field(atoms, plan, options.probe);
     const FieldDiff r = compare(gpu, cpu, plan);
