@@ -53,7 +53,8 @@ int main(int argc, char** argv) {
     try {
         EngineImpl e{EngineOptions{}};
         std::printf("device: %s\n\n", e.context.info().name.c_str());
-        std::printf("| grid | Mpoints | forward (ms) | mask (ms) | inverse (ms) | FFT ns/point |\n");
+        std::printf(
+            "| grid | Mpoints | forward (ms) | mask (ms) | inverse (ms) | FFT ns/point |\n");
         std::printf("|---|---|---|---|---|---|\n");
         for (const auto& d : sizes) {
             GridPlan plan;

@@ -1,9 +1,9 @@
 // The pipeline (Giard & Macq 2010): density, spectral filter, marching cubes, on one device.
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <cstring>
 #include <memory>
+#include <numbers>
 #include <string>
 
 #include "core/engine_impl.hpp"
@@ -192,14 +192,16 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
     // 2/F. None without a filter (every point is exact on its own).
     std::uint32_t overlap = 0;
     if (plan.filtered) {
-        const double reach = options.filter == FilterShape::Gaussian
-                                 ? 6.0 * std::sqrt(std::log(2.0) / 2.0) / (std::numbers::pi * plan.info.cutoff)
-                                 : 2.0 / plan.info.cutoff;
+        const double reach =
+            options.filter == FilterShape::Gaussian
+                ? 6.0 * std::sqrt(std::log(2.0) / 2.0) / (std::numbers::pi * plan.info.cutoff)
+                : 2.0 / plan.info.cutoff;
         overlap = static_cast<std::uint32_t>(std::ceil(reach / h));
     }
     // The fewest slabs whose planes fit one binding, each as thin as they allow (FFT sizes of
     // 2, 3, 5 and 7 only): every plane beyond the grid's is FFT work for nothing.
-    const std::uint64_t fit = std::min<std::uint64_t>(limit / plane_bytes, std::uint64_t(d[2]) + 2 * overlap);
+    const std::uint64_t fit =
+        std::min<std::uint64_t>(limit / plane_bytes, std::uint64_t(d[2]) + 2 * overlap);
     auto planes_for = [&](std::uint32_t count) {
         std::uint32_t n = (d[2] + count - 1) / count + 2 * overlap;
         return plan.filtered ? fft_friendly_size(n, false) : n;
@@ -239,43 +241,44 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
         add_times(result.times, {{"ses-features", now_ms() - t0, false}});
     }
     {  // the slab buffer is released before marching cubes allocates its parts
-    Buffer field(context, slab_bytes, MemoryUse::Device, "field_slab");
-    for (std::uint32_t k = 0; k < slabs; ++k) {
-        double t0 = now_ms();
-        const std::int64_t zc0 = std::int64_t(k) * core;
-        const std::int64_t zc1 = std::min<std::int64_t>(zc0 + core, d[2]);
-        const std::int64_t z0 = zc0 - overlap;
-        sp.info.origin[2] = static_cast<float>(plan.info.origin[2] + z0 * h);
-        StagingArena arena;
-        AtomBins bins;
-        if (!plan.exact_ses) {
-            Atoms near = atoms_near_planes(atoms, plan, double(z0), double(z0 + slab_planes));
-            if (near.empty()) {
-                // Nothing reaches this slab: its density, and so its filtered field, is 0.
-                std::fill(full.begin() + zc0 * d[0] * d[1], full.begin() + zc1 * d[0] * d[1], 0.0f);
-                continue;
+        Buffer field(context, slab_bytes, MemoryUse::Device, "field_slab");
+        for (std::uint32_t k = 0; k < slabs; ++k) {
+            double t0 = now_ms();
+            const std::int64_t zc0 = std::int64_t(k) * core;
+            const std::int64_t zc1 = std::min<std::int64_t>(zc0 + core, d[2]);
+            const std::int64_t z0 = zc0 - overlap;
+            sp.info.origin[2] = static_cast<float>(plan.info.origin[2] + z0 * h);
+            StagingArena arena;
+            AtomBins bins;
+            if (!plan.exact_ses) {
+                Atoms near = atoms_near_planes(atoms, plan, double(z0), double(z0 + slab_planes));
+                if (near.empty()) {
+                    // Nothing reaches this slab: its density, and so its filtered field, is 0.
+                    std::fill(full.begin() + zc0 * d[0] * d[1], full.begin() + zc1 * d[0] * d[1],
+                              0.0f);
+                    continue;
+                }
+                bins = bin_atoms(near, sp);
+                add_times(result.times, {{"bin-atoms", now_ms() - t0, false}});
             }
-            bins = bin_atoms(near, sp);
-            add_times(result.times, {{"bin-atoms", now_ms() - t0, false}});
+            commands.begin();
+            record_field(arena, sp, &bins, &features, options.filter, field);
+            const Buffer& host =
+                readback_buffer(context, commands, arena, field, slab_bytes, "field_readback");
+            commands.barrier_to_host();
+            commands.mark("read-field");
+            commands.submit_and_wait();
+            add_times(result.times, commands.stage_times());
+            host.invalidate();
+            const double t_copy = now_ms();
+            const float* src = static_cast<const float*>(host.mapped());
+            for (std::int64_t z = zc0; z < zc1; ++z)
+                for (std::uint32_t y = 0; y < d[1]; ++y)
+                    std::memcpy(&full[(std::size_t(z) * d[1] + y) * d[0]],
+                                src + (std::size_t(z - z0) * d[1] + y) * sp.pitch,
+                                d[0] * sizeof(float));
+            add_times(result.times, {{"assemble-field", now_ms() - t_copy, false}});
         }
-        commands.begin();
-        record_field(arena, sp, &bins, &features, options.filter, field);
-        const Buffer& host =
-            readback_buffer(context, commands, arena, field, slab_bytes, "field_readback");
-        commands.barrier_to_host();
-        commands.mark("read-field");
-        commands.submit_and_wait();
-        add_times(result.times, commands.stage_times());
-        host.invalidate();
-        const double t_copy = now_ms();
-        const float* src = static_cast<const float*>(host.mapped());
-        for (std::int64_t z = zc0; z < zc1; ++z)
-            for (std::uint32_t y = 0; y < d[1]; ++y)
-                std::memcpy(&full[(std::size_t(z) * d[1] + y) * d[0]],
-                            src + (std::size_t(z - z0) * d[1] + y) * sp.pitch,
-                            d[0] * sizeof(float));
-        add_times(result.times, {{"assemble-field", now_ms() - t_copy, false}});
-    }
     }
 
     // Marching cubes on z-slabs of the host field, each with one extra plane on both sides so

@@ -76,7 +76,8 @@ GpuMesh MarchingCubesPass::run(Commands& cmds, StagingArena& arena, const Buffer
         p.groups_x = static_cast<std::uint32_t>(std::min<std::uint64_t>(groups, max_x));
         const std::uint64_t groups_y = (groups + p.groups_x - 1) / p.groups_x;
         if (groups_y > ctx_.limits().max_workgroup_count[1])
-            throw Error(ErrorCode::DeviceLimit, "marching cubes: too many workgroups for this device");
+            throw Error(ErrorCode::DeviceLimit,
+                        "marching cubes: too many workgroups for this device");
         cmds.dispatch(pipeline, buffers, &p, p.groups_x, static_cast<std::uint32_t>(groups_y));
     };
 
@@ -121,16 +122,18 @@ GpuMesh MarchingCubesPass::run(Commands& cmds, StagingArena& arena, const Buffer
 
     cmds.begin();
     if (total[0] > 0) {
-        dispatch(vertices_,
-                 {whole(field), whole(occupancy), whole(local), whole(run_sums), whole(mesh.vertices)},
-                 segments);
+        dispatch(
+            vertices_,
+            {whole(field), whole(occupancy), whole(local), whole(run_sums), whole(mesh.vertices)},
+            segments);
         cmds.mark("mc-vertices");
         cmds.barrier_compute();
     }
     if (total[1] > 0)
-        dispatch(triangles_,
-                 {whole(occupancy), whole(local), whole(run_sums), whole(mesh.indices), whole(tables_)},
-                 segments);
+        dispatch(
+            triangles_,
+            {whole(occupancy), whole(local), whole(run_sums), whole(mesh.indices), whole(tables_)},
+            segments);
     cmds.mark("mc-triangles");
     cmds.barrier_compute();
     cmds.submit_and_wait();

@@ -92,8 +92,8 @@ TEST_F(SesDistanceGpu, PerPointFallbackMatchesTheSharedLists) {
 
 TEST_F(SesDistanceGpu, CoarseGridsOverflowIntoTheFallbackAndStayExact) {
     // At 4 Å a workgroup's box (8 x 4 x 2 points) spans 28 x 12 x 4 Å and its candidates
-    // (spheres within R + d_max = 3.2 + 13.4 Å) exceed kSesSphereCapacity in hemoglobin's core: those
-    // boxes take the per-point path.
+    // (spheres within R + d_max = 3.2 + 13.4 Å) exceed kSesSphereCapacity in hemoglobin's core:
+    // those boxes take the per-point path.
     const Atoms atoms = fdmsurf::read_structure(data_path("4hhb.xyzr")).atoms;
     const SurfaceOptions options{.method = SesMethod::Edt, .spacing = 4.0f};
     const GridPlan plan = plan_grid(atoms, options);
