@@ -235,13 +235,13 @@ SesFeatures build_ses_features(const Atoms& atoms, float probe) {
                 const auto parts =
                     all_buried ? decltype(exposed_parts(buried)){} : exposed_parts(buried);
                 if (parts.empty()) ++out.buried_circles;
-                for (auto [start, len] : parts) {
+                for (auto [from, len] : parts) {
                     SesArc arc{};
                     arc.m[0] = float(m.x), arc.m[1] = float(m.y), arc.m[2] = float(m.z);
                     arc.rho = float(rho);
                     arc.e1[0] = float(e1.x), arc.e1[1] = float(e1.y), arc.e1[2] = float(e1.z);
                     arc.e2[0] = float(e2.x), arc.e2[1] = float(e2.y), arc.e2[2] = float(e2.z);
-                    arc.start = float(start);
+                    arc.start = float(from);
                     arc.length = float(len);
                     out.arcs.push_back(arc);
                 }

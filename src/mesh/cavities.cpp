@@ -8,8 +8,11 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <mutex>
+#include <optional>
 #include <vector>
 
+#include "core/parallel.hpp"
 #include "fdmsurf/mesh.hpp"
 #include "mesh/union_find.hpp"
 
@@ -47,8 +50,16 @@ bool inside_piece(const P3& p, const std::vector<std::array<P3, 3>>& tris) {
 
 }  // namespace
 
+AtomsByX::AtomsByX(const Atoms& atoms) : order(atoms.size()), x(atoms.size()) {
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<std::uint32_t>(i);
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+        return atoms.xyz[3 * std::size_t{a}] < atoms.xyz[3 * std::size_t{b}];
+    });
+    for (std::size_t k = 0; k < order.size(); ++k) x[k] = atoms.xyz[3 * std::size_t{order[k]}];
+}
+
 double cavity_clearance(const std::vector<std::array<P3, 3>>& tris, const Atoms& atoms, double step,
-                        double cap) {
+                        double cap, const AtomsByX* by_x) {
     P3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
     for (const auto& t : tris)
         for (const auto& v : t)
@@ -65,12 +76,20 @@ double cavity_clearance(const std::vector<std::array<P3, 3>>& tris, const Atoms&
     const double diagonal = std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
     const double margin = std::isfinite(cap) ? cap + r_max + 1e-3 : diagonal + 2.0 * r_max;
     std::vector<std::array<double, 4>> near;
-    for (std::size_t i = 0; i < atoms.size(); ++i) {
+    auto consider = [&](std::size_t i) {
         const P3 ci{atoms.xyz[3 * i], atoms.xyz[3 * i + 1], atoms.xyz[3 * i + 2]};
         bool close = true;
         for (int a = 0; a < 3; ++a)
             close = close && ci[a] > lo[a] - margin && ci[a] < hi[a] + margin;
         if (close) near.push_back({ci[0], ci[1], ci[2], double(atoms.radius[i])});
+    };
+    if (by_x) {
+        // Only the atoms of the box's x range (the min below does not depend on their order).
+        const auto first = std::upper_bound(by_x->x.begin(), by_x->x.end(), lo[0] - margin);
+        const auto last = std::lower_bound(first, by_x->x.end(), hi[0] + margin);
+        for (auto it = first; it != last; ++it) consider(by_x->order[it - by_x->x.begin()]);
+    } else {
+        for (std::size_t i = 0; i < atoms.size(); ++i) consider(i);
     }
     auto clearance = [&](const P3& p) {
         double best = cap;
@@ -125,7 +144,8 @@ double cavity_clearance(const std::vector<std::array<P3, 3>>& tris, const Atoms&
 }
 
 std::size_t remove_pieces_if(Mesh& mesh, const std::function<bool(double)>& candidate,
-                             const std::function<bool(const MeshPiece&)>& remove) {
+                             const std::function<bool(const MeshPiece&)>& remove,
+                             bool concurrent) {
     const std::size_t nv = mesh.vertex_count(), nt = mesh.triangle_count();
     if (nt == 0) return 0;
     DisjointSets sets(nv);
@@ -162,10 +182,14 @@ std::size_t remove_pieces_if(Mesh& mesh, const std::function<bool(double)>& cand
             for (int a = 0; a < 3; ++a) tri[k][a] = p[3 * mesh.indices[3 * t + k] + a];
         pieces[c].triangles.push_back(tri);
     }
+    // The verdicts, in piece order, on all threads when `remove` allows it.
+    std::vector<char> verdict(pieces.size(), 0);
+    parallel_chunks(pieces.size(), concurrent ? thread_count() : 1,
+                    [&](std::size_t i) { verdict[i] = remove(pieces[i]) ? 1 : 0; });
     std::vector<char> drop(nv, 0);
     std::size_t removed = 0;
     for (std::size_t v = 0; v < nv; ++v) {
-        if (piece_of[v] == UINT32_MAX || !remove(pieces[piece_of[v]])) continue;
+        if (piece_of[v] == UINT32_MAX || !verdict[piece_of[v]]) continue;
         drop[v] = 1;
         ++removed;
     }
@@ -193,9 +217,10 @@ std::size_t remove_pieces_if(Mesh& mesh, const std::function<bool(double)>& cand
     return removed;
 }
 
-std::size_t remove_cavities_if(Mesh& mesh, const std::function<bool(const MeshPiece&)>& remove) {
+std::size_t remove_cavities_if(Mesh& mesh, const std::function<bool(const MeshPiece&)>& remove,
+                               bool concurrent) {
     return remove_pieces_if(
-        mesh, [](double volume) { return volume < 0.0; }, remove);
+        mesh, [](double volume) { return volume < 0.0; }, remove, concurrent);
 }
 
 std::size_t remove_cavities_without_probe(Mesh& mesh, const Atoms& atoms, double probe,
@@ -203,9 +228,16 @@ std::size_t remove_cavities_without_probe(Mesh& mesh, const Atoms& atoms, double
     // A void that holds a probe ball encloses at least the ball's volume; below half of it
     // (room for the approximate surface's own error) no search is needed.
     const double half_ball = 0.5 * 4.0 / 3.0 * 3.14159265358979 * probe * probe * probe;
-    return remove_cavities_if(mesh, [&](const MeshPiece& c) {
-        return -c.volume < half_ball || cavity_clearance(c.triangles, atoms, step, probe) < probe;
-    });
+    std::optional<AtomsByX> by_x;  // built at the first void that needs a search
+    std::once_flag built;
+    return remove_cavities_if(
+        mesh,
+        [&](const MeshPiece& c) {
+            if (-c.volume < half_ball) return true;
+            std::call_once(built, [&] { by_x.emplace(atoms); });
+            return cavity_clearance(c.triangles, atoms, step, probe, &*by_x) < probe;
+        },
+        true);
 }
 
 std::size_t remove_specks(Mesh& mesh, double max_volume) {

@@ -5,7 +5,7 @@
 #include <array>
 #include <cstddef>
 #include <functional>
-#include <limits>
+#include <cstdint>
 #include <limits>
 #include <vector>
 
@@ -23,11 +23,15 @@ struct MeshPiece {
 
 // Removes the pieces whose signed volume passes `candidate` and for which `remove` is true
 // (triangles are gathered for candidates only), keeping the order of the other vertices and
-// triangles; returns how many were removed.
+// triangles; returns how many were removed. `concurrent`: `remove` is safe to call from several
+// threads at once, and is (on all of the machine's threads); otherwise it is called in piece
+// order on the calling thread.
 std::size_t remove_pieces_if(Mesh& mesh, const std::function<bool(double)>& candidate,
-                             const std::function<bool(const MeshPiece&)>& remove);
+                             const std::function<bool(const MeshPiece&)>& remove,
+                             bool concurrent = false);
 // The same for cavities (pieces of negative volume).
-std::size_t remove_cavities_if(Mesh& mesh, const std::function<bool(const MeshPiece&)>& remove);
+std::size_t remove_cavities_if(Mesh& mesh, const std::function<bool(const MeshPiece&)>& remove,
+                               bool concurrent = false);
 
 // Removes pieces, inward or outward, enclosing less than `max_volume` Å³: specks smaller than a
 // grid cell, where the exact SES touches itself at a point (no probe-sized feature is that small).
@@ -40,9 +44,19 @@ std::size_t remove_specks(Mesh& mesh, double max_volume);
 // search to 1e-3 Å from the best four. With a finite `cap` the answer is min(clearance, cap),
 // found sooner: only atoms that can bring it under the cap are visited, and the search ends
 // at the first point that reaches it.
+// The atoms' indices sorted by x: the atoms near a box are then found in O(log n) plus those in
+// the box's x range, not by a scan of all of them (a million atoms times a thousand voids).
+struct AtomsByX {
+    explicit AtomsByX(const Atoms& atoms);
+    std::vector<std::uint32_t> order;  // atom indices, x ascending
+    std::vector<double> x;             // their x coordinates, ascending
+};
+
+// `by_x`, when given, must be of `atoms`; the answer is the same with or without it.
 double cavity_clearance(const std::vector<std::array<std::array<double, 3>, 3>>& triangles,
                         const Atoms& atoms, double step = 0.3,
-                        double cap = std::numeric_limits<double>::infinity());
+                        double cap = std::numeric_limits<double>::infinity(),
+                        const AtomsByX* by_x = nullptr);
 
 // Removes the cavities in which no ball of radius `probe` fits between the atoms: voids that
 // are not part of the SES, whatever their volume (the FDM method's default). Voids of less than

@@ -2,8 +2,10 @@
 // solvent probe fits in the void (the clearance between the atoms' spheres inside a cavity).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 #include "fdmsurf/mesh.hpp"
 #include "fdmsurf/structure.hpp"
@@ -70,6 +72,31 @@ TEST(Cavities, ClearanceIsTheLargestBallBetweenTheAtoms) {
     const double c = fdmsurf::detail::cavity_clearance(cavity, atoms);
     EXPECT_LE(c, 4.0);
     EXPECT_GE(c, 3.85);
+}
+
+TEST(Cavities, AtomsSortedByXGiveTheSameClearanceFromFewerAtoms) {
+    // The index only narrows which atoms are visited: the answers are identical, with and
+    // without a cap, also with many far atoms on both sides along x (which it skips) and atoms
+    // exactly at the box's margins.
+    const Mesh m = shell_with_cavity(2.0, {0, 0, 0});
+    const auto cavity = triangles_of(m, fdmsurf::test::icosphere(10.0, 3).triangle_count());
+    Atoms atoms;
+    atoms.xyz = {3, 0, 0, -3, 0, 0, 0, 3, 0, 0, -3, 0, 0, 0, 3, 0, 0, -3};
+    atoms.radius.assign(6, 1.0f);
+    for (int k = 0; k < 2000; ++k) {
+        const float x = (k % 2 ? 1.0f : -1.0f) * (20.0f + 0.05f * float(k));
+        atoms.xyz.insert(atoms.xyz.end(), {x, 0.3f * float(k % 7), -0.2f * float(k % 5)});
+        atoms.radius.push_back(1.5f);
+    }
+    const fdmsurf::detail::AtomsByX by_x(atoms);
+    ASSERT_EQ(by_x.order.size(), atoms.size());
+    EXPECT_TRUE(std::is_sorted(by_x.x.begin(), by_x.x.end()));
+    for (double cap : {std::numeric_limits<double>::infinity(), 1.5, 3.0}) {
+        const double plain = fdmsurf::detail::cavity_clearance(cavity, atoms, 0.3, cap);
+        const double indexed = fdmsurf::detail::cavity_clearance(cavity, atoms, 0.3, cap, &by_x);
+        EXPECT_EQ(plain, indexed) << "cap " << cap;
+    }
+    EXPECT_NEAR(fdmsurf::detail::cavity_clearance(cavity, atoms, 0.3, 3.0, &by_x), 2.0, 0.005);
 }
 
 TEST(Cavities, VoidsWithoutRoomForTheProbeAreRemoved) {
