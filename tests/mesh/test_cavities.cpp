@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "fdmsurf/mesh.hpp"
 #include "fdmsurf/structure.hpp"
@@ -45,14 +46,25 @@ std::vector<std::array<std::array<double, 3>, 3>> triangles_of(const Mesh& m, st
     return out;
 }
 
-TEST(Cavities, ClearanceIsTheLargestBallBetweenTheAtoms) {
-    // A void of radius 2 at the origin between six atoms of radius 1 at +-3 Å on the axes: the
-    // largest ball that fits is centred at the origin, radius 2.
+// The triangles of a void of radius 2 at the origin (inside a shell of radius 10).
+std::vector<std::array<std::array<double, 3>, 3>> void_of_radius_2() {
     const Mesh m = shell_with_cavity(2.0, {0, 0, 0});
-    const auto cavity = triangles_of(m, fdmsurf::test::icosphere(10.0, 3).triangle_count());
+    return triangles_of(m, fdmsurf::test::icosphere(10.0, 3).triangle_count());
+}
+
+// Six atoms of radius 1 at +-3 Å on the axes.
+Atoms six_atoms_on_the_axes() {
     Atoms atoms;
     atoms.xyz = {3, 0, 0, -3, 0, 0, 0, 3, 0, 0, -3, 0, 0, 0, 3, 0, 0, -3};
     atoms.radius.assign(6, 1.0f);
+    return atoms;
+}
+
+TEST(Cavities, ClearanceIsTheLargestBallBetweenTheAtoms) {
+    // A void of radius 2 at the origin between six atoms of radius 1 at +-3 Å on the axes: the
+    // largest ball that fits is centred at the origin, radius 2.
+    const auto cavity = void_of_radius_2();
+    Atoms atoms = six_atoms_on_the_axes();
     EXPECT_NEAR(fdmsurf::detail::cavity_clearance(cavity, atoms), 2.0, 0.005);
     // With a cap: min(clearance, cap), the cap returned as soon as a sample reaches it.
     EXPECT_EQ(fdmsurf::detail::cavity_clearance(cavity, atoms, 0.3, 1.5), 1.5);
@@ -76,13 +88,9 @@ TEST(Cavities, ClearanceIsTheLargestBallBetweenTheAtoms) {
 
 TEST(Cavities, AtomsSortedByXGiveTheSameClearanceFromFewerAtoms) {
     // The index only narrows which atoms are visited: the answers are identical, with and
-    // without a cap, also with many far atoms on both sides along x (which it skips) and atoms
-    // exactly at the box's margins.
-    const Mesh m = shell_with_cavity(2.0, {0, 0, 0});
-    const auto cavity = triangles_of(m, fdmsurf::test::icosphere(10.0, 3).triangle_count());
-    Atoms atoms;
-    atoms.xyz = {3, 0, 0, -3, 0, 0, 0, 3, 0, 0, -3, 0, 0, 0, 3, 0, 0, -3};
-    atoms.radius.assign(6, 1.0f);
+    // without a cap, also with many far atoms on both sides along x (which it skips).
+    const auto cavity = void_of_radius_2();
+    Atoms atoms = six_atoms_on_the_axes();
     for (int k = 0; k < 2000; ++k) {
         const float x = (k % 2 ? 1.0f : -1.0f) * (20.0f + 0.05f * float(k));
         atoms.xyz.insert(atoms.xyz.end(), {x, 0.3f * float(k % 7), -0.2f * float(k % 5)});
