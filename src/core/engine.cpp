@@ -145,9 +145,9 @@ void EngineImpl::record_field(StagingArena& arena, const GridPlan& plan, const A
 }
 
 std::uint64_t EngineImpl::field_budget() const {
-    // One binding holds at most maxStorageBufferRange; the whole pass needs about four times the
-    // field (field, per-point offsets, vertices and indices, staging), so a quarter of the
-    // device-local memory bounds it too: larger grids go through slabs.
+    // One binding holds at most maxStorageBufferRange; the whole pass needs up to about four
+    // times the field (field, marching cubes' words, vertices and indices, staging on a discrete
+    // GPU), so a quarter of the device-local memory bounds it too: larger grids go through slabs.
     const DeviceLimits& lim = context.limits();
     std::uint64_t budget = lim.max_storage_buffer_range;
     if (lim.device_memory > 0) budget = std::min<std::uint64_t>(budget, lim.device_memory / 4);
