@@ -94,24 +94,21 @@ void DensityPass::record(Commands& cmds, StagingArena& arena, const AtomBins& bi
     p.capacity = capacity;
     if (!tiles.empty()) {
         // Workgroups folded into rows of at most maxComputeWorkGroupCount[0].
-        const std::uint64_t max_x = ctx_.limits().max_workgroup_count[0];
-        auto fold = [&](std::uint64_t groups, std::uint32_t& gx, std::uint32_t& gy) {
-            gx = static_cast<std::uint32_t>(std::min(groups, max_x));
-            gy = static_cast<std::uint32_t>((groups + gx - 1) / gx);
-        };
-        std::uint32_t gy = 0;
         std::initializer_list<BufferRange> buffers = {whole(field),  whole(atoms_),
                                                       whole(start_), whole(first_shell_),
                                                       whole(tiles_), whole(candidates_)};
-        fold((tiles.size() + shader::kDensityTileGroup - 1) / shader::kDensityTileGroup, p.groups_x,
-             gy);
-        cmds.dispatch(tiles_pipeline_, buffers, &p, p.groups_x, gy);
+        const auto [tx, ty] = cmds.fold_groups((tiles.size() + shader::kDensityTileGroup - 1) /
+                                               shader::kDensityTileGroup);
+        p.groups_x = tx;
+        cmds.dispatch(tiles_pipeline_, buffers, &p, tx, ty);
         cmds.barrier_compute();
 
         const std::uint32_t tiles_per_group =
             shader::kDensityPointGroup / shader::kDensityTileLanes;
-        fold((tiles.size() + tiles_per_group - 1) / tiles_per_group, p.groups_x, gy);
-        cmds.dispatch(pipeline_, buffers, &p, p.groups_x, gy);
+        const auto [px, py] =
+            cmds.fold_groups((tiles.size() + tiles_per_group - 1) / tiles_per_group);
+        p.groups_x = px;
+        cmds.dispatch(pipeline_, buffers, &p, px, py);
     }
     cmds.mark("density");
     cmds.barrier_compute();

@@ -68,17 +68,12 @@ GpuMesh MarchingCubesPass::run(Commands& cmds, StagingArena& arena, const Buffer
     push.power_sigma2 = params.power_sigma2;
     push.power_t = params.power_t;
     // One invocation per `items` (segments or runs), in flat workgroups folded into a 2D grid.
-    const std::uint32_t max_x = ctx_.limits().max_workgroup_count[0];
     auto dispatch = [&](const ComputePipeline& pipeline, std::initializer_list<BufferRange> buffers,
                         std::uint64_t items) {
-        const std::uint64_t groups = (items + shader::kMcGroup - 1) / shader::kMcGroup;
+        const auto [gx, gy] = cmds.fold_groups((items + shader::kMcGroup - 1) / shader::kMcGroup);
         shader::McPush p = push;
-        p.groups_x = static_cast<std::uint32_t>(std::min<std::uint64_t>(groups, max_x));
-        const std::uint64_t groups_y = (groups + p.groups_x - 1) / p.groups_x;
-        if (groups_y > ctx_.limits().max_workgroup_count[1])
-            throw Error(ErrorCode::DeviceLimit,
-                        "marching cubes: too many workgroups for this device");
-        cmds.dispatch(pipeline, buffers, &p, p.groups_x, static_cast<std::uint32_t>(groups_y));
+        p.groups_x = gx;
+        cmds.dispatch(pipeline, buffers, &p, gx, gy);
     };
 
     if (!tables_) {

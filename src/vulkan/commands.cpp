@@ -1,7 +1,9 @@
 // Command recording, barriers, fenced submission with a timeout, and GPU timestamps.
 #include "vulkan/commands.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <vector>
 
 #include "vulkan/buffer.hpp"
@@ -81,6 +83,14 @@ void Commands::begin() {
         vkCmdWriteTimestamp(cmd_, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queries_, query_count_++);
     }
     begin_host_ms_ = now_ms();
+}
+
+std::array<std::uint32_t, 2> Commands::fold_groups(std::uint64_t groups) const {
+    const std::uint64_t x = std::min<std::uint64_t>(groups, ctx_.limits().max_workgroup_count[0]);
+    if (x == 0) return {0, 0};
+    const std::uint64_t y = (groups + x - 1) / x;
+    return {static_cast<std::uint32_t>(x),
+            static_cast<std::uint32_t>(std::min<std::uint64_t>(y, UINT32_MAX))};
 }
 
 void Commands::dispatch(const ComputePipeline& pipeline, std::initializer_list<BufferRange> buffers,

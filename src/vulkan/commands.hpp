@@ -3,6 +3,7 @@
 
 #include <vulkan/vulkan.h>
 
+#include <array>
 #include <cstdint>
 #include <initializer_list>
 #include <string>
@@ -35,6 +36,10 @@ public:
     void begin();
     void dispatch(const ComputePipeline& pipeline, std::initializer_list<BufferRange> buffers,
                   const void* push, std::uint32_t gx, std::uint32_t gy = 1, std::uint32_t gz = 1);
+    // `groups` workgroups of a flat dispatch, folded into rows of at most
+    // maxComputeWorkGroupCount[0]: {x, y} with x * y >= groups (the shader skips the excess);
+    // dispatch() checks y against the device.
+    std::array<std::uint32_t, 2> fold_groups(std::uint64_t groups) const;
     // Compute writes visible to later compute reads and writes.
     void barrier_compute();
     // Compute writes visible to transfer, then transfer writes visible to the host.
