@@ -373,11 +373,7 @@ void EngineImpl::filter_field(std::vector<float>& values, const GridPlan& plan, 
     Buffer field = upload_buffer(context, commands, arena, values.data(), bytes, "field");
     commands.barrier_compute();
     filter.record(commands, field, plan, shape);
-    const Buffer& host = readback_buffer(context, commands, arena, field, bytes, "field_readback");
-    commands.barrier_to_host();
-    commands.submit_and_wait();
-    host.invalidate();
-    std::memcpy(values.data(), host.mapped(), bytes);
+    values = read_field(*this, arena, field, values.size());
 }
 
 Mesh EngineImpl::run_marching_cubes(const FieldView& f, const McParams& params) {
