@@ -22,6 +22,7 @@
 #include "support/gpu_fixture.hpp"
 #include "support/mesh_checks.hpp"
 #include "support/test_atoms.hpp"
+#include "support/test_data.hpp"
 
 namespace {
 
@@ -34,9 +35,7 @@ using fdmsurf::SurfaceResult;
 
 constexpr double kPi = std::numbers::pi;
 
-std::string data_path(const std::string& name) {
-    return std::string(FDMSURF_TEST_DATA_DIR) + "/" + name;
-}
+using fdmsurf::test::data_path;
 
 using fdmsurf_test::make_atoms;
 

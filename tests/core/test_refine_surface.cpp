@@ -18,6 +18,7 @@
 #include "support/crambin_reference.hpp"
 #include "support/gpu_fixture.hpp"
 #include "support/mesh_checks.hpp"
+#include "support/test_data.hpp"
 
 namespace {
 
@@ -30,9 +31,7 @@ using fdmsurf::SurfaceKind;
 using fdmsurf::SurfaceOptions;
 using fdmsurf::SurfaceResult;
 
-std::string data_path(const std::string& name) {
-    return std::string(FDMSURF_TEST_DATA_DIR) + "/" + name;
-}
+using fdmsurf::test::data_path;
 
 bool has_stage(const SurfaceResult& r, const std::string& name) {
     for (const auto& t : r.times)

@@ -18,6 +18,7 @@
 #include "grid/grid_plan.hpp"
 #include "support/gpu_fixture.hpp"
 #include "support/mesh_checks.hpp"
+#include "support/test_data.hpp"
 
 namespace {
 
@@ -33,9 +34,7 @@ using fdmsurf::SurfaceResult;
 
 constexpr double kPi = std::numbers::pi;
 
-std::string data_path(const std::string& name) {
-    return std::string(FDMSURF_TEST_DATA_DIR) + "/" + name;
-}
+using fdmsurf::test::data_path;
 
 Atoms atoms_of(std::vector<float> xyz, std::vector<float> radius) {
     Atoms a;

@@ -15,6 +15,7 @@
 #include "fdmsurf/surface.hpp"
 #include "grid/grid_plan.hpp"
 #include "support/gpu_fixture.hpp"
+#include "support/test_data.hpp"
 
 namespace {
 
@@ -24,9 +25,7 @@ using fdmsurf::SurfaceOptions;
 using fdmsurf::detail::GridPlan;
 using fdmsurf::detail::plan_grid;
 
-std::string data_path(const std::string& name) {
-    return std::string(FDMSURF_TEST_DATA_DIR) + "/" + name;
-}
+using fdmsurf::test::data_path;
 
 // Signed frequency index of FFT bin k of n: bins past n/2 are negative frequencies.
 long signed_bin(std::uint32_t k, std::uint32_t n) {

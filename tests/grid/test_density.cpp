@@ -17,6 +17,7 @@
 #include "grid/grid_plan.hpp"
 #include "shader_interface.h"
 #include "support/gpu_fixture.hpp"
+#include "support/test_data.hpp"
 
 namespace {
 
@@ -41,9 +42,7 @@ Atoms two_crambins(float shift) {
     return atoms;
 }
 
-std::string data_path(const std::string& name) {
-    return std::string(FDMSURF_TEST_DATA_DIR) + "/" + name;
-}
+using fdmsurf::test::data_path;
 
 // Tolerance. The GPU works in float: the grid point origin + h * i, the atom centre and r² are
 // rounded to float (about 6e-8 relative, so ~2e-6 Å at 30 Å from the origin) and |p - c|² - r²

@@ -11,6 +11,7 @@
 #include "fdmsurf/structure.hpp"
 #include "fdmsurf/surface.hpp"
 #include "grid/grid_plan.hpp"
+#include "support/test_data.hpp"
 
 namespace {
 
@@ -24,9 +25,7 @@ using fdmsurf::detail::GridPlan;
 using fdmsurf::detail::plan_grid;
 using fdmsurf::detail::r2c_axis_size;
 
-std::string data_path(const std::string& name) {
-    return std::string(FDMSURF_TEST_DATA_DIR) + "/" + name;
-}
+using fdmsurf::test::data_path;
 
 bool smooth_2357(std::uint32_t n) {
     if (n == 0) return false;

@@ -15,6 +15,7 @@
 #include "grid/ses_features.hpp"
 #include "shader_interface.h"
 #include "support/gpu_fixture.hpp"
+#include "support/test_data.hpp"
 
 namespace {
 
@@ -24,9 +25,7 @@ using fdmsurf::SurfaceOptions;
 using fdmsurf::detail::GridPlan;
 using fdmsurf::detail::plan_grid;
 
-std::string data_path(const std::string& name) {
-    return std::string(FDMSURF_TEST_DATA_DIR) + "/" + name;
-}
+using fdmsurf::test::data_path;
 
 // Tolerance: the shader works in float. Coordinates are ~30 Å from the origin (float ulp ~2e-6
 // Å), |p - c| and the arc distance (sqrt of sums of squares of terms up to ~6 Å) lose a few ulps

@@ -13,6 +13,7 @@
 #include "grid/ses_distance_cpu.hpp"
 #include "grid/ses_features.hpp"
 #include "support/test_atoms.hpp"
+#include "support/test_data.hpp"
 
 namespace {
 
@@ -26,9 +27,7 @@ using fdmsurf::detail::SesFeatures;
 
 constexpr double kPi = std::numbers::pi;
 
-std::string data_path(const std::string& name) {
-    return std::string(FDMSURF_TEST_DATA_DIR) + "/" + name;
-}
+using fdmsurf::test::data_path;
 
 using fdmsurf_test::make_atoms;
 

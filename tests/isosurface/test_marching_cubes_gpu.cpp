@@ -17,6 +17,7 @@
 #include "isosurface/marching_cubes_cpu.hpp"
 #include "support/gpu_fixture.hpp"
 #include "support/mesh_checks.hpp"
+#include "support/test_data.hpp"
 
 namespace {
 
@@ -28,9 +29,7 @@ using fdmsurf::detail::marching_cubes_cpu;
 using fdmsurf::detail::McParams;
 using fdmsurf::detail::plan_grid;
 
-std::string data_path(const std::string& name) {
-    return std::string(FDMSURF_TEST_DATA_DIR) + "/" + name;
-}
+using fdmsurf::test::data_path;
 
 // Tolerances: both sides evaluate the same float expressions in the same order, but the GPU
 // compiler may contract a * b + c into an fma and its sqrt / division may differ by an ulp.

@@ -14,12 +14,9 @@
 
 #include "fdmsurf/error.hpp"
 #include "fdmsurf/structure.hpp"
+#include "support/test_data.hpp"
 
 namespace fdmsurf::test {
-
-inline std::string data_path(const std::string& file) {
-    return std::string(FDMSURF_TEST_DATA_DIR) + "/" + file;
-}
 
 inline std::string read_text_file(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
