@@ -44,10 +44,10 @@ void EngineImpl::refine(SurfaceResult& result, const Atoms& atoms, const Surface
     StagingArena arena;  // holds the field's read-back copy on devices without mappable memory
     std::unique_ptr<SurfaceField> field;
     if (plan.exact_ses) {
-        // edt: the exact distance itself, evaluated where each vertex goes (no interpolation);
-        // the projection moves a vertex at most one spacing, so values beyond two are not needed.
-        field = std::make_unique<SesDistanceField>(*features, plan.iso,
-                                                   plan.iso + 2.0 * plan.info.spacing);
+        // edt: the exact distance itself, evaluated where each vertex goes (no interpolation),
+        // clamped like the grid's (plan.ses_d_max, two spacings beyond the level): the
+        // projection moves a vertex at most one spacing.
+        field = std::make_unique<SesDistanceField>(*features, plan.iso, plan.ses_d_max);
     } else if (!plan.filtered) {
         // vdw and sas: the density T exp(-pi / sigma^2) is a function of the power distance pi,
         // whose level set is the union of balls itself: project onto that, exactly, rather than
