@@ -4,6 +4,7 @@
 #include "fdmsurf/compare.hpp"
 #include "fdmsurf/error.hpp"
 #include "fdmsurf/mesh.hpp"
+#include "fdmsurf/properties.hpp"
 #include "fdmsurf/structure.hpp"
 #include "fdmsurf/surface.hpp"
 #include "fdmsurf/vulkan_interop.hpp"

@@ -8,12 +8,25 @@
 
 namespace fdmsurf {
 
+// One named float per vertex ("coulombic", "mean_curvature", ...).
+struct VertexScalars {
+    std::string name;
+    std::vector<float> values;
+};
+
 // positions and normals: 3 floats per vertex (Å; unit normals pointing out of the molecule).
 // indices: 3 per triangle, counter-clockwise seen from outside. normals may be empty.
+// atoms: per vertex, the index into the input's Atoms of the atom the vertex belongs to (least
+// power distance; docs/properties.md); empty when not known (a mesh read from a file without
+// it). colors: r, g, b per vertex (sRGB, 0-255); empty when uncoloured. scalars: each with one
+// value per vertex. Every operation that drops or reorders vertices carries all of them along.
 struct Mesh {
     std::vector<float> positions;
     std::vector<float> normals;
     std::vector<std::uint32_t> indices;
+    std::vector<std::uint32_t> atoms;
+    std::vector<std::uint8_t> colors;
+    std::vector<VertexScalars> scalars;
     std::size_t vertex_count() const { return positions.size() / 3; }
     std::size_t triangle_count() const { return indices.size() / 3; }
 };
@@ -45,9 +58,16 @@ std::vector<MeshStats> piece_stats(const Mesh& mesh);
 // and triangle order of the rest is kept. Returns the number of pieces removed.
 std::size_t remove_cavities(Mesh& mesh, double max_volume);
 
+// The open patch of `mesh` on the selected atoms: the triangles whose three vertices belong to
+// atoms with a non-zero `selected` entry (mesh.atoms indexes it), with their vertices (order
+// kept) and every per-vertex attribute. Throws Error(InvalidArgument) when mesh.atoms is empty.
+Mesh extract_patch(const Mesh& mesh, const std::vector<std::uint8_t>& selected);
+
 enum class MeshFormat { Auto, Ply, Obj };
 
-// Writes binary little-endian PLY (positions, normals, triangles) or OBJ, chosen by the path's
+// Writes binary little-endian PLY (positions, normals, `uint atom` when mesh.atoms is set,
+// `uchar red green blue` when coloured, one float property per scalar, triangles) or OBJ
+// (v x y z [r g b], vn, f v//vn), chosen by the path's
 // extension (.ply, .obj) unless `format` says. Writes to a temporary file in the same folder
 // and renames it: on failure no file is left at `path`. Throws Error (Io, InvalidArgument).
 void write_mesh(const Mesh& mesh, const std::string& path, MeshFormat format = MeshFormat::Auto);

@@ -2,20 +2,44 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <string_view>
 #include <vector>
 
 namespace fdmsurf {
 
-enum class StructureFormat { Auto, Pdb, Mmcif, Pqr, Xyzr };
+// Xyzrn: MSMS's `x y z r n name` lines (pdb_to_xyzrn), the name kept in AtomMeta::name.
+enum class StructureFormat { Auto, Pdb, Mmcif, Pqr, Xyzr, Xyzrn };
+
+// What the input file says of one atom. PDB and mmCIF fill every field (author chain and
+// residue numbering); PQR the fields its columns carry (no B-factor: 0, occupancy 1); XYZRN
+// only `name` (MSMS's whole name field, e.g. "A_23_x_LYS_NZ_Blue").
+struct AtomMeta {
+    std::int32_t serial = 0;          // atom serial number (PDB columns 7-11, _atom_site.id)
+    std::string name;                 // atom name, "CA"
+    std::string residue_name;         // "LYS"
+    std::int32_t residue_number = 0;  // author sequence number
+    char insertion_code = ' ';        // ' ' when none
+    std::string chain;                // author chain id; in an assembly, the copy's chain name
+    bool hetero = false;              // HETATM record
+    float b_factor = 0.0f;            // Å²
+    float occupancy = 1.0f;
+    float charge = 0.0f;      // e: PQR's partial charge; PDB/mmCIF: the formal charge column
+    bool has_charge = false;  // true for PQR (partial charges a potential can use)
+};
 
 // Atoms as plain arrays. xyz holds 3 floats per atom (Å); radius one float per atom (Å, > 0).
 // element holds the upper-case element symbol ("C", "FE"); empty for XYZR input.
+// meta: empty (XYZR, or atoms built by hand) or one entry per atom.
+// Atom order is the order of the input file (after selection: the atoms kept, in file order;
+// with an assembly, chain copy by chain copy in the order of its operators): Mesh::atoms
+// indexes it.
 struct Atoms {
     std::vector<float> xyz;
     std::vector<float> radius;
     std::vector<std::string> element;
+    std::vector<AtomMeta> meta;
     std::size_t size() const { return radius.size(); }
     bool empty() const { return radius.empty(); }
 };
@@ -33,6 +57,13 @@ struct ReadOptions {
     // order), built by applying its operators to the model's chains before selection.
     // PDB and mmCIF only.
     int assembly = 0;
+    // Keep only these chains (author chain ids, case-sensitive); empty: every chain. A chain
+    // that the selected model does not hold is Error(InvalidArgument) listing the chains present.
+    std::vector<std::string> chains;
+    // gemmi's selection syntax ("/1/A/10-50/CA[C]", "A/*/CA", ";b>20"...), applied after the
+    // other rules; empty: none. Bad syntax: Error(InvalidArgument); nothing left:
+    // Error(EmptySelection). Needs atoms with metadata (not XYZR).
+    std::string select;
 };
 
 // ReadOptions::model for read_models: one Structure per model of the file.
@@ -86,5 +117,12 @@ float vdw_radius(std::string_view element);
 constexpr float kUnknownElementRadius = 1.80f;
 
 const char* to_string(StructureFormat format) noexcept;
+
+// 1 for each atom that gemmi's selection `expr` matches, 0 otherwise (size atoms.size()).
+// Throws Error(InvalidArgument) for bad syntax or atoms without metadata.
+std::vector<std::uint8_t> match_selection(const Atoms& atoms, const std::string& expr);
+
+// The atoms whose `keep` entry is non-zero, in order, with their metadata.
+Atoms subset(const Atoms& atoms, const std::vector<std::uint8_t>& keep);
 
 }  // namespace fdmsurf

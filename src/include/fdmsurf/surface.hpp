@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "fdmsurf/mesh.hpp"
+#include "fdmsurf/properties.hpp"
 #include "fdmsurf/structure.hpp"
 
 namespace fdmsurf {
@@ -64,6 +65,8 @@ struct SurfaceOptions {
     // structures (the models of an NMR ensemble) given the largest grid of the batch shares one
     // FFT plan and one set of compiled kernels (plan_surface_grid gives each one's grid).
     std::array<std::uint32_t, 3> min_grid{0, 0, 0};
+    // Colours and per-vertex scalars (Mesh::colors, Mesh::scalars). Mesh::atoms is always set.
+    PropertyOptions properties;
 };
 
 // The settings of Giard & Macq (2010): ideal mask at f_c = 1/(4 probe), level T, cavities kept.
