@@ -49,6 +49,12 @@ FDM_CONST kMcGroup = 64;
 // Run-sum scan: one workgroup.
 FDM_CONST kScanGroup = 1024;
 
+// Vertex properties (vertex_atoms.comp, coulombic.comp): one invocation per vertex, flat
+// workgroups of kVertexGroup (2D dispatch of workgroups). coulombic.comp copies
+// kCoulombTile charge sites at a time into shared memory.
+FDM_CONST kVertexGroup = 64;
+FDM_CONST kCoulombTile = 256;
+
 // Filter shapes (SpectralMaskPush::shape).
 FDM_CONST kFilterIdeal = 0;
 FDM_CONST kFilterGaussian = 1;
@@ -98,6 +104,27 @@ struct McPush {
     uint segments;           // words * ny * (z_end - z_begin + 1)
     float power_sigma2;      // > 0: interpolate the power distance (McParams::power_sigma2)
     float power_t;
+};
+
+struct VertexAtomsPush {
+    float bin_origin_x, bin_origin_y, bin_origin_z, bin_size;  // cell (0,0,0) corner and edge, Å
+    uint bin_nx, bin_ny, bin_nz;  // cells per axis; the grid holds every atom and vertex
+    uint vertex_count;
+    float r2_max;      // largest r² of the atoms (power distance |p - c|² - r²)
+    uint groups_x;     // workgroups along x of the 2D dispatch
+    uint attributes;   // uints per atom in `atom_attributes`, copied to the vertex's output
+    uint pad0;
+};
+
+struct CoulombPush {
+    uint vertex_count;
+    uint site_count;   // charge sites (x, y, z, q)
+    float offset;      // Å out along the normal where the potential is evaluated
+    float scale;       // 332 / 4: kcal/(mol e) with the distance-dependent dielectric 4 r
+    uint groups_x;
+    uint color;        // != 0: also write the red-white-blue colour of the potential
+    float color_range; // the potential mapped to full red (-) or blue (+), kcal/(mol e)
+    float pad0;
 };
 
 struct ScanPush {

@@ -17,6 +17,7 @@
 #include "isosurface/slab_stitch.hpp"
 #include "mesh/cavities.hpp"
 #include "mesh/refine.hpp"
+#include "properties/vertex_properties.hpp"
 #include "vulkan/check.hpp"
 #include "vulkan/commands.hpp"
 #include "vulkan/context.hpp"
@@ -416,6 +417,9 @@ SurfaceResult Engine::make_surface(const Atoms& atoms, const SurfaceOptions& opt
     }
     // (By default the exact SES, vdw and sas keep every cavity.)
     result.times.push_back({"cavities", detail::now_ms() - t0, false});
+    // On the final mesh: the atom of each vertex, colours and scalars.
+    detail::add_vertex_properties(impl_->vertex_properties, impl_->commands, atoms, options,
+                                  result);
     return result;
 }
 

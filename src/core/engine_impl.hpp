@@ -14,6 +14,7 @@
 #include "grid/ses_features.hpp"
 #include "isosurface/marching_cubes_cpu.hpp"
 #include "isosurface/marching_cubes_gpu.hpp"
+#include "properties/vertex_properties_gpu.hpp"
 #include "vulkan/commands.hpp"
 #include "vulkan/context.hpp"
 
@@ -27,7 +28,8 @@ struct DeviceMeshBuffers {
 struct EngineImpl {
     explicit EngineImpl(const EngineOptions& options)
         : glslang(), context(options), commands(context), density(context),
-          ses_distance(context), filter(context), marching_cubes(context) {}
+          ses_distance(context), filter(context), marching_cubes(context),
+          vertex_properties(context) {}
 
     // Holds glslang for VkFFT from before the first plan to after the last.
     struct GlslangGuard {
@@ -40,6 +42,7 @@ struct EngineImpl {
     SesDistancePass ses_distance;
     SpectralFilter filter;
     MarchingCubesPass marching_cubes;
+    VertexPropertiesPass vertex_properties;
 
     // `on_device`: when not null, the mesh stays on the device there and result.mesh is empty.
     SurfaceResult run(const Atoms& atoms, const SurfaceOptions& options,

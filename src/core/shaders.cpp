@@ -2,6 +2,7 @@
 #include "core/shaders.hpp"
 
 #include "fdmsurf/error.hpp"
+#include "fdmsurf_generated/shaders/coulombic.spv.h"
 #include "fdmsurf_generated/shaders/density.spv.h"
 #include "fdmsurf_generated/shaders/density_tiles.spv.h"
 #include "fdmsurf_generated/shaders/mc_count.spv.h"
@@ -11,6 +12,7 @@
 #include "fdmsurf_generated/shaders/mc_vertices.spv.h"
 #include "fdmsurf_generated/shaders/ses_distance.spv.h"
 #include "fdmsurf_generated/shaders/spectral_mask.spv.h"
+#include "fdmsurf_generated/shaders/vertex_atoms.spv.h"
 
 namespace fdmsurf::detail {
 
@@ -26,6 +28,8 @@ ShaderCode shader_code(Shader shader) {
         case Shader::McScan: return {mc_scan_spv, sizeof(mc_scan_spv)};
         case Shader::McVertices: return {mc_vertices_spv, sizeof(mc_vertices_spv)};
         case Shader::McTriangles: return {mc_triangles_spv, sizeof(mc_triangles_spv)};
+        case Shader::VertexAtoms: return {vertex_atoms_spv, sizeof(vertex_atoms_spv)};
+        case Shader::Coulombic: return {coulombic_spv, sizeof(coulombic_spv)};
     }
     throw Error(ErrorCode::Internal, "unknown shader");
 }

@@ -20,7 +20,9 @@ enum class Shader {
     McCount,
     McScan,
     McVertices,
-    McTriangles
+    McTriangles,
+    VertexAtoms,
+    Coulombic
 };
 
 ShaderCode shader_code(Shader shader);

@@ -1,0 +1,153 @@
+// The vertex-property stage: per-atom colours and values gathered on the device by the atom
+// each vertex belongs to, the Coulomb potential on the device, curvatures on the host.
+#include "properties/vertex_properties.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstring>
+
+#include "fdmsurf/error.hpp"
+#include "properties/atom_tables.hpp"
+#include "properties/curvature.hpp"
+#include "properties/vertex_properties_gpu.hpp"
+#include "vulkan/commands.hpp"
+
+namespace fdmsurf::detail {
+
+namespace {
+
+std::uint32_t pack(const Rgb& c) {
+    return std::uint32_t(c[0]) | (std::uint32_t(c[1]) << 8) | (std::uint32_t(c[2]) << 16);
+}
+
+void unpack_colors(const std::vector<std::uint32_t>& words, std::uint32_t stride,
+                   std::uint32_t at, std::vector<std::uint8_t>& colors) {
+    const std::size_t nv = words.size() / stride;
+    colors.resize(3 * nv);
+    for (std::size_t v = 0; v < nv; ++v) {
+        const std::uint32_t c = words[stride * v + at];
+        colors[3 * v] = std::uint8_t(c & 0xff);
+        colors[3 * v + 1] = std::uint8_t((c >> 8) & 0xff);
+        colors[3 * v + 2] = std::uint8_t((c >> 16) & 0xff);
+    }
+}
+
+bool wants(const PropertyOptions& o, VertexProperty p) {
+    return std::find(o.scalars.begin(), o.scalars.end(), p) != o.scalars.end();
+}
+
+void add_time(SurfaceResult& r, const char* name, double ms, bool gpu) {
+    r.times.push_back({name, ms, gpu});
+}
+
+}  // namespace
+
+float vertex_radius_add(const SurfaceOptions& options) {
+    return options.surface == SurfaceKind::Sas ? options.probe : 0.0f;
+}
+
+void add_vertex_properties(VertexPropertiesPass& pass, Commands& cmds, const Atoms& atoms,
+                           const SurfaceOptions& options, SurfaceResult& result) {
+    const PropertyOptions& po = options.properties;
+    Mesh& mesh = result.mesh;
+    const std::size_t nv = mesh.vertex_count();
+    const bool need_meta = po.color == ColorScheme::Chain || po.color == ColorScheme::Residue ||
+                           po.color == ColorScheme::Hydrophobicity ||
+                           po.color == ColorScheme::BFactor ||
+                           wants(po, VertexProperty::Hydrophobicity) ||
+                           wants(po, VertexProperty::BFactor);
+    if (need_meta && atoms.meta.size() != atoms.size())
+        throw Error(ErrorCode::InvalidArgument,
+                    "colours and properties by chain, residue, hydrophobicity or B-factor need "
+                    "atom records (PDB, mmCIF, PQR or XYZRN input), not bare XYZR atoms");
+
+    // Per-atom words the vertex pass copies to each vertex: the colour, then the per-atom
+    // scalars (float bits) in the order asked for.
+    const bool atom_colored = po.color != ColorScheme::None && po.color != ColorScheme::Coulombic;
+    std::vector<VertexProperty> gathered;
+    for (VertexProperty p : po.scalars)
+        if (p == VertexProperty::Hydrophobicity || p == VertexProperty::BFactor)
+            gathered.push_back(p);
+    const std::uint32_t per_atom = (atom_colored ? 1u : 0u) + std::uint32_t(gathered.size());
+    std::vector<std::uint32_t> attributes(std::size_t(per_atom) * atoms.size());
+    if (per_atom > 0) {
+        const std::vector<Rgb> colors =
+            atom_colored ? atom_colors(atoms, po) : std::vector<Rgb>{};
+        const std::vector<AtomLabel> labels = atom_labels(atoms);
+        for (std::size_t i = 0; i < atoms.size(); ++i) {
+            std::uint32_t* w = &attributes[per_atom * i];
+            if (atom_colored) *w++ = pack(colors[i]);
+            for (VertexProperty p : gathered) {
+                float value = 0.0f;
+                if (p == VertexProperty::BFactor) value = atoms.meta[i].b_factor;
+                if (p == VertexProperty::Hydrophobicity) {
+                    const float kd = kyte_doolittle(labels[i].residue_name);
+                    value = std::isnan(kd) ? 0.0f : kd;
+                }
+                *w++ = std::bit_cast<std::uint32_t>(value);
+            }
+        }
+    }
+    const std::uint32_t stride = 1 + per_atom;
+    const std::vector<std::uint32_t> words =
+        pass.vertex_atoms(cmds, mesh, atoms, vertex_radius_add(options), attributes, per_atom);
+    if (nv > 0) result.times.insert(result.times.end(), cmds.stage_times().begin(),
+                                    cmds.stage_times().end());
+    mesh.atoms.resize(nv);
+    for (std::size_t v = 0; v < nv; ++v) mesh.atoms[v] = words[stride * v];
+    if (atom_colored) unpack_colors(words, stride, 1, mesh.colors);
+
+    std::vector<float> coulombic;
+    if (po.color == ColorScheme::Coulombic || wants(po, VertexProperty::Coulombic)) {
+        const Charges charges = atom_charges(atoms);
+        if (!charges.from_file) {
+            const bool any = std::any_of(charges.q.begin(), charges.q.end(),
+                                         [](float q) { return q != 0.0f; });
+            result.warnings.push_back(
+                any ? "coulombic: the atoms carry no partial charges (PQR gives them); using "
+                      "the built-in model of formal charges of ionised groups at pH 7 "
+                      "(docs/properties.md)"
+                    : "coulombic: the atoms carry no charges and the built-in model of ionised "
+                      "groups finds none (no residue names): the potential is 0 everywhere");
+        }
+        const bool color = po.color == ColorScheme::Coulombic;
+        const std::vector<std::uint32_t> out =
+            pass.coulombic(cmds, mesh, atoms, charges.q, po.coulombic_offset, color);
+        if (nv > 0) result.times.insert(result.times.end(), cmds.stage_times().begin(),
+                                        cmds.stage_times().end());
+        const std::uint32_t cs = color ? 2 : 1;
+        coulombic.resize(nv);
+        for (std::size_t v = 0; v < nv; ++v) coulombic[v] = std::bit_cast<float>(out[cs * v]);
+        if (color) unpack_colors(out, cs, 1, mesh.colors);
+    }
+    VertexCurvature curvature;
+    if (wants(po, VertexProperty::MeanCurvature) || wants(po, VertexProperty::GaussianCurvature) ||
+        wants(po, VertexProperty::ShapeIndex)) {
+        const double t0 = now_ms();
+        curvature = vertex_curvature(mesh);
+        add_time(result, "curvature", now_ms() - t0, false);
+    }
+    mesh.scalars.clear();
+    std::size_t next_gathered = 0;
+    for (VertexProperty p : po.scalars) {
+        VertexScalars s{to_string(p), {}};
+        switch (p) {
+            case VertexProperty::Coulombic: s.values = coulombic; break;
+            case VertexProperty::Hydrophobicity:
+            case VertexProperty::BFactor: {
+                const std::uint32_t at = (atom_colored ? 2u : 1u) + std::uint32_t(next_gathered++);
+                s.values.resize(nv);
+                for (std::size_t v = 0; v < nv; ++v)
+                    s.values[v] = std::bit_cast<float>(words[stride * v + at]);
+                break;
+            }
+            case VertexProperty::MeanCurvature: s.values = curvature.mean; break;
+            case VertexProperty::GaussianCurvature: s.values = curvature.gaussian; break;
+            case VertexProperty::ShapeIndex: s.values = curvature.shape_index; break;
+        }
+        mesh.scalars.push_back(std::move(s));
+    }
+}
+
+}  // namespace fdmsurf::detail

@@ -1,0 +1,247 @@
+// Dispatch of the vertex-property passes: the atoms binned into cells on the host, vertices in
+// chunks that fit one storage-buffer binding.
+#include "properties/vertex_properties_gpu.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <deque>
+#include <limits>
+
+#include "core/shaders.hpp"
+#include "fdmsurf/error.hpp"
+#include "shader_interface.h"
+#include "vulkan/commands.hpp"
+#include "vulkan/context.hpp"
+#include "vulkan/transfer.hpp"
+
+namespace fdmsurf::detail {
+
+namespace {
+
+// Atoms sorted into cubic cells over the box of the atoms and the vertices.
+struct Cells {
+    float origin[3] = {0, 0, 0};
+    float size = 0.0f;
+    std::uint32_t dims[3] = {1, 1, 1};
+    float r2_max = 0.0f;
+    std::vector<float> atoms;           // x, y, z, (r + radius_add)² per atom, by cell
+    std::vector<std::uint32_t> index;   // the atom's index in the input
+    std::vector<std::uint32_t> start;   // cell c holds [start[c], start[c + 1])
+};
+
+Cells bin_for_vertices(const Atoms& atoms, const Mesh& mesh, float radius_add) {
+    Cells c;
+    float lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = std::numeric_limits<float>::max();
+        hi[a] = -lo[a];
+    }
+    auto extend = [&](const float* p) {
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = std::min(lo[a], p[a]);
+            hi[a] = std::max(hi[a], p[a]);
+        }
+    };
+    float r_max = 0.0f;
+    for (std::size_t i = 0; i < atoms.size(); ++i) {
+        extend(&atoms.xyz[3 * i]);
+        r_max = std::max(r_max, atoms.radius[i] + radius_add);
+    }
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v) extend(&mesh.positions[3 * v]);
+    c.r2_max = r_max * r_max;
+    // Cells wider than the largest ball by 1 Å: a vertex on or near a surface is settled by the
+    // first ring (27 cells). At most 2^24 cells (huge boxes get wider cells).
+    c.size = std::max(4.0f, r_max + 1.0f);
+    for (;;) {
+        std::uint64_t n = 1;
+        for (int a = 0; a < 3; ++a) {
+            c.dims[a] = static_cast<std::uint32_t>(std::floor((hi[a] - lo[a]) / c.size)) + 1;
+            n *= c.dims[a];
+        }
+        if (n <= (1u << 24)) break;
+        c.size *= 1.5f;
+    }
+    for (int a = 0; a < 3; ++a) c.origin[a] = lo[a];
+    const std::size_t cells = std::size_t(c.dims[0]) * c.dims[1] * c.dims[2];
+    std::vector<std::uint32_t> cell_of(atoms.size());
+    c.start.assign(cells + 1, 0);
+    for (std::size_t i = 0; i < atoms.size(); ++i) {
+        std::uint32_t k[3];
+        for (int a = 0; a < 3; ++a) {
+            const float f = std::floor((atoms.xyz[3 * i + a] - c.origin[a]) / c.size);
+            k[a] = static_cast<std::uint32_t>(std::clamp(f, 0.0f, float(c.dims[a] - 1)));
+        }
+        cell_of[i] = (k[2] * c.dims[1] + k[1]) * c.dims[0] + k[0];
+        ++c.start[cell_of[i] + 1];
+    }
+    for (std::size_t b = 0; b < cells; ++b) c.start[b + 1] += c.start[b];
+    c.atoms.resize(4 * atoms.size());
+    c.index.resize(atoms.size());
+    std::vector<std::uint32_t> fill(c.start.begin(), c.start.end() - 1);
+    for (std::size_t i = 0; i < atoms.size(); ++i) {
+        const std::uint32_t slot = fill[cell_of[i]]++;
+        const float r = atoms.radius[i] + radius_add;
+        std::memcpy(&c.atoms[4 * slot], &atoms.xyz[3 * i], 3 * sizeof(float));
+        c.atoms[4 * slot + 3] = r * r;
+        c.index[slot] = static_cast<std::uint32_t>(i);
+    }
+    return c;
+}
+
+// Vertices per dispatch: every buffer of the chunk within one binding.
+std::size_t chunk_vertices(const Context& ctx, std::size_t bytes_per_vertex) {
+    const std::uint64_t range = ctx.limits().max_storage_buffer_range;
+    return std::max<std::size_t>(1, range / bytes_per_vertex / shader::kVertexGroup) *
+           shader::kVertexGroup;
+}
+
+void check_fits(const Context& ctx, std::size_t bytes, const char* what) {
+    if (bytes > ctx.limits().max_storage_buffer_range)
+        throw Error(ErrorCode::DeviceLimit,
+                    std::string("vertex properties: the ") + what + " (" +
+                        std::to_string(bytes >> 20) +
+                        " MiB) exceed this device's maxStorageBufferRange (" +
+                        std::to_string(ctx.limits().max_storage_buffer_range >> 20) + " MiB)");
+}
+
+template <class T>
+Buffer upload_vector(Context& ctx, Commands& cmds, StagingArena& arena, const std::vector<T>& v,
+                     const char* name) {
+    static const T none{};  // a buffer cannot be empty
+    return upload_buffer(ctx, cmds, arena, v.empty() ? &none : v.data(),
+                         std::max<std::size_t>(v.size(), 1) * sizeof(T), name);
+}
+
+}  // namespace
+
+VertexPropertiesPass::VertexPropertiesPass(Context& ctx) : ctx_(ctx) {
+    ShaderCode a = shader_code(Shader::VertexAtoms);
+    atoms_pipeline_ = ComputePipeline(ctx, a.words, a.bytes, 6, sizeof(shader::VertexAtomsPush),
+                                      "vertex_atoms");
+    ShaderCode c = shader_code(Shader::Coulombic);
+    coulomb_pipeline_ =
+        ComputePipeline(ctx, c.words, c.bytes, 4, sizeof(shader::CoulombPush), "coulombic");
+}
+
+std::vector<std::uint32_t> VertexPropertiesPass::vertex_atoms(
+    Commands& cmds, const Mesh& mesh, const Atoms& atoms, float radius_add,
+    const std::vector<std::uint32_t>& attributes, std::uint32_t per_atom) {
+    const std::size_t nv = mesh.vertex_count();
+    const std::uint32_t stride = 1 + per_atom;
+    std::vector<std::uint32_t> out(nv * stride);
+    if (nv == 0 || atoms.empty()) return out;
+    const Cells cells = bin_for_vertices(atoms, mesh, radius_add);
+    check_fits(ctx_, cells.atoms.size() * sizeof(float), "binned atoms");
+    check_fits(ctx_, attributes.size() * sizeof(std::uint32_t), "atom attributes");
+    const std::size_t chunk = chunk_vertices(ctx_, stride * sizeof(std::uint32_t) + 12);
+
+    StagingArena arena;
+    cmds.begin();
+    Buffer bin_atoms = upload_vector(ctx_, cmds, arena, cells.atoms, "vertex_bin_atoms");
+    Buffer bin_index = upload_vector(ctx_, cmds, arena, cells.index, "vertex_bin_index");
+    Buffer bin_start = upload_vector(ctx_, cmds, arena, cells.start, "vertex_bin_start");
+    Buffer attr = upload_vector(ctx_, cmds, arena, attributes, "atom_attributes");
+    std::deque<Buffer> outputs;  // deque: the read-back may be the buffer itself
+    std::vector<const Buffer*> hosts;
+    for (std::size_t first = 0; first < nv; first += chunk) {
+        const std::size_t n = std::min(chunk, nv - first);
+        Buffer pos = upload_buffer(ctx_, cmds, arena, &mesh.positions[3 * first],
+                                   3 * n * sizeof(float), "vertex_positions");
+        outputs.emplace_back(ctx_, n * stride * sizeof(std::uint32_t), MemoryUse::Device,
+                             "vertex_atoms");
+        cmds.barrier_compute();
+        shader::VertexAtomsPush p{};
+        p.bin_origin_x = cells.origin[0];
+        p.bin_origin_y = cells.origin[1];
+        p.bin_origin_z = cells.origin[2];
+        p.bin_size = cells.size;
+        p.bin_nx = cells.dims[0];
+        p.bin_ny = cells.dims[1];
+        p.bin_nz = cells.dims[2];
+        p.vertex_count = static_cast<std::uint32_t>(n);
+        p.r2_max = cells.r2_max;
+        p.attributes = per_atom;
+        const auto [gx, gy] = cmds.fold_groups((n + shader::kVertexGroup - 1) / shader::kVertexGroup);
+        p.groups_x = gx;
+        cmds.dispatch(atoms_pipeline_,
+                      {whole(pos), whole(bin_atoms), whole(bin_index), whole(bin_start),
+                       whole(attr), whole(outputs.back())},
+                      &p, gx, gy);
+        arena.buffers.push_back(std::move(pos));
+        hosts.push_back(&readback_buffer(ctx_, cmds, arena, outputs.back(),
+                                         n * stride * sizeof(std::uint32_t), "vertex_atoms_readback"));
+    }
+    cmds.mark("vertex-atoms");
+    cmds.barrier_to_host();
+    cmds.submit_and_wait();
+    for (std::size_t k = 0, first = 0; k < hosts.size(); ++k, first += chunk) {
+        const std::size_t n = std::min(chunk, nv - first);
+        hosts[k]->invalidate();
+        std::memcpy(&out[first * stride], hosts[k]->mapped(), n * stride * sizeof(std::uint32_t));
+    }
+    return out;
+}
+
+std::vector<std::uint32_t> VertexPropertiesPass::coulombic(Commands& cmds, const Mesh& mesh,
+                                                           const Atoms& atoms,
+                                                           const std::vector<float>& charges,
+                                                           float offset, bool color) {
+    const std::size_t nv = mesh.vertex_count();
+    const std::uint32_t stride = color ? 2 : 1;
+    std::vector<std::uint32_t> out(nv * stride);
+    if (nv == 0) return out;
+    if (mesh.normals.size() != mesh.positions.size())
+        throw Error(ErrorCode::InvalidArgument, "coulombic: the mesh has no normals");
+    std::vector<float> sites;
+    for (std::size_t i = 0; i < atoms.size(); ++i) {
+        if (charges[i] == 0.0f) continue;
+        sites.insert(sites.end(), {atoms.xyz[3 * i], atoms.xyz[3 * i + 1], atoms.xyz[3 * i + 2],
+                                   charges[i]});
+    }
+    check_fits(ctx_, sites.size() * sizeof(float), "charge sites");
+    const std::size_t chunk = chunk_vertices(ctx_, stride * sizeof(std::uint32_t) + 12);
+
+    StagingArena arena;
+    cmds.begin();
+    Buffer site_buffer = upload_vector(ctx_, cmds, arena, sites, "charge_sites");
+    std::deque<Buffer> outputs;  // deque: the read-back may be the buffer itself
+    std::vector<const Buffer*> hosts;
+    for (std::size_t first = 0; first < nv; first += chunk) {
+        const std::size_t n = std::min(chunk, nv - first);
+        Buffer pos = upload_buffer(ctx_, cmds, arena, &mesh.positions[3 * first],
+                                   3 * n * sizeof(float), "vertex_positions");
+        Buffer nrm = upload_buffer(ctx_, cmds, arena, &mesh.normals[3 * first],
+                                   3 * n * sizeof(float), "vertex_normals");
+        outputs.emplace_back(ctx_, n * stride * sizeof(std::uint32_t), MemoryUse::Device,
+                             "coulombic");
+        cmds.barrier_compute();
+        shader::CoulombPush p{};
+        p.vertex_count = static_cast<std::uint32_t>(n);
+        p.site_count = static_cast<std::uint32_t>(sites.size() / 4);
+        p.offset = offset;
+        p.scale = static_cast<float>(kCoulombScale);
+        p.color = color ? 1u : 0u;
+        p.color_range = kCoulombColorRange;
+        const auto [gx, gy] = cmds.fold_groups((n + shader::kVertexGroup - 1) / shader::kVertexGroup);
+        p.groups_x = gx;
+        cmds.dispatch(coulomb_pipeline_,
+                      {whole(pos), whole(nrm), whole(site_buffer), whole(outputs.back())}, &p,
+                      gx, gy);
+        arena.buffers.push_back(std::move(pos));
+        arena.buffers.push_back(std::move(nrm));
+        hosts.push_back(&readback_buffer(ctx_, cmds, arena, outputs.back(),
+                                         n * stride * sizeof(std::uint32_t), "coulombic_readback"));
+    }
+    cmds.mark("coulombic");
+    cmds.barrier_to_host();
+    cmds.submit_and_wait();
+    for (std::size_t k = 0, first = 0; k < hosts.size(); ++k, first += chunk) {
+        const std::size_t n = std::min(chunk, nv - first);
+        hosts[k]->invalidate();
+        std::memcpy(&out[first * stride], hosts[k]->mapped(), n * stride * sizeof(std::uint32_t));
+    }
+    return out;
+}
+
+}  // namespace fdmsurf::detail

@@ -1,0 +1,48 @@
+// The vertex-property passes on the device: the atom of each vertex with its per-atom
+// attributes (shaders/vertex_atoms.comp) and the Coulomb potential (shaders/coulombic.comp).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "fdmsurf/mesh.hpp"
+#include "fdmsurf/structure.hpp"
+#include "vulkan/buffer.hpp"
+#include "vulkan/pipeline.hpp"
+
+namespace fdmsurf::detail {
+
+class Commands;
+class Context;
+
+// 332 / 4: kcal/(mol e) per e/Å² with ChimeraX's distance-dependent dielectric eps = 4 r.
+inline constexpr double kCoulombScale = 332.0 / 4.0;
+// The colour ramp's full red and full blue, kcal/(mol e) (ChimeraX's coulombic default).
+inline constexpr float kCoulombColorRange = 10.0f;
+
+class VertexPropertiesPass {
+public:
+    explicit VertexPropertiesPass(Context& ctx);
+
+    // Per vertex of `mesh`: `1 + per_atom` words, the index of its atom (least power distance
+    // to the balls of radius r + radius_add, ties to the lower index) and that atom's words of
+    // `attributes` (per_atom words per atom, in atom order; may be empty when per_atom is 0).
+    // Records, submits and waits; the stage is marked "vertex-atoms".
+    std::vector<std::uint32_t> vertex_atoms(Commands& cmds, const Mesh& mesh, const Atoms& atoms,
+                                            float radius_add,
+                                            const std::vector<std::uint32_t>& attributes,
+                                            std::uint32_t per_atom);
+
+    // Per vertex: the potential (float bits) at `offset` Å out along its normal from every atom
+    // of non-zero charge, followed, when `color` is set, by its packed red-white-blue colour.
+    // Marked "coulombic".
+    std::vector<std::uint32_t> coulombic(Commands& cmds, const Mesh& mesh, const Atoms& atoms,
+                                         const std::vector<float>& charges, float offset,
+                                         bool color);
+
+private:
+    Context& ctx_;
+    ComputePipeline atoms_pipeline_, coulomb_pipeline_;
+};
+
+}  // namespace fdmsurf::detail

@@ -1,0 +1,211 @@
+// The vertex-property stage against its CPU references on real structures: the atom of each
+// vertex (every vertex, near-ties reported), the Coulomb potential (all pairs, double), a point
+// charge's closed form, and the colours and scalars gathered from the atoms.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+
+#include "fdmsurf/fdmsurf.hpp"
+#include "properties/atom_tables.hpp"
+#include "properties/vertex_atoms_cpu.hpp"
+#include "properties/vertex_properties_gpu.hpp"
+#include "support/gpu_fixture.hpp"
+#include "support/test_data.hpp"
+
+using namespace fdmsurf;
+using fdmsurf::test::data_path;
+
+namespace {
+
+class VertexProperties : public GpuTest {};
+
+// Every vertex's atom equals the brute-force reference, except near-ties: two atoms whose power
+// distances differ by less than kTie Å² in double (float rounding on the device can pick either;
+// both are reported). Returns the number of ties.
+constexpr double kTie = 1e-4;
+
+std::size_t expect_atoms_match(const Mesh& mesh, const Atoms& atoms, float radius_add) {
+    const std::vector<std::uint32_t> ref = detail::vertex_atoms_cpu(mesh, atoms, radius_add);
+    EXPECT_EQ(mesh.atoms.size(), mesh.vertex_count());
+    std::size_t ties = 0;
+    for (std::size_t v = 0; v < ref.size() && v < mesh.atoms.size(); ++v) {
+        if (mesh.atoms[v] == ref[v]) continue;
+        const double a = detail::power_distance(mesh, v, atoms, mesh.atoms[v], radius_add);
+        const double b = detail::power_distance(mesh, v, atoms, ref[v], radius_add);
+        EXPECT_LT(std::abs(a - b), kTie) << "vertex " << v << ": device atom " << mesh.atoms[v]
+                                         << " (power " << a << "), reference " << ref[v]
+                                         << " (power " << b << ")";
+        ++ties;
+    }
+    return ties;
+}
+
+SurfaceResult surface(Engine& e, const Atoms& atoms, SurfaceKind kind, SesMethod method,
+                      PropertyOptions props = {}) {
+    SurfaceOptions o;
+    o.surface = kind;
+    o.method = method;
+    o.properties = std::move(props);
+    return e.make_surface(atoms, o);
+}
+
+}  // namespace
+
+TEST_F(VertexProperties, AtomOfEveryVertexEqualsReferenceOnCrambin) {
+    const Atoms atoms = read_structure(data_path("1crn.pdb")).atoms;
+    for (SurfaceKind kind : {SurfaceKind::Ses, SurfaceKind::Vdw, SurfaceKind::Sas}) {
+        SurfaceOptions o;
+        o.surface = kind;
+        const SurfaceResult r = engine().make_surface(atoms, o);
+        ASSERT_GT(r.mesh.vertex_count(), 1000u);
+        const std::size_t ties = expect_atoms_match(r.mesh, atoms, kind == SurfaceKind::Sas ? 1.4f : 0.0f);
+        EXPECT_LT(ties, r.mesh.vertex_count() / 1000 + 1) << to_string(kind);
+    }
+}
+
+TEST_F(VertexProperties, AtomOfEveryVertexEqualsReferenceOnHemoglobin) {
+    const Atoms atoms = read_structure(data_path("4hhb.pdb.gz")).atoms;
+    for (SesMethod method : {SesMethod::Fdm, SesMethod::Edt}) {
+        const SurfaceResult r = surface(engine(), atoms, SurfaceKind::Ses, method);
+        ASSERT_GT(r.mesh.vertex_count(), 50000u);
+        const std::size_t ties = expect_atoms_match(r.mesh, atoms, 0.0f);
+        EXPECT_LT(ties, r.mesh.vertex_count() / 1000 + 1) << to_string(method);
+    }
+}
+
+TEST_F(VertexProperties, VdwAndSasVerticesLieOnTheirAtomsSphere) {
+    const Atoms atoms = read_structure(data_path("1crn.pdb")).atoms;
+    for (SurfaceKind kind : {SurfaceKind::Vdw, SurfaceKind::Sas}) {
+        const float add = kind == SurfaceKind::Sas ? 1.4f : 0.0f;
+        const SurfaceResult r = surface(engine(), atoms, kind, SesMethod::Fdm);
+        double worst = 0.0;
+        std::size_t on_sphere = 0;
+        for (std::size_t v = 0; v < r.mesh.vertex_count(); ++v) {
+            const std::uint32_t a = r.mesh.atoms[v];
+            double d2 = 0.0;
+            for (int k = 0; k < 3; ++k) {
+                const double d = r.mesh.positions[3 * v + k] - atoms.xyz[3 * a + k];
+                d2 += d * d;
+            }
+            const double off = std::abs(std::sqrt(d2) - (atoms.radius[a] + add));
+            worst = std::max(worst, off);
+            on_sphere += off < 1e-3;
+        }
+        // Marching cubes solves the power distance's quadratic on each edge, so a vertex lies on
+        // the sphere of its atom, unless the edge crosses a crease (its two ends have different
+        // nearest atoms): those vertices are cut across the crease, within a cell of it.
+        const double share = double(on_sphere) / double(r.mesh.vertex_count());
+        std::printf("%s: %.2f%% of vertices on their atom's sphere (1e-3 Å), worst %.3f Å\n",
+                    to_string(kind), 100.0 * share, worst);
+        EXPECT_GT(share, 0.9) << to_string(kind);
+        EXPECT_LT(worst, 0.5) << to_string(kind);
+    }
+}
+
+TEST_F(VertexProperties, CoulombicEqualsAllPairsReference) {
+    for (const char* file : {"1crn.pdb", "4hhb.pdb.gz"}) {
+        const Atoms atoms = read_structure(data_path(file)).atoms;
+        PropertyOptions p;
+        p.scalars = {VertexProperty::Coulombic};
+        const SurfaceResult r = surface(engine(), atoms, SurfaceKind::Ses, SesMethod::Fdm, p);
+        ASSERT_EQ(r.mesh.scalars.size(), 1u);
+        const std::vector<float>& phi = r.mesh.scalars[0].values;
+        const std::vector<double> ref =
+            detail::coulombic_cpu(r.mesh, atoms, detail::atom_charges(atoms).q, 1.4f);
+        double err2 = 0.0, ref2 = 0.0;
+        for (std::size_t v = 0; v < ref.size(); ++v) {
+            err2 += (phi[v] - ref[v]) * (phi[v] - ref[v]);
+            ref2 += ref[v] * ref[v];
+        }
+        const double rms_ref = std::sqrt(ref2 / ref.size());
+        EXPECT_GT(rms_ref, 0.5) << file;  // a real potential of a few kcal/(mol e)
+        EXPECT_LT(std::sqrt(err2 / ref.size()) / rms_ref, 0.01) << file;
+        // The built-in charge model is named in a warning.
+        bool warned = false;
+        for (const std::string& w : r.warnings) warned |= w.find("built-in model") != std::string::npos;
+        EXPECT_TRUE(warned) << file;
+    }
+}
+
+TEST_F(VertexProperties, PointChargeMatchesClosedForm) {
+    // One atom of charge +1 (PQR): phi = 83 / |x - c|² at x = p + 1.4 n, and |x - c| = r + 1.4
+    // on the exact sphere.
+    const Structure s = read_structure_from_memory(
+        "ATOM      1  NA  NA      1       1.000   2.000   3.000  1.0000 1.8000\n", "ion.pqr");
+    PropertyOptions p;
+    p.color = ColorScheme::Coulombic;
+    p.scalars = {VertexProperty::Coulombic};
+    const SurfaceResult r = surface(engine(), s.atoms, SurfaceKind::Vdw, SesMethod::Fdm, p);
+    ASSERT_GT(r.mesh.vertex_count(), 100u);
+    const std::vector<float>& phi = r.mesh.scalars[0].values;
+    const double sphere = 83.0 / ((1.8 + 1.4) * (1.8 + 1.4));
+    for (std::size_t v = 0; v < phi.size(); ++v) {
+        double d2 = 0.0;
+        for (int k = 0; k < 3; ++k) {
+            const double x = r.mesh.positions[3 * v + k] + 1.4 * r.mesh.normals[3 * v + k] -
+                             s.atoms.xyz[k];
+            d2 += x * x;
+        }
+        ASSERT_NEAR(phi[v], 83.0 / d2, 1e-5 * 83.0 / d2) << v;
+        ASSERT_NEAR(phi[v], sphere, 0.02 * sphere) << v;  // normals within about 1% of radial
+        // 8.1 kcal/(mol e) of +10: blue 0.81 of the way from white.
+        EXPECT_EQ(r.mesh.colors[3 * v + 2], 255);
+        EXPECT_NEAR(r.mesh.colors[3 * v], 255.0 * (1.0 - phi[v] / 10.0), 1.01);
+    }
+    EXPECT_TRUE(r.warnings.empty());  // PQR charges: no model warning
+}
+
+TEST_F(VertexProperties, ColoursAndScalarsFollowTheVertexAtom) {
+    const Atoms atoms = read_structure(data_path("4hhb.pdb.gz")).atoms;
+    ASSERT_EQ(atoms.meta.size(), atoms.size());
+    PropertyOptions p;
+    p.color = ColorScheme::Chain;
+    p.scalars = {VertexProperty::BFactor, VertexProperty::Hydrophobicity};
+    const SurfaceResult r = surface(engine(), atoms, SurfaceKind::Ses, SesMethod::Fdm, p);
+    const Mesh& m = r.mesh;
+    ASSERT_EQ(m.colors.size(), 3 * m.vertex_count());
+    ASSERT_EQ(m.scalars.size(), 2u);
+    EXPECT_EQ(m.scalars[0].name, "bfactor");
+    EXPECT_EQ(m.scalars[1].name, "hydrophobicity");
+    std::map<std::string, std::size_t> chain_vertices;
+    for (std::size_t v = 0; v < m.vertex_count(); ++v) {
+        const AtomMeta& a = atoms.meta[m.atoms[v]];
+        ++chain_vertices[a.chain];
+        const std::size_t n = std::string("ABCD").find(a.chain);  // 4HHB lists A, B, C, D
+        ASSERT_NE(n, std::string::npos) << a.chain;
+        const detail::Rgb c = detail::chain_color(n);
+        ASSERT_EQ(m.colors[3 * v], c[0]);
+        ASSERT_EQ(m.colors[3 * v + 1], c[1]);
+        ASSERT_EQ(m.colors[3 * v + 2], c[2]);
+        ASSERT_EQ(m.scalars[0].values[v], a.b_factor);
+        const float kd = detail::kyte_doolittle(a.residue_name);
+        ASSERT_EQ(m.scalars[1].values[v], std::isnan(kd) ? 0.0f : kd);
+    }
+    EXPECT_EQ(chain_vertices.size(), 4u);
+}
+
+TEST_F(VertexProperties, ElementColoursAndBareXyzrAtoms) {
+    const Atoms atoms = read_structure(data_path("1crn.pdb")).atoms;
+    PropertyOptions p;
+    p.color = ColorScheme::Element;
+    const SurfaceResult r = surface(engine(), atoms, SurfaceKind::Ses, SesMethod::Fdm, p);
+    for (std::size_t v = 0; v < r.mesh.vertex_count(); ++v) {
+        const detail::Rgb c = detail::element_color(atoms.element[r.mesh.atoms[v]]);
+        ASSERT_EQ(r.mesh.colors[3 * v], c[0]);
+        ASSERT_EQ(r.mesh.colors[3 * v + 2], c[2]);
+    }
+    // XYZR atoms have no residues: a residue-based scheme is refused, atoms are still mapped.
+    const Atoms bare = read_structure(data_path("1crn.xyzr")).atoms;
+    p.color = ColorScheme::Hydrophobicity;
+    try {
+        surface(engine(), bare, SurfaceKind::Ses, SesMethod::Fdm, p);
+        ADD_FAILURE() << "hydrophobicity colours of XYZR atoms were accepted";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ErrorCode::InvalidArgument);
+        EXPECT_NE(std::string(e.what()).find("XYZR"), std::string::npos) << e.what();
+    }
+    const SurfaceResult plain = surface(engine(), bare, SurfaceKind::Ses, SesMethod::Fdm);
+    EXPECT_EQ(plain.mesh.atoms.size(), plain.mesh.vertex_count());
+    EXPECT_TRUE(plain.mesh.colors.empty());
+}
