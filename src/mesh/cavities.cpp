@@ -14,6 +14,8 @@
 
 #include "core/parallel.hpp"
 #include "fdmsurf/mesh.hpp"
+#include "mesh/mesh_attributes.hpp"
+#include "mesh/mesh_validate.hpp"
 #include "mesh/union_find.hpp"
 
 namespace fdmsurf {
@@ -146,6 +148,8 @@ double cavity_clearance(const std::vector<std::array<P3, 3>>& tris, const Atoms&
 std::size_t remove_pieces_if(Mesh& mesh, const std::function<bool(double)>& candidate,
                              const std::function<bool(const MeshPiece&)>& remove,
                              bool concurrent) {
+    validate_mesh(mesh, "remove_cavities", true);
+    validate_attributes(mesh, "remove_cavities");
     const std::size_t nv = mesh.vertex_count(), nt = mesh.triangle_count();
     if (nt == 0) return 0;
     DisjointSets sets(nv);
@@ -194,19 +198,15 @@ std::size_t remove_pieces_if(Mesh& mesh, const std::function<bool(double)>& cand
         ++removed;
     }
     if (removed == 0) return 0;
+    // Every per-vertex array (positions, normals, atoms, colours, scalars) follows the vertices.
     std::vector<std::uint32_t> remap(nv, UINT32_MAX);
-    std::size_t kept = 0;
+    std::vector<std::uint32_t> kept;
     for (std::size_t v = 0; v < nv; ++v) {
         if (drop[sets.find(static_cast<std::uint32_t>(v))]) continue;
-        remap[v] = static_cast<std::uint32_t>(kept);
-        for (int k = 0; k < 3; ++k) {
-            mesh.positions[3 * kept + k] = mesh.positions[3 * v + k];
-            if (!mesh.normals.empty()) mesh.normals[3 * kept + k] = mesh.normals[3 * v + k];
-        }
-        ++kept;
+        remap[v] = static_cast<std::uint32_t>(kept.size());
+        kept.push_back(static_cast<std::uint32_t>(v));
     }
-    mesh.positions.resize(3 * kept);
-    if (!mesh.normals.empty()) mesh.normals.resize(3 * kept);
+    keep_vertices(mesh, kept);
     std::size_t out = 0;
     for (std::size_t t = 0; t < nt; ++t) {
         if (drop[sets.find(mesh.indices[3 * t])]) continue;

@@ -1,15 +1,18 @@
-// Mesh writers: binary little-endian PLY and OBJ, through an atomically renamed file.
+// Mesh writers: binary little-endian PLY (with atoms, colours and scalars per vertex) and OBJ
+// (with vertex colours), through an atomically renamed file.
 #include <bit>
 #include <charconv>
 #include <cstdint>
 #include <cstring>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include "fdmsurf/error.hpp"
 #include "fdmsurf/fdmsurf.hpp"
 #include "fdmsurf/mesh.hpp"
 #include "mesh/atomic_file.hpp"
+#include "mesh/mesh_attributes.hpp"
 #include "mesh/mesh_io.hpp"
 #include "mesh/mesh_validate.hpp"
 
@@ -31,29 +34,43 @@ char* put_le(char* out, T value) {
 
 void write_ply(const Mesh& mesh, AtomicFile& file) {
     const bool normals = !mesh.normals.empty();
+    const bool atoms = !mesh.atoms.empty();
+    const bool colors = !mesh.colors.empty();
     std::string header = "ply\nformat binary_little_endian 1.0\n";
     header += "comment written by fdmsurf " + std::string(version()) + "\n";
     header += "element vertex " + std::to_string(mesh.vertex_count()) + "\n";
     header += "property float x\nproperty float y\nproperty float z\n";
     if (normals) header += "property float nx\nproperty float ny\nproperty float nz\n";
+    if (atoms) header += "property uint atom\n";
+    if (colors) header += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+    for (const VertexScalars& scalar : mesh.scalars) {
+        header += "property float " + scalar.name + "\n";
+    }
     header += "element face " + std::to_string(mesh.triangle_count()) + "\n";
     header += "property list uchar int vertex_indices\nend_header\n";
     file.write(header);
 
-    char record[24];
+    // One vertex record: 24 bytes of position and normal, 4 of atom, 3 of colour, 4 per scalar.
+    std::vector<char> record(24 + 4 + 3 + 4 * mesh.scalars.size());
     for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
-        char* out = record;
+        char* out = record.data();
         for (int k = 0; k < 3; ++k) out = put_le(out, mesh.positions[3 * v + k]);
         if (normals) {
             for (int k = 0; k < 3; ++k) out = put_le(out, mesh.normals[3 * v + k]);
         }
-        file.write(record, std::size_t(out - record));
+        if (atoms) out = put_le(out, mesh.atoms[v]);
+        if (colors) {
+            for (int k = 0; k < 3; ++k) *out++ = char(mesh.colors[3 * v + k]);
+        }
+        for (const VertexScalars& scalar : mesh.scalars) out = put_le(out, scalar.values[v]);
+        file.write(record.data(), std::size_t(out - record.data()));
     }
+    char face[13];
     for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
-        char* out = record;
+        char* out = face;
         *out++ = 3;
         for (int k = 0; k < 3; ++k) out = put_le(out, std::int32_t(mesh.indices[3 * t + k]));
-        file.write(record, std::size_t(out - record));
+        file.write(face, std::size_t(out - face));
     }
 }
 
@@ -69,27 +86,42 @@ char* put_index(char* out, char* end, std::uint64_t value) {
 
 void write_obj(const Mesh& mesh, AtomicFile& file) {
     const bool normals = !mesh.normals.empty();
+    const bool colors = !mesh.colors.empty();
     file.write("# written by fdmsurf " + std::string(version()) + "\n# " +
                std::to_string(mesh.vertex_count()) + " vertices, " +
                std::to_string(mesh.triangle_count()) + " triangles\n");
-    // Fixed notation of a float needs at most 39 integer digits, so 3 numbers fit easily; the
+    // Fixed notation of a float needs at most 39 integer digits, so 6 numbers fit easily; the
     // margin leaves room for the separators written after a number.
-    char line[256];
+    char line[384];
     char* const end = line + sizeof line - 8;
-    auto put_vector = [&](const char* tag, const std::vector<float>& values, std::size_t v) {
+    auto start = [&](const char* tag) {
         char* out = line;
         for (const char* c = tag; *c; ++c) *out++ = *c;
-        for (int k = 0; k < 3; ++k) out = put_fixed(out, end, values[3 * v + k]);
+        return out;
+    };
+    auto finish = [&](char* out) {
         *out++ = '\n';
         file.write(line, std::size_t(out - line));
     };
-    for (std::size_t v = 0; v < mesh.vertex_count(); ++v) put_vector("v", mesh.positions, v);
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+        char* out = start("v");
+        for (int k = 0; k < 3; ++k) out = put_fixed(out, end, mesh.positions[3 * v + k]);
+        // Vertex colours as the common extension MeshLab and Blender read: v x y z r g b, each
+        // channel in [0, 1] (6 decimals: c / 255 reads back to the same byte).
+        if (colors) {
+            for (int k = 0; k < 3; ++k) out = put_fixed(out, end, mesh.colors[3 * v + k] / 255.0f);
+        }
+        finish(out);
+    }
     if (normals) {
-        for (std::size_t v = 0; v < mesh.vertex_count(); ++v) put_vector("vn", mesh.normals, v);
+        for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+            char* out = start("vn");
+            for (int k = 0; k < 3; ++k) out = put_fixed(out, end, mesh.normals[3 * v + k]);
+            finish(out);
+        }
     }
     for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
-        char* out = line;
-        *out++ = 'f';
+        char* out = start("f");
         for (int k = 0; k < 3; ++k) {
             const std::uint64_t i = std::uint64_t{mesh.indices[3 * t + k]} + 1;  // OBJ is 1-based
             *out++ = ' ';
@@ -100,8 +132,7 @@ void write_obj(const Mesh& mesh, AtomicFile& file) {
                 out = put_index(out, end, i);
             }
         }
-        *out++ = '\n';
-        file.write(line, std::size_t(out - line));
+        finish(out);
     }
 }
 
@@ -118,6 +149,7 @@ MeshFormat mesh_format_for_path(const std::string& path) {
 
 void write_mesh(const Mesh& mesh, const std::string& path, MeshFormat format) {
     detail::validate_mesh(mesh, "write_mesh", true);
+    detail::validate_attributes(mesh, "write_mesh");
     if (format == MeshFormat::Auto) format = mesh_format_for_path(path);
     // PLY indices are signed 32-bit ints.
     if (format == MeshFormat::Ply &&

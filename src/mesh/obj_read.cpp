@@ -1,6 +1,8 @@
-// OBJ parser: v, vn and f records (v, v/vt, v//vn, v/vt/vn, negative indices); the rest ignored.
+// OBJ parser: v (with optional r g b), vn and f records (v, v/vt, v//vn, v/vt/vn, negative
+// indices); the rest ignored.
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -36,6 +38,8 @@ public:
             }
         }
         assign_normals();
+        // Colours only when every vertex has one.
+        if (colored_ > 0 && colored_ == mesh_.vertex_count()) mesh_.colors = std::move(colors_);
         return std::move(mesh_);
     }
 
@@ -61,7 +65,8 @@ private:
         split(line);
         if (words_.empty() || words_[0].starts_with('#')) return;
         if (words_[0] == "v") {
-            read_vector(mesh_.positions);  // a w or vertex colours after x y z are ignored
+            read_vector(mesh_.positions);  // a w after x y z is ignored
+            read_color();
         } else if (words_[0] == "vn") {
             read_vector(normals_);
         } else if (words_[0] == "f") {
@@ -70,18 +75,31 @@ private:
         // vt, o, g, s, usemtl, mtllib, l, p...: not part of a triangle mesh.
     }
 
+    float number(std::size_t k) const {
+        std::string_view w = words_[k];
+        if (w.starts_with('+')) w.remove_prefix(1);
+        float value = 0.0f;
+        const auto [end, ec] = std::from_chars(w.data(), w.data() + w.size(), value);
+        if (ec != std::errc() || end != w.data() + w.size()) {
+            bad("bad number '" + std::string(words_[k]) + "'");
+        }
+        return value;
+    }
+
     void read_vector(std::vector<float>& out) {
         if (words_.size() < 4) bad("expected 3 coordinates");
-        for (std::size_t k = 1; k <= 3; ++k) {
-            std::string_view w = words_[k];
-            if (w.starts_with('+')) w.remove_prefix(1);
-            float value = 0.0f;
-            const auto [end, ec] = std::from_chars(w.data(), w.data() + w.size(), value);
-            if (ec != std::errc() || end != w.data() + w.size()) {
-                bad("bad number '" + std::string(words_[k]) + "'");
-            }
-            out.push_back(value);
+        for (std::size_t k = 1; k <= 3; ++k) out.push_back(number(k));
+    }
+
+    // v x y z r g b: the vertex colour extension (MeshLab, Blender), channels in [0, 1].
+    void read_color() {
+        if (words_.size() != 7) return;
+        colors_.resize(3 * (mesh_.vertex_count() - 1));  // vertices before it without colour
+        for (std::size_t k = 4; k <= 6; ++k) {
+            const float c = std::clamp(number(k), 0.0f, 1.0f);
+            colors_.push_back(std::uint8_t(std::lround(c * 255.0f)));
         }
+        ++colored_;
     }
 
     // A 1-based index, or negative: counted back from the end of the `count` defined so far.
@@ -160,6 +178,8 @@ private:
     std::size_t line_number_ = 0;
     Mesh mesh_;
     std::vector<float> normals_;                 // the file's vn records
+    std::vector<std::uint8_t> colors_;           // r g b per vertex up to the last coloured one
+    std::size_t colored_ = 0;                    // vertices with a colour
     std::vector<std::uint32_t> corner_normals_;  // vn index of each triangle corner
     std::vector<std::string_view> words_;
     std::vector<std::uint32_t> polygon_;

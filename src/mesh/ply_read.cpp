@@ -1,4 +1,5 @@
-// PLY parser: ASCII and binary (either byte order), vertex positions and normals, polygon faces.
+// PLY parser: ASCII and binary (either byte order), vertex positions, normals, atoms, colours and
+// scalars, polygon faces.
 #include <algorithm>
 #include <bit>
 #include <charconv>
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "fdmsurf/error.hpp"
+#include "mesh/mesh_attributes.hpp"
 #include "mesh/mesh_io.hpp"
 
 namespace fdmsurf::detail {
@@ -245,31 +247,77 @@ void skip_property(const Property& p, BodyReader& body) {
     for (std::uint32_t i = 0; i < n; ++i) body.read(p.type);
 }
 
+// What a vertex property becomes.
+enum class Role : std::uint8_t { Skip, Position, Normal, Atom, Color, Scalar };
+
+struct Slot {
+    Role role = Role::Skip;
+    std::size_t index = 0;  // the component (0-2), or the scalar's number
+};
+
+// A colour channel as a byte: integer types clamped to 0-255, floating-point ones read as [0, 1].
+std::uint8_t color_byte(Type type, double value) {
+    if (type == Type::Float32 || type == Type::Float64) value = std::clamp(value, 0.0, 1.0) * 255.0;
+    return std::uint8_t(std::lround(std::clamp(value, 0.0, 255.0)));
+}
+
 void read_vertices(const Element& element, BodyReader& body, Mesh& mesh, const std::string& path) {
-    // Slots 0-2: x y z, 3-5: nx ny nz; -1 where absent.
-    int slot_of[6];
-    const char* names[6] = {"x", "y", "z", "nx", "ny", "nz"};
-    for (int k = 0; k < 6; ++k) slot_of[k] = find_property(element, names[k]);
-    if (slot_of[0] < 0 || slot_of[1] < 0 || slot_of[2] < 0) fail(path, "vertex without x y z");
-    const bool normals = slot_of[3] >= 0 && slot_of[4] >= 0 && slot_of[5] >= 0;
-    std::vector<int> target(element.properties.size(), -1);
-    for (int k = 0; k < (normals ? 6 : 3); ++k) target[std::size_t(slot_of[k])] = k;
+    std::vector<Slot> slots(element.properties.size());
+    // A group (x y z, nx ny nz, red green blue) is read only when all three are there.
+    auto group = [&](const char* const (&names)[3], Role role) {
+        int at[3];
+        for (int k = 0; k < 3; ++k) at[k] = find_property(element, names[k]);
+        if (at[0] < 0 || at[1] < 0 || at[2] < 0) return false;
+        for (int k = 0; k < 3; ++k) slots[std::size_t(at[k])] = {role, std::size_t(k)};
+        return true;
+    };
+    if (!group({"x", "y", "z"}, Role::Position)) fail(path, "vertex without x y z");
+    const bool normals = group({"nx", "ny", "nz"}, Role::Normal);
+    const bool colors = group({"red", "green", "blue"}, Role::Color);
+    const int atom = find_property(element, "atom");
+    if (atom >= 0) slots[std::size_t(atom)] = {Role::Atom, 0};
+    // Every other single-valued property whose name write_mesh would accept becomes a scalar
+    // (the first of each name); lists and other names are skipped.
+    for (std::size_t i = 0; i < element.properties.size(); ++i) {
+        const Property& p = element.properties[i];
+        if (p.is_list || slots[i].role != Role::Skip || !valid_scalar_name(p.name)) continue;
+        bool seen = false;
+        for (const VertexScalars& s : mesh.scalars) seen = seen || s.name == p.name;
+        if (seen) continue;
+        slots[i] = {Role::Scalar, mesh.scalars.size()};
+        mesh.scalars.push_back({p.name, {}});
+    }
 
     // Every vertex takes at least 3 bytes: a lying count cannot make us allocate unbounded memory.
     if (element.count > body.remaining() / 3) fail(path, "unexpected end of file");
     mesh.positions.resize(3 * element.count);
     if (normals) mesh.normals.resize(3 * element.count);
+    if (atom >= 0) mesh.atoms.resize(element.count);
+    if (colors) mesh.colors.resize(3 * element.count);
+    for (VertexScalars& s : mesh.scalars) s.values.resize(element.count);
     for (std::size_t v = 0; v < element.count; ++v) {
         for (std::size_t i = 0; i < element.properties.size(); ++i) {
             const Property& p = element.properties[i];
-            if (p.is_list) {
-                skip_property(p, body);
-                continue;
-            }
-            const double value = body.read(p.type);
-            if (target[i] >= 0) {
-                auto& out = target[i] < 3 ? mesh.positions : mesh.normals;
-                out[3 * v + std::size_t(target[i] % 3)] = float(value);
+            const Slot slot = slots[i];
+            switch (slot.role) {
+                case Role::Skip:
+                    skip_property(p, body);
+                    break;
+                case Role::Position:
+                    mesh.positions[3 * v + slot.index] = float(body.read(p.type));
+                    break;
+                case Role::Normal:
+                    mesh.normals[3 * v + slot.index] = float(body.read(p.type));
+                    break;
+                case Role::Atom:
+                    mesh.atoms[v] = body.read_count(p.type, count_limit, "atom");
+                    break;
+                case Role::Color:
+                    mesh.colors[3 * v + slot.index] = color_byte(p.type, body.read(p.type));
+                    break;
+                case Role::Scalar:
+                    mesh.scalars[slot.index].values[v] = float(body.read(p.type));
+                    break;
             }
         }
     }

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "fdmsurf/error.hpp"
+#include "mesh/mesh_attributes.hpp"
 #include "mesh/mesh_validate.hpp"
 #include "core/parallel.hpp"
 
@@ -374,6 +375,10 @@ void subdivide_butterfly(Mesh& mesh, ButterflyOffset offset) {
     mesh.positions = std::move(positions);
     mesh.normals = std::move(out_normals);
     mesh.indices = std::move(indices);
+    // Atoms, colours and scalars are not interpolated: the nearest atom of a new vertex is not
+    // one of its edge's ends' in general, and colours and scalars derive from atoms. Refinement
+    // runs before the stage that computes them (issue 11), which fills them for every vertex.
+    clear_attributes(mesh);
 }
 
 // ---------------------------------------------------------------------------------------------
