@@ -37,6 +37,8 @@ enum class Opt {
     Hydrogens,
     NoLigands,
     Format,
+    Chains,
+    Select,
     Device,
     ListDevices,
     Stats,
@@ -59,7 +61,7 @@ struct OptionSpec {
     bool numeric;  // a value that may start with '-' (a negative number, rejected later)
 };
 
-constexpr std::array<OptionSpec, 28> kOptions{{
+constexpr std::array<OptionSpec, 30> kOptions{{
     {"--output", "-o", Opt::Output, true, false},
     {"--surface", "", Opt::Surface, true, false},
     {"--spacing", "", Opt::Spacing, true, true},
@@ -76,6 +78,8 @@ constexpr std::array<OptionSpec, 28> kOptions{{
     {"--hydrogens", "", Opt::Hydrogens, false, false},
     {"--no-ligands", "", Opt::NoLigands, false, false},
     {"--format", "", Opt::Format, true, false},
+    {"--chains", "", Opt::Chains, true, false},
+    {"--select", "", Opt::Select, true, false},
     {"--device", "", Opt::Device, true, false},
     {"--list-devices", "", Opt::ListDevices, false, false},
     {"--stats", "", Opt::Stats, true, false},
@@ -223,14 +227,31 @@ constexpr std::array<std::pair<std::string_view, FilterShape>, 2> kFilters{
     {{"ideal", FilterShape::Ideal}, {"gaussian", FilterShape::Gaussian}}};
 constexpr std::array<std::pair<std::string_view, SesMethod>, 2> kMethods{
     {{"fdm", SesMethod::Fdm}, {"edt", SesMethod::Edt}}};
-constexpr std::array<std::pair<std::string_view, StructureFormat>, 5> kFormats{
+constexpr std::array<std::pair<std::string_view, StructureFormat>, 6> kFormats{
     {{"pdb", StructureFormat::Pdb},
      {"cif", StructureFormat::Mmcif},
      {"mmcif", StructureFormat::Mmcif},
      {"pqr", StructureFormat::Pqr},
-     {"xyzr", StructureFormat::Xyzr}}};
+     {"xyzr", StructureFormat::Xyzr},
+     {"xyzrn", StructureFormat::Xyzrn}}};
 constexpr std::array<std::pair<std::string_view, bool>, 2> kStats{
     {{"json", true}, {"text", false}}};
+
+// --chains A,B: author chain ids, case-sensitive, none empty.
+std::vector<std::string> parse_chains(std::string_view option, const std::string& text) {
+    std::vector<std::string> chains;
+    for (std::size_t start = 0;;) {
+        const std::size_t comma = text.find(',', start);
+        std::string chain = text.substr(start, comma == std::string::npos ? comma : comma - start);
+        if (chain.empty() || chain.find_first_of(" \t") != std::string::npos)
+            fail("option " + std::string(option) + ": '" + text +
+                 "' is not a comma-separated list of chain ids (e.g. A or A,B)");
+        if (std::find(chains.begin(), chains.end(), chain) == chains.end())
+            chains.push_back(std::move(chain));
+        if (comma == std::string::npos) return chains;
+        start = comma + 1;
+    }
+}
 
 void apply_value(CliOptions& o, const OptionSpec& spec, std::string_view name,
                  const std::string& text) {
@@ -301,7 +322,13 @@ void apply_value(CliOptions& o, const OptionSpec& spec, std::string_view name,
             break;
         case Opt::Format:
             o.read.format =
-                parse_choice(name, text, kFormats, "input format", "pdb, cif, pqr or xyzr");
+                parse_choice(name, text, kFormats, "input format", "pdb, cif, pqr, xyzr or xyzrn");
+            break;
+        case Opt::Chains:
+            o.read.chains = parse_chains(name, text);
+            break;
+        case Opt::Select:
+            o.read.select = text;
             break;
         case Opt::Device:
             o.engine.device = text;
@@ -457,12 +484,12 @@ std::string usage_text() {
        fdmsurf compare REFERENCE TESTED --spacing H [--stats json] [--outer]
        fdmsurf --list-devices | --help | --version
 
-Writes the molecular surface of INPUT (PDB, mmCIF, PQR or XYZR; .gz accepted) as
-a triangle mesh to OUTPUT (binary .ply or .obj, by its extension), computed on a
-Vulkan device with the Filtered Density Map method (Giard & Macq 2010). With
-several inputs, -o names a folder that gets one NAME.ply per input, all computed
-in one process on one device. `fdmsurf compare` measures a mesh against a
-reference mesh (weighted RMSD of Giard & Macq; see docs/compare.md).
+Writes the molecular surface of INPUT (PDB, mmCIF, PQR, XYZR or XYZRN; .gz
+accepted) as a triangle mesh to OUTPUT (binary .ply or .obj, by its extension),
+computed on a Vulkan device with the Filtered Density Map method (Giard & Macq
+2010). With several inputs, -o names a folder that gets one NAME.ply per input,
+all computed in one process on one device. `fdmsurf compare` measures a mesh
+against a reference mesh (weighted RMSD of Giard & Macq; see docs/compare.md).
 Options take their value as `--name value` or `--name=value`.
 
 Surface:
@@ -497,8 +524,8 @@ Surface:
                          spheres for vdw and sas)
 
 Input:
-  --format pdb|cif|pqr|xyzr  input format (default: from the extension, then the
-                         content)
+  --format pdb|cif|pqr|xyzr|xyzrn  input format (default: from the extension,
+                         then the content)
   --model N              model to read, 1-based (default 1)
   --models all           every model, one mesh each: -o names a folder that gets
                          NAME-m1.ply, NAME-m2.ply, ... (one device for all)
@@ -509,6 +536,13 @@ Input:
   --waters               keep water molecules (default: left out)
   --hydrogens            keep hydrogen atoms (default: left out)
   --no-ligands           leave out HETATM residues other than water (default: kept)
+  --chains A,B           keep only these chains (author chain ids, case-sensitive;
+                         in an assembly the copies' names, A1, A2, ...); PDB,
+                         mmCIF and PQR with chain ids
+  --select EXPR          keep only the atoms that gemmi's selection EXPR matches,
+                         after the rules above: /model/chain/residues/atoms[el]
+                         with parts left out, e.g. 'A/10-50', '(HEM)', 'A/*/CA',
+                         '[S]', ';b>20', ';polymer' (PDB, mmCIF and PQR)
 
 Device:
   --device INDEX|NAME    Vulkan device: an index from --list-devices or part of

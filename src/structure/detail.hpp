@@ -2,12 +2,21 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "fdmsurf/error.hpp"
 #include "fdmsurf/structure.hpp"
+
+namespace gemmi {
+struct Atom;
+struct Chain;
+struct Residue;
+struct Selection;
+}  // namespace gemmi
 
 namespace fdmsurf::detail {
 
@@ -59,6 +68,38 @@ std::string at_line(std::size_t line);
 // Upper-case symbol of a known element ("C", "FE"), or "" when `symbol` names none.
 std::string known_element(std::string_view symbol);
 
+// --- selection.cpp: ReadOptions::chains and ReadOptions::select ---
+
+// A parsed gemmi selection. gemmi::Selection stays inside selection.cpp: its header pulls in
+// stb_sprintf, which Debian's gemmi-dev leaves out and which only that file works around.
+class Selection {
+public:
+    // Throws Error(InvalidArgument) for bad syntax; `context` starts the message (the file
+    // name, or "selection").
+    Selection(const std::string& expr, const std::string& context);
+    ~Selection();
+    Selection(Selection&&) noexcept;
+    Selection& operator=(Selection&&) noexcept;
+
+    bool matches_model(int model) const;  // model: 1-based
+    bool matches(const gemmi::Chain& chain) const;
+    bool matches(const gemmi::Residue& residue) const;
+    bool matches(const gemmi::Atom& atom) const;
+
+private:
+    std::unique_ptr<gemmi::Selection> sel_;
+};
+// 1 per atom that `expr` matches, the atoms taken as model `model`; atoms.meta has one entry
+// per atom. Entity types (;polymer, ;solvent) come from gemmi's heuristic on the residues.
+std::vector<std::uint8_t> selection_mask(const Atoms& atoms, const std::string& expr, int model,
+                                         const std::string& context);
+// "A, B, (blank)": chain names for messages.
+std::string chain_list(const std::vector<std::string>& chains);
+// Applies options.chains, then options.select, to atoms read line by line (PQR, XYZRN, XYZR):
+// throws Error(InvalidArgument) when the input lacks what they need (chain ids, metadata), and
+// Error(EmptySelection) when nothing is left.
+void filter_read_atoms(Structure& s, const ReadOptions& options, const std::string& name);
+
 // --- read_gemmi.cpp and read_plain.cpp: one reader per format; `text` passed check_text ---
 
 // Every model (options.model == kAllModels) or options.model alone; the model number and the
@@ -67,5 +108,6 @@ std::vector<Structure> read_pdb_or_mmcif(const std::string& text, const std::str
                                          StructureFormat format, const ReadOptions& options);
 Structure read_pqr(std::string_view text, const std::string& name);
 Structure read_xyzr(std::string_view text, const std::string& name);
+Structure read_xyzrn(std::string_view text, const std::string& name);
 
 }  // namespace fdmsurf::detail

@@ -9,6 +9,7 @@
 #include <gemmi/polyheur.hpp>
 #include <map>
 #include <new>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <unordered_map>
@@ -172,15 +173,28 @@ std::string what_was_read(const StructureInfo& info) {
                               : "assembly " + std::to_string(info.assembly) + " of " + model;
 }
 
-std::string empty_selection_message(const std::string& name, const StructureInfo& info) {
+// ReadOptions::chains and ::select, applied to the atoms that the other rules keep. StructureInfo
+// has no counts for them; they are kept here for the empty-selection message.
+struct AtomFilter {
+    const std::vector<std::string>& chains;
+    std::optional<Selection> select;
+    std::string select_text;
+    std::size_t other_chains = 0;
+    std::size_t unselected = 0;
+};
+
+std::string empty_selection_message(const std::string& name, const StructureInfo& info,
+                                    const AtomFilter& filter) {
     std::string removed;
-    auto add = [&](std::size_t n, const char* noun, const char* option) {
+    auto add = [&](std::size_t n, const char* noun, const std::string& option) {
         if (n) removed += (removed.empty() ? "" : ", ") + counted(n, noun) + option;
     };
     add(info.altlocs_skipped, "alternate location", "");
     add(info.waters_skipped, "water atom", " (keep_waters)");
     add(info.ligands_skipped, "ligand atom", " (keep_ligands)");
     add(info.hydrogens_skipped, "hydrogen", " (keep_hydrogens)");
+    add(filter.other_chains, "atom", " of other chains (chains " + chain_list(filter.chains) + ")");
+    add(filter.unselected, "atom", " not matching select '" + filter.select_text + "'");
     return name + ": no atoms left after selection (" + what_was_read(info) + " has " +
            counted(info.atoms_in_file, "atom") + (removed.empty() ? "" : "; removed: " + removed) +
            ")";
@@ -274,12 +288,53 @@ void with_gemmi(const std::string& name, F&& f) {
     }
 }
 
+// What the file says of one atom; `chain` is the copy's name in an assembly.
+AtomMeta atom_meta(const gemmi::Chain& chain, const gemmi::Residue& res, const gemmi::Atom& atom) {
+    AtomMeta m;
+    m.serial = atom.serial;
+    m.name = atom.name;
+    m.residue_name = res.name;
+    m.residue_number = res.seqid.num.has_value() ? *res.seqid.num : 0;
+    m.insertion_code = res.seqid.icode;
+    m.chain = chain.name;
+    m.hetero = res.het_flag == 'H';
+    m.b_factor = atom.b_iso;
+    m.occupancy = atom.occ;
+    m.charge = static_cast<float>(atom.charge);
+    m.has_charge = false;
+    return m;
+}
+
+// Every requested chain must be in the model (or assembly) read.
+void check_chains(const gemmi::Model& model, const std::vector<std::string>& chains,
+                  const std::string& name, const StructureInfo& info) {
+    std::vector<std::string> present;
+    for (const gemmi::Chain& chain : model.chains)
+        if (!gemmi::in_vector(chain.name, present)) present.push_back(chain.name);
+    std::vector<std::string> missing;
+    for (const std::string& c : chains)
+        if (!gemmi::in_vector(c, present)) missing.push_back(c);
+    if (missing.empty()) return;
+    throw Error(ErrorCode::InvalidArgument,
+                name + ": chain" + (missing.size() == 1 ? " " : "s ") + chain_list(missing) +
+                    (missing.size() == 1 ? " is" : " are") + " not in " + what_was_read(info) +
+                    "; chains present: " + chain_list(present));
+}
+
 // Applies the selection rules to one model; see docs/structure.md for the order of counting.
+// The selection is evaluated on gemmi's own objects here (entity types from the file, altlocs),
+// not on the metadata as match_selection does.
 void select_atoms(const gemmi::Model& model, const ReadOptions& options, const std::string& name,
-                  RadiusAssigner& radii, Structure& out) {
+                  RadiusAssigner& radii, AtomFilter& filter, Structure& out) {
     StructureInfo& info = out.info;
     Atoms& atoms = out.atoms;
+    if (!filter.chains.empty()) check_chains(model, filter.chains, name, info);
+    const bool model_selected = !filter.select || filter.select->matches_model(info.model);
     for (const gemmi::Chain& chain : model.chains) {
+        const bool chain_kept =
+            filter.chains.empty() || gemmi::in_vector(chain.name, filter.chains);
+        const bool chain_selected =
+            model_selected && (!filter.select || filter.select->matches(chain));
         std::unordered_set<std::string> seen_altloc;  // "seqid atom" of alternate locations kept
         for (const gemmi::Residue& res : chain.residues) {
             bool water = res.is_water() || res.entity_type == gemmi::EntityType::Water;
@@ -304,6 +359,11 @@ void select_atoms(const gemmi::Model& model, const ReadOptions& options, const s
                     ++info.ligands_skipped;
                 } else if (atom.is_hydrogen() && !options.keep_hydrogens) {
                     ++info.hydrogens_skipped;
+                } else if (!chain_kept) {
+                    ++filter.other_chains;
+                } else if (filter.select && !(chain_selected && filter.select->matches(res) &&
+                                              filter.select->matches(atom))) {
+                    ++filter.unselected;
                 } else {
                     atoms.xyz.insert(atoms.xyz.end(),
                                      {static_cast<float>(p.x), static_cast<float>(p.y),
@@ -311,6 +371,7 @@ void select_atoms(const gemmi::Model& model, const ReadOptions& options, const s
                     atoms.radius.push_back(radii.radius(res, atom));
                     atoms.element.emplace_back(atom.element == gemmi::El::X ? "X"
                                                                             : atom.element.uname());
+                    atoms.meta.push_back(atom_meta(chain, res, atom));
                 }
             }
         }
@@ -365,18 +426,20 @@ std::vector<Structure> read_pdb_or_mmcif(const std::string& text_in, const std::
         s.info.model = static_cast<int>(m + 1);
         s.info.assemblies_in_file = st.assemblies.size();
         RadiusAssigner radii(text, doc, format);
+        AtomFilter filter{options.chains, std::nullopt, options.select};
+        if (!options.select.empty()) filter.select.emplace(options.select, name);
         if (options.assembly == 0) {
-            select_atoms(st.models[m], options, name, radii, s);
+            select_atoms(st.models[m], options, name, radii, filter, s);
         } else {
             gemmi::Model built(st.models[m].name);
             with_gemmi(name, [&] {
                 built = build_assembly(st, doc, st.models[m], options.assembly, name, s.info);
             });
-            select_atoms(built, options, name, radii, s);
+            select_atoms(built, options, name, radii, filter, s);
         }
         radii.add_warnings(name, s.info.warnings);
         if (s.atoms.empty())
-            throw Error(ErrorCode::EmptySelection, empty_selection_message(name, s.info));
+            throw Error(ErrorCode::EmptySelection, empty_selection_message(name, s.info, filter));
         out.push_back(std::move(s));
     }
     return out;

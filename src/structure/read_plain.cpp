@@ -1,5 +1,6 @@
-// PQR and XYZR readers: whitespace-separated lines that carry their own radii.
+// PQR, XYZR and XYZRN readers: whitespace-separated lines that carry their own radii.
 #include <cctype>
+#include <charconv>
 #include <cmath>
 
 #include "structure/detail.hpp"
@@ -60,6 +61,65 @@ std::string pqr_element(std::string_view atom_name, std::string_view residue_nam
     return element.empty() ? "X" : element;
 }
 
+// A whole field as an int, or false.
+bool parse_int(std::string_view field, std::int32_t& value) {
+    if (field.size() > 1 && field[0] == '+') field.remove_prefix(1);
+    auto [end, ec] = std::from_chars(field.data(), field.data() + field.size(), value);
+    return ec == std::errc() && end == field.data() + field.size();
+}
+
+bool is_alpha(char c) { return std::isalpha(static_cast<unsigned char>(c)) != 0; }
+
+// A PQR residue number, "52" or with its insertion code "52A"; `m` changes only on success.
+bool parse_residue_number(std::string_view field, AtomMeta& m) {
+    char icode = ' ';
+    if (field.size() > 1 && is_alpha(field.back())) {
+        icode = field.back();
+        field.remove_suffix(1);
+    }
+    std::int32_t number = 0;
+    if (!parse_int(field, number)) return false;
+    m.residue_number = number;
+    m.insertion_code = icode;
+    return true;
+}
+
+// The fields between resName and x: "[chain] resSeq". Writers with fixed columns glue a
+// one-letter chain to a residue number of four digits ("A1000"); that is split here.
+void pqr_residue(const std::vector<std::string_view>& f, AtomMeta& m, const std::string& name,
+                 std::size_t line) {
+    const std::size_t middle = f.size() - 9;  // fields 4 .. n-6
+    std::string_view number = f[4];
+    if (middle >= 2) {
+        m.chain = std::string(f[4]);
+        number = f[5];
+    }
+    if (parse_residue_number(number, m)) return;
+    if (middle == 1 && number.size() > 1 && is_alpha(number[0]) &&
+        parse_residue_number(number.substr(1), m)) {
+        m.chain = std::string(number.substr(0, 1));
+        return;
+    }
+    fail_format(name + ": non-numeric residue number '" + std::string(number) + "'" +
+                at_line(line));
+}
+
+// MSMS-style names "A_23_x_LYS_NZ_Blue" (chain_resnum_icode_resname_atomname_color, as
+// MaSIF's and similar pdb-to-xyzrn scripts write them): the element from the atom name, as for
+// PQR. Other names give no element.
+std::string xyzrn_element(std::string_view name) {
+    std::vector<std::string_view> parts;
+    for (std::size_t start = 0;;) {
+        std::size_t end = name.find('_', start);
+        parts.push_back(name.substr(start, end == std::string_view::npos ? end : end - start));
+        if (end == std::string_view::npos) break;
+        start = end + 1;
+    }
+    std::int32_t number = 0;
+    if (parts.size() != 6 || !parse_int(parts[1], number) || parts[4].empty()) return "";
+    return pqr_element(parts[4], parts[3]);
+}
+
 Structure finish(Structure s, StructureFormat format, const std::string& name, const char* what) {
     if (s.atoms.empty()) fail_format(name + ": no atoms (no " + what + " lines)");
     s.info.format = format;
@@ -86,11 +146,20 @@ Structure read_pqr(std::string_view text, const std::string& name) {
                         "; expected: record serial name resName [chain] resSeq x y z charge "
                         "radius)");
         std::size_t n = f.size();
-        number_field(f[n - 2], "charge", name, lines.number());
-        if (add_atom(s.atoms, {f[n - 5], f[n - 4], f[n - 3], f[n - 1]}, name, lines.number()))
+        AtomMeta m;
+        m.charge = static_cast<float>(number_field(f[n - 2], "charge", name, lines.number()));
+        m.has_charge = true;
+        if (!parse_int(f[1], m.serial)) m.serial = 0;  // serials are informative only
+        m.name = std::string(f[2]);
+        m.residue_name = std::string(f[3]);
+        m.hetero = iequals(f[0], "HETATM");
+        pqr_residue(f, m, name, lines.number());
+        if (add_atom(s.atoms, {f[n - 5], f[n - 4], f[n - 3], f[n - 1]}, name, lines.number())) {
             s.atoms.element.push_back(pqr_element(f[2], f[3]));
-        else
+            s.atoms.meta.push_back(std::move(m));
+        } else {
             ++zero;
+        }
     }
     note_zero_radii(s, zero, name);
     return finish(std::move(s), StructureFormat::Pqr, name, "ATOM/HETATM");
@@ -116,6 +185,33 @@ Structure read_xyzr(std::string_view text, const std::string& name) {
     }
     note_zero_radii(s, zero, name);
     return finish(std::move(s), StructureFormat::Xyzr, name, "'x y z r'");
+}
+
+// XYZRN (MSMS's pdb_to_xyzrn): "x y z r n name"; with five or more fields the last is the
+// name, so "x y z r name" reads too, and plain "x y z r" lines give an empty name.
+Structure read_xyzrn(std::string_view text, const std::string& name) {
+    Structure s;
+    std::size_t zero = 0;
+    LineReader lines(text);
+    std::string_view line;
+    while (lines.next(line)) {
+        std::string_view t = trim(line);
+        if (t.empty() || t[0] == '#') continue;
+        std::vector<std::string_view> f = split_fields(t);
+        if (f.size() < 4)
+            fail_format(name + ": too few fields for an XYZRN atom" + at_line(lines.number()) +
+                        " (" + std::to_string(f.size()) + "; expected: x y z radius n name)");
+        if (add_atom(s.atoms, f, name, lines.number())) {
+            AtomMeta m;
+            if (f.size() >= 5) m.name = std::string(f.back());
+            s.atoms.element.push_back(xyzrn_element(m.name));
+            s.atoms.meta.push_back(std::move(m));
+        } else {
+            ++zero;
+        }
+    }
+    note_zero_radii(s, zero, name);
+    return finish(std::move(s), StructureFormat::Xyzrn, name, "'x y z r n name'");
 }
 
 }  // namespace fdmsurf::detail

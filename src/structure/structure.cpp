@@ -22,12 +22,14 @@ std::vector<Structure> read_text(const std::string& text, const std::string& nam
                     name + ": assembly " + std::to_string(options.assembly) +
                         " requested (assemblies are numbered from 1; 0 is the model as "
                         "deposited)");
+    // Bad selection syntax is reported before the file is parsed.
+    if (!options.select.empty()) detail::Selection check(options.select, name);
     StructureFormat format = options.format == StructureFormat::Auto
                                  ? detail::detect_format(text, name)
                                  : options.format;
     if (format == StructureFormat::Pdb || format == StructureFormat::Mmcif)
         return detail::read_pdb_or_mmcif(text, name, format, options);
-    // PQR and XYZR hold one model and no assemblies; asking for more is a mistake worth
+    // PQR, XYZR and XYZRN hold one model and no assemblies; asking for more is a mistake worth
     // reporting.
     if (options.model > 1)
         throw Error(ErrorCode::InvalidArgument, name + ": model " + std::to_string(options.model) +
@@ -37,9 +39,19 @@ std::vector<Structure> read_text(const std::string& text, const std::string& nam
         throw Error(ErrorCode::InvalidArgument,
                     name + ": assembly " + std::to_string(options.assembly) + " requested, but " +
                         to_string(format) + " input has no assemblies (PDB and mmCIF only)");
+    // XYZRN names are free text (MSMS's convention is one of several), so they are not parsed
+    // into chains and residues.
+    if ((format == StructureFormat::Xyzr || format == StructureFormat::Xyzrn) &&
+        !(options.chains.empty() && options.select.empty()))
+        throw Error(ErrorCode::InvalidArgument,
+                    name + ": " + (options.chains.empty() ? "select" : "chains") +
+                        " needs chain, residue and atom names, which " + to_string(format) +
+                        " input does not carry (PDB, mmCIF and PQR do)");
     std::vector<Structure> out;
-    out.push_back(format == StructureFormat::Pqr ? detail::read_pqr(text, name)
-                                                 : detail::read_xyzr(text, name));
+    out.push_back(format == StructureFormat::Pqr     ? detail::read_pqr(text, name)
+                  : format == StructureFormat::Xyzrn ? detail::read_xyzrn(text, name)
+                                                     : detail::read_xyzr(text, name));
+    detail::filter_read_atoms(out.front(), options, name);
     return out;
 }
 
@@ -85,6 +97,8 @@ const char* to_string(StructureFormat format) noexcept {
             return "pqr";
         case StructureFormat::Xyzr:
             return "xyzr";
+        case StructureFormat::Xyzrn:
+            return "xyzrn";
     }
     return "unknown";
 }

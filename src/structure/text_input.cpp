@@ -110,7 +110,19 @@ StructureFormat format_from_name(const std::string& name) {
     if (ends_with(n, ".cif") || ends_with(n, ".mmcif")) return StructureFormat::Mmcif;
     if (ends_with(n, ".pqr")) return StructureFormat::Pqr;
     if (ends_with(n, ".xyzr")) return StructureFormat::Xyzr;
+    if (ends_with(n, ".xyzrn")) return StructureFormat::Xyzrn;
     return StructureFormat::Auto;
+}
+
+// XYZRN: four numbers, then fields of which the last is not a number (the atom name). No PDB,
+// mmCIF or PQR line starts with four numbers.
+bool is_xyzrn_line(std::string_view line) {
+    std::vector<std::string_view> f = split_fields(line);
+    if (f.size() < 5) return false;
+    double value = 0.0;
+    for (std::size_t i = 0; i < 4; ++i)
+        if (parse_number(f[i], value) != NumberStatus::Ok) return false;
+    return parse_number(f.back(), value) == NumberStatus::NotNumber;
 }
 
 StructureFormat format_from_content(std::string_view text) {
@@ -122,6 +134,7 @@ StructureFormat format_from_content(std::string_view text) {
         if (t.empty() || t[0] == '#') continue;
         // mmCIF: the first real line opens a data block.
         if (first && istarts_with(t, "data_")) return StructureFormat::Mmcif;
+        if (first && is_xyzrn_line(t)) return StructureFormat::Xyzrn;
         first = false;
         if (line.starts_with("ATOM") || line.starts_with("HETATM") || line.starts_with("HEADER"))
             return StructureFormat::Pdb;
@@ -167,7 +180,7 @@ StructureFormat detect_format(std::string_view text, const std::string& name) {
     StructureFormat format = format_from_name(name);
     if (format == StructureFormat::Auto) format = format_from_content(text);
     if (format == StructureFormat::Auto)
-        fail_format(name + ": unknown format (expected .pdb, .cif, .pqr or .xyzr)");
+        fail_format(name + ": unknown format (expected .pdb, .cif, .pqr, .xyzr or .xyzrn)");
     return format;
 }
 

@@ -75,7 +75,7 @@ TEST(StructureErrors, TruncatedAndCorruptGzipFiles) {
 
 TEST(StructureErrors, UnknownFormat) {
     expect_memory_error("hello\nworld\n", "notes.txt", ErrorCode::Format,
-                        {"notes.txt: unknown format (expected .pdb, .cif, .pqr or .xyzr)"});
+                        {"notes.txt: unknown format (expected .pdb, .cif, .pqr, .xyzr or .xyzrn)"});
 }
 
 TEST(StructureErrors, TruncatedPdbAtomRecord) {
