@@ -1,7 +1,8 @@
 // Vertex properties, pass 1: the atom each vertex belongs to, the one of least power distance
-// |p - c|² - r² (ties: the lower atom index), searched ring by ring of atom cells around the
-// vertex's cell until no farther cell can hold a smaller value; then the atom's attributes
-// (packed colour, per-atom values) copied to the vertex. Mirrors vertex_atoms_cpu.cpp.
+// |p - c|² - r² (ties: the lower atom index): a first candidate from the nearest non-empty
+// cells, then every cell within reach of a better atom, skipping those whose nearest point is
+// too far for their largest atom; then the atom's attributes (packed colour, per-atom values)
+// copied to the vertex. Mirrors vertex_atoms_cpu.cpp.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "shader_interface.h"
@@ -13,6 +14,7 @@ layout(std430, binding = 2) readonly buffer BinIndex { uint bin_index[]; };  // 
 layout(std430, binding = 3) readonly buffer BinStart { uint bin_start[]; };
 layout(std430, binding = 4) readonly buffer Attributes { uint atom_attributes[]; };
 layout(std430, binding = 5) writeonly buffer Out { uint out_words[]; };  // atom, attributes
+layout(std430, binding = 6) readonly buffer BinR2 { float bin_r2_max[]; };  // largest r² per cell
 
 float best_power;
 uint best_atom;
@@ -31,6 +33,15 @@ void scan_cell(ivec3 c, vec3 p) {
     }
 }
 
+// Skips a cell whose every atom is farther (in power) than the best so far.
+void visit(ivec3 c, vec3 p, vec3 origin) {
+    uint b = (uint(c.z) * pc.bin_ny + uint(c.y)) * pc.bin_nx + uint(c.x);
+    vec3 lo = origin + vec3(c) * pc.bin_size;
+    vec3 gap = max(max(lo - p, p - (lo + pc.bin_size)), vec3(0.0));
+    if (dot(gap, gap) - bin_r2_max[b] > best_power) return;
+    scan_cell(c, p);
+}
+
 void main() {
     uint v = (gl_WorkGroupID.y * pc.groups_x + gl_WorkGroupID.x) * kVertexGroup +
              gl_LocalInvocationID.x;
@@ -41,8 +52,10 @@ void main() {
     ivec3 home = clamp(ivec3(floor((p - origin) / pc.bin_size)), ivec3(0), dims - 1);
     best_power = 3.0e38;
     best_atom = 0xffffffffu;
+    // A first candidate: rings of cells around the vertex's until one holds an atom (nearly
+    // always the vertex's own cell).
     int max_shell = max(max(dims.x, dims.y), dims.z);
-    for (int s = 0; s <= max_shell; ++s) {
+    for (int s = 0; s <= max_shell && best_atom == 0xffffffffu; ++s) {
         for (int z = -s; z <= s; ++z) {
             for (int y = -s; y <= s; ++y) {
                 bool face = abs(z) == s || abs(y) == s;
@@ -54,11 +67,15 @@ void main() {
                 }
             }
         }
-        // Cells beyond ring s are at least s cells away: their atoms have a power distance of
-        // at least (s h)² - r2_max.
-        float reach = float(s) * pc.bin_size;
-        if (best_atom != 0xffffffffu && best_power < reach * reach - pc.r2_max) break;
     }
+    // Any atom that beats or ties it lies within sqrt(best + r2_max) of the vertex: the cells
+    // that this ball touches, each skipped when its nearest point is too far for its atoms.
+    float reach = sqrt(max(best_power + pc.r2_max, 0.0));
+    ivec3 lo = clamp(ivec3(floor((p - reach - origin) / pc.bin_size)), ivec3(0), dims - 1);
+    ivec3 hi = clamp(ivec3(floor((p + reach - origin) / pc.bin_size)), ivec3(0), dims - 1);
+    for (int z = lo.z; z <= hi.z; ++z)
+        for (int y = lo.y; y <= hi.y; ++y)
+            for (int x = lo.x; x <= hi.x; ++x) visit(ivec3(x, y, z), p, origin);
     uint stride = 1 + pc.attributes;
     out_words[stride * v] = best_atom;
     for (uint k = 0; k < pc.attributes; ++k)

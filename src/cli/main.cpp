@@ -134,6 +134,17 @@ int run_one(const CliOptions& options, Engine& engine, double init_ms, const std
     for (const std::string& message : structure.info.warnings) warn(message);
     if (init_ms > 0) report.times.push_back({"init", init_ms, false});
 
+    // --patch: the selection is checked before the surface is computed.
+    std::vector<std::uint8_t> patch;
+    if (!options.patch.empty()) {
+        patch = match_selection(structure.atoms, options.patch);
+        report.patch_atoms = static_cast<std::size_t>(std::count(patch.begin(), patch.end(), 1));
+        if (report.patch_atoms == 0)
+            throw Error(ErrorCode::EmptySelection,
+                        input + ": --patch '" + options.patch + "' matches none of the " +
+                            std::to_string(structure.atoms.size()) + " atoms read");
+    }
+
     SurfaceResult result;
     try {
         result = engine.make_surface(structure.atoms, options.surface);
@@ -159,6 +170,12 @@ int run_one(const CliOptions& options, Engine& engine, double init_ms, const std
         }
     }
 
+    if (!patch.empty()) {
+        t = Clock::now();
+        result.mesh = extract_patch(result.mesh, patch);
+        report.times.push_back({"patch", ms_since(t), false});
+    }
+
     t = Clock::now();
     write_mesh(result.mesh, output, format);
     report.times.push_back({"write", ms_since(t), false});
@@ -167,6 +184,10 @@ int run_one(const CliOptions& options, Engine& engine, double init_ms, const std
     report.stats = compute_stats(result.mesh);
     report.times.push_back({"mesh-stats", ms_since(t), false});
     report.closed_manifold = report.stats.is_closed_manifold();
+    report.patch = options.patch;
+    report.color = options.surface.properties.color;
+    for (VertexProperty p : options.surface.properties.scalars)
+        report.properties.push_back(to_string(p));
     report.version = version();
     report.input = input;
     report.output = output;

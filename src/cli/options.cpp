@@ -39,6 +39,9 @@ enum class Opt {
     Format,
     Chains,
     Select,
+    Color,
+    Properties,
+    Patch,
     Device,
     ListDevices,
     Stats,
@@ -61,7 +64,7 @@ struct OptionSpec {
     bool numeric;  // a value that may start with '-' (a negative number, rejected later)
 };
 
-constexpr std::array<OptionSpec, 30> kOptions{{
+constexpr std::array<OptionSpec, 34> kOptions{{
     {"--output", "-o", Opt::Output, true, false},
     {"--surface", "", Opt::Surface, true, false},
     {"--spacing", "", Opt::Spacing, true, true},
@@ -92,6 +95,10 @@ constexpr std::array<OptionSpec, 30> kOptions{{
     {"--min-cavity-volume", "", Opt::MinCavity, true, true},
     {"--refine", "", Opt::Refine, true, true},
     {"--method", "", Opt::Method, true, false},
+    {"--color", "", Opt::Color, true, false},
+    {"--colour", "", Opt::Color, true, false},
+    {"--properties", "", Opt::Properties, true, false},
+    {"--patch", "", Opt::Patch, true, false},
 }};
 
 [[noreturn]] void fail(const std::string& message);
@@ -234,6 +241,55 @@ constexpr std::array<std::pair<std::string_view, StructureFormat>, 6> kFormats{
      {"pqr", StructureFormat::Pqr},
      {"xyzr", StructureFormat::Xyzr},
      {"xyzrn", StructureFormat::Xyzrn}}};
+constexpr std::array<std::pair<std::string_view, ColorScheme>, 7> kColors{
+    {{"none", ColorScheme::None},
+     {"chain", ColorScheme::Chain},
+     {"element", ColorScheme::Element},
+     {"residue", ColorScheme::Residue},
+     {"hydrophobicity", ColorScheme::Hydrophobicity},
+     {"bfactor", ColorScheme::BFactor},
+     {"coulombic", ColorScheme::Coulombic}}};
+constexpr std::array<std::pair<std::string_view, VertexProperty>, 6> kProperties{
+    {{"coulombic", VertexProperty::Coulombic},
+     {"hydrophobicity", VertexProperty::Hydrophobicity},
+     {"bfactor", VertexProperty::BFactor},
+     {"mean_curvature", VertexProperty::MeanCurvature},
+     {"gaussian_curvature", VertexProperty::GaussianCurvature},
+     {"shape_index", VertexProperty::ShapeIndex}}};
+
+// --color SCHEME or #RRGGBB.
+void parse_color(std::string_view option, const std::string& text, PropertyOptions& p) {
+    if (text.size() == 7 && text[0] == '#' &&
+        text.find_first_not_of("0123456789abcdefABCDEF", 1) == std::string::npos) {
+        p.color = ColorScheme::Uniform;
+        for (int k = 0; k < 3; ++k)
+            p.rgb[k] = static_cast<std::uint8_t>(std::stoi(text.substr(1 + 2 * k, 2), nullptr, 16));
+        return;
+    }
+    p.color = parse_choice(option, text, kColors, "colour scheme",
+                           "chain, element, residue, hydrophobicity, bfactor, coulombic, none "
+                           "or #RRGGBB");
+}
+
+// --properties a,b: each once, in the order given.
+std::vector<VertexProperty> parse_properties(std::string_view option, const std::string& text) {
+    std::vector<VertexProperty> out;
+    for (std::size_t start = 0;;) {
+        const std::size_t comma = text.find(',', start);
+        const std::string name =
+            text.substr(start, comma == std::string::npos ? comma : comma - start);
+        const VertexProperty p = parse_choice(
+            option, name, kProperties, "vertex property",
+            "a comma-separated list of coulombic, hydrophobicity, bfactor, mean_curvature, "
+            "gaussian_curvature, shape_index");
+        if (std::find(out.begin(), out.end(), p) != out.end())
+            fail("option " + std::string(option) + ": '" + name + "' is listed twice");
+        out.push_back(p);
+        if (comma == std::string::npos) return out;
+        start = comma + 1;
+    }
+}
+
 constexpr std::array<std::pair<std::string_view, bool>, 2> kStats{
     {{"json", true}, {"text", false}}};
 
@@ -329,6 +385,16 @@ void apply_value(CliOptions& o, const OptionSpec& spec, std::string_view name,
             break;
         case Opt::Select:
             o.read.select = text;
+            break;
+        case Opt::Color:
+            parse_color(name, text, s.properties);
+            break;
+        case Opt::Properties:
+            s.properties.scalars = parse_properties(name, text);
+            break;
+        case Opt::Patch:
+            if (text.empty()) fail("option " + std::string(name) + " needs a selection");
+            o.patch = text;
             break;
         case Opt::Device:
             o.engine.device = text;
@@ -543,6 +609,22 @@ Input:
                          after the rules above: /model/chain/residues/atoms[el]
                          with parts left out, e.g. 'A/10-50', '(HEM)', 'A/*/CA',
                          '[S]', ';b>20', ';polymer' (PDB, mmCIF and PQR)
+  --patch EXPR           compute the surface of every atom read, then keep only
+                         the triangles whose three vertices belong to atoms that
+                         the selection EXPR matches: an open patch (a chain's
+                         footprint in its complex, a binding site)
+
+Colours and per-vertex properties (docs/properties.md):
+  --color SCHEME         vertex colours: chain, element (CPK/Jmol), residue
+                         (shapely), hydrophobicity (Kyte-Doolittle, blue-white-
+                         orange), bfactor (blue-white-red), coulombic (red-white-
+                         blue over -10..+10 kcal/(mol e)), #RRGGBB, or none
+                         (default); PLY gets red green blue, OBJ v x y z r g b
+  --properties LIST      per-vertex scalars written as PLY float properties, from
+                         coulombic, hydrophobicity, bfactor, mean_curvature,
+                         gaussian_curvature, shape_index (comma-separated)
+  Every PLY vertex also gets `uint atom`: the index (0-based, in input order) of
+  the atom it belongs to.
 
 Device:
   --device INDEX|NAME    Vulkan device: an index from --list-devices or part of

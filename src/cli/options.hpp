@@ -24,6 +24,7 @@ struct CliOptions {
     bool paper = false;  // --paper: the paper's settings where not given explicitly
     bool explicit_filter = false, explicit_level = false, explicit_cavities = false;
     bool all_models = false;  // --models all: one mesh per model (read.model = kAllModels)
+    std::string patch;        // --patch EXPR: keep the triangles on the atoms EXPR selects
 };
 
 // Parses the arguments after the program name. `--name value` and `--name=value` are both

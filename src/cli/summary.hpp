@@ -33,6 +33,10 @@ struct RunReport {
     std::vector<StageTime> times;  // in order of execution; repeated names are summed
     double total_ms = 0.0;
     std::vector<std::string> warnings;  // every warning printed to stderr
+    std::string patch;                  // --patch EXPR (empty: the whole surface)
+    std::size_t patch_atoms = 0;        // atoms EXPR matched
+    ColorScheme color = ColorScheme::None;
+    std::vector<std::string> properties;  // per-vertex scalars written
 };
 
 // Sums the times of stages that share a name (one per slab, say), keeping the first order.
@@ -114,7 +118,10 @@ inline std::string text_summary(const RunReport& r) {
          " triangles, " + format_count(m.pieces) + " piece(s)";
     if (m.closed_pieces != m.pieces) s += " (" + format_count(m.closed_pieces) + " closed)";
     s += ", closed manifold: ";
-    if (r.closed_manifold) {
+    if (!r.patch.empty()) {
+        s += "no, an open patch (" + format_count(m.boundary_edges) + " boundary edges) on the " +
+             format_count(r.patch_atoms) + " atoms of '" + r.patch + "'";
+    } else if (r.closed_manifold) {
         s += "yes";
     } else {
         s += "no (" + format_count(m.boundary_edges) + " boundary edges, " +
@@ -123,6 +130,12 @@ inline std::string text_summary(const RunReport& r) {
     s += "\n";
     s += "  area         " + format_grouped(m.area, 1) + " Å²\n";
     s += "  volume       " + format_grouped(m.volume, 1) + " Å³\n";
+    if (r.color != ColorScheme::None || !r.properties.empty()) {
+        s += "  properties   atom per vertex";
+        if (r.color != ColorScheme::None) s += ", coloured by " + std::string(to_string(r.color));
+        for (const std::string& p : r.properties) s += ", " + p;
+        s += "\n";
+    }
     s += "  device       " + r.device + "\n";
     s += "  time (ms)    ";
     for (const StageTime& t : merge_times(r.times)) {
@@ -175,6 +188,12 @@ inline std::string json_summary(const RunReport& r) {
     w.member("boundary_edges", m.boundary_edges);
     w.member("nonmanifold_edges", m.nonmanifold_edges);
     w.member("closed_manifold", r.closed_manifold);
+    w.member("patch", r.patch);
+    w.member("patch_atoms", r.patch_atoms);
+    w.member("color", to_string(r.color));
+    w.key("properties").begin_array();
+    for (const std::string& p : r.properties) w.value(p);
+    w.end_array();
     w.member("area", m.area);
     w.member("volume", m.volume);
     w.member("device", r.device);

@@ -52,6 +52,13 @@ struct VertexCurvature {
 // smoothing_passes < 0.
 VertexCurvature vertex_curvature(const Mesh& mesh, int smoothing_passes = 0);
 
+// H, K and S (as above) from a least-squares quadric h = a x² + b xy + c y² + d x + e y fitted,
+// in the vertex's tangent frame (its normal), to the mesh neighbours within `radius` Å
+// (reached through the mesh: at most 400), Goldfeather & Interrante (2004). Uses positions
+// only, so the slivers of marching cubes do not disturb it; needs normals. A vertex with
+// fewer than 5 neighbours within reach gets 0.
+VertexCurvature fitted_curvature(const Mesh& mesh, float radius);
+
 // The mixed Voronoi area of every vertex (Å², as above); they add up to the mesh's area less
 // its zero-area triangles. For integrals of the curvatures: Σ K_i A_i, Σ H_i A_i.
 std::vector<double> vertex_mixed_area(const Mesh& mesh);

@@ -125,7 +125,7 @@ void add_vertex_properties(VertexPropertiesPass& pass, Commands& cmds, const Ato
     if (wants(po, VertexProperty::MeanCurvature) || wants(po, VertexProperty::GaussianCurvature) ||
         wants(po, VertexProperty::ShapeIndex)) {
         const double t0 = now_ms();
-        curvature = vertex_curvature(mesh);
+        curvature = fitted_curvature(mesh, 2.0f * options.spacing);
         add_time(result, "curvature", now_ms() - t0, false);
     }
     mesh.scalars.clear();
