@@ -41,6 +41,18 @@ void add_time(SurfaceResult& r, const char* name, double ms, bool gpu) {
     r.times.push_back({name, ms, gpu});
 }
 
+// The stage times of the last submission, and the rest of `wall_ms` as the host stage `host`.
+void add_device_times(SurfaceResult& r, const Commands& cmds, const char* host, double wall_ms,
+                      bool submitted) {
+    if (!submitted) return;
+    double device = 0.0;
+    for (const StageTime& t : cmds.stage_times()) {
+        r.times.push_back(t);
+        device += t.ms;
+    }
+    add_time(r, host, std::max(wall_ms - device, 0.0), false);
+}
+
 }  // namespace
 
 float vertex_radius_add(const SurfaceOptions& options) {
@@ -90,10 +102,11 @@ void add_vertex_properties(VertexPropertiesPass& pass, Commands& cmds, const Ato
         }
     }
     const std::uint32_t stride = 1 + per_atom;
+    // Host work (binning, ordering vertices, scattering results) is timed apart from the pass.
+    const double t_atoms = now_ms();
     const std::vector<std::uint32_t> words =
         pass.vertex_atoms(cmds, mesh, atoms, vertex_radius_add(options), attributes, per_atom);
-    if (nv > 0) result.times.insert(result.times.end(), cmds.stage_times().begin(),
-                                    cmds.stage_times().end());
+    add_device_times(result, cmds, "vertex-atoms-host", now_ms() - t_atoms, nv > 0);
     mesh.atoms.resize(nv);
     for (std::size_t v = 0; v < nv; ++v) mesh.atoms[v] = words[stride * v];
     if (atom_colored) unpack_colors(words, stride, 1, mesh.colors);
@@ -112,10 +125,10 @@ void add_vertex_properties(VertexPropertiesPass& pass, Commands& cmds, const Ato
                       "groups finds none (no residue names): the potential is 0 everywhere");
         }
         const bool color = po.color == ColorScheme::Coulombic;
+        const double t_coulomb = now_ms();
         const std::vector<std::uint32_t> out =
             pass.coulombic(cmds, mesh, atoms, charges.q, po.coulombic_offset, color);
-        if (nv > 0) result.times.insert(result.times.end(), cmds.stage_times().begin(),
-                                        cmds.stage_times().end());
+        add_device_times(result, cmds, "coulombic-host", now_ms() - t_coulomb, nv > 0);
         const std::uint32_t cs = color ? 2 : 1;
         coulombic.resize(nv);
         for (std::size_t v = 0; v < nv; ++v) coulombic[v] = std::bit_cast<float>(out[cs * v]);
