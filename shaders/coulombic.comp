@@ -1,19 +1,28 @@
 // Vertex properties, pass 2: the Coulomb potential with ChimeraX's distance-dependent
-// dielectric (eps = 4 r), phi(x) = sum_i 332 q_i / (4 |x - c_i|²) in kcal/(mol e), at x = the
-// vertex moved `offset` Å out along its normal; a direct sum over every charge site (atoms of
-// zero charge are not sites), kCoulombTile sites at a time through shared memory. Optionally
-// the red-white-blue colour of the potential. Mirrors coulombic_cpu() in vertex_atoms_cpu.cpp.
+// dielectric (eps = 4 r), phi(x) = sum_i 332 q_i / (4 |x - c_i|²) in kcal/(mol e), at the
+// evaluation points x (vertices moved out along their normals), sorted by cell on the host.
+//
+// One workgroup per target cell (a cell holding evaluation points). Every charge site is read
+// once per workgroup: a site within near_cells cells (Chebyshev) of the target cell is kept in
+// shared memory and summed exactly at each point; the others add to a second-order Taylor
+// expansion of the kernel 1/r² about the cell's centre (value, gradient, Hessian: 10 terms),
+// evaluated at each point. With 4 Å cells and 3 near cells, a far site is at least 14 Å from
+// the centre and the points within 3.5 Å of it (|t| / r <= 0.25). Mirrors coulombic_cpu()
+// in vertex_atoms_cpu.cpp, which sums every pair.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "shader_interface.h"
 layout(local_size_x = kVertexGroup) in;
 layout(push_constant) uniform Push { CoulombPush pc; };
-layout(std430, binding = 0) readonly buffer Positions { float positions[]; };
-layout(std430, binding = 1) readonly buffer Normals { float normals[]; };
+layout(std430, binding = 0) readonly buffer Points { float points[]; };  // x, y, z, by cell
+layout(std430, binding = 1) readonly buffer Cells { uvec4 cells[]; };  // cell x, y, z; first point
 layout(std430, binding = 2) readonly buffer Sites { vec4 sites[]; };  // x, y, z, q
 layout(std430, binding = 3) writeonly buffer Out { uint out_words[]; };  // phi bits [, colour]
 
 shared vec4 tile[kCoulombTile];
+shared vec4 near_sites[kCoulombNearCapacity];
+shared uint near_count;
+shared float partial[10][kVertexGroup];
 
 // Red (-range) through white (0) to blue (+range), packed r | g << 8 | b << 16.
 uint ramp(float phi) {
@@ -23,35 +32,102 @@ uint ramp(float phi) {
     return b.r | (b.g << 8) | (b.b << 16);
 }
 
+bool is_near(vec3 c, ivec3 cell) {
+    ivec3 sc = ivec3(floor((c - vec3(pc.cell_origin_x, pc.cell_origin_y, pc.cell_origin_z)) /
+                           pc.cell_size));
+    ivec3 d = abs(sc - cell);
+    return max(max(d.x, d.y), d.z) <= int(pc.near_cells);
+}
+
+float exact(vec3 x, vec4 s) {
+    vec3 d = x - s.xyz;
+    // A site on the evaluation point itself (impossible 1.4 Å outside a surface) would divide
+    // by 0: at least 0.01 Å².
+    return s.w / max(dot(d, d), 1.0e-2);
+}
+
 void main() {
-    uint v = (gl_WorkGroupID.y * pc.groups_x + gl_WorkGroupID.x) * kVertexGroup +
-             gl_LocalInvocationID.x;
-    bool live = v < pc.vertex_count;
-    vec3 x = vec3(0.0);
-    if (live) {
-        vec3 p = vec3(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]);
-        vec3 n = vec3(normals[3 * v], normals[3 * v + 1], normals[3 * v + 2]);
-        x = p + pc.offset * n;
-    }
-    float phi = 0.0;
+    uint cell_index = gl_WorkGroupID.y * pc.groups_x + gl_WorkGroupID.x;
+    if (cell_index >= pc.cell_count) return;  // uniform over the workgroup
+    uint lid = gl_LocalInvocationID.x;
+    uvec4 cell_info = cells[cell_index];
+    ivec3 cell = ivec3(cell_info.xyz);
+    uint first = cell_info.w, last = cells[cell_index + 1].w;
+    vec3 centre = vec3(pc.cell_origin_x, pc.cell_origin_y, pc.cell_origin_z) +
+                  (vec3(cell) + 0.5) * pc.cell_size;
+    if (lid == 0) near_count = 0;
+
+    // Far field: sum q K, q grad K, q Hess K at the centre, K = 1/r², over the far sites.
+    float k0 = 0.0;
+    vec3 k1 = vec3(0.0);
+    vec3 kd = vec3(0.0);  // Hessian diagonal xx, yy, zz
+    vec3 ko = vec3(0.0);  // off-diagonal xy, xz, yz
     for (uint base = 0; base < pc.site_count; base += kCoulombTile) {
         uint count = min(kCoulombTile, pc.site_count - base);
         barrier();
-        for (uint k = gl_LocalInvocationID.x; k < count; k += kVertexGroup) tile[k] = sites[base + k];
+        for (uint k = lid; k < count; k += kVertexGroup) tile[k] = sites[base + k];
         barrier();
-        for (uint k = 0; k < count; ++k) {
-            vec3 d = x - tile[k].xyz;
-            // A site on the evaluation point itself (impossible 1.4 Å outside a surface) would
-            // divide by 0: at least 0.01 Å².
-            phi += tile[k].w / max(dot(d, d), 1.0e-2);
+        for (uint k = lid; k < count; k += kVertexGroup) {
+            vec4 s = tile[k];
+            if (is_near(s.xyz, cell)) {
+                uint slot = atomicAdd(near_count, 1u);
+                if (slot < kCoulombNearCapacity) near_sites[slot] = s;
+                continue;
+            }
+            vec3 d = centre - s.xyz;
+            float inv = 1.0 / dot(d, d);
+            float q = s.w * inv;                 // q / r²
+            float q2 = q * inv;                  // q / r⁴
+            k0 += q;
+            k1 += -2.0 * q2 * d;                 // grad 1/r² = -2 d / r⁴
+            float e = 8.0 * q2 * inv;            // Hess = (8 d dᵀ / r² - 2 I) / r⁴
+            kd += e * d * d - 2.0 * q2;
+            ko += e * vec3(d.x * d.y, d.x * d.z, d.y * d.z);
         }
     }
-    if (!live) return;
-    phi *= pc.scale;
-    if (pc.color != 0u) {
-        out_words[2 * v] = floatBitsToUint(phi);
-        out_words[2 * v + 1] = ramp(phi);
-    } else {
-        out_words[v] = floatBitsToUint(phi);
+    partial[0][lid] = k0;
+    partial[1][lid] = k1.x;
+    partial[2][lid] = k1.y;
+    partial[3][lid] = k1.z;
+    partial[4][lid] = kd.x;
+    partial[5][lid] = kd.y;
+    partial[6][lid] = kd.z;
+    partial[7][lid] = ko.x;
+    partial[8][lid] = ko.y;
+    partial[9][lid] = ko.z;
+    barrier();
+    for (uint stride = kVertexGroup / 2; stride > 0; stride /= 2) {
+        if (lid < stride)
+            for (int t = 0; t < 10; ++t) partial[t][lid] += partial[t][lid + stride];
+        barrier();
+    }
+    float a0 = partial[0][0];
+    vec3 g = vec3(partial[1][0], partial[2][0], partial[3][0]);
+    vec3 hd = vec3(partial[4][0], partial[5][0], partial[6][0]);
+    vec3 ho = vec3(partial[7][0], partial[8][0], partial[9][0]);
+    uint near = min(near_count, kCoulombNearCapacity);
+    bool overflow = near_count > kCoulombNearCapacity;
+
+    for (uint p = first + lid; p < last; p += kVertexGroup) {
+        vec3 x = vec3(points[3 * p], points[3 * p + 1], points[3 * p + 2]);
+        vec3 t = x - centre;
+        float phi = a0 + dot(g, t) +
+                    0.5 * (dot(hd, t * t) + 2.0 * (ho.x * t.x * t.y + ho.y * t.x * t.z +
+                                                   ho.z * t.y * t.z));
+        if (!overflow) {
+            for (uint k = 0; k < near; ++k) phi += exact(x, near_sites[k]);
+        } else {  // too many near sites for shared memory: read them from the list
+            for (uint k = 0; k < pc.site_count; ++k) {
+                vec4 s = sites[k];
+                if (is_near(s.xyz, cell)) phi += exact(x, s);
+            }
+        }
+        phi *= pc.scale;
+        if (pc.color != 0u) {
+            out_words[2 * p] = floatBitsToUint(phi);
+            out_words[2 * p + 1] = ramp(phi);
+        } else {
+            out_words[p] = floatBitsToUint(phi);
+        }
     }
 }

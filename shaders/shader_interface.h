@@ -49,11 +49,13 @@ FDM_CONST kMcGroup = 64;
 // Run-sum scan: one workgroup.
 FDM_CONST kScanGroup = 1024;
 
-// Vertex properties (vertex_atoms.comp, coulombic.comp): one invocation per vertex, flat
-// workgroups of kVertexGroup (2D dispatch of workgroups). coulombic.comp copies
-// kCoulombTile charge sites at a time into shared memory.
+// Vertex properties: vertex_atoms.comp, one invocation per vertex; coulombic.comp, one workgroup
+// per target cell. Flat workgroups of kVertexGroup (2D dispatch of workgroups). coulombic.comp
+// copies kCoulombTile charge sites at a time into shared memory and keeps up to
+// kCoulombNearCapacity near sites there (more: it reads them from the site list per point).
 FDM_CONST kVertexGroup = 64;
 FDM_CONST kCoulombTile = 256;
+FDM_CONST kCoulombNearCapacity = 512;
 
 // Filter shapes (SpectralMaskPush::shape).
 FDM_CONST kFilterIdeal = 0;
@@ -117,14 +119,15 @@ struct VertexAtomsPush {
 };
 
 struct CoulombPush {
-    uint vertex_count;
+    float cell_origin_x, cell_origin_y, cell_origin_z, cell_size;  // cell (0,0,0) corner, edge
+    uint cell_count;   // target cells (cells holding evaluation points): one workgroup each
     uint site_count;   // charge sites (x, y, z, q)
-    float offset;      // Å out along the normal where the potential is evaluated
     float scale;       // 332 / 4: kcal/(mol e) with the distance-dependent dielectric 4 r
     uint groups_x;
     uint color;        // != 0: also write the red-white-blue colour of the potential
     float color_range; // the potential mapped to full red (-) or blue (+), kcal/(mol e)
-    float pad0;
+    uint near_cells;   // sites within this many cells (Chebyshev) are summed exactly
+    uint pad0;
 };
 
 struct ScanPush {

@@ -97,8 +97,10 @@ Cells bin_for_vertices(const Atoms& atoms, const Mesh& mesh, float radius_add) {
 // The vertices ordered by the cell of `cells` that holds them (a counting sort): neighbours in a
 // dispatch then search the same cells, so the lanes of a SIMD group run alike (on 1AON the pass
 // took half the time of mesh order). order[k] is the k-th vertex; `sorted` its position.
+// cell_of_sorted (optional): the cell of each sorted point.
 void sort_by_cell(const Cells& c, const float* points, std::size_t n,
-                  std::vector<std::uint32_t>& order, std::vector<float>& sorted) {
+                  std::vector<std::uint32_t>& order, std::vector<float>& sorted,
+                  std::vector<std::uint32_t>* cell_of_sorted = nullptr) {
     const std::size_t cells = std::size_t(c.dims[0]) * c.dims[1] * c.dims[2];
     std::vector<std::uint32_t> cell_of(n), start(cells + 1, 0);
     for (std::size_t v = 0; v < n; ++v) {
@@ -117,6 +119,10 @@ void sort_by_cell(const Cells& c, const float* points, std::size_t n,
         const std::uint32_t slot = start[cell_of[v]]++;
         order[slot] = static_cast<std::uint32_t>(v);
         std::memcpy(&sorted[3 * std::size_t(slot)], &points[3 * v], 3 * sizeof(float));
+    }
+    if (cell_of_sorted) {
+        cell_of_sorted->resize(n);
+        for (std::size_t k = 0; k < n; ++k) (*cell_of_sorted)[k] = cell_of[order[k]];
     }
 }
 
@@ -237,48 +243,86 @@ std::vector<std::uint32_t> VertexPropertiesPass::coulombic(Commands& cmds, const
         sites.insert(sites.end(), {atoms.xyz[3 * i], atoms.xyz[3 * i + 1], atoms.xyz[3 * i + 2],
                                    charges[i]});
     }
+    // Evaluation points, and 4 Å cells over them and the sites.
+    std::vector<float> points(3 * nv);
+    for (std::size_t k = 0; k < 3 * nv; ++k)
+        points[k] = mesh.positions[k] + offset * mesh.normals[k];
+    Cells grid;
+    grid.size = kCoulombCell;
+    float lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = std::numeric_limits<float>::max();
+        hi[a] = -lo[a];
+    }
+    for (std::size_t k = 0; k < points.size(); ++k) {
+        lo[k % 3] = std::min(lo[k % 3], points[k]);
+        hi[k % 3] = std::max(hi[k % 3], points[k]);
+    }
+    for (std::size_t k = 0; k < sites.size(); ++k) {
+        if (k % 4 == 3) continue;
+        lo[k % 4] = std::min(lo[k % 4], sites[k]);
+        hi[k % 4] = std::max(hi[k % 4], sites[k]);
+    }
+    for (int a = 0; a < 3; ++a) {
+        grid.origin[a] = lo[a];
+        grid.dims[a] = static_cast<std::uint32_t>(std::floor((hi[a] - lo[a]) / grid.size)) + 1;
+    }
+    if (double(grid.dims[0]) * grid.dims[1] * grid.dims[2] > double(1u << 26))
+        throw Error(ErrorCode::DeviceLimit,
+                    "coulombic: the evaluation points span more than 2^26 cells of " +
+                        std::to_string(int(kCoulombCell)) + " Å");
+    std::vector<std::uint32_t> order;
+    std::vector<float> sorted;
+    std::vector<std::uint32_t> cell_of_sorted;
+    sort_by_cell(grid, points.data(), nv, order, sorted, &cell_of_sorted);
+    // Target cells: x, y, z and the first sorted point; a sentinel holds the point count.
+    std::vector<std::uint32_t> cells;
+    for (std::size_t k = 0; k < nv; ++k) {
+        if (k > 0 && cell_of_sorted[k] == cell_of_sorted[k - 1]) continue;
+        const std::uint32_t c = cell_of_sorted[k];
+        cells.insert(cells.end(), {c % grid.dims[0], (c / grid.dims[0]) % grid.dims[1],
+                                   c / (grid.dims[0] * grid.dims[1]),
+                                   static_cast<std::uint32_t>(k)});
+    }
+    const std::uint32_t cell_count = static_cast<std::uint32_t>(cells.size() / 4);
+    cells.insert(cells.end(), {0, 0, 0, static_cast<std::uint32_t>(nv)});
     check_fits(ctx_, sites.size() * sizeof(float), "charge sites");
-    const std::size_t chunk = chunk_vertices(ctx_, stride * sizeof(std::uint32_t) + 12);
+    check_fits(ctx_, sorted.size() * sizeof(float), "evaluation points");
+    check_fits(ctx_, out.size() * sizeof(std::uint32_t), "potentials");
 
     StagingArena arena;
     cmds.begin();
     Buffer site_buffer = upload_vector(ctx_, cmds, arena, sites, "charge_sites");
-    std::deque<Buffer> outputs;  // deque: the read-back may be the buffer itself
-    std::vector<const Buffer*> hosts;
-    for (std::size_t first = 0; first < nv; first += chunk) {
-        const std::size_t n = std::min(chunk, nv - first);
-        Buffer pos = upload_buffer(ctx_, cmds, arena, &mesh.positions[3 * first],
-                                   3 * n * sizeof(float), "vertex_positions");
-        Buffer nrm = upload_buffer(ctx_, cmds, arena, &mesh.normals[3 * first],
-                                   3 * n * sizeof(float), "vertex_normals");
-        outputs.emplace_back(ctx_, n * stride * sizeof(std::uint32_t), MemoryUse::Device,
-                             "coulombic");
-        cmds.barrier_compute();
-        shader::CoulombPush p{};
-        p.vertex_count = static_cast<std::uint32_t>(n);
-        p.site_count = static_cast<std::uint32_t>(sites.size() / 4);
-        p.offset = offset;
-        p.scale = static_cast<float>(kCoulombScale);
-        p.color = color ? 1u : 0u;
-        p.color_range = kCoulombColorRange;
-        const auto [gx, gy] = cmds.fold_groups((n + shader::kVertexGroup - 1) / shader::kVertexGroup);
-        p.groups_x = gx;
-        cmds.dispatch(coulomb_pipeline_,
-                      {whole(pos), whole(nrm), whole(site_buffer), whole(outputs.back())}, &p,
-                      gx, gy);
-        arena.buffers.push_back(std::move(pos));
-        arena.buffers.push_back(std::move(nrm));
-        hosts.push_back(&readback_buffer(ctx_, cmds, arena, outputs.back(),
-                                         n * stride * sizeof(std::uint32_t), "coulombic_readback"));
-    }
+    Buffer point_buffer = upload_vector(ctx_, cmds, arena, sorted, "coulomb_points");
+    Buffer cell_buffer = upload_vector(ctx_, cmds, arena, cells, "coulomb_cells");
+    Buffer result(ctx_, out.size() * sizeof(std::uint32_t), MemoryUse::Device, "coulombic");
+    cmds.barrier_compute();
+    shader::CoulombPush p{};
+    p.cell_origin_x = grid.origin[0];
+    p.cell_origin_y = grid.origin[1];
+    p.cell_origin_z = grid.origin[2];
+    p.cell_size = grid.size;
+    p.cell_count = cell_count;
+    p.site_count = static_cast<std::uint32_t>(sites.size() / 4);
+    p.scale = static_cast<float>(kCoulombScale);
+    p.color = color ? 1u : 0u;
+    p.color_range = kCoulombColorRange;
+    p.near_cells = kCoulombNearCells;
+    const auto [gx, gy] = cmds.fold_groups(cell_count);
+    p.groups_x = gx;
+    cmds.dispatch(coulomb_pipeline_,
+                  {whole(point_buffer), whole(cell_buffer), whole(site_buffer), whole(result)}, &p,
+                  gx, gy);
+    const Buffer& host = readback_buffer(ctx_, cmds, arena, result,
+                                         out.size() * sizeof(std::uint32_t), "coulombic_readback");
     cmds.mark("coulombic");
     cmds.barrier_to_host();
     cmds.submit_and_wait();
-    for (std::size_t k = 0, first = 0; k < hosts.size(); ++k, first += chunk) {
-        const std::size_t n = std::min(chunk, nv - first);
-        hosts[k]->invalidate();
-        std::memcpy(&out[first * stride], hosts[k]->mapped(), n * stride * sizeof(std::uint32_t));
-    }
+    host.invalidate();
+    const auto* words = static_cast<const std::uint32_t*>(host.mapped());
+    for (std::size_t k = 0; k < nv; ++k)
+        std::memcpy(&out[std::size_t(order[k]) * stride], &words[k * stride],
+                    stride * sizeof(std::uint32_t));
     return out;
 }
 

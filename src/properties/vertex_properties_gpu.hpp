@@ -19,6 +19,10 @@ class Context;
 inline constexpr double kCoulombScale = 332.0 / 4.0;
 // The colour ramp's full red and full blue, kcal/(mol e) (ChimeraX's coulombic default).
 inline constexpr float kCoulombColorRange = 10.0f;
+// coulombic.comp's cells (Å) and the Chebyshev distance in cells within which a charge site is
+// summed exactly; farther ones go through the cell's Taylor expansion (second order).
+inline constexpr float kCoulombCell = 4.0f;
+inline constexpr std::uint32_t kCoulombNearCells = 3;
 
 class VertexPropertiesPass {
 public:
@@ -34,8 +38,8 @@ public:
                                             std::uint32_t per_atom);
 
     // Per vertex: the potential (float bits) at `offset` Å out along its normal from every atom
-    // of non-zero charge, followed, when `color` is set, by its packed red-white-blue colour.
-    // Marked "coulombic".
+    // of non-zero charge (near ones exactly, far ones through a Taylor expansion per cell),
+    // followed, when `color` is set, by its packed red-white-blue colour. Marked "coulombic".
     std::vector<std::uint32_t> coulombic(Commands& cmds, const Mesh& mesh, const Atoms& atoms,
                                          const std::vector<float>& charges, float offset,
                                          bool color);
