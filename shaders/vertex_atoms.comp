@@ -55,7 +55,9 @@ void main() {
     // A first candidate: rings of cells around the vertex's until one holds an atom (nearly
     // always the vertex's own cell).
     int max_shell = max(max(dims.x, dims.y), dims.z);
+    int scanned = -1;  // rings 0..scanned around home are done
     for (int s = 0; s <= max_shell && best_atom == 0xffffffffu; ++s) {
+        scanned = s;
         for (int z = -s; z <= s; ++z) {
             for (int y = -s; y <= s; ++y) {
                 bool face = abs(z) == s || abs(y) == s;
@@ -75,7 +77,10 @@ void main() {
     ivec3 hi = clamp(ivec3(floor((p + reach - origin) / pc.bin_size)), ivec3(0), dims - 1);
     for (int z = lo.z; z <= hi.z; ++z)
         for (int y = lo.y; y <= hi.y; ++y)
-            for (int x = lo.x; x <= hi.x; ++x) visit(ivec3(x, y, z), p, origin);
+            for (int x = lo.x; x <= hi.x; ++x) {
+                ivec3 d = abs(ivec3(x, y, z) - home);
+                if (max(max(d.x, d.y), d.z) > scanned) visit(ivec3(x, y, z), p, origin);
+            }
     uint stride = 1 + pc.attributes;
     out_words[stride * v] = best_atom;
     for (uint k = 0; k < pc.attributes; ++k)
