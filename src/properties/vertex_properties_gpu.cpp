@@ -31,25 +31,31 @@ struct Cells {
     std::vector<float> cell_r2;         // the largest (r + radius_add)² in each cell (0: empty)
 };
 
-Cells bin_for_vertices(const Atoms& atoms, const Mesh& mesh, float radius_add) {
-    Cells c;
-    float lo[3], hi[3];
+// The box of `count` points of `stride` floats (x, y, z first), grown into lo and hi.
+void extend_box(const float* values, std::size_t count, std::size_t stride, float lo[3],
+                float hi[3]) {
+    for (std::size_t i = 0; i < count; ++i)
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = std::min(lo[a], values[stride * i + a]);
+            hi[a] = std::max(hi[a], values[stride * i + a]);
+        }
+}
+
+void empty_box(float lo[3], float hi[3]) {
     for (int a = 0; a < 3; ++a) {
         lo[a] = std::numeric_limits<float>::max();
         hi[a] = -lo[a];
     }
-    auto extend = [&](const float* p) {
-        for (int a = 0; a < 3; ++a) {
-            lo[a] = std::min(lo[a], p[a]);
-            hi[a] = std::max(hi[a], p[a]);
-        }
-    };
+}
+
+Cells bin_for_vertices(const Atoms& atoms, const Mesh& mesh, float radius_add) {
+    Cells c;
+    float lo[3], hi[3];
+    empty_box(lo, hi);
+    extend_box(atoms.xyz.data(), atoms.size(), 3, lo, hi);
+    extend_box(mesh.positions.data(), mesh.vertex_count(), 3, lo, hi);
     float r_max = 0.0f;
-    for (std::size_t i = 0; i < atoms.size(); ++i) {
-        extend(&atoms.xyz[3 * i]);
-        r_max = std::max(r_max, atoms.radius[i] + radius_add);
-    }
-    for (std::size_t v = 0; v < mesh.vertex_count(); ++v) extend(&mesh.positions[3 * v]);
+    for (float r : atoms.radius) r_max = std::max(r_max, r + radius_add);
     c.r2_max = r_max * r_max;
     // 5 Å cells: a vertex near a surface has its first candidate in its own cell and the rest
     // within 8 to 27 cells. On 1AON (ses, 0.5 Å, vertices sorted by cell) 5 Å cells took
@@ -250,19 +256,9 @@ std::vector<std::uint32_t> VertexPropertiesPass::coulombic(Commands& cmds, const
     Cells grid;
     grid.size = kCoulombCell;
     float lo[3], hi[3];
-    for (int a = 0; a < 3; ++a) {
-        lo[a] = std::numeric_limits<float>::max();
-        hi[a] = -lo[a];
-    }
-    for (std::size_t k = 0; k < points.size(); ++k) {
-        lo[k % 3] = std::min(lo[k % 3], points[k]);
-        hi[k % 3] = std::max(hi[k % 3], points[k]);
-    }
-    for (std::size_t k = 0; k < sites.size(); ++k) {
-        if (k % 4 == 3) continue;
-        lo[k % 4] = std::min(lo[k % 4], sites[k]);
-        hi[k % 4] = std::max(hi[k % 4], sites[k]);
-    }
+    empty_box(lo, hi);
+    extend_box(points.data(), nv, 3, lo, hi);
+    extend_box(sites.data(), sites.size() / 4, 4, lo, hi);
     for (int a = 0; a < 3; ++a) {
         grid.origin[a] = lo[a];
         grid.dims[a] = static_cast<std::uint32_t>(std::floor((hi[a] - lo[a]) / grid.size)) + 1;

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "cli/options.hpp"
+#include "cli/parse_check.hpp"
 
 namespace {
 
@@ -21,26 +22,9 @@ using fdmsurf::StructureFormat;
 using fdmsurf::cli::CliOptions;
 using fdmsurf::cli::parse_args;
 
-CliOptions parse_with(std::vector<std::string> extra) {
-    std::vector<std::string> args{"in.pdb", "-o", "out.ply"};
-    args.insert(args.end(), extra.begin(), extra.end());
-    return parse_args(args);
-}
-
-std::string parse_error_with(std::vector<std::string> extra) {
-    try {
-        parse_with(std::move(extra));
-    } catch (const Error& e) {
-        EXPECT_EQ(e.code(), ErrorCode::InvalidArgument) << e.what();
-        return e.what();
-    }
-    ADD_FAILURE() << "no error thrown";
-    return {};
-}
-
-bool contains(const std::string& text, const std::string& part) {
-    return text.find(part) != std::string::npos;
-}
+using fdmsurf_cli_test::contains;
+using fdmsurf_cli_test::parse_error_with;
+using fdmsurf_cli_test::parse_with;
 
 TEST(CliInput, ChainsAreACommaSeparatedList) {
     EXPECT_TRUE(parse_with({}).read.chains.empty());

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "cli/options.hpp"
+#include "cli/parse_check.hpp"
 #include "fdmsurf/fdmsurf.hpp"
 
 namespace {
@@ -20,26 +21,9 @@ namespace fs = std::filesystem;
 using namespace fdmsurf;
 using fdmsurf::cli::parse_args;
 
-cli::CliOptions parse_with(std::vector<std::string> extra) {
-    std::vector<std::string> args{"in.pdb", "-o", "out.ply"};
-    args.insert(args.end(), extra.begin(), extra.end());
-    return parse_args(args);
-}
-
-std::string parse_error_with(std::vector<std::string> extra) {
-    try {
-        parse_with(std::move(extra));
-    } catch (const Error& e) {
-        EXPECT_EQ(e.code(), ErrorCode::InvalidArgument) << e.what();
-        return e.what();
-    }
-    ADD_FAILURE() << "no error thrown";
-    return {};
-}
-
-bool contains(const std::string& text, const std::string& part) {
-    return text.find(part) != std::string::npos;
-}
+using fdmsurf_cli_test::contains;
+using fdmsurf_cli_test::parse_error_with;
+using fdmsurf_cli_test::parse_with;
 
 TEST(CliProperties, ColourSchemesAndHexColours) {
     EXPECT_EQ(parse_with({}).surface.properties.color, ColorScheme::None);

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "support/meshstat_tool.hpp"
 #include "cli/json_check.hpp"
 #include "fdmsurf/compare.hpp"
 #include "fdmsurf/error.hpp"
@@ -555,43 +556,14 @@ TEST_F(CompareFiles, FormatsCompareAlike) {
 // Agreement with shared/tools/meshstat.py on a real pair: NanoShaper's SES of 1CRN against
 // fdmsurf's at 0.5 Å (tests/data).
 
-bool tools_required() {
-    const char* require = std::getenv("FDMSURF_REQUIRE_TOOLS");
-    return require != nullptr && std::string(require) == "1";
-}
-
-std::string run_capture(const std::string& command, int& status) {
-    std::string out;
-    std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), &pclose);
-    if (!pipe) {
-        status = -1;
-        return out;
-    }
-    char buffer[4096];
-    std::size_t n;
-    while ((n = std::fread(buffer, 1, sizeof buffer, pipe.get())) > 0) out.append(buffer, n);
-    status = pclose(pipe.release());
-    return out;
-}
 
 TEST(CompareMeshes, AgreesWithMeshstatOn1crn) {
     const std::string meshstat = kSharedDir + "/tools/meshstat.py";
-    std::string why;
-    if (!fs::exists("/usr/bin/python3")) {
-        why = "/usr/bin/python3 is missing";
-    } else if (!fs::exists(meshstat)) {
-        why = meshstat + " is missing";
-    } else if (std::system("/usr/bin/python3 -c 'import numpy, scipy' >/dev/null 2>&1") != 0) {
-        why = "python3-numpy or python3-scipy is missing";
-    }
-    if (!why.empty()) {
-        if (tools_required()) FAIL() << why << " (FDMSURF_REQUIRE_TOOLS=1)";
-        GTEST_SKIP() << why;
-    }
+    FDMSURF_REQUIRE_MESHSTAT(meshstat);
     const std::string reference = kDataDir + "/1crn-ses-nanoshaper.ply.gz";
     const std::string tested = kDataDir + "/1crn-fdm-0.5.ply";
     int status = 0;
-    const std::string text = run_capture("/usr/bin/python3 '" + meshstat + "' --json compare '" +
+    const std::string text = test::run_capture("/usr/bin/python3 '" + meshstat + "' --json compare '" +
                                              reference + "' '" + tested + "' --spacing 0.5",
                                          status);
     ASSERT_EQ(status, 0) << text;

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "support/meshstat_tool.hpp"
 #include "cli/json_check.hpp"
 #include "fdmsurf/error.hpp"
 #include "fdmsurf/mesh.hpp"
@@ -314,45 +315,16 @@ TEST(MeshAttributes, ScalarNamesAcceptedAreTheDocumentedOnes) {
 // ---------------------------------------------------------------------------------------------
 // meshstat.py reads our files with every attribute
 
-bool tools_required() {
-    const char* require = std::getenv("FDMSURF_REQUIRE_TOOLS");
-    return require != nullptr && std::string(require) == "1";
-}
-
-std::string run_capture(const std::string& command, int& status) {
-    std::string out;
-    std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), &pclose);
-    if (!pipe) {
-        status = -1;
-        return out;
-    }
-    char buffer[4096];
-    std::size_t n;
-    while ((n = std::fread(buffer, 1, sizeof buffer, pipe.get())) > 0) out.append(buffer, n);
-    status = pclose(pipe.release());
-    return out;
-}
 
 TEST_F(MeshAttributeFiles, MeshstatReadsPlyAndObjWithAllAttributes) {
     const std::string meshstat = kSharedDir + "/tools/meshstat.py";
-    std::string why;
-    if (!fs::exists("/usr/bin/python3")) {
-        why = "/usr/bin/python3 is missing";
-    } else if (!fs::exists(meshstat)) {
-        why = meshstat + " is missing";
-    } else if (std::system("/usr/bin/python3 -c 'import numpy, scipy' >/dev/null 2>&1") != 0) {
-        why = "python3-numpy or python3-scipy is missing";
-    }
-    if (!why.empty()) {
-        if (tools_required()) FAIL() << why << " (FDMSURF_REQUIRE_TOOLS=1)";
-        GTEST_SKIP() << why;
-    }
+    FDMSURF_REQUIRE_MESHSTAT(meshstat);
     const Mesh mesh = attributed_sphere();
     const MeshStats ours = compute_stats(mesh);
     for (const char* name : {"s.ply", "s.obj"}) {
         write_mesh(mesh, path(name));
         int status = 0;
-        const std::string text = run_capture(
+        const std::string text = test::run_capture(
             "/usr/bin/python3 '" + meshstat + "' --json stats '" + path(name) + "'", status);
         ASSERT_EQ(status, 0) << name << ": " << text;
         const auto json = fdmsurf_cli_test::parse_json(text);

@@ -38,6 +38,7 @@ std::size_t expect_atoms_match(const Mesh& mesh, const Atoms& atoms, float radiu
                                          << " (power " << b << ")";
         ++ties;
     }
+    std::printf("%zu vertices, %zu near-ties\n", ref.size(), ties);
     return ties;
 }
 
