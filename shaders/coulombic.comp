@@ -2,13 +2,14 @@
 // dielectric (eps = 4 r), phi(x) = sum_i 332 q_i / (4 |x - c_i|²) in kcal/(mol e), at the
 // evaluation points x (vertices moved out along their normals), sorted by cell on the host.
 //
-// One workgroup per target cell (a cell holding evaluation points). Every charge site is read
-// once per workgroup: a site within near_cells cells (Chebyshev) of the target cell is kept in
-// shared memory and summed exactly at each point; the others add to a second-order Taylor
-// expansion of the kernel 1/r² about the cell's centre (value, gradient, Hessian: 10 terms),
-// evaluated at each point. With 4 Å cells and 3 near cells, a far site is at least 14 Å from
-// the centre and the points within 3.5 Å of it (|t| / r <= 0.25). Mirrors coulombic_cpu()
-// in vertex_atoms_cpu.cpp, which sums every pair.
+// One workgroup per target cell (a cell holding evaluation points). Sites (sorted by cell on
+// the host) within near_cells cells (Chebyshev) of the target cell are summed exactly at each
+// point, copied into shared memory kCoulombNearCapacity at a time in cell order; every other
+// site adds to a second-order Taylor expansion of the kernel 1/r² about the cell's centre
+// (value, gradient, Hessian: 10 terms) that each point evaluates. With 4 Å cells and 3 near
+// cells a far site is at least 14 Å from the centre and a point at most 3.5 Å from it. Every
+// sum runs in a fixed order: the result is the same on every run. Mirrors coulombic_cpu() in
+// vertex_atoms_cpu.cpp, which sums every pair.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "shader_interface.h"
@@ -16,12 +17,15 @@ layout(local_size_x = kVertexGroup) in;
 layout(push_constant) uniform Push { CoulombPush pc; };
 layout(std430, binding = 0) readonly buffer Points { float points[]; };  // x, y, z, by cell
 layout(std430, binding = 1) readonly buffer Cells { uvec4 cells[]; };  // cell x, y, z; first point
-layout(std430, binding = 2) readonly buffer Sites { vec4 sites[]; };  // x, y, z, q
-layout(std430, binding = 3) writeonly buffer Out { uint out_words[]; };  // phi bits [, colour]
+layout(std430, binding = 2) readonly buffer Sites { vec4 sites[]; };  // x, y, z, q; by cell
+layout(std430, binding = 3) readonly buffer SiteStart { uint site_start[]; };  // per cell
+layout(std430, binding = 4) writeonly buffer Out { uint out_words[]; };  // phi bits [, colour]
+
+const uint kMaxRows = 49;  // (2 near_cells + 1)² rows of cells along x; near_cells <= 3
 
 shared vec4 tile[kCoulombTile];
 shared vec4 near_sites[kCoulombNearCapacity];
-shared uint near_count;
+shared uint row_first[kMaxRows], row_begin[kMaxRows + 1];  // site index; offset in the near list
 shared float partial[10][kVertexGroup];
 
 // Red (-range) through white (0) to blue (+range), packed r | g << 8 | b << 16.
@@ -32,11 +36,10 @@ uint ramp(float phi) {
     return b.r | (b.g << 8) | (b.b << 16);
 }
 
-bool is_near(vec3 c, ivec3 cell) {
-    ivec3 sc = ivec3(floor((c - vec3(pc.cell_origin_x, pc.cell_origin_y, pc.cell_origin_z)) /
-                           pc.cell_size));
-    ivec3 d = abs(sc - cell);
-    return max(max(d.x, d.y), d.z) <= int(pc.near_cells);
+ivec3 cell_of(vec3 c) {
+    ivec3 k = ivec3(floor((c - vec3(pc.cell_origin_x, pc.cell_origin_y, pc.cell_origin_z)) /
+                          pc.cell_size));
+    return clamp(k, ivec3(0), ivec3(pc.cell_nx, pc.cell_ny, pc.cell_nz) - 1);
 }
 
 float exact(vec3 x, vec4 s) {
@@ -44,6 +47,15 @@ float exact(vec3 x, vec4 s) {
     // A site on the evaluation point itself (impossible 1.4 Å outside a surface) would divide
     // by 0: at least 0.01 Å².
     return s.w / max(dot(d, d), 1.0e-2);
+}
+
+// Copies near sites [base, base + count) of the near list (rows in order) to shared memory.
+void load_near(uint base, uint count, uint rows) {
+    for (uint k = gl_LocalInvocationID.x; k < count; k += kVertexGroup) {
+        uint n = base + k, r = 0;
+        while (row_begin[r + 1] <= n) ++r;
+        near_sites[k] = sites[row_first[r] + (n - row_begin[r])];
+    }
 }
 
 void main() {
@@ -55,7 +67,23 @@ void main() {
     uint first = cell_info.w, last = cells[cell_index + 1].w;
     vec3 centre = vec3(pc.cell_origin_x, pc.cell_origin_y, pc.cell_origin_z) +
                   (vec3(cell) + 0.5) * pc.cell_size;
-    if (lid == 0) near_count = 0;
+    int reach = int(pc.near_cells);
+
+    // The near block as rows of cells along x: each row's sites are consecutive.
+    if (lid == 0) {
+        uint r = 0, total = 0;
+        int x0 = max(cell.x - reach, 0), x1 = min(cell.x + reach, int(pc.cell_nx) - 1);
+        for (int z = max(cell.z - reach, 0); z <= min(cell.z + reach, int(pc.cell_nz) - 1); ++z)
+            for (int y = max(cell.y - reach, 0); y <= min(cell.y + reach, int(pc.cell_ny) - 1); ++y) {
+                uint row = (uint(z) * pc.cell_ny + uint(y)) * pc.cell_nx;
+                uint a = site_start[row + uint(x0)], b = site_start[row + uint(x1) + 1];
+                row_first[r] = a;
+                row_begin[r] = total;
+                total += b - a;
+                ++r;
+            }
+        for (; r <= kMaxRows; ++r) row_begin[r] = total;
+    }
 
     // Far field: sum q K, q grad K, q Hess K at the centre, K = 1/r², over the far sites.
     float k0 = 0.0;
@@ -69,11 +97,8 @@ void main() {
         barrier();
         for (uint k = lid; k < count; k += kVertexGroup) {
             vec4 s = tile[k];
-            if (is_near(s.xyz, cell)) {
-                uint slot = atomicAdd(near_count, 1u);
-                if (slot < kCoulombNearCapacity) near_sites[slot] = s;
-                continue;
-            }
+            ivec3 d3 = abs(cell_of(s.xyz) - cell);
+            if (max(max(d3.x, d3.y), d3.z) <= reach) continue;  // near: summed exactly
             vec3 d = centre - s.xyz;
             float inv = 1.0 / dot(d, d);
             float q = s.w * inv;                 // q / r²
@@ -105,23 +130,34 @@ void main() {
     vec3 g = vec3(partial[1][0], partial[2][0], partial[3][0]);
     vec3 hd = vec3(partial[4][0], partial[5][0], partial[6][0]);
     vec3 ho = vec3(partial[7][0], partial[8][0], partial[9][0]);
-    uint near = min(near_count, kCoulombNearCapacity);
-    bool overflow = near_count > kCoulombNearCapacity;
+    uint total = row_begin[kMaxRows];
+    bool single = total <= kCoulombNearCapacity;
+    if (single) {
+        load_near(0, total, kMaxRows);
+        barrier();
+    }
 
-    for (uint p = first + lid; p < last; p += kVertexGroup) {
-        vec3 x = vec3(points[3 * p], points[3 * p + 1], points[3 * p + 2]);
+    uint rounds = (last - first + kVertexGroup - 1) / kVertexGroup;
+    for (uint round = 0; round < rounds; ++round) {
+        uint p = first + round * kVertexGroup + lid;
+        bool live = p < last;
+        vec3 x = live ? vec3(points[3 * p], points[3 * p + 1], points[3 * p + 2]) : centre;
         vec3 t = x - centre;
         float phi = a0 + dot(g, t) +
                     0.5 * (dot(hd, t * t) + 2.0 * (ho.x * t.x * t.y + ho.y * t.x * t.z +
                                                    ho.z * t.y * t.z));
-        if (!overflow) {
-            for (uint k = 0; k < near; ++k) phi += exact(x, near_sites[k]);
-        } else {  // too many near sites for shared memory: read them from the list
-            for (uint k = 0; k < pc.site_count; ++k) {
-                vec4 s = sites[k];
-                if (is_near(s.xyz, cell)) phi += exact(x, s);
+        if (single) {
+            for (uint k = 0; k < total; ++k) phi += exact(x, near_sites[k]);
+        } else {  // more near sites than shared memory holds: in batches
+            for (uint base = 0; base < total; base += kCoulombNearCapacity) {
+                uint count = min(kCoulombNearCapacity, total - base);
+                barrier();
+                load_near(base, count, kMaxRows);
+                barrier();
+                for (uint k = 0; k < count; ++k) phi += exact(x, near_sites[k]);
             }
         }
+        if (!live) continue;
         phi *= pc.scale;
         if (pc.color != 0u) {
             out_words[2 * p] = floatBitsToUint(phi);

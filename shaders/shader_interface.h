@@ -51,8 +51,8 @@ FDM_CONST kScanGroup = 1024;
 
 // Vertex properties: vertex_atoms.comp, one invocation per vertex; coulombic.comp, one workgroup
 // per target cell. Flat workgroups of kVertexGroup (2D dispatch of workgroups). coulombic.comp
-// copies kCoulombTile charge sites at a time into shared memory and keeps up to
-// kCoulombNearCapacity near sites there (more: it reads them from the site list per point).
+// copies kCoulombTile charge sites at a time into shared memory for the far field, and the near
+// sites kCoulombNearCapacity at a time.
 FDM_CONST kVertexGroup = 64;
 FDM_CONST kCoulombTile = 256;
 FDM_CONST kCoulombNearCapacity = 512;
@@ -127,7 +127,7 @@ struct CoulombPush {
     uint color;        // != 0: also write the red-white-blue colour of the potential
     float color_range; // the potential mapped to full red (-) or blue (+), kcal/(mol e)
     uint near_cells;   // sites within this many cells (Chebyshev) are summed exactly
-    uint pad0;
+    uint cell_nx, cell_ny, cell_nz;  // cells per axis (site_start has one entry per cell + 1)
 };
 
 struct ScanPush {

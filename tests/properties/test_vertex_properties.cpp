@@ -237,3 +237,22 @@ TEST_F(VertexProperties, ElementColoursAndBareXyzrAtoms) {
     EXPECT_EQ(plain.mesh.atoms.size(), plain.mesh.vertex_count());
     EXPECT_TRUE(plain.mesh.colors.empty());
 }
+
+TEST_F(VertexProperties, ChunkedDispatchesAndRepeatedRunsGiveIdenticalWords) {
+    // A device whose bindings hold 1 MiB: 4HHB's 167k vertices go through both passes in
+    // several chunks. Every word equals the one-chunk result, and a second run the first.
+    const Atoms atoms = read_structure(data_path("4hhb.pdb.gz")).atoms;
+    const Mesh mesh = surface(engine(), atoms, SurfaceKind::Ses, SesMethod::Fdm).mesh;
+    const std::vector<float> q = detail::atom_charges(atoms).q;
+    detail::EngineImpl& one = impl();
+    const auto atoms_one = one.vertex_properties.vertex_atoms(one.commands, mesh, atoms, 0.0f, {}, 0);
+    const auto phi_one = one.vertex_properties.coulombic(one.commands, mesh, atoms, q, 1.4f, true);
+    EXPECT_EQ(phi_one, one.vertex_properties.coulombic(one.commands, mesh, atoms, q, 1.4f, true));
+
+    Engine small(EngineOptions{.validation = true, .max_buffer_range = 1u << 20});
+    detail::EngineImpl& many = small.impl();
+    EXPECT_EQ(atoms_one, many.vertex_properties.vertex_atoms(many.commands, mesh, atoms, 0.0f, {}, 0));
+    EXPECT_EQ(phi_one, many.vertex_properties.coulombic(many.commands, mesh, atoms, q, 1.4f, true));
+    const std::vector<std::string> messages = small.take_validation_messages();
+    EXPECT_TRUE(messages.empty()) << fdmsurf_test::join_messages(messages);
+}
