@@ -26,18 +26,6 @@ Rgb hex(std::uint32_t v) {
 
 bool is_amino_acid(std::string_view r) { return !std::isnan(kyte_doolittle(r)); }
 
-// Splits MSMS-style names "A_23_x_LYS_NZ_Blue" into their fields.
-std::vector<std::string> underscore_fields(const std::string& name) {
-    std::vector<std::string> out;
-    std::size_t start = 0;
-    for (;;) {
-        std::size_t end = name.find('_', start);
-        out.push_back(name.substr(start, end - start));
-        if (end == std::string::npos) return out;
-        start = end + 1;
-    }
-}
-
 }  // namespace
 
 Rgb element_color(std::string_view element) {
@@ -101,22 +89,11 @@ std::vector<AtomLabel> atom_labels(const Atoms& atoms) {
     for (std::size_t i = 0; i < atoms.size(); ++i) {
         const AtomMeta& m = atoms.meta[i];
         AtomLabel& l = out[i];
-        if (!m.residue_name.empty()) {
-            l.chain = m.chain;
-            l.residue_name = m.residue_name;
-            l.atom_name = m.name;
+        l.chain = m.chain;
+        l.residue_name = m.residue_name;
+        l.atom_name = m.name;
+        if (!m.residue_name.empty())
             l.residue_key = m.chain + '\x1f' + std::to_string(m.residue_number) + m.insertion_code;
-            continue;
-        }
-        const std::vector<std::string> f = underscore_fields(m.name);
-        if (f.size() >= 5) {  // chain_resnum_icode_resname_atomname[_colour]
-            l.chain = f[0];
-            l.residue_name = f[3];
-            l.atom_name = f[4];
-            l.residue_key = f[0] + '\x1f' + f[1] + f[2];
-        } else {
-            l.atom_name = m.name;
-        }
     }
     return out;
 }
@@ -153,7 +130,8 @@ Charges atom_charges(const Atoms& atoms) {
             auto f = first_residue.find(l.chain);
             if (a == "N" && f != first_residue.end() && f->second == l.residue_key) q += 1.0f;
             if ((a == "O" || a == "OXT") && has_oxt.count(l.residue_key)) q = -0.5f;
-        } else if (!r.empty() && r == a) {  // monatomic ions: residue and atom named alike
+        } else if (!r.empty() && (r == a || (r == "IOD" && a == "I"))) {
+            // monatomic ions: residue and atom named alike (iodide: IOD / I)
             static const std::unordered_map<std::string, float> ions = {
                 {"NA", 1.0f}, {"K", 1.0f},  {"MG", 2.0f}, {"CA", 2.0f}, {"ZN", 2.0f},
                 {"MN", 2.0f}, {"CO", 2.0f}, {"NI", 2.0f}, {"CU", 2.0f}, {"CD", 2.0f},

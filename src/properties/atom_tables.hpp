@@ -32,8 +32,8 @@ constexpr Rgb kNegative{255, 0, 0};        // coulombic < 0 (and low B-factors: 
 constexpr Rgb kPositive{0, 0, 255};
 constexpr Rgb kUnknownResidue{200, 200, 200};
 
-// Residue name and atom name of an atom: from AtomMeta, or for XYZRN names that follow MSMS's
-// pdb_to_xyzrn convention (chain_resnum_icode_resname_atomname_colour) from the name's fields.
+// Chain, residue name and atom name of an atom, from AtomMeta (XYZRN readers fill them from
+// MSMS-style names); empty without metadata.
 struct AtomLabel {
     std::string chain, residue_name, atom_name;
     std::string residue_key;  // chain, number and insertion code: one residue
@@ -44,7 +44,7 @@ std::vector<AtomLabel> atom_labels(const Atoms& atoms);
 // model (formal charges of the groups ionised at pH 7 spread over their atoms: Asp OD1/OD2 and
 // Glu OE1/OE2 -1/2 each, Lys NZ +1, Arg NE/NH1/NH2 +1/3 each, the N-terminal N +1, O and OXT of
 // a C-terminus that has OXT -1/2 each, nucleic-acid phosphate OP1/OP2 (O1P/O2P) -1/2 each,
-// monatomic ions by element; His neutral). `model_used` tells which.
+// monatomic ions by name; His neutral). `from_file` tells which.
 struct Charges {
     std::vector<float> q;
     bool from_file = false;

@@ -104,20 +104,33 @@ void pqr_residue(const std::vector<std::string_view>& f, AtomMeta& m, const std:
                 at_line(line));
 }
 
-// MSMS-style names "A_23_x_LYS_NZ_Blue" (chain_resnum_icode_resname_atomname_color, as
-// MaSIF's and similar pdb-to-xyzrn scripts write them): the element from the atom name, as for
-// PQR. Other names give no element.
-std::string xyzrn_element(std::string_view name) {
+// The metadata of an XYZRN name field. MSMS-style names "A_23_x_LYS_NZ_Blue"
+// (chain_resnum_icode_resname_atomname[_colour], as MaSIF's and similar pdb-to-xyzrn scripts
+// write them; 'x' for no insertion code) give chain, residue and atom name, and the element
+// from the atom name as for PQR. Other names are kept whole as the atom name, without element.
+AtomMeta xyzrn_meta(std::string_view field, std::string& element) {
+    AtomMeta m;
+    m.xyzrn_name = std::string(field);
+    m.name = m.xyzrn_name;
+    element.clear();
     std::vector<std::string_view> parts;
     for (std::size_t start = 0;;) {
-        std::size_t end = name.find('_', start);
-        parts.push_back(name.substr(start, end == std::string_view::npos ? end : end - start));
+        std::size_t end = field.find('_', start);
+        parts.push_back(field.substr(start, end == std::string_view::npos ? end : end - start));
         if (end == std::string_view::npos) break;
         start = end + 1;
     }
     std::int32_t number = 0;
-    if (parts.size() != 6 || !parse_int(parts[1], number) || parts[4].empty()) return "";
-    return pqr_element(parts[4], parts[3]);
+    if ((parts.size() != 5 && parts.size() != 6) || !parse_int(parts[1], number) ||
+        parts[3].empty() || parts[4].empty())
+        return m;
+    m.chain = std::string(parts[0]);
+    m.residue_number = number;
+    m.insertion_code = parts[2].size() == 1 && parts[2] != "x" ? parts[2][0] : ' ';
+    m.residue_name = std::string(parts[3]);
+    m.name = std::string(parts[4]);
+    element = pqr_element(parts[4], parts[3]);
+    return m;
 }
 
 Structure finish(Structure s, StructureFormat format, const std::string& name, const char* what) {
@@ -202,10 +215,10 @@ Structure read_xyzrn(std::string_view text, const std::string& name) {
             fail_format(name + ": too few fields for an XYZRN atom" + at_line(lines.number()) +
                         " (" + std::to_string(f.size()) + "; expected: x y z radius n name)");
         if (add_atom(s.atoms, f, name, lines.number())) {
-            AtomMeta m;
-            if (f.size() >= 5) m.name = std::string(f.back());
-            s.atoms.element.push_back(xyzrn_element(m.name));
-            s.atoms.meta.push_back(std::move(m));
+            std::string element;
+            s.atoms.meta.push_back(
+                xyzrn_meta(f.size() >= 5 ? f.back() : std::string_view(), element));
+            s.atoms.element.push_back(std::move(element));
         } else {
             ++zero;
         }

@@ -122,11 +122,11 @@ void filter_read_atoms(Structure& s, const ReadOptions& options, const std::stri
     if (options.chains.empty() && options.select.empty()) return;
     Atoms& atoms = s.atoms;
     const std::string format = to_string(s.info.format);
-    if (atoms.meta.size() != atoms.size() || s.info.format == StructureFormat::Xyzrn)
+    if (atoms.meta.size() != atoms.size())
         throw Error(ErrorCode::InvalidArgument,
                     name + ": " + (options.chains.empty() ? "select" : "chains") +
                         " needs chain, residue and atom names, which " + format +
-                        " input does not carry (PDB, mmCIF and PQR do)");
+                        " input does not carry (PDB, mmCIF, PQR and XYZRN with MSMS names do)");
     std::vector<std::uint8_t> keep(atoms.size(), 1);
     std::string removed;
     if (!options.chains.empty()) {
@@ -158,7 +158,8 @@ void filter_read_atoms(Structure& s, const ReadOptions& options, const std::stri
         if (other) removed = counted_atoms(other) + " of other chains";
     }
     if (!options.select.empty()) {
-        std::vector<std::uint8_t> match = selection_mask(atoms, options.select, 1, name);
+        std::vector<std::uint8_t> match =
+            selection_mask(atoms, options.select, s.info.model, name);
         std::size_t unmatched = 0;
         for (std::size_t i = 0; i < atoms.size(); ++i) {
             if (keep[i] && !match[i]) {
@@ -180,9 +181,12 @@ void filter_read_atoms(Structure& s, const ReadOptions& options, const std::stri
 
 }  // namespace detail
 
-std::vector<std::uint8_t> match_selection(const Atoms& atoms, const std::string& expr) {
-    return detail::selection_mask(atoms, expr, 1, "selection");
+std::vector<std::uint8_t> match_selection(const Atoms& atoms, const std::string& expr,
+                                          int model) {
+    return detail::selection_mask(atoms, expr, model, "selection");
 }
+
+void check_selection(const std::string& expr) { detail::parse(expr, "selection"); }
 
 Atoms subset(const Atoms& atoms, const std::vector<std::uint8_t>& keep) {
     if (keep.size() != atoms.size())

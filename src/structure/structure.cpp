@@ -39,14 +39,6 @@ std::vector<Structure> read_text(const std::string& text, const std::string& nam
         throw Error(ErrorCode::InvalidArgument,
                     name + ": assembly " + std::to_string(options.assembly) + " requested, but " +
                         to_string(format) + " input has no assemblies (PDB and mmCIF only)");
-    // XYZRN names are free text (MSMS's convention is one of several), so they are not parsed
-    // into chains and residues.
-    if ((format == StructureFormat::Xyzr || format == StructureFormat::Xyzrn) &&
-        !(options.chains.empty() && options.select.empty()))
-        throw Error(ErrorCode::InvalidArgument,
-                    name + ": " + (options.chains.empty() ? "select" : "chains") +
-                        " needs chain, residue and atom names, which " + to_string(format) +
-                        " input does not carry (PDB, mmCIF and PQR do)");
     std::vector<Structure> out;
     out.push_back(format == StructureFormat::Pqr     ? detail::read_pqr(text, name)
                   : format == StructureFormat::Xyzrn ? detail::read_xyzrn(text, name)

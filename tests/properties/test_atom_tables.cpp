@@ -52,16 +52,15 @@ TEST(AtomTables, PqrChargesWin) {
 }
 
 TEST(AtomTables, MsmsNamesGiveResidues) {
-    Atoms atoms;
-    atoms.xyz = {0, 0, 0, 1, 0, 0};
-    atoms.radius = {1.5f, 1.5f};
-    atoms.element = {"", ""};
-    atoms.meta.resize(2);
-    atoms.meta[0].name = "A_23_x_LYS_NZ_Blue";
-    atoms.meta[1].name = "B_7_x_ASP_OD1_Red";
+    const Atoms atoms = read_structure_from_memory("0 0 0 1.5 1 A_23_x_LYS_NZ_Blue\n"
+                                                   "1 0 0 1.5 1 B_7_x_ASP_OD1_Red\n"
+                                                   "2 0 0 1.5 1 C_8_x_IOD_I_Red\n",
+                                                   "three.xyzrn")
+                            .atoms;
     const Charges c = atom_charges(atoms);
     EXPECT_FLOAT_EQ(c.q[0], 1.0f);
     EXPECT_FLOAT_EQ(c.q[1], -0.5f);
+    EXPECT_FLOAT_EQ(c.q[2], -1.0f);  // iodide
     const std::vector<AtomLabel> l = atom_labels(atoms);
     EXPECT_EQ(l[0].residue_name, "LYS");
     EXPECT_EQ(l[1].chain, "B");

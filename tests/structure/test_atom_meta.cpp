@@ -201,14 +201,24 @@ TEST(Xyzrn, NameIsTheLastFieldAndTheElementComesFromMsmsNames) {
     ASSERT_EQ(s.atoms.meta.size(), 5u);
     EXPECT_EQ(s.atoms.xyz, (std::vector<float>{1, 2, 3, 4, 5, 6, 7, 8, 9, 2, 2, 2, 3, 3, 3}));
     EXPECT_EQ(s.atoms.radius, (std::vector<float>{1.55f, 1.70f, 1.80f, 1.39f, 1.70f}));
-    std::vector<std::string> names;
-    for (const AtomMeta& m : s.atoms.meta) names.push_back(m.name);
-    EXPECT_EQ(names, (std::vector<std::string>{"A_23_x_LYS_NZ_Blue", "CA", "",
-                                               "B_301_x_ZN_ZN_Green", "_-4_B_ALA_CB_Green"}));
+    std::vector<std::string> fields, names, chains, residues;
+    for (const AtomMeta& m : s.atoms.meta) {
+        fields.push_back(m.xyzrn_name);
+        names.push_back(m.name);
+        chains.push_back(m.chain);
+        residues.push_back(m.residue_name);
+    }
+    EXPECT_EQ(fields, (std::vector<std::string>{"A_23_x_LYS_NZ_Blue", "CA", "",
+                                                "B_301_x_ZN_ZN_Green", "_-4_B_ALA_CB_Green"}));
+    // MSMS-style names give chain, residue and atom name; others stay whole as the atom name.
+    EXPECT_EQ(names, (std::vector<std::string>{"NZ", "CA", "", "ZN", "CB"}));
+    EXPECT_EQ(chains, (std::vector<std::string>{"A", "", "", "B", ""}));
+    EXPECT_EQ(residues, (std::vector<std::string>{"LYS", "", "", "ZN", "ALA"}));
     EXPECT_EQ(s.atoms.element, (std::vector<std::string>{"N", "", "", "ZN", "C"}));
-    // Only the name: the rest of the metadata keeps its defaults.
-    EXPECT_EQ(s.atoms.meta[0].chain, "");
-    EXPECT_EQ(s.atoms.meta[0].residue_number, 0);
+    EXPECT_EQ(s.atoms.meta[0].residue_number, 23);
+    EXPECT_EQ(s.atoms.meta[0].insertion_code, ' ');  // 'x': none
+    EXPECT_EQ(s.atoms.meta[4].residue_number, -4);
+    EXPECT_EQ(s.atoms.meta[4].insertion_code, 'B');
     EXPECT_EQ(s.info.warnings.size(), 1u);
 }
 
@@ -220,8 +230,17 @@ TEST(Xyzrn, CrambinFileHasThePdbAtomsAndMsmsNames) {
     EXPECT_EQ(s.atoms.xyz, pdb.atoms.xyz);
     EXPECT_EQ(s.atoms.radius, pdb.atoms.radius);
     EXPECT_EQ(s.atoms.element, pdb.atoms.element);
-    EXPECT_EQ(s.atoms.meta.front().name, "A_1_x_THR_N_Blue");
-    EXPECT_EQ(s.atoms.meta.back().name, "A_46_x_ASN_OXT_Red");
+    EXPECT_EQ(s.atoms.meta.front().xyzrn_name, "A_1_x_THR_N_Blue");
+    EXPECT_EQ(s.atoms.meta.back().xyzrn_name, "A_46_x_ASN_OXT_Red");
+    // The names carry what the PDB file says of each atom.
+    for (std::size_t i = 0; i < s.atoms.size(); ++i) {
+        ASSERT_EQ(s.atoms.meta[i].name, pdb.atoms.meta[i].name) << i;
+        ASSERT_EQ(s.atoms.meta[i].residue_name, pdb.atoms.meta[i].residue_name) << i;
+        ASSERT_EQ(s.atoms.meta[i].residue_number, pdb.atoms.meta[i].residue_number) << i;
+        ASSERT_EQ(s.atoms.meta[i].chain, pdb.atoms.meta[i].chain) << i;
+    }
+    // So selections work on it as on the PDB file.
+    EXPECT_EQ(match_selection(s.atoms, "A/*/CA"), match_selection(pdb.atoms, "A/*/CA"));
 }
 
 TEST(Xyzrn, DetectedByContentWhenTheLastFieldIsNotANumber) {
@@ -301,15 +320,18 @@ TEST(Chains, PqrNeedsChainIds) {
                         {"nochain.pqr", "chains Z requested", "no chain ids"}, o);
 }
 
-TEST(Chains, XyzrAndXyzrnCannotBeFilteredByChainOrSelection) {
+TEST(Chains, XyzrCannotBeFilteredByChainOrSelectionXyzrnWithMsmsNamesCan) {
     ReadOptions chains;
     chains.chains = {"A"};
     expect_error([&] { read_structure(data_path("1crn.xyzr"), chains); },
                  ErrorCode::InvalidArgument, {"1crn.xyzr: chains needs", "xyzr input"});
     ReadOptions select;
-    select.select = "A";
-    expect_error([&] { read_structure(data_path("1crn.xyzrn"), select); },
-                 ErrorCode::InvalidArgument, {"1crn.xyzrn: select needs", "xyzrn input"});
+    select.select = "A/*/CA";
+    EXPECT_EQ(read_structure(data_path("1crn.xyzrn"), select).atoms.size(), 46u);
+    EXPECT_EQ(read_structure(data_path("1crn.xyzrn"), chains).atoms.size(), 327u);
+    chains.chains = {"B"};
+    expect_error([&] { read_structure(data_path("1crn.xyzrn"), chains); },
+                 ErrorCode::InvalidArgument, {"chain B is not in", "chains present: A"});
 }
 
 // --- selections ---

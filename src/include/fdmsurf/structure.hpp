@@ -14,7 +14,9 @@ enum class StructureFormat { Auto, Pdb, Mmcif, Pqr, Xyzr, Xyzrn };
 
 // What the input file says of one atom. PDB and mmCIF fill every field (author chain and
 // residue numbering); PQR the fields its columns carry (no B-factor: 0, occupancy 1); XYZRN
-// only `name` (MSMS's whole name field, e.g. "A_23_x_LYS_NZ_Blue").
+// `xyzrn_name` (the whole name field, e.g. "A_23_x_LYS_NZ_Blue") and, when it follows MSMS's
+// chain_resnum_icode_resname_atomname[_colour] convention, chain, residue number, insertion
+// code ('x': none), residue and atom name from it (else `name` is the whole field).
 struct AtomMeta {
     std::int32_t serial = 0;          // atom serial number (PDB columns 7-11, _atom_site.id)
     std::string name;                 // atom name, "CA"
@@ -27,6 +29,7 @@ struct AtomMeta {
     float occupancy = 1.0f;
     float charge = 0.0f;      // e: PQR's partial charge; PDB/mmCIF: the formal charge column
     bool has_charge = false;  // true for PQR (partial charges a potential can use)
+    std::string xyzrn_name;   // XYZRN: the name field as read (MSMS files write it back)
 };
 
 // Atoms as plain arrays. xyz holds 3 floats per atom (Å); radius one float per atom (Å, > 0).
@@ -118,9 +121,16 @@ constexpr float kUnknownElementRadius = 1.80f;
 
 const char* to_string(StructureFormat format) noexcept;
 
-// 1 for each atom that gemmi's selection `expr` matches, 0 otherwise (size atoms.size()).
-// Throws Error(InvalidArgument) for bad syntax or atoms without metadata.
-std::vector<std::uint8_t> match_selection(const Atoms& atoms, const std::string& expr);
+// 1 for each atom that gemmi's selection `expr` matches, 0 otherwise (size atoms.size()), the
+// atoms taken as model `model` (a selection naming another model matches none). Evaluated on
+// the metadata: entity types come from gemmi's heuristic and there are no altlocs, so it can
+// differ from ReadOptions::select on PDB/mmCIF files there. Throws Error(InvalidArgument) for
+// bad syntax or atoms without metadata.
+std::vector<std::uint8_t> match_selection(const Atoms& atoms, const std::string& expr,
+                                          int model = 1);
+
+// Throws Error(InvalidArgument), with the syntax, when `expr` is not a gemmi selection.
+void check_selection(const std::string& expr);
 
 // The atoms whose `keep` entry is non-zero, in order, with their metadata.
 Atoms subset(const Atoms& atoms, const std::vector<std::uint8_t>& keep);
