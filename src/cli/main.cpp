@@ -126,6 +126,9 @@ int run_one(const CliOptions& options, Engine& engine, double init_ms, const std
         report.warnings.push_back(message);
     };
     const MeshFormat format = check_output(output);
+    if (format == MeshFormat::Obj && !options.surface.properties.scalars.empty())
+        warn("OBJ has no place for per-vertex atoms or --properties values: '" + output +
+             "' gets positions, normals and colours only (PLY keeps them all)");
 
     auto t = Clock::now();
     const Structure structure = read ? *read : read_structure(input, options.read);
@@ -137,7 +140,7 @@ int run_one(const CliOptions& options, Engine& engine, double init_ms, const std
     // --patch: the selection is checked before the surface is computed.
     std::vector<std::uint8_t> patch;
     if (!options.patch.empty()) {
-        patch = match_selection(structure.atoms, options.patch);
+        patch = match_selection(structure.atoms, options.patch, structure.info.model);
         report.patch_atoms = static_cast<std::size_t>(std::count(patch.begin(), patch.end(), 1));
         if (report.patch_atoms == 0)
             throw Error(ErrorCode::EmptySelection,
@@ -174,6 +177,10 @@ int run_one(const CliOptions& options, Engine& engine, double init_ms, const std
         t = Clock::now();
         result.mesh = extract_patch(result.mesh, patch);
         report.times.push_back({"patch", ms_since(t), false});
+        if (result.mesh.triangle_count() == 0)
+            warn("--patch '" + options.patch + "': its " + std::to_string(report.patch_atoms) +
+                 " atoms own no whole triangle of the surface (buried, or too few): the patch "
+                 "is empty");
     }
 
     t = Clock::now();
@@ -248,6 +255,7 @@ int run(const CliOptions& options) {
     make_output_folder(options.output);
     for (const std::string& input : options.inputs) check_output(output_of(options, input, 1));
     effective_cutoff(options.surface);
+    if (!options.patch.empty()) check_selection(options.patch, "--patch");
     if (options.inputs.size() == 1 && !options.all_models) {
         // Read before the device starts, so that bad input fails fast.
         auto t = Clock::now();

@@ -119,8 +119,15 @@ inline std::string text_summary(const RunReport& r) {
     if (m.closed_pieces != m.pieces) s += " (" + format_count(m.closed_pieces) + " closed)";
     s += ", closed manifold: ";
     if (!r.patch.empty()) {
-        s += "no, an open patch (" + format_count(m.boundary_edges) + " boundary edges) on the " +
-             format_count(r.patch_atoms) + " atoms of '" + r.patch + "'";
+        // A patch is open unless the selection holds whole pieces of the surface.
+        const std::string on = " on the " + format_count(r.patch_atoms) + " atoms of '" +
+                               r.patch + "'";
+        if (m.triangles == 0)
+            s += "no, an empty patch: no triangle has its three vertices" + on;
+        else if (r.closed_manifold)
+            s += "yes, a patch made of whole closed pieces" + on;
+        else
+            s += "no, an open patch (" + format_count(m.boundary_edges) + " boundary edges)" + on;
     } else if (r.closed_manifold) {
         s += "yes";
     } else {

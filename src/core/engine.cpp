@@ -396,7 +396,11 @@ Engine::Engine(Engine&&) noexcept = default;
 Engine& Engine::operator=(Engine&&) noexcept = default;
 
 SurfaceResult Engine::make_surface(const Atoms& atoms, const SurfaceOptions& options) {
+    std::vector<std::string> property_warnings =
+        detail::check_property_inputs(atoms, options.properties);
     SurfaceResult result = impl_->run(atoms, options);
+    result.warnings.insert(result.warnings.end(), property_warnings.begin(),
+                           property_warnings.end());
     const double t0 = detail::now_ms();
     const bool ses = options.surface == SurfaceKind::Ses;
     const bool fdm = ses && options.method == SesMethod::Fdm;

@@ -15,7 +15,7 @@ namespace fdmsurf {
 Mesh extract_patch(const Mesh& mesh, const std::vector<std::uint8_t>& selected) {
     detail::validate_mesh(mesh, "extract_patch", true);
     detail::validate_attributes(mesh, "extract_patch");
-    if (mesh.atoms.empty()) {
+    if (mesh.atoms.empty() && mesh.vertex_count() != 0) {
         throw Error(ErrorCode::InvalidArgument,
                     "extract_patch: the mesh has no per-vertex atoms (Mesh::atoms)");
     }

@@ -159,6 +159,11 @@ public:
         return encoding_ == Encoding::Ascii ? read_text() : read_binary(type);
     }
 
+    // The fewest bytes a value of `type` takes: its size, or in ASCII a digit and a separator.
+    std::size_t min_bytes(Type type) const {
+        return encoding_ == Encoding::Ascii ? 2 : type_size(type);
+    }
+
     // A list count or an index: a non-negative integer below `limit`.
     std::uint32_t read_count(Type type, double limit, const char* what) {
         const double value = read(type);
@@ -288,8 +293,13 @@ void read_vertices(const Element& element, BodyReader& body, Mesh& mesh, const s
         mesh.scalars.push_back({p.name, {}});
     }
 
-    // Every vertex takes at least 3 bytes: a lying count cannot make us allocate unbounded memory.
-    if (element.count > body.remaining() / 3) fail(path, "unexpected end of file");
+    // A lying count cannot make us allocate unbounded memory: each vertex takes at least the
+    // bytes of its properties (in ASCII the last separator may be missing).
+    std::size_t per_vertex = 0;
+    for (const Property& p : element.properties)
+        per_vertex += body.min_bytes(p.is_list ? p.count_type : p.type);
+    if (element.count > (body.remaining() + 1) / std::max<std::size_t>(per_vertex, 1))
+        fail(path, "unexpected end of file");
     mesh.positions.resize(3 * element.count);
     if (normals) mesh.normals.resize(3 * element.count);
     if (atom >= 0) mesh.atoms.resize(element.count);

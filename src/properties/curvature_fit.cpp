@@ -14,6 +14,10 @@ namespace fdmsurf::detail {
 
 namespace {
 
+// The neighbourhood of a vertex stops growing at this many vertices (a fine mesh with a large
+// fit radius); at the default radius of two grid spacings there are some 30 to 60.
+constexpr std::size_t kMaxNeighbours = 4096;
+
 using V3 = std::array<double, 3>;
 
 V3 vertex(const Mesh& m, std::size_t v) {
@@ -77,12 +81,16 @@ VertexCurvature fitted_curvature(const Mesh& mesh, float radius) {
     out.gaussian.assign(nv, 0.0f);
     out.shape_index.assign(nv, 0.0f);
     const double r2 = double(radius) * radius;
-    parallel_chunks((nv + 4095) / 4096, thread_count(), [&](std::size_t chunk) {
-        std::vector<std::uint32_t> ring, mark;
-        std::vector<std::uint32_t> seen;  // marked vertices, to unmark
-        std::vector<char> visited(0);
-        const std::size_t end = std::min(nv, (chunk + 1) * 4096);
-        for (std::size_t v = chunk * 4096; v < end; ++v) {
+    // A few chunks per thread, each with its own visit stamps (one word per vertex: a vertex is
+    // in the current neighbourhood when its stamp is the current vertex + 1).
+    const std::size_t chunks = std::clamp<std::size_t>(nv / 4096, 1, 4 * thread_count());
+    const std::size_t per_chunk = (nv + chunks - 1) / chunks;
+    parallel_chunks(chunks, thread_count(), [&](std::size_t chunk) {
+        std::vector<std::uint32_t> ring;
+        std::vector<std::uint32_t> stamp(nv, 0);
+        const std::size_t end = std::min(nv, (chunk + 1) * per_chunk);
+        for (std::size_t v = chunk * per_chunk; v < end; ++v) {
+            const std::uint32_t visit = static_cast<std::uint32_t>(v) + 1;
             const V3 p = vertex(mesh, v);
             const V3 n = unit({mesh.normals[3 * v], mesh.normals[3 * v + 1],
                                mesh.normals[3 * v + 2]});
@@ -91,13 +99,15 @@ VertexCurvature fitted_curvature(const Mesh& mesh, float radius) {
             const V3 u = unit(cross(n, helper)), w = cross(n, u);
             // Neighbours by breadth-first search through the mesh, within `radius` of p.
             ring.assign(1, static_cast<std::uint32_t>(v));
+            stamp[v] = visit;
             std::array<std::array<double, 6>, 5> a{};
             std::size_t used = 0;
-            for (std::size_t head = 0; head < ring.size() && ring.size() < 400; ++head) {
+            for (std::size_t head = 0; head < ring.size() && ring.size() < kMaxNeighbours; ++head) {
                 const std::uint32_t q = ring[head];
                 for (std::uint32_t k = count[q]; k < count[q + 1]; ++k) {
                     const std::uint32_t nb = adj[k];
-                    if (nb == v || std::find(ring.begin(), ring.end(), nb) != ring.end()) continue;
+                    if (stamp[nb] == visit) continue;
+                    stamp[nb] = visit;  // near or far, looked at once
                     const V3 d0 = vertex(mesh, nb);
                     const V3 d{d0[0] - p[0], d0[1] - p[1], d0[2] - p[2]};
                     if (dot(d, d) > r2) continue;

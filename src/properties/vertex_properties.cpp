@@ -55,6 +55,31 @@ void add_device_times(SurfaceResult& r, const Commands& cmds, const char* host, 
 
 }  // namespace
 
+std::vector<std::string> check_property_inputs(const Atoms& atoms, const PropertyOptions& po) {
+    const bool bfactor = po.color == ColorScheme::BFactor || wants(po, VertexProperty::BFactor);
+    const bool need_meta = bfactor || po.color == ColorScheme::Chain ||
+                           po.color == ColorScheme::Residue ||
+                           po.color == ColorScheme::Hydrophobicity ||
+                           wants(po, VertexProperty::Hydrophobicity);
+    if (need_meta && atoms.meta.size() != atoms.size())
+        throw Error(ErrorCode::InvalidArgument,
+                    "colours and properties by chain, residue, hydrophobicity or B-factor need "
+                    "atom records (PDB, mmCIF, PQR or XYZRN input), not bare XYZR atoms");
+    std::vector<std::string> warnings;
+    if (po.color == ColorScheme::Element &&
+        std::all_of(atoms.element.begin(), atoms.element.end(),
+                    [](const std::string& e) { return e.empty(); }))
+        warnings.push_back(
+            "colour by element: the atoms carry no elements (XYZR input?); every atom gets the "
+            "colour of an unknown element");
+    if (bfactor && std::all_of(atoms.meta.begin(), atoms.meta.end(),
+                               [](const AtomMeta& m) { return m.b_factor == 0.0f; }))
+        warnings.push_back(
+            "B-factor: every atom's B-factor is 0 (PQR and XYZRN carry none); the B-factor "
+            "colours and values are uniform");
+    return warnings;
+}
+
 float vertex_radius_add(const SurfaceOptions& options) {
     return options.surface == SurfaceKind::Sas ? options.probe : 0.0f;
 }
@@ -64,16 +89,6 @@ void add_vertex_properties(VertexPropertiesPass& pass, Commands& cmds, const Ato
     const PropertyOptions& po = options.properties;
     Mesh& mesh = result.mesh;
     const std::size_t nv = mesh.vertex_count();
-    const bool need_meta = po.color == ColorScheme::Chain || po.color == ColorScheme::Residue ||
-                           po.color == ColorScheme::Hydrophobicity ||
-                           po.color == ColorScheme::BFactor ||
-                           wants(po, VertexProperty::Hydrophobicity) ||
-                           wants(po, VertexProperty::BFactor);
-    if (need_meta && atoms.meta.size() != atoms.size())
-        throw Error(ErrorCode::InvalidArgument,
-                    "colours and properties by chain, residue, hydrophobicity or B-factor need "
-                    "atom records (PDB, mmCIF, PQR or XYZRN input), not bare XYZR atoms");
-
     // Per-atom words the vertex pass copies to each vertex: the colour, then the per-atom
     // scalars (float bits) in the order asked for.
     const bool atom_colored = po.color != ColorScheme::None && po.color != ColorScheme::Coulombic;

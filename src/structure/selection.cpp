@@ -186,7 +186,9 @@ std::vector<std::uint8_t> match_selection(const Atoms& atoms, const std::string&
     return detail::selection_mask(atoms, expr, model, "selection");
 }
 
-void check_selection(const std::string& expr) { detail::parse(expr, "selection"); }
+void check_selection(const std::string& expr, const std::string& option) {
+    detail::parse(expr, option);
+}
 
 Atoms subset(const Atoms& atoms, const std::vector<std::uint8_t>& keep) {
     if (keep.size() != atoms.size())

@@ -98,8 +98,24 @@ TEST_F(CliPropertyRuns, BadSchemeOrEmptyPatchWritesNothing) {
     r = run("1crn.xyzr", "-o " + out.string() + " --color residue");
     EXPECT_EQ(r.exit_code, 2) << r.err;
     EXPECT_TRUE(contains(r.err, "not bare XYZR atoms")) << r.err;
+    r = run("1crn.pdb", "-o " + out.string() + " --patch '('");
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_TRUE(contains(r.err, "--patch")) << r.err;
     EXPECT_FALSE(fs::exists(out));
     EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 1);
+}
+
+TEST_F(CliPropertyRuns, WarnsWhereAPropertyIsUniformOrAFormatDropsIt) {
+    const fs::path ply = dir_ / "x.ply", obj = dir_ / "x.obj";
+    PropRun r = run("1crn.xyzr", "-o " + ply.string() + " --color element");
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(contains(r.err, "the atoms carry no elements")) << r.err;
+    r = run("1crn.xyzrn", "-o " + ply.string() + " --properties bfactor");
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(contains(r.err, "every atom's B-factor is 0")) << r.err;
+    r = run("1crn.pdb", "-o " + obj.string() + " --properties coulombic");
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(contains(r.err, "OBJ has no place for per-vertex atoms")) << r.err;
 }
 
 TEST_F(CliPropertyRuns, PatchOfOneChainIsOpenAndColoured) {

@@ -129,8 +129,9 @@ const char* to_string(StructureFormat format) noexcept;
 std::vector<std::uint8_t> match_selection(const Atoms& atoms, const std::string& expr,
                                           int model = 1);
 
-// Throws Error(InvalidArgument), with the syntax, when `expr` is not a gemmi selection.
-void check_selection(const std::string& expr);
+// Throws Error(InvalidArgument), with the syntax, when `expr` is not a gemmi selection; the
+// message starts with `option` (the option that gave it, "--patch").
+void check_selection(const std::string& expr, const std::string& option = "selection");
 
 // The atoms whose `keep` entry is non-zero, in order, with their metadata.
 Atoms subset(const Atoms& atoms, const std::vector<std::uint8_t>& keep);
