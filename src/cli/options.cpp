@@ -271,13 +271,21 @@ void parse_color(std::string_view option, const std::string& text, PropertyOptio
                            "or #RRGGBB");
 }
 
+// The items of a comma-separated list, empty ones included ("a,,b" has three).
+std::vector<std::string> split_commas(const std::string& text) {
+    std::vector<std::string> items;
+    for (std::size_t start = 0;;) {
+        const std::size_t comma = text.find(',', start);
+        items.push_back(text.substr(start, comma == std::string::npos ? comma : comma - start));
+        if (comma == std::string::npos) return items;
+        start = comma + 1;
+    }
+}
+
 // --properties a,b: each once, in the order given.
 std::vector<VertexProperty> parse_properties(std::string_view option, const std::string& text) {
     std::vector<VertexProperty> out;
-    for (std::size_t start = 0;;) {
-        const std::size_t comma = text.find(',', start);
-        const std::string name =
-            text.substr(start, comma == std::string::npos ? comma : comma - start);
+    for (const std::string& name : split_commas(text)) {
         const VertexProperty p = parse_choice(
             option, name, kProperties, "vertex property",
             "a comma-separated list of coulombic, hydrophobicity, bfactor, mean_curvature, "
@@ -285,9 +293,8 @@ std::vector<VertexProperty> parse_properties(std::string_view option, const std:
         if (std::find(out.begin(), out.end(), p) != out.end())
             fail("option " + std::string(option) + ": '" + name + "' is listed twice");
         out.push_back(p);
-        if (comma == std::string::npos) return out;
-        start = comma + 1;
     }
+    return out;
 }
 
 constexpr std::array<std::pair<std::string_view, bool>, 2> kStats{
@@ -296,17 +303,14 @@ constexpr std::array<std::pair<std::string_view, bool>, 2> kStats{
 // --chains A,B: author chain ids, case-sensitive, none empty.
 std::vector<std::string> parse_chains(std::string_view option, const std::string& text) {
     std::vector<std::string> chains;
-    for (std::size_t start = 0;;) {
-        const std::size_t comma = text.find(',', start);
-        std::string chain = text.substr(start, comma == std::string::npos ? comma : comma - start);
+    for (std::string& chain : split_commas(text)) {
         if (chain.empty() || chain.find_first_of(" \t") != std::string::npos)
             fail("option " + std::string(option) + ": '" + text +
                  "' is not a comma-separated list of chain ids (e.g. A or A,B)");
         if (std::find(chains.begin(), chains.end(), chain) == chains.end())
             chains.push_back(std::move(chain));
-        if (comma == std::string::npos) return chains;
-        start = comma + 1;
     }
+    return chains;
 }
 
 void apply_value(CliOptions& o, const OptionSpec& spec, std::string_view name,

@@ -428,6 +428,10 @@ SurfaceResult Engine::make_surface(const Atoms& atoms, const SurfaceOptions& opt
 }
 
 DeviceSurfaceResult Engine::make_device_surface(const Atoms& atoms, const SurfaceOptions& options) {
+    if (options.properties.color != ColorScheme::None || !options.properties.scalars.empty())
+        throw Error(ErrorCode::InvalidArgument,
+                    "make_device_surface: colours and per-vertex properties are computed on the "
+                    "host mesh only (make_surface); ask for none here");
     detail::GpuMesh gpu;
     SurfaceResult host = impl_->run(atoms, options, &gpu);
     DeviceSurfaceResult out;

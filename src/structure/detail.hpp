@@ -95,6 +95,11 @@ std::vector<std::uint8_t> selection_mask(const Atoms& atoms, const std::string& 
                                          const std::string& context);
 // "A, B, (blank)": chain names for messages.
 std::string chain_list(const std::vector<std::string>& chains);
+// Throws Error(InvalidArgument) "NAME: chain(s) X is/are not in WHERE; chains present: ..."
+// when some of `requested` are not in `present`.
+void check_chains_present(const std::vector<std::string>& requested,
+                          const std::vector<std::string>& present, const std::string& name,
+                          const std::string& where);
 // Applies options.chains, then options.select, to atoms read line by line (PQR, XYZRN, XYZR):
 // throws Error(InvalidArgument) when the input lacks what they need (chain ids, metadata), and
 // Error(EmptySelection) when nothing is left.

@@ -311,14 +311,7 @@ void check_chains(const gemmi::Model& model, const std::vector<std::string>& cha
     std::vector<std::string> present;
     for (const gemmi::Chain& chain : model.chains)
         if (!gemmi::in_vector(chain.name, present)) present.push_back(chain.name);
-    std::vector<std::string> missing;
-    for (const std::string& c : chains)
-        if (!gemmi::in_vector(c, present)) missing.push_back(c);
-    if (missing.empty()) return;
-    throw Error(ErrorCode::InvalidArgument,
-                name + ": chain" + (missing.size() == 1 ? " " : "s ") + chain_list(missing) +
-                    (missing.size() == 1 ? " is" : " are") + " not in " + what_was_read(info) +
-                    "; chains present: " + chain_list(present));
+    check_chains_present(chains, present, name, what_was_read(info));
 }
 
 // Applies the selection rules to one model; see docs/structure.md for the order of counting.

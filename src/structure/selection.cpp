@@ -118,6 +118,19 @@ std::string chain_list(const std::vector<std::string>& chains) {
     return list;
 }
 
+void check_chains_present(const std::vector<std::string>& requested,
+                          const std::vector<std::string>& present, const std::string& name,
+                          const std::string& where) {
+    std::vector<std::string> missing;
+    for (const std::string& c : requested)
+        if (std::find(present.begin(), present.end(), c) == present.end()) missing.push_back(c);
+    if (missing.empty()) return;
+    throw Error(ErrorCode::InvalidArgument,
+                name + ": chain" + (missing.size() == 1 ? " " : "s ") + chain_list(missing) +
+                    (missing.size() == 1 ? " is" : " are") + " not in " + where +
+                    "; chains present: " + chain_list(present));
+}
+
 void filter_read_atoms(Structure& s, const ReadOptions& options, const std::string& name) {
     if (options.chains.empty() && options.select.empty()) return;
     Atoms& atoms = s.atoms;
@@ -138,14 +151,7 @@ void filter_read_atoms(Structure& s, const ReadOptions& options, const std::stri
             throw Error(ErrorCode::InvalidArgument,
                         name + ": chains " + chain_list(options.chains) + " requested, but the " +
                             format + " file has no chain ids");
-        std::vector<std::string> missing;
-        for (const std::string& c : options.chains)
-            if (std::find(present.begin(), present.end(), c) == present.end()) missing.push_back(c);
-        if (!missing.empty())
-            throw Error(ErrorCode::InvalidArgument,
-                        name + ": chain" + (missing.size() == 1 ? " " : "s ") +
-                            chain_list(missing) + (missing.size() == 1 ? " is" : " are") +
-                            " not in the file; chains present: " + chain_list(present));
+        check_chains_present(options.chains, present, name, "the file");
         std::size_t other = 0;
         for (std::size_t i = 0; i < atoms.size(); ++i) {
             const std::string& c = atoms.meta[i].chain;

@@ -186,6 +186,10 @@ TEST(VulkanInterop, SurfaceOnTheApplicationsDeviceStaysInDeviceBuffers) {
                 ASSERT_EQ(f[6 * k + c], host.mesh.positions[3 * k + c]);
                 ASSERT_EQ(f[6 * k + 3 + c], host.mesh.normals[3 * k + c]);
             }
+        // Colours and properties need the host mesh: refused here rather than left out.
+        fdmsurf::SurfaceOptions colored = options;
+        colored.properties.color = fdmsurf::ColorScheme::Chain;
+        EXPECT_THROW(engine.make_device_surface(s.atoms, colored), fdmsurf::Error);
     }  // engine and device mesh released before the application's device
     for (const std::string& m : r.messages) ADD_FAILURE() << "validation: " << m;
 }

@@ -132,9 +132,9 @@ TEST_F(VertexProperties, CoulombicEqualsAllPairsReference) {
     }
 }
 
-TEST_F(VertexProperties, CoulombicWithEveryAtomChargedTakesTheOverflowPath) {
-    // PQR-like charges on every atom of 4HHB: a cell's near sites (about 1,000) overflow the
-    // shared list, and the points read them from the site list instead.
+TEST_F(VertexProperties, CoulombicWithEveryAtomChargedReadsNearSitesInBatches) {
+    // PQR-like charges on every atom of 4HHB: a cell's near sites (about 1,000) exceed one
+    // shared-memory batch (512), so the points sum them over several batches.
     Atoms atoms = read_structure(data_path("4hhb.pdb.gz")).atoms;
     std::vector<float> q(atoms.size());
     for (std::size_t i = 0; i < atoms.size(); ++i) {

@@ -13,7 +13,7 @@ namespace fdmsurf {
 enum class ColorScheme {
     None,            // no colours
     Uniform,         // PropertyOptions::rgb everywhere
-    Chain,           // one colour per chain (ChimeraX-like pastel palette, by order of appearance)
+    Chain,           // one colour per chain (PyMOL-like cycle of light colours, by order of appearance)
     Element,         // CPK/Jmol element colours
     Residue,         // one colour per residue type (amino acids by class, nucleotides)
     Hydrophobicity,  // Kyte-Doolittle per residue: blue (hydrophilic) - white - orange (-4.5..4.5)

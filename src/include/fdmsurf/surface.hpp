@@ -140,7 +140,9 @@ public:
 
     // The same surface, left on the device for a renderer (fdmsurf/vulkan_interop.hpp). Small
     // cavities are not removed on this path (that needs the mesh on the host). With refine > 0
-    // the mesh is read back, refined on the host and uploaded.
+    // the mesh is read back, refined on the host and uploaded. Per-vertex atoms, colours and
+    // properties are not computed on this path: options.properties must ask for none
+    // (Error InvalidArgument otherwise).
     DeviceSurfaceResult make_device_surface(const Atoms& atoms, const SurfaceOptions& options = {});
 
     const DeviceInfo& device() const;
