@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "cli/json.hpp"
+#include "cli/messages.hpp"
 #include "cli/options.hpp"
 #include "cli/summary.hpp"
 #include "fdmsurf/compare.hpp"
@@ -46,13 +47,6 @@ std::string signed_fixed(double value, int decimals) {
 
 std::string percent(double fraction, int decimals) {
     return signed_fixed(100.0 * fraction, decimals) + " %";
-}
-
-std::string one_line(std::string text) {
-    for (char& c : text) {
-        if (c == '\n' || c == '\r') c = ' ';
-    }
-    return text;
 }
 
 double ms_between(std::chrono::steady_clock::time_point a,
@@ -198,9 +192,7 @@ std::string compare_json(const CompareReport& report) {
 }
 
 int compare_command(const std::vector<std::string>& args) {
-    auto error = [](const std::string& message) {
-        std::fprintf(stderr, "fdmsurf: error: %s\n", one_line(message).c_str());
-    };
+    auto error = [](const std::string& message) { print_error(message); };
     try {
         const CompareCliOptions options = parse_compare_args(args);
         if (options.help) {

@@ -10,6 +10,8 @@
 #include <vector>
 
 #include "cli/compare_command.hpp"
+#include "cli/messages.hpp"
+#include "cli/msms_command.hpp"
 #include "cli/options.hpp"
 #include "cli/summary.hpp"
 #include "fdmsurf/fdmsurf.hpp"
@@ -22,22 +24,6 @@ using Clock = std::chrono::steady_clock;
 
 double ms_since(Clock::time_point start) {
     return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-// Messages go to stderr one per line, whatever the library put in them.
-std::string one_line(std::string text) {
-    for (char& c : text) {
-        if (c == '\n' || c == '\r') c = ' ';
-    }
-    return text;
-}
-
-void print_error(const std::string& message) {
-    std::fprintf(stderr, "fdmsurf: error: %s\n", one_line(message).c_str());
-}
-
-void print_warning(const std::string& message) {
-    std::fprintf(stderr, "fdmsurf: warning: %s\n", one_line(message).c_str());
 }
 
 std::string format_bytes(std::uint64_t bytes) {
@@ -339,6 +325,11 @@ int run(const CliOptions& options) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    // Started as `msms` (a symlink): MSMS's command line.
+    if (argc >= 1 && std::filesystem::path(argv[0]).filename() == "msms")
+        return msms_command(std::vector<std::string>(argv + 1, argv + argc));
+    if (argc >= 2 && std::string(argv[1]) == "msms")
+        return msms_command(std::vector<std::string>(argv + 2, argv + argc));
     if (argc >= 2 && std::string(argv[1]) == "compare") {
         return compare_command(std::vector<std::string>(argv + 2, argv + argc));
     }

@@ -1,0 +1,322 @@
+// `fdmsurf msms`: MSMS's command line (Sanner's man page, v2.6) over fdmsurf's engine.
+#include "cli/msms_command.hpp"
+
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <new>
+#include <string_view>
+
+#include "cli/messages.hpp"
+#include "cli/options.hpp"
+#include "cli/summary.hpp"
+#include "fdmsurf/areas.hpp"
+#include "fdmsurf/error.hpp"
+#include "fdmsurf/msms.hpp"
+#include "fdmsurf/structure.hpp"
+
+namespace fdmsurf::cli {
+namespace {
+
+[[noreturn]] void usage_error(const std::string& message) {
+    throw Error(ErrorCode::InvalidArgument, "msms: " + message + " (see fdmsurf msms -help)");
+}
+
+// MSMS's options in MSMS's order (an abbreviation takes the first that it starts), then
+// fdmsurf's own. `values`: how many values follow (-1: -one_cavity's count and atoms).
+struct MsmsOption {
+    std::string_view name;
+    int values;
+};
+constexpr std::array<MsmsOption, 22> kOptions{{
+    {"if", 1},           {"of", 1},           {"af", 1},           {"probe_radius", 1},
+    {"density", 1},      {"hdensity", 1},     {"no_area", 0},      {"surface", 1},
+    {"socket", 1},       {"sinetd", 0},       {"noh", 0},          {"no_rest_on_pbr", 0},
+    {"no_rest", 0},      {"free_vertices", 0}, {"all_components", 0}, {"one_cavity", -1},
+    {"no_header", 0},    {"spacing", 1},      {"method", 1},       {"device", 1},
+    {"validation", 0},   {"help", 0},
+}};
+
+const MsmsOption& find_option(const std::string& arg) {
+    if (arg.size() < 2 || arg[0] != '-') usage_error("unexpected argument '" + arg + "'");
+    const std::string_view name = std::string_view(arg).substr(arg[1] == '-' ? 2 : 1);
+    for (const MsmsOption& o : kOptions)  // an exact name first: -no_rest is not -no_rest_on_pbr
+        if (o.name == name) return o;
+    for (const MsmsOption& o : kOptions)
+        if (!name.empty() && o.name.starts_with(name)) return o;
+    std::string list;
+    for (const MsmsOption& o : kOptions) list += (list.empty() ? "-" : ", -") + std::string(o.name);
+    usage_error("unknown option '" + arg + "'; the options are " + list);
+}
+
+float number(const std::string& option, const std::string& text, float low, bool low_open) {
+    float value = 0.0f;
+    const char* first = text.data();
+    if (!text.empty() && text.front() == '+') ++first;
+    const auto [end, ec] = std::from_chars(first, text.data() + text.size(), value);
+    if (text.empty() || ec != std::errc() || end != text.data() + text.size() ||
+        !std::isfinite(value))
+        usage_error(option + " needs a number, not '" + text + "'");
+    if (low_open ? !(value > low) : !(value >= low))
+        usage_error(option + " must be " + (low_open ? "> " : ">= ") + format_general(low) +
+                    " (got " + text + ")");
+    return value;
+}
+
+std::string folder_error(const std::string& path) {
+    namespace fs = std::filesystem;
+    const fs::path parent = fs::path(path).parent_path();
+    std::error_code ec;
+    if (!parent.empty() && !fs::is_directory(parent, ec))
+        return "cannot write '" + path + "': '" + parent.string() + "' is not a folder";
+    return {};
+}
+
+}  // namespace
+
+float spacing_for_density(float density) {
+    // Marching cubes on fdmsurf's grids puts 1.50 ± 0.01 vertices per Å² times 1/h² on a
+    // protein's SES (1CRN, probe 1.5, h from 0.3 to 1 Å): h = sqrt(1.4 / D) gives at least D.
+    // Kept between 0.2 Å (finer costs memory, not accuracy) and 1 Å (coarser loses detail).
+    return std::clamp(std::sqrt(1.4f / density), 0.2f, 1.0f);
+}
+
+MsmsOptions parse_msms_args(const std::vector<std::string>& args) {
+    MsmsOptions o;
+    for (std::size_t i = 0; i < args.size(); ++i) {
+        const std::string& arg = args[i];
+        if (arg == "-h" || arg == "--help" || arg == "-help") {
+            o.help = true;
+            continue;
+        }
+        const MsmsOption& opt = find_option(arg);
+        std::string name(1, '-');  // (not "-" + name: GCC 12's false -Wrestrict)
+        name += opt.name;
+        auto value = [&]() -> const std::string& {
+            if (i + 1 >= args.size() || (args[i + 1].size() > 1 && args[i + 1][0] == '-' &&
+                                         !std::isdigit(static_cast<unsigned char>(args[i + 1][1])) &&
+                                         args[i + 1][1] != '.'))
+                usage_error(name + " needs a value");
+            return args[++i];
+        };
+        if (opt.name == "if") {
+            o.input = value();
+        } else if (opt.name == "of") {
+            o.output_base = value();
+        } else if (opt.name == "af") {
+            o.area_base = value();
+        } else if (opt.name == "probe_radius") {
+            o.probe = number(name, value(), 0.0f, true);
+        } else if (opt.name == "density") {
+            o.density = number(name, value(), 0.0f, true);
+            o.density_given = true;
+        } else if (opt.name == "hdensity") {
+            o.hdensity = number(name, value(), 0.0f, true);
+            o.hdensity_given = true;
+        } else if (opt.name == "no_area") {
+            o.areas = false;
+        } else if (opt.name == "surface") {
+            const std::string& kind = value();
+            if (kind == "tses" || kind == "ses")
+                o.triangulate = true;
+            else if (kind == "ases")
+                o.triangulate = false;
+            else
+                usage_error("-surface takes tses, ses or ases, not '" + kind + "'");
+        } else if (opt.name == "socket" || opt.name == "sinetd") {
+            usage_error(name + ": MSMS's server mode is not supported; give -if FILE");
+        } else if (opt.name == "one_cavity") {
+            const std::string count = value();
+            const float n = number(name, count, 1.0f, false);
+            for (int k = 0; k < int(n); ++k) value();
+            o.warnings.push_back("-one_cavity is ignored: fdmsurf writes every cavity with "
+                                 "-all_components, or none");
+        } else if (opt.name == "noh" || opt.name == "no_rest_on_pbr" || opt.name == "no_rest" ||
+                   opt.name == "free_vertices") {
+            o.warnings.push_back(name + " is ignored: it has no meaning for fdmsurf's grid "
+                                        "surface");
+        } else if (opt.name == "all_components") {
+            o.all_components = true;
+        } else if (opt.name == "no_header") {
+            o.header = false;
+        } else if (opt.name == "spacing") {
+            o.spacing = number(name, value(), 0.0f, true);
+        } else if (opt.name == "method") {
+            const std::string& m = value();
+            if (m == "edt")
+                o.method = SesMethod::Edt;
+            else if (m == "fdm")
+                o.method = SesMethod::Fdm;
+            else
+                usage_error("-method takes edt or fdm, not '" + m + "'");
+        } else if (opt.name == "device") {
+            o.device = value();
+        } else if (opt.name == "validation") {
+            o.validation = true;
+        } else if (opt.name == "help") {
+            o.help = true;
+        }
+    }
+    if (!o.help && o.input.empty()) usage_error("-if FILE is required (xyzr or xyzrn spheres)");
+    return o;
+}
+
+std::string msms_usage_text() {
+    return R"(usage: fdmsurf msms -if FILE [-of BASE] [-af BASE] [-probe_radius R] [-density D]
+                    [-hdensity D] [-no_area] [-surface tses|ses|ases] [-all_components]
+                    [-no_header] [-spacing H] [-method edt|fdm] [-device D] [-validation]
+       (also as a program named msms: a symlink to fdmsurf)
+
+MSMS's command line over fdmsurf: the solvent-excluded surface of the spheres of FILE (xyzr:
+"x y z r" per line; xyzrn: "x y z r n name"), written in MSMS's files. Options may be
+abbreviated as MSMS allows (-probe for -probe_radius, -de for -density).
+
+  -if FILE            spheres, xyzr or xyzrn (names kept and written back)
+  -of BASE            BASE.vert and BASE.face (none without -of); with -all_components each
+                      cavity k in BASE_k.vert and BASE_k.face
+  -af BASE            BASE.area: per atom, SES area (from the mesh) and SAS area (Shrake-Rupley)
+  -probe_radius R     probe radius, Å (default 1.5, as MSMS)
+  -density D          vertices per Å² (default 1): the grid spacing is sqrt(1.4 / D) Å, kept
+  -hdensity D         within 0.2-1 Å; the larger of the two densities given counts
+  -no_area            no areas (no .area file)
+  -surface KIND       tses or ses (default): triangulated; ases: areas only, no .vert/.face
+  -all_components     the cavities too (default: the outer surface only, as MSMS)
+  -no_header          no header lines in the files
+fdmsurf's own:
+  -spacing H          grid spacing, Å (overrides the densities)
+  -method M           edt (default): the exact SES, as MSMS; fdm: fdmsurf's filtered density
+  -device D           Vulkan device index or name part; -validation: the validation layer
+Ignored with a warning: -noh, -no_rest_on_pbr, -no_rest, -free_vertices, -one_cavity.
+Refused: -socket, -sinetd (server mode).
+
+Vertex lines: x y z nx ny nz 0 ATOM T NAME (ATOM 1-based; T 1 contact, 2 toric, 3 re-entrant);
+face lines: v1 v2 v3 T 0 (1-based). See docs/formats.md.
+)";
+}
+
+int msms_command(const std::vector<std::string>& args) {
+    using Clock = std::chrono::steady_clock;
+    const auto start = Clock::now();
+    try {
+        const MsmsOptions o = parse_msms_args(args);
+        if (o.help) {
+            std::fputs(msms_usage_text().c_str(), stdout);
+            return kExitOk;
+        }
+        for (const std::string& w : o.warnings) print_warning(w);
+        const bool write_surface = !o.output_base.empty() && o.triangulate;
+        const bool write_areas = !o.area_base.empty() && o.areas;
+        if (!o.area_base.empty() && !o.areas)
+            print_warning("-no_area: no area file is written for -af " + o.area_base);
+        if (!o.output_base.empty() && !o.triangulate)
+            print_warning("-surface ases: no .vert/.face files are written for -of " +
+                          o.output_base);
+        for (const std::string& base : {o.output_base, o.area_base})
+            if (!base.empty())
+                if (const std::string e = folder_error(base); !e.empty())
+                    throw Error(ErrorCode::Io, e);
+
+        // Every sphere of the file, in order: MSMS's atom numbers count lines.
+        ReadOptions read;
+        read.format = StructureFormat::Xyzrn;
+        read.keep_hydrogens = read.keep_waters = read.keep_ligands = true;
+        const Structure s = read_structure(o.input, read);
+        if (s.atoms.size() != s.info.atoms_in_file)
+            throw Error(ErrorCode::Format,
+                        o.input + ": " + std::to_string(s.info.atoms_in_file - s.atoms.size()) +
+                            " sphere(s) of radius 0 were left out, which would shift MSMS's "
+                            "atom numbers: give them a radius or remove them");
+
+        float density = o.density;
+        if (o.hdensity_given) density = o.density_given ? std::max(o.density, o.hdensity)
+                                                         : o.hdensity;
+        SurfaceOptions surface;
+        surface.surface = SurfaceKind::Ses;
+        surface.method = o.method;
+        surface.probe = o.probe;
+        surface.spacing = o.spacing > 0.0f ? o.spacing : spacing_for_density(density);
+        surface.min_cavity_volume = 0.0f;  // cavities split off below
+        EngineOptions eo;
+        eo.device = o.device;
+        eo.validation = o.validation;
+        Engine engine(eo);
+        SurfaceResult result = engine.make_surface(s.atoms, surface);
+        for (const std::string& w : result.warnings) print_warning(w);
+        if (o.validation) {
+            const std::vector<std::string> messages = engine.take_validation_messages();
+            for (const std::string& m : messages) print_warning("validation: " + m);
+            if (!messages.empty()) {
+                print_error("the Vulkan validation layer reported messages; no output written");
+                return kExitValidation;
+            }
+        }
+
+        std::vector<Mesh> components = msms_components(result.mesh);
+        if (!o.all_components) components.resize(1);
+        const float tolerance = 0.1f * surface.spacing;
+        MsmsFileOptions fo;
+        fo.header = o.header;
+        fo.source = o.input;
+        fo.density = density;
+        fo.probe = o.probe;
+        std::size_t vertices = 0, triangles = 0;
+        double ses_total = 0.0;
+        std::vector<double> ses(s.atoms.size(), 0.0);
+        for (std::size_t c = 0; c < components.size(); ++c) {
+            const Mesh& mesh = components[c];
+            vertices += mesh.vertex_count();
+            triangles += mesh.triangle_count();
+            const std::vector<double> a = atom_mesh_areas(mesh, s.atoms.size());
+            for (std::size_t i = 0; i < a.size(); ++i) {
+                ses[i] += a[i];
+                ses_total += a[i];
+            }
+            if (write_surface)
+                write_msms_surface(mesh, s.atoms,
+                                   ses_vertex_parts(mesh, s.atoms, o.probe, tolerance),
+                                   c == 0 ? o.output_base
+                                          : o.output_base + "_" + std::to_string(c),
+                                   fo);
+        }
+        double sas_total = 0.0;
+        if (o.areas) {
+            const std::vector<double> sas = atom_sas_areas(s.atoms, o.probe);
+            for (double a : sas) sas_total += a;
+            if (write_areas) write_msms_areas(s.atoms, ses, sas, o.area_base + ".area", fo);
+        }
+
+        const double ms =
+            std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+        std::printf("fdmsurf msms: %s, %s spheres, probe %s Å, spacing %s Å (%s)\n",
+                    o.input.c_str(), format_count(s.atoms.size()).c_str(),
+                    format_general(o.probe).c_str(), format_general(surface.spacing).c_str(),
+                    o.method == SesMethod::Edt ? "exact SES" : "fdm");
+        std::printf("  surface    %s vertices, %s triangles, %zu component(s)%s\n",
+                    format_count(vertices).c_str(), format_count(triangles).c_str(),
+                    components.size(),
+                    write_surface ? (", written to " + o.output_base + ".vert/.face").c_str()
+                                  : "");
+        if (o.areas)
+            std::printf("  areas      SES %s Å², SAS %s Å²%s\n", format_grouped(ses_total, 1).c_str(),
+                        format_grouped(sas_total, 1).c_str(),
+                        write_areas ? (", per atom in " + o.area_base + ".area").c_str() : "");
+        std::printf("  time       %s ms on %s\n", format_grouped(ms, 0).c_str(),
+                    engine.device().name.c_str());
+        return kExitOk;
+    } catch (const Error& e) {
+        print_error(e.what());
+        return exit_code_for(e.code());
+    } catch (const std::bad_alloc&) {
+        print_error("out of host memory");
+        return kExitFailure;
+    } catch (const std::exception& e) {
+        print_error(e.what());
+        return kExitFailure;
+    }
+}
+
+}  // namespace fdmsurf::cli
