@@ -240,10 +240,26 @@ Mesh parse_msms(std::string_view vert_text, const std::string& vert_path,
     }
     std::vector<std::string_view> words;
     mesh.positions.reserve(3 * vertices);
+    // Normals (fields 3-5) and the 1-based atom (field 7) are kept when every line has them.
+    bool normals = true, atoms = true;
     for (std::uint64_t i = 0; i < vertices; ++i) {
         if (!vlines.next_words(words)) fail(vert_path, "file ends inside its vertices");
         add_position(mesh, words, vert_path, vlines.number());
+        normals = normals && words.size() >= 6;
+        atoms = atoms && words.size() >= 8;
+        for (std::size_t k = 3; normals && k < 6; ++k)
+            mesh.normals.push_back(
+                static_cast<float>(parse_double(words[k], vert_path, vlines.number())));
+        if (atoms) {  // a field that is not an atom number drops the atoms, not the mesh
+            std::uint32_t atom = 0;
+            const auto [end, ec] =
+                std::from_chars(words[7].data(), words[7].data() + words[7].size(), atom);
+            atoms = ec == std::errc() && end == words[7].data() + words[7].size() && atom >= 1;
+            if (atoms) mesh.atoms.push_back(atom - 1);
+        }
     }
+    if (!normals) mesh.normals.clear();
+    if (!atoms) mesh.atoms.clear();
     std::uint64_t faces = 0;
     Lines flines = msms_body(face_text, face_path, faces);
     if (faces > face_text.size()) fail(face_path, "face count too large for the file");
