@@ -13,6 +13,7 @@
 #include "cli/messages.hpp"
 #include "cli/msms_command.hpp"
 #include "cli/options.hpp"
+#include "cli/progress.hpp"
 #include "cli/summary.hpp"
 #include "fdmsurf/fdmsurf.hpp"
 
@@ -103,14 +104,17 @@ std::size_t report_validation(Engine& engine) {
 // One structure through an engine that stays up for every input of the run.
 // `read`: the structure when it was read already, with its parse time (< 0: report no parse
 // stage, for the second and later models of a file read once), else null.
-int run_one(const CliOptions& options, Engine& engine, double init_ms, const std::string& input,
-            const std::string& output, const Structure* read = nullptr, double parse_ms = 0.0) {
+int run_one(const CliOptions& options, Engine& engine, Progress& progress, double init_ms,
+            const std::string& input, const std::string& output,
+            const Structure* read = nullptr, double parse_ms = 0.0) {
     const auto start = Clock::now();
     RunReport report;
-    auto warn = [&report](const std::string& message) {
+    auto warn = [&report, &progress](const std::string& message) {
+        progress.clear();
         print_warning(message);
         report.warnings.push_back(message);
     };
+    progress.begin(input);
     const MeshFormat format = check_output(output);
     if (format == MeshFormat::Obj && !options.surface.properties.scalars.empty())
         warn("OBJ has no place for per-vertex atoms or --properties values: '" + output +
@@ -120,8 +124,10 @@ int run_one(const CliOptions& options, Engine& engine, double init_ms, const std
     const Structure structure = read ? *read : read_structure(input, options.read);
     if (!read) parse_ms = ms_since(t);
     if (parse_ms >= 0) report.times.push_back({"parse", parse_ms, false});
+    progress.stage("parse");
     for (const std::string& message : structure.info.warnings) warn(message);
     if (init_ms > 0) report.times.push_back({"init", init_ms, false});
+    progress.stage("init");
 
     // --patch: the selection is checked before the surface is computed.
     std::vector<std::uint8_t> patch;
@@ -172,6 +178,7 @@ int run_one(const CliOptions& options, Engine& engine, double init_ms, const std
     t = Clock::now();
     write_mesh(result.mesh, output, format);
     report.times.push_back({"write", ms_since(t), false});
+    progress.stage("write");
 
     t = Clock::now();
     report.stats = compute_stats(result.mesh);
@@ -194,6 +201,7 @@ int run_one(const CliOptions& options, Engine& engine, double init_ms, const std
     // A structure read before this call: its parse time counts in the total all the same.
     report.total_ms = ms_since(start) + init_ms + (read && parse_ms > 0 ? parse_ms : 0.0);
 
+    progress.end();
     if (options.json) {
         std::printf("%s\n", json_summary(report).c_str());
     } else if (!options.quiet) {
@@ -242,14 +250,18 @@ int run(const CliOptions& options) {
     for (const std::string& input : options.inputs) check_output(output_of(options, input, 1));
     effective_cutoff(options.surface);
     if (!options.patch.empty()) check_selection(options.patch, "--patch");
+    // Progress on stderr (a terminal, not --quiet): the engine reports its stages to it.
+    Progress progress(progress_wanted(options.quiet));
+    EngineOptions engine_options = options.engine;
+    engine_options.progress = [&progress](std::string_view stage) { progress.stage(stage); };
     if (options.inputs.size() == 1 && !options.all_models) {
         // Read before the device starts, so that bad input fails fast.
         auto t = Clock::now();
         const Structure structure = read_structure(options.inputs.front(), options.read);
         const double parse_ms = ms_since(t);
         t = Clock::now();
-        Engine engine(options.engine);
-        return run_one(options, engine, ms_since(t), options.inputs.front(),
+        Engine engine(engine_options);
+        return run_one(options, engine, progress, ms_since(t), options.inputs.front(),
                        output_for(options.inputs.front(), options.output), &structure, parse_ms);
     }
 
@@ -261,7 +273,7 @@ int run(const CliOptions& options) {
     if (options.inputs.size() == 1) first = read_input(options, options.inputs.front());
     const double first_parse_ms = ms_since(t);
     t = Clock::now();
-    Engine engine(options.engine);
+    Engine engine(engine_options);
     double init_ms = ms_since(t);
     // Each input, and each model, is reported on its own; a failed one does not stop the
     // others, and the exit code is that of the first failure.
@@ -278,6 +290,7 @@ int run(const CliOptions& options) {
                 structures = read_input(options, input);
                 parse_ms = ms_since(t);
             } catch (const Error& e) {
+                progress.end();
                 print_error(naming(input, e.what()));
                 if (status == kExitOk) status = exit_code_for(e.code());
                 continue;
@@ -301,9 +314,11 @@ int run(const CliOptions& options) {
             int code = kExitOk;
             const int model = structures[k].info.model;
             try {
-                code = run_one(batch, engine, init_ms, input, output_of(options, input, model),
-                               &structures[k], k == 0 ? parse_ms : -1.0);
+                code = run_one(batch, engine, progress, init_ms, input,
+                               output_of(options, input, model), &structures[k],
+                               k == 0 ? parse_ms : -1.0);
             } catch (const Error& e) {
+                progress.end();
                 print_error(naming(input, e.what()) +
                             (options.all_models ? " (model " + std::to_string(model) + ")" : ""));
                 code = exit_code_for(e.code());

@@ -108,6 +108,7 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
         bins = bin_atoms(atoms, plan);
         result.times.push_back({"bin-atoms", now_ms() - t0, false});
     }
+    report(plan.exact_ses ? "ses-features" : "bin-atoms");
     StagingArena arena;
     Buffer field(context, static_cast<VkDeviceSize>(field_bytes), MemoryUse::Device, "field");
     commands.begin();
@@ -128,8 +129,10 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
     result.mesh = marching_cubes.read_back(commands, gpu);
     add_times(result.times, commands.stage_times());
     add_times(result.times, {{"unpack-mesh", marching_cubes.unpack_ms(), false}});
+    report(plan.exact_ses ? "ses-distance, marching cubes" : "density, filter, marching cubes");
     if (options.refine > 0) {
         refine(result, atoms, options, plan, &features, &field, nullptr);
+        report("refine");
         if (on_device) *on_device = upload_mesh(result.mesh);
     }
     return result;
@@ -270,6 +273,7 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
             commands.mark("read-field");
             commands.submit_and_wait();
             add_times(result.times, commands.stage_times());
+            report("field slab " + std::to_string(k + 1) + "/" + std::to_string(slabs));
             host.invalidate();
             const double t_copy = now_ms();
             const float* src = static_cast<const float*>(host.mapped());
@@ -317,13 +321,16 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
         parts.push_back(marching_cubes.read_back(commands, gpu));
         add_times(result.times, commands.stage_times());
         add_times(result.times, {{"unpack-mesh", marching_cubes.unpack_ms(), false}});
+        report("marching cubes, z " + std::to_string(b) + "/" + std::to_string(d[2] - 1));
         starts.push_back(a);
     }
     starts.push_back(d[2] - 1);
     double t1 = now_ms();
     result.mesh = stitch_slabs(parts, view, plan.iso, starts);
     result.times.push_back({"stitch", now_ms() - t1, false});
+    report("stitch");
     refine(result, atoms, options, plan, &features, nullptr, &view);
+    if (options.refine > 0) report("refine");
     return result;
 }
 
@@ -421,9 +428,11 @@ SurfaceResult Engine::make_surface(const Atoms& atoms, const SurfaceOptions& opt
     }
     // (By default the exact SES, vdw and sas keep every cavity.)
     result.times.push_back({"cavities", detail::now_ms() - t0, false});
+    impl_->report("cavities");
     // On the final mesh: the atom of each vertex, colours and scalars.
     detail::add_vertex_properties(impl_->vertex_properties, impl_->commands, atoms, options,
                                   result);
+    impl_->report("vertex properties");
     return result;
 }
 

@@ -29,7 +29,7 @@ struct EngineImpl {
     explicit EngineImpl(const EngineOptions& options)
         : glslang(), context(options), commands(context), density(context),
           ses_distance(context), filter(context), marching_cubes(context),
-          vertex_properties(context) {}
+          vertex_properties(context), progress(options.progress) {}
 
     // Holds glslang for VkFFT from before the first plan to after the last.
     struct GlslangGuard {
@@ -43,6 +43,12 @@ struct EngineImpl {
     SpectralFilter filter;
     MarchingCubesPass marching_cubes;
     VertexPropertiesPass vertex_properties;
+    ProgressCallback progress;  // EngineOptions::progress; may be empty
+
+    // Tells the progress callback that `stage` has ended.
+    void report(std::string_view stage) const {
+        if (progress) progress(stage);
+    }
 
     // `on_device`: when not null, the mesh stays on the device there and result.mesh is empty.
     SurfaceResult run(const Atoms& atoms, const SurfaceOptions& options,

@@ -63,7 +63,9 @@ TEST_F(MsmsParts, TwoBallsHaveContactAndToricPartsOnly) {
     // the band's half-width, which is under 1.5 Å here).
     for (std::size_t v = 0; v < parts.size(); ++v) {
         const float x = r.mesh.positions[3 * v];
-        if (parts[v] == SesPart::Toric) EXPECT_NEAR(x, 1.75f, 1.5f) << v;
+        if (parts[v] == SesPart::Toric) {
+            EXPECT_NEAR(x, 1.75f, 1.5f) << v;
+        }
     }
 }
 

@@ -3,8 +3,10 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "fdmsurf/mesh.hpp"
@@ -108,6 +110,11 @@ struct DeviceInfo {
     std::uint64_t device_memory = 0;  // bytes in the largest device-local heap
 };
 
+// Called on the calling thread as each stage of make_surface ends, with the stage's name
+// ("bin-atoms", "density, filter, marching cubes", "field slab 2/5", "cavities", ...), for a
+// progress display. An exception it throws ends make_surface with that exception.
+using ProgressCallback = std::function<void(std::string_view stage)>;
+
 struct EngineOptions {
     // Device: empty = the first usable one (discrete GPU first); a number = that index; else a
     // case-insensitive substring of the device name.
@@ -120,6 +127,7 @@ struct EngineOptions {
     // Run on the application's own VkDevice (fdmsurf/vulkan_interop.hpp) instead of creating
     // one; `device` and `validation` are then ignored. Not owned; must outlive the Engine.
     const ExternalDevice* external = nullptr;
+    ProgressCallback progress;  // empty: none
 };
 
 namespace detail { struct EngineImpl; }

@@ -1,0 +1,71 @@
+// The progress line: where each stage puts the bar, and a run that shows it on stderr (forced by
+// FDMSURF_PROGRESS=always, since ctest's stderr is no terminal) while stdout keeps its JSON.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "cli/progress.hpp"
+
+namespace {
+
+using fdmsurf::cli::Progress;
+namespace fs = std::filesystem;
+
+TEST(Progress, StagesFillTheBarInPipelineOrder) {
+    EXPECT_DOUBLE_EQ(Progress::fraction_after("parse"), 0.05);
+    EXPECT_LT(Progress::fraction_after("bin-atoms"),
+              Progress::fraction_after("density, filter, marching cubes"));
+    EXPECT_DOUBLE_EQ(Progress::fraction_after("field slab 1/3"), 0.15 + 0.15);
+    EXPECT_DOUBLE_EQ(Progress::fraction_after("field slab 3/3"), 0.60);
+    EXPECT_DOUBLE_EQ(Progress::fraction_after("marching cubes, z 200/400"), 0.675);
+    EXPECT_LT(Progress::fraction_after("cavities"), Progress::fraction_after("write"));
+    EXPECT_DOUBLE_EQ(Progress::fraction_after("mesh-stats"), 1.0);
+    EXPECT_DOUBLE_EQ(Progress::fraction_after("something else"), 0.0);
+    Progress off(false);  // a disabled bar does nothing at all
+    off.begin("x");
+    off.stage("parse");
+    off.end();
+}
+
+#if defined(FDMSURF_CLI_PATH) && defined(FDMSURF_TEST_DATA_DIR)
+
+std::string slurp(const fs::path& p) {
+    std::ifstream in(p);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+TEST(Progress, ALongRunShowsItOnStderrOnly) {
+    const fs::path dir = fs::temp_directory_path() / "fdmsurf-progress";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    // 4HHB's exact SES takes more than a second on lavapipe.
+    const std::string run = std::string(FDMSURF_CLI_PATH) + " " + FDMSURF_TEST_DATA_DIR +
+                            "/4hhb.pdb.gz -o " + (dir / "h.ply").string() +
+                            " --method edt --stats json";
+    const std::string cmd = "FDMSURF_PROGRESS=always " + run + " > " + (dir / "out").string() +
+                            " 2> " + (dir / "err").string();
+    const int status = std::system(cmd.c_str());
+    ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << slurp(dir / "err");
+    const std::string out = slurp(dir / "out"), err = slurp(dir / "err");
+    EXPECT_EQ(out.front(), '{');
+    EXPECT_EQ(out.find("fdmsurf ["), std::string::npos);
+    EXPECT_NE(err.find("fdmsurf ["), std::string::npos) << err;
+    EXPECT_NE(err.find("ses-features"), std::string::npos) << err;
+    EXPECT_EQ(err.substr(err.size() - 4), "\r\033[K");  // cleared before the summary
+    // --quiet turns it off whatever the environment says.
+    const std::string quiet = "FDMSURF_PROGRESS=always " + run + " --quiet > /dev/null 2> " +
+                              (dir / "err2").string();
+    ASSERT_EQ(std::system(quiet.c_str()), 0);
+    EXPECT_EQ(slurp(dir / "err2"), "");
+    fs::remove_all(dir);
+}
+
+#endif
+
+}  // namespace
