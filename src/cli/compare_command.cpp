@@ -192,8 +192,7 @@ std::string compare_json(const CompareReport& report) {
 }
 
 int compare_command(const std::vector<std::string>& args) {
-    auto error = [](const std::string& message) { print_error(message); };
-    try {
+    return report_errors([&] {
         const CompareCliOptions options = parse_compare_args(args);
         if (options.help) {
             std::fputs(compare_usage_text().c_str(), stdout);
@@ -218,16 +217,7 @@ int compare_command(const std::vector<std::string>& args) {
             std::fputs(compare_text(report).c_str(), stdout);
         }
         return kExitOk;
-    } catch (const Error& e) {
-        error(e.what());
-        return exit_code_for(e.code());
-    } catch (const std::bad_alloc&) {
-        error("out of host memory");
-        return kExitFailure;
-    } catch (const std::exception& e) {
-        error(e.what());
-        return kExitFailure;
-    }
+    });
 }
 
 }  // namespace fdmsurf::cli

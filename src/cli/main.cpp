@@ -348,7 +348,7 @@ int main(int argc, char** argv) {
     if (argc >= 2 && std::string(argv[1]) == "compare") {
         return compare_command(std::vector<std::string>(argv + 2, argv + argc));
     }
-    try {
+    return report_errors([&] {
         const CliOptions options = parse_args(std::vector<std::string>(argv + 1, argv + argc));
         if (options.help) {
             std::fputs(usage_text().c_str(), stdout);
@@ -360,17 +360,5 @@ int main(int argc, char** argv) {
         }
         if (options.list_devices) return list_devices_command();
         return run(options);
-    } catch (const Error& e) {
-        print_error(e.what());
-        return exit_code_for(e.code());
-    } catch (const std::bad_alloc&) {
-        print_error("out of host memory");
-        return kExitFailure;
-    } catch (const std::exception& e) {
-        print_error(e.what());
-        return kExitFailure;
-    } catch (...) {
-        print_error("unknown exception");
-        return kExitFailure;
-    }
+    });
 }

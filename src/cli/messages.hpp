@@ -2,7 +2,12 @@
 #pragma once
 
 #include <cstdio>
+#include <exception>
+#include <new>
 #include <string>
+
+#include "cli/options.hpp"
+#include "fdmsurf/error.hpp"
 
 namespace fdmsurf::cli {
 
@@ -20,6 +25,26 @@ inline void print_error(const std::string& message) {
 
 inline void print_warning(const std::string& message) {
     std::fprintf(stderr, "fdmsurf: warning: %s\n", one_line(message).c_str());
+}
+
+// Runs a command's body and turns what it throws into one error line and the exit code.
+template <class Body>
+int report_errors(Body&& body) {
+    try {
+        return body();
+    } catch (const Error& e) {
+        print_error(e.what());
+        return exit_code_for(e.code());
+    } catch (const std::bad_alloc&) {
+        print_error("out of host memory");
+        return kExitFailure;
+    } catch (const std::exception& e) {
+        print_error(e.what());
+        return kExitFailure;
+    } catch (...) {
+        print_error("unknown exception");
+        return kExitFailure;
+    }
 }
 
 }  // namespace fdmsurf::cli

@@ -201,7 +201,7 @@ face lines: v1 v2 v3 T 0 (1-based). See docs/formats.md.
 int msms_command(const std::vector<std::string>& args) {
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();
-    try {
+    return report_errors([&] {
         const MsmsOptions o = parse_msms_args(args);
         if (o.help) {
             std::fputs(msms_usage_text().c_str(), stdout);
@@ -307,16 +307,7 @@ int msms_command(const std::vector<std::string>& args) {
         std::printf("  time       %s ms on %s\n", format_grouped(ms, 0).c_str(),
                     engine.device().name.c_str());
         return kExitOk;
-    } catch (const Error& e) {
-        print_error(e.what());
-        return exit_code_for(e.code());
-    } catch (const std::bad_alloc&) {
-        print_error("out of host memory");
-        return kExitFailure;
-    } catch (const std::exception& e) {
-        print_error(e.what());
-        return kExitFailure;
-    }
+    });
 }
 
 }  // namespace fdmsurf::cli
