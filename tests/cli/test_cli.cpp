@@ -224,7 +224,8 @@ TEST_F(CliProgram, UnknownInputFormat) {
 
 TEST_F(CliProgram, UnknownOutputExtension) {
     const std::string input = write_file("atoms.xyzr", kTwoAtomsXyzr);
-    expect_failure(run({input, "-o", path("out.stl")}), 2, {"out.stl"});
+    expect_failure(run({input, "-o", path("out.wrl")}), 2,
+                   {"out.wrl", ".ply, .obj, .glb, .stl or .off", "--output-format"});
 }
 
 TEST_F(CliProgram, OutputInNonexistentFolder) {
