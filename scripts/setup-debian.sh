@@ -33,6 +33,12 @@ packages=(
     # gzip; GNU time (/usr/bin/time -v) for the peak memory column of scripts/all-structures.sh
     gzip time
 )
+# node and npm for the Khronos glTF validator (scripts/test.sh installs npm's gltf-validator),
+# unless something else provides them already (NodeSource's nodejs bundles npm and conflicts
+# with Debian's npm package)
+if ! command -v node >/dev/null 2>&1 || ! command -v npm >/dev/null 2>&1; then
+    packages+=(nodejs npm)
+fi
 
 missing=()
 for p in "${packages[@]}"; do
