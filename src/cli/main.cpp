@@ -258,6 +258,7 @@ int run_one(const CliOptions& options, Engine& engine, double init_ms, const std
     report.version = version();
     report.input = input;
     report.output = output;
+    report.output_format = mesh_format_extension(format) + 1;  // without the dot
     report.surface = options.surface.surface;
     report.method = options.surface.method;
     report.model = structure.info.model;

@@ -144,9 +144,11 @@ bool is_pqr_atom_line(std::string_view line) {
     if (f.size() < 10 || parse_number(f.back(), value) != NumberStatus::Ok ||
         parse_number(f[f.size() - 2], value) != NumberStatus::Ok)
         return false;  // the last field is an element or a charge like "1+": PDB
-    const bool pdb_columns = line.size() >= 66 && line[57] == '.' && line[63] == '.' &&
-                             parse_number(trim(line.substr(54, 6)), value) == NumberStatus::Ok &&
-                             parse_number(trim(line.substr(60, 6)), value) == NumberStatus::Ok;
+    auto pdb_number = [&](std::size_t start) {  // %6.2f at columns start+1 .. start+6
+        return line.size() >= start + 6 && line[start + 3] == '.' &&
+               parse_number(trim(line.substr(start, 6)), value) == NumberStatus::Ok;
+    };
+    const bool pdb_columns = pdb_number(54) && (line.size() < 66 || pdb_number(60));
     return !pdb_columns;
 }
 
