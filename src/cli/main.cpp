@@ -146,8 +146,8 @@ MeshFormat check_output(const std::string& output, MeshFormat format) {
         try {
             format = mesh_format_for_path(output);
         } catch (const Error& e) {
-            throw Error(e.code(), naming(output, e.what()) +
-                                      "; or name the format with --output-format");
+            throw Error(e.code(),
+                        naming(output, e.what()) + "; or name the format with --output-format");
         }
     }
     namespace fs = std::filesystem;

@@ -545,8 +545,9 @@ CliOptions parse_args(const std::vector<std::string>& args) {
     if (o.help || o.version || o.list_devices) return o;
     if (o.inputs.empty()) fail("missing INPUT, the structure file to read; see fdmsurf --help");
     if (o.output.empty())
-        fail("missing -o OUTPUT, the mesh file to write (.ply, .obj, .glb, .stl or .off; - for "
-             "standard output)");
+        fail(
+            "missing -o OUTPUT, the mesh file to write (.ply, .obj, .glb, .stl or .off; - for "
+            "standard output)");
     if (std::count(o.inputs.begin(), o.inputs.end(), kStdio) > 1)
         fail("'-' (standard input) is given more than once");
     if (o.output == kStdio && o.inputs.size() > 1)

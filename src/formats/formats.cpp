@@ -56,9 +56,10 @@ void check_glb(const Mesh& mesh, const std::string& name) {
     }
     // The GLB header counts the whole file in 32 bits; the JSON part is a few kB.
     const std::uint64_t per_vertex = 12 + (mesh.normals.empty() ? 0 : 12) +
-                                     (mesh.colors.empty() ? 0 : 12) +
-                                     (mesh.atoms.empty() ? 0 : 4) + 4 * mesh.scalars.size();
-    const std::uint64_t bytes = per_vertex * mesh.vertex_count() + 4 * std::uint64_t{mesh.indices.size()};
+                                     (mesh.colors.empty() ? 0 : 12) + (mesh.atoms.empty() ? 0 : 4) +
+                                     4 * mesh.scalars.size();
+    const std::uint64_t bytes =
+        per_vertex * mesh.vertex_count() + 4 * std::uint64_t{mesh.indices.size()};
     if (bytes > std::uint64_t{std::numeric_limits<std::uint32_t>::max()} - (1u << 20)) {
         fail("the mesh needs " + std::to_string(bytes) +
              " bytes of GLB data, beyond GLB's 4 GiB; write PLY instead");

@@ -130,8 +130,8 @@ std::vector<float> unit_normals(const Mesh& mesh) {
     std::vector<std::size_t> bad;
     for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
         const float* n = &mesh.normals[3 * v];
-        const double length = std::sqrt(double(n[0]) * n[0] + double(n[1]) * n[1] +
-                                        double(n[2]) * n[2]);
+        const double length =
+            std::sqrt(double(n[0]) * n[0] + double(n[1]) * n[1] + double(n[2]) * n[2]);
         if (!(length > 1e-12) || !std::isfinite(length)) {
             bad.push_back(v);
             continue;
@@ -142,7 +142,8 @@ std::vector<float> unit_normals(const Mesh& mesh) {
     std::vector<double> sum(3 * mesh.vertex_count(), 0.0);
     for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
         const float* p[3];
-        for (int k = 0; k < 3; ++k) p[k] = &mesh.positions[3 * std::size_t{mesh.indices[3 * t + k]}];
+        for (int k = 0; k < 3; ++k)
+            p[k] = &mesh.positions[3 * std::size_t{mesh.indices[3 * t + k]}];
         const double u[3] = {double(p[1][0]) - p[0][0], double(p[1][1]) - p[0][1],
                              double(p[1][2]) - p[0][2]};
         const double w[3] = {double(p[2][0]) - p[0][0], double(p[2][1]) - p[0][1],
@@ -196,10 +197,22 @@ Matrix local_transform(const tinygltf::Node& node) {
     if (node.rotation.size() == 4) {
         const double x = node.rotation[0], y = node.rotation[1], z = node.rotation[2],
                      w = node.rotation[3];
-        const Matrix r{1 - 2 * (y * y + z * z), 2 * (x * y + z * w), 2 * (x * z - y * w), 0,
-                       2 * (x * y - z * w), 1 - 2 * (x * x + z * z), 2 * (y * z + x * w), 0,
-                       2 * (x * z + y * w), 2 * (y * z - x * w), 1 - 2 * (x * x + y * y), 0,
-                       0, 0, 0, 1};
+        const Matrix r{1 - 2 * (y * y + z * z),
+                       2 * (x * y + z * w),
+                       2 * (x * z - y * w),
+                       0,
+                       2 * (x * y - z * w),
+                       1 - 2 * (x * x + z * z),
+                       2 * (y * z + x * w),
+                       0,
+                       2 * (x * z + y * w),
+                       2 * (y * z - x * w),
+                       1 - 2 * (x * x + y * y),
+                       0,
+                       0,
+                       0,
+                       0,
+                       1};
         m = multiply(r, m);
     }
     if (node.translation.size() == 3) {
@@ -221,13 +234,17 @@ public:
         std::vector<PlacedMesh> placed;
         const int scene = model_.defaultScene >= 0 ? model_.defaultScene : 0;
         if (model_.scenes.empty()) {
-            for (std::size_t m = 0; m < model_.meshes.size(); ++m) placed.push_back({int(m), identity});
+            for (std::size_t m = 0; m < model_.meshes.size(); ++m)
+                placed.push_back({int(m), identity});
         } else {
-            if (std::size_t(scene) >= model_.scenes.size()) fail(path_, "default scene out of range");
-            for (int node : model_.scenes[std::size_t(scene)].nodes) visit(node, identity, 0, placed);
+            if (std::size_t(scene) >= model_.scenes.size())
+                fail(path_, "default scene out of range");
+            for (int node : model_.scenes[std::size_t(scene)].nodes)
+                visit(node, identity, 0, placed);
         }
         for (const PlacedMesh& p : placed) {
-            for (const tinygltf::Primitive& primitive : model_.meshes[std::size_t(p.mesh)].primitives) {
+            for (const tinygltf::Primitive& primitive :
+                 model_.meshes[std::size_t(p.mesh)].primitives) {
                 add_primitive(primitive, p.transform);
             }
         }
@@ -236,7 +253,8 @@ public:
 
 private:
     void visit(int node, const Matrix& parent, int depth, std::vector<PlacedMesh>& placed) {
-        if (node < 0 || std::size_t(node) >= model_.nodes.size()) fail(path_, "node index out of range");
+        if (node < 0 || std::size_t(node) >= model_.nodes.size())
+            fail(path_, "node index out of range");
         if (depth > 64) fail(path_, "nodes nested more than 64 deep (a cycle?)");
         const tinygltf::Node& n = model_.nodes[std::size_t(node)];
         const Matrix transform = multiply(parent, local_transform(n));
@@ -260,9 +278,10 @@ private:
             fail(path_, what + ": accessor without a buffer view");
         }
         if (tinygltf::GetNumComponentsInType(std::uint32_t(a.type)) != components) {
-            fail(path_, what + ": accessor of " +
-                            std::to_string(tinygltf::GetNumComponentsInType(std::uint32_t(a.type))) +
-                            " components, expected " + std::to_string(components));
+            fail(path_,
+                 what + ": accessor of " +
+                     std::to_string(tinygltf::GetNumComponentsInType(std::uint32_t(a.type))) +
+                     " components, expected " + std::to_string(components));
         }
         const tinygltf::BufferView& view = model_.bufferViews[std::size_t(a.bufferView)];
         if (view.buffer < 0 || std::size_t(view.buffer) >= model_.buffers.size()) {
@@ -320,12 +339,12 @@ private:
     // lower-cased.
     std::vector<std::pair<std::string, int>> scalars_of(const tinygltf::Primitive& p) const {
         std::map<std::string, std::string> given;  // attribute -> name written
-        const tinygltf::Value& names = p.extras.Has(scalar_names_key)
-                                           ? p.extras.Get(scalar_names_key)
-                                           : tinygltf::Value();
+        const tinygltf::Value& names =
+            p.extras.Has(scalar_names_key) ? p.extras.Get(scalar_names_key) : tinygltf::Value();
         for (std::size_t i = 0; i < names.ArrayLen(); ++i) {
             const tinygltf::Value& name = names.Get(int(i));
-            if (name.IsString()) given[glb_attribute_name(name.Get<std::string>())] = name.Get<std::string>();
+            if (name.IsString())
+                given[glb_attribute_name(name.Get<std::string>())] = name.Get<std::string>();
         }
         std::vector<std::pair<std::string, int>> out;
         for (const auto& [attribute, accessor] : p.attributes) {
@@ -342,8 +361,9 @@ private:
             }
             return names.ArrayLen();
         };
-        std::stable_sort(out.begin(), out.end(),
-                         [&](const auto& a, const auto& b) { return rank(a.first) < rank(b.first); });
+        std::stable_sort(out.begin(), out.end(), [&](const auto& a, const auto& b) {
+            return rank(a.first) < rank(b.first);
+        });
         return out;
     }
 
@@ -362,8 +382,7 @@ private:
         const bool moved = transform != identity;
         const Matrix& m = transform;
         const double det = m[0] * (m[5] * m[10] - m[9] * m[6]) -
-                           m[4] * (m[1] * m[10] - m[9] * m[2]) +
-                           m[8] * (m[1] * m[6] - m[5] * m[2]);
+                           m[4] * (m[1] * m[10] - m[9] * m[2]) + m[8] * (m[1] * m[6] - m[5] * m[2]);
         for (std::size_t v = 0; v < n; ++v) {
             const double* q = &xyz[3 * v];
             for (int k = 0; k < 3; ++k) {
@@ -377,7 +396,8 @@ private:
         std::vector<std::uint32_t> corners;
         if (p.indices >= 0) {
             corners = read_accessor<std::uint32_t>(p.indices, 1, "indices");
-            if (model_.accessors[std::size_t(p.indices)].componentType == TINYGLTF_COMPONENT_TYPE_FLOAT) {
+            if (model_.accessors[std::size_t(p.indices)].componentType ==
+                TINYGLTF_COMPONENT_TYPE_FLOAT) {
                 fail(path_, "float indices");
             }
         } else {
@@ -390,9 +410,9 @@ private:
         // A mirroring transform turns the winding round (glTF 2.0, 3.7.4).
         auto triangle = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
             if (det < 0) std::swap(b, c);
-            mesh_.indices.insert(mesh_.indices.end(), {std::uint32_t(first + a),
-                                                       std::uint32_t(first + b),
-                                                       std::uint32_t(first + c)});
+            mesh_.indices.insert(
+                mesh_.indices.end(),
+                {std::uint32_t(first + a), std::uint32_t(first + b), std::uint32_t(first + c)});
         };
         if (mode == TINYGLTF_MODE_TRIANGLES) {
             for (std::size_t i = 0; i + 2 < corners.size(); i += 3)
@@ -444,10 +464,12 @@ private:
                 std::uint32_t(model_.accessors.at(std::size_t(color)).type));
             if (components != 3 && components != 4) fail(path_, "COLOR_0 is neither VEC3 nor VEC4");
             const std::vector<double> rgb = read_accessor<double>(color, components, "COLOR_0");
-            if (rgb.size() != std::size_t(components) * n) fail(path_, "COLOR_0 and POSITION counts differ");
+            if (rgb.size() != std::size_t(components) * n)
+                fail(path_, "COLOR_0 and POSITION counts differ");
             for (std::size_t v = 0; v < n; ++v) {
                 for (int k = 0; k < 3; ++k)
-                    colors_.push_back(linear_to_srgb(rgb[std::size_t(components) * v + std::size_t(k)]));
+                    colors_.push_back(
+                        linear_to_srgb(rgb[std::size_t(components) * v + std::size_t(k)]));
             }
         } else {
             colors_ok_ = false;
@@ -467,7 +489,8 @@ private:
         std::vector<VertexScalars> found;
         for (const auto& [name, accessor] : scalars_of(p)) {
             VertexScalars s{name, read_accessor<float>(accessor, 1, glb_attribute_name(name))};
-            if (s.values.size() != n) fail(path_, glb_attribute_name(name) + " and POSITION counts differ");
+            if (s.values.size() != n)
+                fail(path_, glb_attribute_name(name) + " and POSITION counts differ");
             found.push_back(std::move(s));
         }
         if (primitives_ == 1) {
@@ -519,8 +542,7 @@ bool refuse_read(std::vector<unsigned char>*, std::string* err, const std::strin
     if (err) *err += "external file '" + path + "' not read (only GLB with embedded data)";
     return false;
 }
-bool refuse_write(std::string* err, const std::string&, const std::vector<unsigned char>&,
-                  void*) {
+bool refuse_write(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
     if (err) *err += "no files are written";
     return false;
 }
@@ -553,11 +575,13 @@ void write_glb(const Mesh& mesh, ByteSink& sink) {
         }
         primitive.attributes["POSITION"] = position;
         if (!mesh.normals.empty()) {
-            primitive.attributes["NORMAL"] = b.add_floats(unit_normals(mesh), TINYGLTF_TYPE_VEC3, n);
+            primitive.attributes["NORMAL"] =
+                b.add_floats(unit_normals(mesh), TINYGLTF_TYPE_VEC3, n);
         }
         if (!mesh.colors.empty()) {
             std::vector<float> linear(mesh.colors.size());
-            for (std::size_t i = 0; i < linear.size(); ++i) linear[i] = srgb_to_linear(mesh.colors[i]);
+            for (std::size_t i = 0; i < linear.size(); ++i)
+                linear[i] = srgb_to_linear(mesh.colors[i]);
             primitive.attributes["COLOR_0"] = b.add_floats(linear, TINYGLTF_TYPE_VEC3, n);
         }
         if (!mesh.atoms.empty()) {
@@ -579,9 +603,9 @@ void write_glb(const Mesh& mesh, ByteSink& sink) {
         }
         if (mesh.triangle_count() > 0) {
             primitive.mode = TINYGLTF_MODE_TRIANGLES;
-            primitive.indices = b.add(mesh.indices, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
-                                      TINYGLTF_TYPE_SCALAR, mesh.indices.size(),
-                                      TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+            primitive.indices =
+                b.add(mesh.indices, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR,
+                      mesh.indices.size(), TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
         } else {
             primitive.mode = TINYGLTF_MODE_POINTS;  // vertices without triangles
         }

@@ -63,8 +63,7 @@ public:
             const float c = p[k] == 0.0f ? 0.0f : p[k];  // -0 is +0
             key.bits[k] = std::bit_cast<std::uint32_t>(c);
         }
-        const auto [it, inserted] =
-            index_of_.try_emplace(key, std::uint32_t(mesh_.vertex_count()));
+        const auto [it, inserted] = index_of_.try_emplace(key, std::uint32_t(mesh_.vertex_count()));
         if (inserted) mesh_.positions.insert(mesh_.positions.end(), p, p + 3);
         mesh_.indices.push_back(it->second);
     }
@@ -198,7 +197,8 @@ void write_stl(const Mesh& mesh, ByteSink& sink) {
     char record[record_size];
     for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
         const float* corner[3];
-        for (int k = 0; k < 3; ++k) corner[k] = &mesh.positions[3 * std::size_t{mesh.indices[3 * t + k]}];
+        for (int k = 0; k < 3; ++k)
+            corner[k] = &mesh.positions[3 * std::size_t{mesh.indices[3 * t + k]}];
         char* out = record;
         for (float n : face_normal(corner[0], corner[1], corner[2])) out = put_le(out, n);
         for (const float* p : corner) {
@@ -231,8 +231,8 @@ Mesh parse_stl(std::string_view data, const std::string& path) {
         if (data.size() >= header_size + 4) {
             const std::uint64_t count = get_le<std::uint32_t>(data.data() + header_size);
             fail(path, "not a binary STL of " + std::to_string(count) + " triangles (" +
-                           std::to_string(header_size + 4 + record_size * count) +
-                           " bytes) but " + std::to_string(data.size()) +
+                           std::to_string(header_size + 4 + record_size * count) + " bytes) but " +
+                           std::to_string(data.size()) +
                            " bytes, nor an ASCII STL (starting with 'solid')");
         }
         fail(path, "not an STL file (" + std::to_string(data.size()) +

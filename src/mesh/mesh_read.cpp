@@ -60,7 +60,8 @@ std::optional<Mesh> parse_mesh_data(std::string_view data, const std::string& pa
     // Under another name: OFF by its first word, STL by its size or its text.
     const std::size_t start = data.find_first_not_of(" \t\r\n");
     if (start != std::string_view::npos) {
-        const std::string_view head = data.substr(start, data.find_first_of(" \t\r\n", start) - start);
+        const std::string_view head =
+            data.substr(start, data.find_first_of(" \t\r\n", start) - start);
         if (head.find("OFF") != std::string_view::npos) return parse_off(data, path);
     }
     if (is_binary_stl(data) || is_ascii_stl(data)) return parse_stl(data, path);

@@ -184,9 +184,9 @@ void write_mesh(const Mesh& mesh, const std::string& path, MeshFormat format) {
 
 void write_mesh(const Mesh& mesh, std::ostream& out, MeshFormat format, const std::string& name) {
     if (format == MeshFormat::Auto) {
-        throw Error(ErrorCode::InvalidArgument,
-                    "write_mesh: writing to " + name + " needs a format (" +
-                        detail::supported_extensions() + "), not Auto");
+        throw Error(ErrorCode::InvalidArgument, "write_mesh: writing to " + name +
+                                                    " needs a format (" +
+                                                    detail::supported_extensions() + "), not Auto");
     }
     detail::check_for_writing(mesh, format, name);
     detail::StreamSink sink(out, name);

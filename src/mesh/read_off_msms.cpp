@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
-#include <cmath>
 #include <charconv>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -236,7 +236,8 @@ Mesh parse_off(std::string_view text, const std::string& path) {
     for (std::uint64_t i = 0; i < vertices; ++i) {
         if (!lines.next_words(words)) fail(path, "OFF file ends inside its vertices");
         add_position(mesh, words, path, lines.number());
-        if (colored && words.size() >= color_at + 3) colors.add(words, color_at, path, lines.number());
+        if (colored && words.size() >= color_at + 3)
+            colors.add(words, color_at, path, lines.number());
     }
     // Colours only when every vertex has one.
     if (vertices > 0 && colors.values.size() == 3 * vertices) mesh.colors = colors.bytes();

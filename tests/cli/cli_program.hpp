@@ -19,7 +19,6 @@ namespace fdmsurf_cli_test {
 
 namespace fs = std::filesystem;
 
-
 #ifdef FDMSURF_CLI_PATH
 inline constexpr const char* kCliPath = FDMSURF_CLI_PATH;
 #else

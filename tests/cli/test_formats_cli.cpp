@@ -27,12 +27,12 @@ using fdmsurf_cli_test::read_text;
 using fdmsurf_cli_test::shell_quote;
 
 // The end-to-end tests need a device; FDMSURF_REQUIRE_DEVICE=1 makes its absence a failure.
-#define REQUIRE_DEVICE()                                                              \
-    do {                                                                              \
-        if (const auto why = no_usable_device()) {                                    \
-            if (device_required()) FAIL() << *why << "(FDMSURF_REQUIRE_DEVICE=1)";    \
-            GTEST_SKIP() << *why;                                                     \
-        }                                                                             \
+#define REQUIRE_DEVICE()                                                           \
+    do {                                                                           \
+        if (const auto why = no_usable_device()) {                                 \
+            if (device_required()) FAIL() << *why << "(FDMSURF_REQUIRE_DEVICE=1)"; \
+            GTEST_SKIP() << *why;                                                  \
+        }                                                                          \
     } while (0)
 
 class CliFormats : public CliProgram {
@@ -41,11 +41,10 @@ protected:
     // returns the exit status of the pipeline's first command, -1 when it did not exit.
     int run_pipeline(const std::string& pipeline, std::string& err) const {
         const std::string err_path = path("pipeline.err");
-        const std::string script = "FDMSURF=" + shell_quote(kCliPath) + "; " + pipeline +
-                                   "; exit ${PIPESTATUS[0]}";
-        const int status = std::system(("bash -c " + shell_quote(script) + " 2>" +
-                                        shell_quote(err_path))
-                                           .c_str());
+        const std::string script =
+            "FDMSURF=" + shell_quote(kCliPath) + "; " + pipeline + "; exit ${PIPESTATUS[0]}";
+        const int status =
+            std::system(("bash -c " + shell_quote(script) + " 2>" + shell_quote(err_path)).c_str());
         err = read_text(err_path);
         fs::remove(err_path);
         return status != -1 && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -94,7 +93,7 @@ TEST_F(CliFormats, OutputFormatOverridesTheExtensionAndNamesFolderOutputs) {
     const std::string stl = read_text(path("mesh.bin"));
     ASSERT_GE(stl.size(), 84u);
     EXPECT_EQ(stl.size(), 84 + 50 * std::size_t(std::uint8_t(stl[80]) | std::uint8_t(stl[81]) << 8 |
-                                                 std::uint8_t(stl[82]) << 16));
+                                                std::uint8_t(stl[82]) << 16));
     r = run({a, b, "-o", path("meshes") + "/", "--output-format", "glb", "--quiet"});
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_TRUE(fdmsurf::read_mesh(path("meshes/a.glb")).triangle_count() > 0);
@@ -147,8 +146,8 @@ TEST_F(CliFormats, StandardInputGivesTheSameMeshAsTheFile) {
     EXPECT_EQ(json->find("output_format")->string, "ply");
 
     std::string err;
-    EXPECT_EQ(run_pipeline("gzip -c " + shell_quote(crambin()) + " | \"$FDMSURF\" - -o - --quiet > " +
-                               shell_quote(path("piped.ply")),
+    EXPECT_EQ(run_pipeline("gzip -c " + shell_quote(crambin()) +
+                               " | \"$FDMSURF\" - -o - --quiet > " + shell_quote(path("piped.ply")),
                            err),
               0)
         << err;
@@ -161,8 +160,8 @@ TEST_F(CliFormats, StandardInputFormatComesFromTheContent) {
     const std::string pqr =
         "ATOM      1  N   ALA     1      -0.677  -1.230  -0.491  0.1414 1.8240\n"
         "ATOM      2  CA  ALA     1       0.700  -1.230  -0.491  0.0962 1.9080\n";
-    const std::vector<std::pair<std::string, std::string>> inputs = {
-        {"atoms.txt", kTwoAtomsXyzr}, {"atoms.pqr.txt", pqr}};
+    const std::vector<std::pair<std::string, std::string>> inputs = {{"atoms.txt", kTwoAtomsXyzr},
+                                                                     {"atoms.pqr.txt", pqr}};
     for (const auto& [name, content] : inputs) {
         const std::string input = write_file(name, content);
         const CliRun r = run({"-", "-o", path(name + ".ply"), "--stats", "json"}, "", input);

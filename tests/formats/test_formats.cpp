@@ -41,8 +41,8 @@ class FormatFiles : public ::testing::Test {
 protected:
     void SetUp() override {
         const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        dir_ = fs::temp_directory_path() / ("fdmsurf_formats_" + std::to_string(::getpid()) +
-                                            "_" + info->test_suite_name() + "_" + info->name());
+        dir_ = fs::temp_directory_path() / ("fdmsurf_formats_" + std::to_string(::getpid()) + "_" +
+                                            info->test_suite_name() + "_" + info->name());
         fs::remove_all(dir_);
         fs::create_directories(dir_);
     }
@@ -94,10 +94,12 @@ Mesh attributed_crambin() {
     const std::size_t n = mesh.vertex_count();
     mesh.atoms.resize(n);
     mesh.colors.resize(3 * n);
-    mesh.scalars = {{"coulombic", std::vector<float>(n)}, {"mean_curvature", std::vector<float>(n)}};
+    mesh.scalars = {{"coulombic", std::vector<float>(n)},
+                    {"mean_curvature", std::vector<float>(n)}};
     for (std::size_t v = 0; v < n; ++v) {
         mesh.atoms[v] = std::uint32_t((v * 7) % 327);
-        for (std::size_t k = 0; k < 3; ++k) mesh.colors[3 * v + k] = std::uint8_t((v + 85 * k) % 256);
+        for (std::size_t k = 0; k < 3; ++k)
+            mesh.colors[3 * v + k] = std::uint8_t((v + 85 * k) % 256);
         mesh.scalars[0].values[v] = -10.0f + 0.001f * float(v);
         mesh.scalars[1].values[v] = mesh.positions[3 * v] - mesh.positions[3 * v + 2];
     }
@@ -137,8 +139,8 @@ TEST(MeshFormats, EveryExtensionChoosesItsFormatInAnyCase) {
     EXPECT_EQ(mesh_format_for_path("a.off"), MeshFormat::Off);
     EXPECT_EQ(mesh_format_for_path("a.ply"), MeshFormat::Ply);
     EXPECT_EQ(mesh_format_for_path("a.obj"), MeshFormat::Obj);
-    for (MeshFormat f : {MeshFormat::Ply, MeshFormat::Obj, MeshFormat::Glb, MeshFormat::Stl,
-                         MeshFormat::Off}) {
+    for (MeshFormat f :
+         {MeshFormat::Ply, MeshFormat::Obj, MeshFormat::Glb, MeshFormat::Stl, MeshFormat::Off}) {
         EXPECT_EQ(mesh_format_for_path(std::string("x") + mesh_format_extension(f)), f);
     }
     EXPECT_STREQ(mesh_format_extension(MeshFormat::Auto), "");
@@ -219,7 +221,8 @@ TEST_F(FormatFiles, GlbAsTinygltfReadsIt) {
     };
 
     EXPECT_EQ(floats("POSITION", TINYGLTF_TYPE_VEC3, 3), mesh.positions);
-    const tinygltf::Accessor& position = model.accessors.at(std::size_t(p.attributes.at("POSITION")));
+    const tinygltf::Accessor& position =
+        model.accessors.at(std::size_t(p.attributes.at("POSITION")));
     ASSERT_EQ(position.minValues.size(), 3u);
     ASSERT_EQ(position.maxValues.size(), 3u);
     for (std::size_t k = 0; k < 3; ++k) {
@@ -259,9 +262,10 @@ TEST_F(FormatFiles, GlbAsTinygltfReadsIt) {
                       indices.size()),
                 4 * indices.size());
     EXPECT_EQ(indices, mesh.indices);
-    EXPECT_EQ(model.bufferViews.at(std::size_t(model.accessors.at(std::size_t(p.indices)).bufferView))
-                  .target,
-              TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+    EXPECT_EQ(
+        model.bufferViews.at(std::size_t(model.accessors.at(std::size_t(p.indices)).bufferView))
+            .target,
+        TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
     EXPECT_EQ(model.bufferViews.at(std::size_t(position.bufferView)).target,
               TINYGLTF_TARGET_ARRAY_BUFFER);
 }
@@ -270,7 +274,8 @@ TEST_F(FormatFiles, GlbAsTinygltfReadsIt) {
 TEST_F(FormatFiles, GlbColoursRoundTripEveryByteThroughLinearFloats) {
     Mesh mesh;
     for (int v = 0; v < 258; ++v) test::add_vertex(mesh, v, v % 7, v % 3);
-    for (std::uint32_t t = 0; t + 2 < 258; t += 3) mesh.indices.insert(mesh.indices.end(), {t, t + 1, t + 2});
+    for (std::uint32_t t = 0; t + 2 < 258; t += 3)
+        mesh.indices.insert(mesh.indices.end(), {t, t + 1, t + 2});
     for (int v = 0; v < 258; ++v) {
         for (int k = 0; k < 3; ++k) mesh.colors.push_back(std::uint8_t((v + 100 * k) % 256));
     }
@@ -301,7 +306,7 @@ TEST_F(FormatFiles, GlbOfAMeshWithoutAttributesHasPositionsAndIndicesOnly) {
 TEST_F(FormatFiles, GlbNormalsAreUnitEvenWhenTheMeshsAreNot) {
     Mesh mesh = test::icosphere(1.0, 1);
     for (float& n : mesh.normals) n *= 3.0f;
-    for (int k = 0; k < 3; ++k) mesh.normals[k] = 0.0f;  // vertex 0
+    for (int k = 0; k < 3; ++k) mesh.normals[k] = 0.0f;         // vertex 0
     mesh.normals[5] = std::numeric_limits<float>::quiet_NaN();  // vertex 1
     write_mesh(mesh, path("s.glb"));
     const Mesh back = read_mesh(path("s.glb"));
@@ -435,11 +440,13 @@ TEST_F(FormatFiles, StlIsBinaryWithAFaceNormalPerTriangle) {
         for (int k = 0; k < 12; ++k) f[k] = detail::get_le<float>(record + 4 * k);
         for (int k = 0; k < 3; ++k) {
             for (int c = 0; c < 3; ++c) {
-                ASSERT_EQ(f[3 + 3 * k + c], mesh.positions[3 * std::size_t{mesh.indices[3 * t + k]} + c]);
+                ASSERT_EQ(f[3 + 3 * k + c],
+                          mesh.positions[3 * std::size_t{mesh.indices[3 * t + k]} + c]);
             }
         }
         // Unit, and outward on this sphere: near the centroid's direction from the centre.
-        const double centroid[3] = {(f[3] + f[6] + f[9]) / 3.0 - 1.0, (f[4] + f[7] + f[10]) / 3.0 - 2.0,
+        const double centroid[3] = {(f[3] + f[6] + f[9]) / 3.0 - 1.0,
+                                    (f[4] + f[7] + f[10]) / 3.0 - 2.0,
                                     (f[5] + f[8] + f[11]) / 3.0 - 3.0};
         const double length = std::hypot(centroid[0], centroid[1], centroid[2]);
         EXPECT_NEAR(std::hypot(f[0], f[1], f[2]), 1.0, 1e-6);
@@ -550,15 +557,18 @@ TEST_F(FormatFiles, OffRoundTripsPositionsExactlyAndColoursAsCoff) {
 }
 
 TEST_F(FormatFiles, ReadsOtherToolsCoffColoursAsBytesOrFloats) {
-    write_file("i.off", "COFF\n3 1 0\n0 0 0 255 0 10 255\n1 0 0 0 128 0 255\n0 1 0 1 2 3 4\n3 0 1 2\n");
+    write_file("i.off",
+               "COFF\n3 1 0\n0 0 0 255 0 10 255\n1 0 0 0 128 0 255\n0 1 0 1 2 3 4\n3 0 1 2\n");
     EXPECT_EQ(read_mesh(path("i.off")).colors,
               (std::vector<std::uint8_t>{255, 0, 10, 0, 128, 0, 1, 2, 3}));
     write_file("f.off", "COFF\n3 1 0\n0 0 0 1.0 0 0.5 1\n1 0 0 0 1 0 1\n0 1 0 0 0 1 1\n3 0 1 2\n");
     EXPECT_EQ(read_mesh(path("f.off")).colors,
               (std::vector<std::uint8_t>{255, 0, 128, 0, 255, 0, 0, 0, 255}));
-    write_file("n.off", "CNOFF\n3 1 0\n0 0 0 0 0 1 9 8 7 255\n1 0 0 0 0 1 9 8 7 255\n"
-                        "0 1 0 0 0 1 9 8 7 255\n3 0 1 2\n");
-    EXPECT_EQ(read_mesh(path("n.off")).colors, (std::vector<std::uint8_t>{9, 8, 7, 9, 8, 7, 9, 8, 7}));
+    write_file("n.off",
+               "CNOFF\n3 1 0\n0 0 0 0 0 1 9 8 7 255\n1 0 0 0 0 1 9 8 7 255\n"
+               "0 1 0 0 0 1 9 8 7 255\n3 0 1 2\n");
+    EXPECT_EQ(read_mesh(path("n.off")).colors,
+              (std::vector<std::uint8_t>{9, 8, 7, 9, 8, 7, 9, 8, 7}));
     // A vertex without a colour: none at all.
     write_file("part.off", "COFF\n3 1 0\n0 0 0 1 2 3 255\n1 0 0\n0 1 0 1 2 3 255\n3 0 1 2\n");
     EXPECT_TRUE(read_mesh(path("part.off")).colors.empty());

@@ -105,8 +105,9 @@ TEST(MeshFormat, UnknownExtensionThrowsInvalidArgument) {
         EXPECT_EQ(error_code_of([&] { mesh_format_for_path(name); }), ErrorCode::InvalidArgument)
             << name;
     }
-    EXPECT_NE(error_message_of([] { mesh_format_for_path("x.wrl"); })
-                  .find("use .ply, .obj, .glb, .stl or .off"),
+    EXPECT_NE(error_message_of([] {
+                  mesh_format_for_path("x.wrl");
+              }).find("use .ply, .obj, .glb, .stl or .off"),
               std::string::npos);
 }
 

@@ -77,9 +77,9 @@ TEST(StreamInput, FormatFromTheContentAlone) {
         "ATOM      1  N   THR A   1      17.047  14.099   3.625  1.00 13.79\n"
         "ATOM      2  CA  THR A   1      16.967  12.784   4.338  1.00 10.80\n";
     EXPECT_EQ(from_stream(old_pdb).info.format, StructureFormat::Pdb);
-    EXPECT_EQ(from_stream("ATOM      1  N   THR A   1      17.047  14.099   3.625  1.00\n")
-                  .info.format,
-              StructureFormat::Pdb);
+    EXPECT_EQ(
+        from_stream("ATOM      1  N   THR A   1      17.047  14.099   3.625  1.00\n").info.format,
+        StructureFormat::Pdb);
     // XYZR and XYZRN.
     s = from_stream("# comment\n1 2 3 1.5\n4 5 6 1.7\n");
     EXPECT_EQ(s.info.format, StructureFormat::Xyzr);
