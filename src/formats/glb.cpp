@@ -265,14 +265,18 @@ private:
         for (int child : n.children) visit(child, transform, depth + 1, placed);
     }
 
+    const tinygltf::Accessor& accessor(int index, const std::string& what) const {
+        if (index < 0 || std::size_t(index) >= model_.accessors.size()) {
+            fail(path_, what + ": accessor index out of range");
+        }
+        return model_.accessors[std::size_t(index)];
+    }
+
     // An accessor's elements as `components` values each, converted to T: floats as they are,
     // normalized integers to [0, 1] or [-1, 1], other integers as integers.
     template <typename T>
     std::vector<T> read_accessor(int index, int components, const std::string& what) const {
-        if (index < 0 || std::size_t(index) >= model_.accessors.size()) {
-            fail(path_, what + ": accessor index out of range");
-        }
-        const tinygltf::Accessor& a = model_.accessors[std::size_t(index)];
+        const tinygltf::Accessor& a = accessor(index, what);
         if (a.sparse.isSparse) fail(path_, what + ": sparse accessors are not read");
         if (a.bufferView < 0 || std::size_t(a.bufferView) >= model_.bufferViews.size()) {
             fail(path_, what + ": accessor without a buffer view");
@@ -347,11 +351,11 @@ private:
                 given[glb_attribute_name(name.Get<std::string>())] = name.Get<std::string>();
         }
         std::vector<std::pair<std::string, int>> out;
-        for (const auto& [attribute, accessor] : p.attributes) {
+        for (const auto& [attribute, index] : p.attributes) {
             if (attribute.size() < 2 || attribute[0] != '_' || attribute == "_ATOM") continue;
             const auto it = given.find(attribute);
             const std::string name = it != given.end() ? it->second : lower(attribute.substr(1));
-            if (valid_scalar_name(name)) out.emplace_back(name, accessor);
+            if (valid_scalar_name(name)) out.emplace_back(name, index);
         }
         // In the order the extras list them (the order written), the rest after them.
         auto rank = [&](const std::string& name) {
@@ -396,8 +400,7 @@ private:
         std::vector<std::uint32_t> corners;
         if (p.indices >= 0) {
             corners = read_accessor<std::uint32_t>(p.indices, 1, "indices");
-            if (model_.accessors[std::size_t(p.indices)].componentType ==
-                TINYGLTF_COMPONENT_TYPE_FLOAT) {
+            if (accessor(p.indices, "indices").componentType == TINYGLTF_COMPONENT_TYPE_FLOAT) {
                 fail(path_, "float indices");
             }
         } else {
@@ -460,8 +463,8 @@ private:
             normals_ok_ = false;
         }
         if (const int color = attribute(p, "COLOR_0"); color >= 0 && colors_ok_) {
-            const int components = tinygltf::GetNumComponentsInType(
-                std::uint32_t(model_.accessors.at(std::size_t(color)).type));
+            const int components =
+                tinygltf::GetNumComponentsInType(std::uint32_t(accessor(color, "COLOR_0").type));
             if (components != 3 && components != 4) fail(path_, "COLOR_0 is neither VEC3 nor VEC4");
             const std::vector<double> rgb = read_accessor<double>(color, components, "COLOR_0");
             if (rgb.size() != std::size_t(components) * n)
@@ -487,8 +490,8 @@ private:
             atoms_ok_ = false;
         }
         std::vector<VertexScalars> found;
-        for (const auto& [name, accessor] : scalars_of(p)) {
-            VertexScalars s{name, read_accessor<float>(accessor, 1, glb_attribute_name(name))};
+        for (const auto& [name, index] : scalars_of(p)) {
+            VertexScalars s{name, read_accessor<float>(index, 1, glb_attribute_name(name))};
             if (s.values.size() != n)
                 fail(path_, glb_attribute_name(name) + " and POSITION counts differ");
             found.push_back(std::move(s));
