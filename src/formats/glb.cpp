@@ -118,6 +118,7 @@ public:
 
     tinygltf::Accessor& accessor(int index) { return model_.accessors[std::size_t(index)]; }
     tinygltf::Model& model() { return model_; }
+    void reserve(std::size_t bytes) { model_.buffers[0].data.reserve(bytes); }
 
 private:
     tinygltf::Model model_;
@@ -563,6 +564,8 @@ std::string one_line(std::string text) {
 void write_glb(const Mesh& mesh, ByteSink& sink) {
     GlbBuilder b;
     const std::size_t n = mesh.vertex_count();
+    b.reserve(4 * (mesh.positions.size() + mesh.normals.size() + mesh.colors.size() +
+                   mesh.atoms.size() + n * mesh.scalars.size() + mesh.indices.size()));
     tinygltf::Primitive primitive;
     if (n > 0) {
         const int position = b.add_floats(mesh.positions, TINYGLTF_TYPE_VEC3, n);

@@ -11,6 +11,8 @@
 
 #include "cli/cli_program.hpp"
 #include "cli/json_check.hpp"
+#include "cli/options.hpp"
+#include "cli/parse_check.hpp"
 #include "fdmsurf/fdmsurf.hpp"
 
 namespace {
@@ -52,6 +54,37 @@ protected:
 
     std::string crambin() const { return (fs::path(kDataDir) / "1crn.pdb").string(); }
 };
+
+TEST(CliFormatOptions, OutputFormatAndStandardStreamsParse) {
+    using fdmsurf::MeshFormat;
+    using fdmsurf::cli::output_for;
+    using fdmsurf::cli::parse_args;
+    EXPECT_EQ(fdmsurf_cli_test::parse_with({}).output_format, MeshFormat::Auto);
+    EXPECT_EQ(fdmsurf_cli_test::parse_with({"--output-format", "GLB"}).output_format,
+              MeshFormat::Glb);
+    EXPECT_EQ(fdmsurf_cli_test::parse_with({"--output-format=off"}).output_format, MeshFormat::Off);
+    const auto o = parse_args({"-", "-o", "-", "--output-format", "stl"});
+    EXPECT_EQ(o.inputs, std::vector<std::string>{"-"});
+    EXPECT_EQ(o.output, "-");
+    EXPECT_EQ(o.output_format, MeshFormat::Stl);
+    EXPECT_FALSE(fdmsurf::cli::output_is_folder("-"));
+    EXPECT_EQ(output_for("-", "-"), "-");
+    EXPECT_EQ(output_for("-", "meshes/"), "meshes/stdin.ply");
+    EXPECT_EQ(output_for("a/1crn.pdb.gz", "meshes/", MeshFormat::Glb), "meshes/1crn.glb");
+    EXPECT_EQ(output_for("1d3z.pdb", "out/", 2, MeshFormat::Stl), "out/1d3z-m2.stl");
+    EXPECT_EQ(output_for("1crn.pdb", "x.bin", MeshFormat::Stl), "x.bin");
+    // Two inputs that would write the same file, in the format asked for.
+    try {
+        parse_args({"a.pdb", "a.cif", "-o", "out/", "--output-format", "glb"});
+        ADD_FAILURE() << "no error";
+    } catch (const fdmsurf::Error& e) {
+        EXPECT_TRUE(fdmsurf_cli_test::contains(e.what(), "would both write 'out/a.glb'"))
+            << e.what();
+    }
+    EXPECT_TRUE(
+        fdmsurf_cli_test::contains(fdmsurf_cli_test::parse_error_with({"--output-format", "wrl"}),
+                                   "ply, obj, glb, stl or off"));
+}
 
 TEST_F(CliFormats, EveryOutputExtensionWritesAClosedMeshThatReadsBack) {
     REQUIRE_DEVICE();
