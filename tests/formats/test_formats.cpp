@@ -303,7 +303,7 @@ TEST_F(FormatFiles, GlbOfAMeshWithoutAttributesHasPositionsAndIndicesOnly) {
 }
 
 // glTF requires unit normals: zero ones become their triangles' normal, others renormalized.
-TEST_F(FormatFiles, GlbNormalsAreUnitEvenWhenTheMeshsAreNot) {
+TEST_F(FormatFiles, GlbNormalsAreUnitEvenWhereTheMeshHasOthers) {
     Mesh mesh = test::icosphere(1.0, 1);
     for (float& n : mesh.normals) n *= 3.0f;
     for (int k = 0; k < 3; ++k) mesh.normals[k] = 0.0f;         // vertex 0
