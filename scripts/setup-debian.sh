@@ -24,6 +24,8 @@ packages=(
     # structure input: gemmi is header-only and its CIF parser needs PEGTL, which gemmi-dev
     # does not pull in (docs/structure.md); zlib for .gz
     gemmi-dev tao-pegtl-dev zlib1g-dev
+    # GLB output and input: tinygltf (Debian ships it as a shared library: no json or stb needed)
+    libtinygltf-dev
     # GoogleTest, FFTW (CPU reference of the filter), glm (tests)
     libglm-dev libgtest-dev libfftw3-dev
     # ../shared/tools/meshstat.py; python3 also parses --stats json in scripts/all-structures.sh
@@ -31,6 +33,12 @@ packages=(
     # gzip; GNU time (/usr/bin/time -v) for the peak memory column of scripts/all-structures.sh
     gzip time
 )
+# node and npm for the Khronos glTF validator (scripts/test.sh installs npm's gltf-validator),
+# unless something else provides them already (NodeSource's nodejs bundles npm and conflicts
+# with Debian's npm package)
+if ! command -v node >/dev/null 2>&1 || ! command -v npm >/dev/null 2>&1; then
+    packages+=(nodejs npm)
+fi
 
 missing=()
 for p in "${packages[@]}"; do

@@ -125,8 +125,9 @@ other way round, the vertex-sampled Hausdorff distance, and both areas and volum
 with the relative errors (TESTED - REFERENCE) / REFERENCE. Same definitions as
 shared/tools/meshstat.py compare.
 
-Meshes: PLY, OBJ, OFF (incl. NanoShaper's OFF+N), MSMS .vert/.face (either name),
-each optionally gzip-compressed (.ply.gz). Vertices closer than 1e-5 Å are welded.
+Meshes: PLY, OBJ, GLB, STL, OFF (incl. NanoShaper's OFF+N), MSMS .vert/.face
+(either name), each optionally gzip-compressed (.ply.gz). Vertices closer than
+1e-5 Å are welded.
 
 Options:
   --spacing H        H, Å (> 0; required): report the area share with d > H

@@ -1,10 +1,18 @@
 // The fdmsurf program: a structure file in, its molecular-surface mesh out (see --help).
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <filesystem>
+#include <iostream>
 #include <new>
+#include <ostream>
+#include <streambuf>
 #include <string>
 #include <system_error>
 #include <vector>
@@ -69,14 +77,65 @@ std::string naming(const std::string& path, const std::string& message) {
     return "'" + path + "': " + message;
 }
 
+const char* const kStdoutName = "standard output";
+
+// Standard output as a stream for write_mesh, straight to descriptor 1 (stdio is not used for
+// it): a failed write, a closed pipe among them (SIGPIPE is ignored), throws the Error that
+// names its reason, and the stream passes it on (badbit is in its exception mask).
+class StdoutBuffer final : public std::streambuf {
+protected:
+    std::streamsize xsputn(const char* data, std::streamsize size) override {
+        std::streamsize done = 0;
+        while (done < size) {
+            const ssize_t n = ::write(STDOUT_FILENO, data + done, std::size_t(size - done));
+            if (n < 0 && errno == EINTR) continue;
+            if (n <= 0) {
+                const int error_number = n < 0 ? errno : EIO;
+                throw Error(ErrorCode::Io, std::string("cannot write ") + kStdoutName + ": " +
+                                               std::strerror(error_number) +
+                                               (error_number == EPIPE
+                                                    ? " (the reading end of the pipe was closed; "
+                                                      "the mesh is incomplete)"
+                                                    : ""));
+            }
+            done += n;
+        }
+        return size;
+    }
+    int_type overflow(int_type c) override {
+        if (!traits_type::eq_int_type(c, traits_type::eof())) {
+            const char byte = traits_type::to_char_type(c);
+            xsputn(&byte, 1);
+        }
+        return traits_type::not_eof(c);
+    }
+};
+
+// The structures of INPUT, or of standard input for "-": every model with --models all (the
+// file parsed once), else the one model asked for.
+std::vector<Structure> read_input(const CliOptions& options, const std::string& input) {
+    if (input == kStdio) {
+        std::vector<Structure> models = read_models(std::cin, "standard input", options.read);
+        if (!options.all_models) models.resize(std::min<std::size_t>(models.size(), 1));
+        return models;
+    }
+    if (options.all_models) return read_models(input, options.read);
+    std::vector<Structure> one;
+    one.push_back(read_structure(input, options.read));
+    return one;
+}
+
 // Everything about OUTPUT that can be known before any work: its format, and that its folder
 // exists, so that a typo costs no GPU time.
-MeshFormat check_output(const std::string& output) {
-    MeshFormat format = MeshFormat::Auto;
-    try {
-        format = mesh_format_for_path(output);
-    } catch (const Error& e) {
-        throw Error(e.code(), naming(output, e.what()));
+MeshFormat check_output(const std::string& output, MeshFormat format) {
+    if (output == kStdio) return format == MeshFormat::Auto ? MeshFormat::Ply : format;
+    if (format == MeshFormat::Auto) {
+        try {
+            format = mesh_format_for_path(output);
+        } catch (const Error& e) {
+            throw Error(e.code(),
+                        naming(output, e.what()) + "; or name the format with --output-format");
+        }
     }
     namespace fs = std::filesystem;
     std::error_code ec;
@@ -115,13 +174,16 @@ int run_one(const CliOptions& options, Engine& engine, Progress& progress, doubl
         report.warnings.push_back(message);
     };
     progress.begin(input);
-    const MeshFormat format = check_output(output);
-    if (format == MeshFormat::Obj && !options.surface.properties.scalars.empty())
-        warn("OBJ has no place for per-vertex atoms or --properties values: '" + output +
-             "' gets positions, normals and colours only (PLY keeps them all)");
+    const MeshFormat format = check_output(output, options.output_format);
+    const bool to_stdout = output == kStdio;
+    if (format != MeshFormat::Ply && format != MeshFormat::Glb &&
+        !options.surface.properties.scalars.empty())
+        warn(std::string(format == MeshFormat::Obj ? "OBJ" : format == MeshFormat::Stl ? "STL" : "OFF") +
+             " has no place for per-vertex atoms or --properties values: '" + output +
+             "' is written without them (PLY and GLB keep them all)");
 
     auto t = Clock::now();
-    const Structure structure = read ? *read : read_structure(input, options.read);
+    const Structure structure = read ? *read : std::move(read_input(options, input).front());
     if (!read) parse_ms = ms_since(t);
     if (parse_ms >= 0) report.times.push_back({"parse", parse_ms, false});
     progress.stage("parse");
@@ -176,7 +238,14 @@ int run_one(const CliOptions& options, Engine& engine, Progress& progress, doubl
     }
 
     t = Clock::now();
-    write_mesh(result.mesh, output, format);
+    if (to_stdout) {
+        StdoutBuffer buffer;
+        std::ostream out(&buffer);
+        out.exceptions(std::ios::badbit);
+        write_mesh(result.mesh, out, format, kStdoutName);
+    } else {
+        write_mesh(result.mesh, output, format);
+    }
     report.times.push_back({"write", ms_since(t), false});
     progress.stage("write");
 
@@ -191,6 +260,7 @@ int run_one(const CliOptions& options, Engine& engine, Progress& progress, doubl
     report.version = version();
     report.input = input;
     report.output = output;
+    report.output_format = mesh_format_extension(format) + 1;  // without the dot
     report.surface = options.surface.surface;
     report.method = options.surface.method;
     report.model = structure.info.model;
@@ -202,27 +272,20 @@ int run_one(const CliOptions& options, Engine& engine, Progress& progress, doubl
     report.total_ms = ms_since(start) + init_ms + (read && parse_ms > 0 ? parse_ms : 0.0);
 
     progress.end();
+    // With the mesh on standard output, the summary goes to stderr.
+    std::FILE* const summary = to_stdout ? stderr : stdout;
     if (options.json) {
-        std::printf("%s\n", json_summary(report).c_str());
+        std::fprintf(summary, "%s\n", json_summary(report).c_str());
     } else if (!options.quiet) {
-        std::fputs(text_summary(report).c_str(), stdout);
+        std::fputs(text_summary(report).c_str(), summary);
     }
-    std::fflush(stdout);
+    std::fflush(summary);
     return kExitOk;
 }
 
-// The structures of one input: every model with --models all (the file parsed once), else
-// the one model asked for.
-std::vector<Structure> read_input(const CliOptions& options, const std::string& input) {
-    if (options.all_models) return read_models(input, options.read);
-    std::vector<Structure> one;
-    one.push_back(read_structure(input, options.read));
-    return one;
-}
-
 std::string output_of(const CliOptions& options, const std::string& input, int model) {
-    return options.all_models ? output_for(input, options.output, model)
-                              : output_for(input, options.output);
+    return options.all_models ? output_for(input, options.output, model, options.output_format)
+                              : output_for(input, options.output, options.output_format);
 }
 
 // `-o FOLDER/` that does not exist yet is created (not its parents: a typo in a parent folder
@@ -247,7 +310,8 @@ int run(const CliOptions& options) {
     // Option checks that need neither the structure nor the device come first. The warning
     // for a spacing too coarse for the filter comes from the engine, with result.warnings.
     make_output_folder(options.output);
-    for (const std::string& input : options.inputs) check_output(output_of(options, input, 1));
+    for (const std::string& input : options.inputs)
+        check_output(output_of(options, input, 1), options.output_format);
     effective_cutoff(options.surface);
     if (!options.patch.empty()) check_selection(options.patch, "--patch");
     // Progress on stderr (a terminal, not --quiet): the engine reports its stages to it.
@@ -257,12 +321,12 @@ int run(const CliOptions& options) {
     if (options.inputs.size() == 1 && !options.all_models) {
         // Read before the device starts, so that bad input fails fast.
         auto t = Clock::now();
-        const Structure structure = read_structure(options.inputs.front(), options.read);
+        const Structure structure = std::move(read_input(options, options.inputs.front()).front());
         const double parse_ms = ms_since(t);
         t = Clock::now();
         Engine engine(engine_options);
         return run_one(options, engine, progress, ms_since(t), options.inputs.front(),
-                       output_for(options.inputs.front(), options.output), &structure, parse_ms);
+                       output_of(options, options.inputs.front(), 1), &structure, parse_ms);
     }
 
     // Several inputs or models: one engine for all, so that its pipelines and FFT plans are
@@ -337,9 +401,21 @@ int run(const CliOptions& options) {
     return status;
 }
 
-}  // namespace
+// A summary that could not be printed (stdout a closed pipe) fails the run, as in coreutils.
+int check_stdout(int code) {
+    errno = 0;
+    const bool flushed = std::fflush(stdout) == 0;
+    const int error_number = errno != 0 ? errno : EIO;
+    if (flushed && !std::ferror(stdout)) return code;
+    if (code == kExitOk) {
+        print_error(std::string("cannot write ") + kStdoutName + ": " +
+                    std::strerror(error_number));
+        return kExitInput;
+    }
+    return code;
+}
 
-int main(int argc, char** argv) {
+int run_command(int argc, char** argv) {
     // Started as `msms` (a symlink): MSMS's command line.
     if (argc >= 1 && std::filesystem::path(argv[0]).filename() == "msms")
         return msms_command(std::vector<std::string>(argv + 1, argv + argc));
@@ -361,4 +437,12 @@ int main(int argc, char** argv) {
         if (options.list_devices) return list_devices_command();
         return run(options);
     });
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    // A closed pipe on stdout is an error to report (EPIPE), not a signal that kills silently.
+    std::signal(SIGPIPE, SIG_IGN);
+    return check_stdout(run_command(argc, argv));
 }

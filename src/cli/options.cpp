@@ -22,6 +22,7 @@ using fdmsurf::ErrorCode;
 
 enum class Opt {
     Output,
+    OutputFormat,
     Surface,
     Spacing,
     Probe,
@@ -64,8 +65,9 @@ struct OptionSpec {
     bool numeric;  // a value that may start with '-' (a negative number, rejected later)
 };
 
-constexpr std::array<OptionSpec, 34> kOptions{{
+constexpr std::array<OptionSpec, 35> kOptions{{
     {"--output", "-o", Opt::Output, true, false},
+    {"--output-format", "", Opt::OutputFormat, true, false},
     {"--surface", "", Opt::Surface, true, false},
     {"--spacing", "", Opt::Spacing, true, true},
     {"--probe", "", Opt::Probe, true, true},
@@ -107,21 +109,25 @@ constexpr std::array<OptionSpec, 34> kOptions{{
 
 bool output_is_folder(const std::string& output) {
     std::error_code ec;
-    return !output.empty() && (output.back() == '/' || std::filesystem::is_directory(output, ec));
+    return !output.empty() && output != kStdio &&
+           (output.back() == '/' || std::filesystem::is_directory(output, ec));
 }
 
-std::string output_for(const std::string& input, const std::string& output) {
+std::string output_for(const std::string& input, const std::string& output, MeshFormat format) {
     if (!output_is_folder(output)) return output;
-    std::filesystem::path name = std::filesystem::path(input).filename();
+    std::filesystem::path name =
+        input == kStdio ? std::filesystem::path("stdin") : std::filesystem::path(input).filename();
     // 1crn.pdb.gz -> 1crn.ply
     if (name.extension() == ".gz") name = name.stem();
-    name.replace_extension(".ply");
+    name.replace_extension(format == MeshFormat::Auto ? ".ply" : mesh_format_extension(format));
     return (std::filesystem::path(output) / name).string();
 }
 
-std::string output_for(const std::string& input, const std::string& output, int model) {
-    std::filesystem::path path = output_for(input, output);
-    path.replace_filename(path.stem().string() + "-m" + std::to_string(model) + ".ply");
+std::string output_for(const std::string& input, const std::string& output, int model,
+                       MeshFormat format) {
+    std::filesystem::path path = output_for(input, output, format);
+    path.replace_filename(path.stem().string() + "-m" + std::to_string(model) +
+                          path.extension().string());
     return path.string();
 }
 
@@ -297,6 +303,13 @@ std::vector<VertexProperty> parse_properties(std::string_view option, const std:
     return out;
 }
 
+constexpr std::array<std::pair<std::string_view, MeshFormat>, 5> kOutputFormats{
+    {{"ply", MeshFormat::Ply},
+     {"obj", MeshFormat::Obj},
+     {"glb", MeshFormat::Glb},
+     {"stl", MeshFormat::Stl},
+     {"off", MeshFormat::Off}}};
+
 constexpr std::array<std::pair<std::string_view, bool>, 2> kStats{
     {{"json", true}, {"text", false}}};
 
@@ -319,6 +332,10 @@ void apply_value(CliOptions& o, const OptionSpec& spec, std::string_view name,
     switch (spec.id) {
         case Opt::Output:
             o.output = text;
+            break;
+        case Opt::OutputFormat:
+            o.output_format = parse_choice(name, text, kOutputFormats, "output format",
+                                           "ply, obj, glb, stl or off");
             break;
         case Opt::Surface:
             s.surface = parse_choice(name, text, kSurfaces, "surface kind", "ses, vdw or sas");
@@ -531,7 +548,14 @@ CliOptions parse_args(const std::vector<std::string>& args) {
 
     if (o.help || o.version || o.list_devices) return o;
     if (o.inputs.empty()) fail("missing INPUT, the structure file to read; see fdmsurf --help");
-    if (o.output.empty()) fail("missing -o OUTPUT, the mesh file to write (.ply or .obj)");
+    if (o.output.empty())
+        fail(
+            "missing -o OUTPUT, the mesh file to write (.ply, .obj, .glb, .stl or .off; - for "
+            "standard output)");
+    if (std::count(o.inputs.begin(), o.inputs.end(), kStdio) > 1)
+        fail("'-' (standard input) is given more than once");
+    if (o.output == kStdio && o.inputs.size() > 1)
+        fail("-o - writes one mesh to standard output: give one INPUT, or -o FOLDER/");
     if (o.inputs.size() > 1 && !output_is_folder(o.output))
         fail("several INPUTs need -o to name a folder (ending in '/'), got '" + o.output + "'");
     if (o.all_models && !output_is_folder(o.output))
@@ -541,9 +565,10 @@ CliOptions parse_args(const std::vector<std::string>& args) {
             o.output + "'");
     for (std::size_t i = 0; i < o.inputs.size(); ++i)
         for (std::size_t j = 0; j < i; ++j)
-            if (output_for(o.inputs[i], o.output) == output_for(o.inputs[j], o.output))
+            if (output_for(o.inputs[i], o.output, o.output_format) ==
+                output_for(o.inputs[j], o.output, o.output_format))
                 fail("inputs '" + o.inputs[j] + "' and '" + o.inputs[i] + "' would both write '" +
-                     output_for(o.inputs[i], o.output) + "'");
+                     output_for(o.inputs[i], o.output, o.output_format) + "'");
     return o;
 }
 
@@ -555,7 +580,8 @@ std::string usage_text() {
        fdmsurf --list-devices | --help | --version
 
 Writes the molecular surface of INPUT (PDB, mmCIF, PQR, XYZR or XYZRN; .gz
-accepted) as a triangle mesh to OUTPUT (binary .ply or .obj, by its extension),
+accepted; - reads standard input) as a triangle mesh to OUTPUT (binary .ply,
+.obj, .glb, binary .stl or .off, by its extension; - writes standard output),
 computed on a Vulkan device with the Filtered Density Map method (Giard & Macq
 2010). With several inputs, -o names a folder that gets one NAME.ply per input,
 all computed in one process on one device. `fdmsurf compare` measures a mesh
@@ -595,7 +621,7 @@ Surface:
 
 Input:
   --format pdb|cif|pqr|xyzr|xyzrn  input format (default: from the extension,
-                         then the content)
+                         then the content; for - from the content)
   --model N              model to read, 1-based (default 1)
   --models all           every model, one mesh each: -o names a folder that gets
                          NAME-m1.ply, NAME-m2.ply, ... (one device for all)
@@ -623,12 +649,14 @@ Colours and per-vertex properties (docs/properties.md):
                          (shapely), hydrophobicity (Kyte-Doolittle, blue-white-
                          orange), bfactor (blue-white-red), coulombic (red-white-
                          blue over -10..+10 kcal/(mol e)), #RRGGBB, or none
-                         (default); PLY gets red green blue, OBJ v x y z r g b
-  --properties LIST      per-vertex scalars written as PLY float properties, from
-                         coulombic, hydrophobicity, bfactor, mean_curvature,
-                         gaussian_curvature, shape_index (comma-separated)
-  Every PLY vertex also gets `uint atom`: the index (0-based, in input order) of
-  the atom it belongs to.
+                         (default); PLY gets red green blue, OBJ v x y z r g b,
+                         GLB COLOR_0, OFF r g b 255 (COFF); STL none
+  --properties LIST      per-vertex scalars written as PLY float properties (GLB
+                         _NAME attributes), from coulombic, hydrophobicity,
+                         bfactor, mean_curvature, gaussian_curvature,
+                         shape_index (comma-separated)
+  Every PLY vertex also gets `uint atom` (GLB: float _ATOM): the index (0-based,
+  in input order) of the atom it belongs to.
 
 Device:
   --device INDEX|NAME    Vulkan device: an index from --list-devices or part of
@@ -639,9 +667,15 @@ Device:
                          reports makes the run fail (exit code 5, no output)
 
 Output:
-  -o, --output OUTPUT    the mesh file to write: .ply (binary) or .obj
-  --stats json|text      summary on stdout as one JSON object or as text
-                         (default text)
+  -o, --output OUTPUT    the mesh file to write: .ply (binary), .obj, .glb
+                         (glTF 2.0 binary: positions, normals, COLOR_0, _ATOM and
+                         one _NAME per property), .stl (binary; positions only)
+                         or .off (COFF when coloured); - writes the mesh to
+                         standard output, and the summary goes to stderr
+  --output-format ply|obj|glb|stl|off  the format of OUTPUT, whatever its
+                         extension (default: the extension; ply for -o -)
+  --stats json|text      summary on stdout (stderr with -o -) as one JSON object
+                         or as text (default text)
   --quiet                no text summary (warnings still go to stderr; --stats
                          json still prints its JSON)
   -h, --help             print this help and exit
@@ -652,7 +686,8 @@ Exit codes:
   1  unexpected failure (a bug in fdmsurf)
   2  invalid command line or option value, unknown output extension
   3  input or output error: unreadable or malformed structure, no atoms
-     selected, output file or folder not writable
+     selected, output file or folder not writable, standard output closed
+     (a broken pipe)
   4  device error: no usable Vulkan device (on a machine without a GPU install
      mesa-vulkan-drivers), job too large for the device, Vulkan or VkFFT failure
   5  --validation: the Vulkan validation layer reported messages

@@ -5,20 +5,24 @@
 #include <vector>
 
 #include "fdmsurf/error.hpp"
+#include "fdmsurf/mesh.hpp"
 #include "fdmsurf/structure.hpp"
 #include "fdmsurf/surface.hpp"
 
 namespace fdmsurf::cli {
 
 struct CliOptions {
-    std::vector<std::string> inputs;  // exactly one unless help, version or list_devices
-    std::string output;
+    std::vector<std::string> inputs;  // exactly one unless help, version or list_devices;
+                                      // "-": standard input (at most once)
+    std::string output;               // "-": the mesh to standard output (one input)
+    fdmsurf::MeshFormat output_format = fdmsurf::MeshFormat::Auto;  // --output-format
     fdmsurf::ReadOptions read;
     fdmsurf::SurfaceOptions surface;
     fdmsurf::EngineOptions engine;
     bool list_devices = false;
     bool quiet = false;  // no text summary; warnings still go to stderr
-    bool json = false;   // --stats json: the summary as one JSON object on stdout
+    bool json = false;   // --stats json: the summary as one JSON object on stdout (stderr with
+                         // -o -)
     bool help = false;
     bool version = false;
     bool paper = false;  // --paper: the paper's settings where not given explicitly
@@ -33,12 +37,19 @@ struct CliOptions {
 // to name a folder, and so does --models all.
 CliOptions parse_args(const std::vector<std::string>& args);
 
+// The INPUT and OUTPUT that stand for standard input and standard output.
+inline constexpr const char* kStdio = "-";
+
 // True when OUTPUT names a folder (ends in '/' or exists as one): one mesh per input goes there.
+// Never for "-".
 bool output_is_folder(const std::string& output);
-// The mesh path for `input`: OUTPUT itself, or OUTPUT/<input name>.ply for a folder.
-std::string output_for(const std::string& input, const std::string& output);
+// The mesh path for `input`: OUTPUT itself, or OUTPUT/<input name>.ply for a folder (.glb, ...
+// with another `format`; "stdin" is the name of input "-").
+std::string output_for(const std::string& input, const std::string& output,
+                       fdmsurf::MeshFormat format = fdmsurf::MeshFormat::Auto);
 // With --models all: OUTPUT/<input name>-m<model>.ply (OUTPUT must be a folder).
-std::string output_for(const std::string& input, const std::string& output, int model);
+std::string output_for(const std::string& input, const std::string& output, int model,
+                       fdmsurf::MeshFormat format = fdmsurf::MeshFormat::Auto);
 
 // The --help text: usage, every option with its unit and default, the exit codes.
 std::string usage_text();

@@ -19,8 +19,9 @@ namespace fdmsurf::cli {
 // device.
 struct RunReport {
     std::string version;
-    std::string input;
-    std::string output;
+    std::string input;          // "-": standard input
+    std::string output;         // "-": standard output
+    std::string output_format;  // "ply", "obj", "glb", "stl" or "off"
     SurfaceKind surface = SurfaceKind::Ses;
     SesMethod method = SesMethod::Fdm;  // ses only
     int model = 1;
@@ -160,6 +161,8 @@ inline std::string json_summary(const RunReport& r) {
     w.member("version", r.version);
     w.member("input", r.input);
     w.member("output", r.output);
+    w.member("input_format", to_string(r.info.format));
+    w.member("output_format", r.output_format);
     w.member("surface", surface_name(r.surface));
     if (r.surface == SurfaceKind::Ses) w.member("method", to_string(r.method));
     w.member("model", r.model);

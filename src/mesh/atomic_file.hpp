@@ -5,20 +5,22 @@
 #include <string>
 #include <vector>
 
+#include "formats/formats.hpp"
+
 namespace fdmsurf::detail {
 
 // Opens a new temporary file next to `path`; write() buffers, commit() flushes, closes and
 // renames it onto `path`. Destroyed without commit(), it removes the temporary file. Every
 // failure throws Error(Io, "cannot write <path>: <reason>"). Not copyable.
-class AtomicFile {
+class AtomicFile final : public ByteSink {
 public:
     explicit AtomicFile(std::string path);
     ~AtomicFile();
     AtomicFile(const AtomicFile&) = delete;
     AtomicFile& operator=(const AtomicFile&) = delete;
 
-    void write(const void* data, std::size_t size);
-    void write(const std::string& text) { write(text.data(), text.size()); }
+    using ByteSink::write;
+    void write(const void* data, std::size_t size) override;
     void commit();
 
 private:

@@ -1,4 +1,4 @@
-// read_mesh: loads a file and hands its bytes to the PLY or OBJ parser.
+// read_mesh: loads a file and hands its bytes to the parser of its format.
 #include <cctype>
 #include <cerrno>
 #include <cstdio>
@@ -9,6 +9,8 @@
 
 #include "fdmsurf/error.hpp"
 #include "fdmsurf/mesh.hpp"
+#include "formats/formats.hpp"
+#include "mesh/compare_detail.hpp"
 #include "mesh/mesh_io.hpp"
 
 namespace fdmsurf {
@@ -46,14 +48,35 @@ std::string lowercase_extension(const std::string& path) {
     return ext;
 }
 
+std::optional<Mesh> parse_mesh_data(std::string_view data, const std::string& path,
+                                    const std::string& extension) {
+    // PLY and GLB announce themselves; OBJ and STL have no magic.
+    if (starts_with_ply_magic(data)) return parse_ply(data, path);
+    if (is_glb(data)) return parse_glb(data, path);
+    if (extension == ".obj") return parse_obj(data, path);
+    if (extension == ".stl") return parse_stl(data, path);
+    if (extension == ".off") return parse_off(data, path);
+    if (extension == ".glb") return parse_glb(data, path);
+    // Under another name: OFF by its first word, STL by its size or its text.
+    const std::size_t start = data.find_first_not_of(" \t\r\n");
+    if (start != std::string_view::npos) {
+        const std::string_view head =
+            data.substr(start, data.find_first_of(" \t\r\n", start) - start);
+        if (head.find("OFF") != std::string_view::npos) return parse_off(data, path);
+    }
+    if (is_binary_stl(data) || is_ascii_stl(data)) return parse_stl(data, path);
+    return std::nullopt;
+}
+
 }  // namespace detail
 
 Mesh read_mesh(const std::string& path) {
     const std::string data = detail::read_file(path);
-    // PLY announces itself; OBJ has no magic, so it is recognised by its extension.
-    if (detail::starts_with_ply_magic(data)) return detail::parse_ply(data, path);
-    if (detail::lowercase_extension(path) == ".obj") return detail::parse_obj(data, path);
-    throw Error(ErrorCode::Format, path + ": not a PLY file, nor named .obj");
+    if (auto mesh = detail::parse_mesh_data(data, path, detail::lowercase_extension(path))) {
+        return std::move(*mesh);
+    }
+    throw Error(ErrorCode::Format,
+                path + ": not a mesh file read_mesh reads (PLY, OBJ, GLB, STL or OFF)");
 }
 
 }  // namespace fdmsurf

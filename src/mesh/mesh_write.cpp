@@ -1,16 +1,16 @@
 // Mesh writers: binary little-endian PLY (with atoms, colours and scalars per vertex) and OBJ
-// (with vertex colours), through an atomically renamed file.
-#include <bit>
+// (with vertex colours); the choice of format, handing GLB, STL and OFF to src/formats/, and
+// the destination: an atomically renamed file or a stream.
 #include <charconv>
 #include <cstdint>
-#include <cstring>
-#include <limits>
+#include <ostream>
 #include <string>
 #include <vector>
 
 #include "fdmsurf/error.hpp"
 #include "fdmsurf/fdmsurf.hpp"
 #include "fdmsurf/mesh.hpp"
+#include "formats/formats.hpp"
 #include "mesh/atomic_file.hpp"
 #include "mesh/mesh_attributes.hpp"
 #include "mesh/mesh_io.hpp"
@@ -20,19 +20,7 @@ namespace fdmsurf {
 namespace detail {
 namespace {
 
-// Appends the little-endian bytes of a 4-byte value; a no-op copy on little-endian hosts.
-template <typename T>
-char* put_le(char* out, T value) {
-    static_assert(sizeof(T) == 4);
-    auto bits = std::bit_cast<std::uint32_t>(value);
-    if constexpr (std::endian::native == std::endian::big) {
-        bits = (bits >> 24) | ((bits >> 8) & 0xff00u) | ((bits << 8) & 0xff0000u) | (bits << 24);
-    }
-    std::memcpy(out, &bits, 4);
-    return out + 4;
-}
-
-void write_ply(const Mesh& mesh, AtomicFile& file) {
+void write_ply(const Mesh& mesh, ByteSink& file) {
     const bool normals = !mesh.normals.empty();
     const bool atoms = !mesh.atoms.empty();
     const bool colors = !mesh.colors.empty();
@@ -84,7 +72,7 @@ char* put_index(char* out, char* end, std::uint64_t value) {
     return std::to_chars(out, end, value).ptr;
 }
 
-void write_obj(const Mesh& mesh, AtomicFile& file) {
+void write_obj(const Mesh& mesh, ByteSink& file) {
     const bool normals = !mesh.normals.empty();
     const bool colors = !mesh.colors.empty();
     file.write("# written by fdmsurf " + std::string(version()) + "\n# " +
@@ -136,33 +124,74 @@ void write_obj(const Mesh& mesh, AtomicFile& file) {
     }
 }
 
+// Every check a format needs, before anything is created or written.
+void check_for_writing(const Mesh& mesh, MeshFormat format, const std::string& name) {
+    validate_mesh(mesh, "write_mesh", true);
+    validate_attributes(mesh, "write_mesh");
+    check_format_limits(mesh, format, name);
+}
+
+void write_format(const Mesh& mesh, MeshFormat format, ByteSink& sink) {
+    switch (format) {
+        case MeshFormat::Ply:
+            write_ply(mesh, sink);
+            return;
+        case MeshFormat::Obj:
+            write_obj(mesh, sink);
+            return;
+        case MeshFormat::Glb:
+            write_glb(mesh, sink);
+            return;
+        case MeshFormat::Stl:
+            write_stl(mesh, sink);
+            return;
+        case MeshFormat::Off:
+            write_off(mesh, sink);
+            return;
+        case MeshFormat::Auto:
+            break;
+    }
+    throw Error(ErrorCode::Internal, "write_mesh: no format chosen");
+}
+
 }  // namespace
 }  // namespace detail
 
 MeshFormat mesh_format_for_path(const std::string& path) {
     const std::string ext = detail::lowercase_extension(path);
-    if (ext == ".ply") return MeshFormat::Ply;
-    if (ext == ".obj") return MeshFormat::Obj;
+    for (const detail::MeshFormatName& f : detail::kMeshFormats) {
+        if (ext == f.extension) return f.format;
+    }
     throw Error(ErrorCode::InvalidArgument,
-                "unknown output format '" + ext + "' for " + path + " (use .ply or .obj)");
+                (ext.empty() ? "no extension" : "unknown output format '" + ext + "'") + " for " +
+                    path + " (use " + detail::supported_extensions() + ")");
+}
+
+const char* mesh_format_extension(MeshFormat format) noexcept {
+    for (const detail::MeshFormatName& f : detail::kMeshFormats) {
+        if (f.format == format) return f.extension.data();
+    }
+    return "";
 }
 
 void write_mesh(const Mesh& mesh, const std::string& path, MeshFormat format) {
-    detail::validate_mesh(mesh, "write_mesh", true);
-    detail::validate_attributes(mesh, "write_mesh");
     if (format == MeshFormat::Auto) format = mesh_format_for_path(path);
-    // PLY indices are signed 32-bit ints.
-    if (format == MeshFormat::Ply &&
-        mesh.vertex_count() > std::size_t(std::numeric_limits<std::int32_t>::max())) {
-        throw Error(ErrorCode::InvalidArgument, "write_mesh: too many vertices for PLY: " + path);
-    }
+    detail::check_for_writing(mesh, format, path);
     detail::AtomicFile file(path);
-    if (format == MeshFormat::Ply) {
-        detail::write_ply(mesh, file);
-    } else {
-        detail::write_obj(mesh, file);
-    }
+    detail::write_format(mesh, format, file);
     file.commit();
+}
+
+void write_mesh(const Mesh& mesh, std::ostream& out, MeshFormat format, const std::string& name) {
+    if (format == MeshFormat::Auto) {
+        throw Error(ErrorCode::InvalidArgument, "write_mesh: writing to " + name +
+                                                    " needs a format (" +
+                                                    detail::supported_extensions() + "), not Auto");
+    }
+    detail::check_for_writing(mesh, format, name);
+    detail::StreamSink sink(out, name);
+    detail::write_format(mesh, format, sink);
+    sink.finish();
 }
 
 }  // namespace fdmsurf

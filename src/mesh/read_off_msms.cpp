@@ -1,9 +1,12 @@
-// read_mesh_any: PLY, OBJ, OFF (OFF/NOFF/COFF/"OFF+N") and MSMS .vert/.face, gzipped or not.
+// read_mesh_any: PLY, OBJ, GLB, STL, OFF (OFF/NOFF/COFF/"OFF+N") and MSMS .vert/.face, gzipped or
+// not.
 #include <zlib.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <charconv>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -114,6 +117,30 @@ void add_position(Mesh& mesh, const std::vector<std::string_view>& words, const 
     }
 }
 
+// COFF colours: integers 0-255, or floats 0-1 when any channel of the file is not an integer.
+struct OffColors {
+    std::vector<double> values;  // 3 per vertex
+    bool floats = false;
+
+    void add(const std::vector<std::string_view>& words, std::size_t at, const std::string& path,
+             std::size_t line) {
+        for (std::size_t k = at; k < at + 3; ++k) {
+            floats = floats || words[k].find_first_not_of("+0123456789") != std::string_view::npos;
+            values.push_back(parse_double(words[k], path, line));
+        }
+    }
+
+    std::vector<std::uint8_t> bytes() const {
+        std::vector<std::uint8_t> out;
+        out.reserve(values.size());
+        for (double value : values) {
+            const double byte = floats ? value * 255.0 : value;
+            out.push_back(std::uint8_t(std::lround(std::clamp(byte, 0.0, 255.0))));
+        }
+        return out;
+    }
+};
+
 // Reads a whole file; gzip-compressed data is inflated (zlib reads plain files unchanged).
 std::string read_maybe_gzipped(const std::string& path) {
     std::error_code ec;
@@ -200,10 +227,20 @@ Mesh parse_off(std::string_view text, const std::string& path) {
     }
     Mesh mesh;
     mesh.positions.reserve(std::min<std::uint64_t>(3 * vertices, text.size()));
+    // COFF, CNOFF: r g b a after the position (and the normal), integers 0-255 or floats 0-1.
+    const std::string_view prefix = words[0].substr(0, words[0].find("OFF"));
+    const bool colored = prefix.find('C') != std::string_view::npos &&
+                         prefix.find_first_of("4n") == std::string_view::npos;
+    const std::size_t color_at = prefix.find('N') != std::string_view::npos ? 6 : 3;
+    OffColors colors;
     for (std::uint64_t i = 0; i < vertices; ++i) {
         if (!lines.next_words(words)) fail(path, "OFF file ends inside its vertices");
         add_position(mesh, words, path, lines.number());
+        if (colored && words.size() >= color_at + 3)
+            colors.add(words, color_at, path, lines.number());
     }
+    // Colours only when every vertex has one.
+    if (vertices > 0 && colors.values.size() == 3 * vertices) mesh.colors = colors.bytes();
     mesh.indices.reserve(std::min<std::uint64_t>(3 * faces, text.size()));
     std::vector<std::uint32_t> polygon;
     for (std::uint64_t f = 0; f < faces; ++f) {
@@ -306,21 +343,11 @@ Mesh read_mesh_any(const std::string& path) {
         return detail::parse_msms(vert, vert_path, face, face_path);
     }
     const std::string data = detail::read_maybe_gzipped(path);
-    if (data.starts_with("ply\n") || data.starts_with("ply\r\n")) {
-        return detail::parse_ply(data, path);
-    }
-    if (ext == ".obj") return detail::parse_obj(data, path);
-    if (ext == ".off") return detail::parse_off(data, path);
-    // An OFF file under another name still announces itself in its first line.
-    std::vector<std::string_view> words;
-    detail::Lines lines(data);
-    if (lines.next_words(words) && words[0].find("OFF") != std::string_view::npos) {
-        return detail::parse_off(data, path);
-    }
+    if (auto mesh = detail::parse_mesh_data(data, path, ext)) return std::move(*mesh);
     throw Error(ErrorCode::Format,
                 path +
-                    ": not a mesh file fdmsurf reads (PLY, OBJ, OFF, MSMS .vert/.face, each "
-                    "optionally gzipped)");
+                    ": not a mesh file fdmsurf reads (PLY, OBJ, GLB, STL, OFF, MSMS .vert/.face, "
+                    "each optionally gzipped)");
 }
 
 }  // namespace fdmsurf

@@ -26,6 +26,9 @@ namespace fdmsurf::detail {
 // Throws Error(Io) when the file cannot be read, Error(Format) for a broken gzip stream.
 std::string load_file(const std::string& path);
 
+// The bytes themselves, or their decompression when they are gzip data; `name` for messages.
+std::string decompress(std::string bytes, const std::string& name);
+
 // Rejects empty input and binary data, naming `name`. Throws Error(Format).
 void check_text(std::string_view data, const std::string& name);
 

@@ -1,6 +1,7 @@
 // Structure input entry points: load, check, pick the format, hand over to that format's reader.
 #include "fdmsurf/structure.hpp"
 
+#include <istream>
 #include <utility>
 #include <vector>
 
@@ -57,6 +58,16 @@ Structure one_model(const std::string& text, const std::string& name, const Read
     return std::move(models.front());
 }
 
+// All of a stream's bytes, decompressed when gzip data.
+std::string load_stream(std::istream& in, const std::string& name) {
+    std::string bytes;
+    char buffer[1 << 16];
+    while (in.read(buffer, sizeof buffer) || in.gcount() > 0)
+        bytes.append(buffer, static_cast<std::size_t>(in.gcount()));
+    if (in.bad()) throw Error(ErrorCode::Io, name + ": read error");
+    return detail::decompress(std::move(bytes), name);
+}
+
 }  // namespace
 
 Structure read_structure(const std::string& path, const ReadOptions& options) {
@@ -70,6 +81,15 @@ Structure read_structure_from_memory(std::string_view data, const std::string& n
 
 std::vector<Structure> read_models(const std::string& path, const ReadOptions& options) {
     return read_text(detail::load_file(path), path, options);
+}
+
+Structure read_structure(std::istream& in, const std::string& name, const ReadOptions& options) {
+    return one_model(load_stream(in, name), name, options);
+}
+
+std::vector<Structure> read_models(std::istream& in, const std::string& name,
+                                   const ReadOptions& options) {
+    return read_text(load_stream(in, name), name, options);
 }
 
 std::vector<Structure> read_models_from_memory(std::string_view data, const std::string& name,

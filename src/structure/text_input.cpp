@@ -125,6 +125,33 @@ bool is_xyzrn_line(std::string_view line) {
     return parse_number(f.back(), value) == NumberStatus::NotNumber;
 }
 
+// XYZR: exactly four numbers.
+bool is_xyzr_line(std::string_view line) {
+    std::vector<std::string_view> f = split_fields(line);
+    if (f.size() != 4) return false;
+    double value = 0.0;
+    for (std::string_view field : f)
+        if (parse_number(field, value) != NumberStatus::Ok) return false;
+    return true;
+}
+
+// An ATOM/HETATM line of PQR rather than PDB. PDB's fixed columns end in occupancy (55-60) and
+// B-factor (61-66) as %6.2f, often followed by the element; PQR's whitespace-separated fields
+// end in charge and radius, both numbers, written with other widths (pdb2pqr: %7.4f %6.4f).
+bool is_pqr_atom_line(std::string_view line) {
+    std::vector<std::string_view> f = split_fields(line);
+    double value = 0.0;
+    if (f.size() < 10 || parse_number(f.back(), value) != NumberStatus::Ok ||
+        parse_number(f[f.size() - 2], value) != NumberStatus::Ok)
+        return false;  // the last field is an element or a charge like "1+": PDB
+    auto pdb_number = [&](std::size_t start) {  // %6.2f at columns start+1 .. start+6
+        return line.size() >= start + 6 && line[start + 3] == '.' &&
+               parse_number(trim(line.substr(start, 6)), value) == NumberStatus::Ok;
+    };
+    const bool pdb_columns = pdb_number(54) && (line.size() < 66 || pdb_number(60));
+    return !pdb_columns;
+}
+
 StructureFormat format_from_content(std::string_view text) {
     LineReader lines(text);
     std::string_view line;
@@ -135,9 +162,11 @@ StructureFormat format_from_content(std::string_view text) {
         // mmCIF: the first real line opens a data block.
         if (first && istarts_with(t, "data_")) return StructureFormat::Mmcif;
         if (first && is_xyzrn_line(t)) return StructureFormat::Xyzrn;
+        if (first && is_xyzr_line(t)) return StructureFormat::Xyzr;
         first = false;
-        if (line.starts_with("ATOM") || line.starts_with("HETATM") || line.starts_with("HEADER"))
-            return StructureFormat::Pdb;
+        if (line.starts_with("ATOM") || line.starts_with("HETATM"))
+            return is_pqr_atom_line(line) ? StructureFormat::Pqr : StructureFormat::Pdb;
+        if (line.starts_with("HEADER")) return StructureFormat::Pdb;
     }
     return StructureFormat::Auto;
 }
@@ -153,9 +182,10 @@ bool is_gzip(std::string_view data) {
            static_cast<unsigned char>(data[1]) == 0x8b;
 }
 
-std::string load_file(const std::string& path) {
-    std::string bytes = read_bytes(path);
-    return is_gzip(bytes) ? gunzip(bytes, path) : bytes;
+std::string load_file(const std::string& path) { return decompress(read_bytes(path), path); }
+
+std::string decompress(std::string bytes, const std::string& name) {
+    return is_gzip(bytes) ? gunzip(bytes, name) : bytes;
 }
 
 void check_text(std::string_view data, const std::string& name) {

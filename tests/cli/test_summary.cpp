@@ -139,6 +139,8 @@ TEST(CliSummary, JsonIsOneValidObjectWithEveryKey) {
     ASSERT_EQ(value->type, JsonValue::Type::Object);
     for (const char* key : {"input",
                             "output",
+                            "input_format",
+                            "output_format",
                             "surface",
                             "atoms_used",
                             "atoms_in_file",

@@ -101,11 +101,13 @@ TEST(MeshFormat, ExtensionChoosesTheFormatInAnyCase) {
 }
 
 TEST(MeshFormat, UnknownExtensionThrowsInvalidArgument) {
-    for (const char* name : {"out.stl", "out", "ply", "dir.ply/out"}) {
+    for (const char* name : {"out.vrml", "out", "ply", "dir.ply/out"}) {
         EXPECT_EQ(error_code_of([&] { mesh_format_for_path(name); }), ErrorCode::InvalidArgument)
             << name;
     }
-    EXPECT_NE(error_message_of([] { mesh_format_for_path("x.stl"); }).find("use .ply or .obj"),
+    EXPECT_NE(error_message_of([] {
+                  mesh_format_for_path("x.wrl");
+              }).find("use .ply, .obj, .glb, .stl or .off"),
               std::string::npos);
 }
 
@@ -220,7 +222,7 @@ TEST_F(MeshFiles, PathThatIsAFolderThrowsIoAndLeavesNoTemporary) {
 }
 
 TEST_F(MeshFiles, UnknownExtensionThrowsInvalidArgumentAndCreatesNothing) {
-    EXPECT_EQ(error_code_of([&] { write_mesh(small_sphere(), path("sphere.stl")); }),
+    EXPECT_EQ(error_code_of([&] { write_mesh(small_sphere(), path("sphere.wrl")); }),
               ErrorCode::InvalidArgument);
     EXPECT_TRUE(listing().empty());
 }

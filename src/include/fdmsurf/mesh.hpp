@@ -3,6 +3,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <iosfwd>
 #include <string>
 #include <vector>
 
@@ -63,20 +64,36 @@ std::size_t remove_cavities(Mesh& mesh, double max_volume);
 // kept) and every per-vertex attribute. Throws Error(InvalidArgument) when mesh.atoms is empty.
 Mesh extract_patch(const Mesh& mesh, const std::vector<std::uint8_t>& selected);
 
-enum class MeshFormat { Auto, Ply, Obj };
+// Auto: from the path's extension. Formats and their contents: docs/mesh.md, docs/formats.md.
+enum class MeshFormat { Auto, Ply, Obj, Glb, Stl, Off };
 
 // Writes binary little-endian PLY (positions, normals, `uint atom` when mesh.atoms is set,
-// `uchar red green blue` when coloured, one float property per scalar, triangles) or OBJ
-// (v x y z [r g b], vn, f v//vn), chosen by the path's
-// extension (.ply, .obj) unless `format` says. Writes to a temporary file in the same folder
-// and renames it: on failure no file is left at `path`. Throws Error (Io, InvalidArgument).
+// `uchar red green blue` when coloured, one float property per scalar, triangles), OBJ
+// (v x y z [r g b], vn, f v//vn), GLB (glTF 2.0 binary: POSITION, NORMAL, COLOR_0, _ATOM and
+// one _NAME per scalar, UNSIGNED_INT indices), binary STL (a normal per face, no shared
+// vertices, no attributes) or OFF (COFF when coloured), chosen by the path's extension (.ply,
+// .obj, .glb, .stl, .off, any case) unless `format` says. Writes to a temporary file in the
+// same folder and renames it: on failure no file is left at `path`. Throws Error (Io,
+// InvalidArgument: an unknown extension, a malformed mesh, or one the format cannot hold, e.g.
+// GLB with an atom index above 2^24 or a non-finite scalar), checked before anything is created.
 void write_mesh(const Mesh& mesh, const std::string& path, MeshFormat format = MeshFormat::Auto);
 
-// The format write_mesh would use for `path`; throws Error(InvalidArgument) for an unknown
-// extension.
+// The same bytes to a stream (std::cout for a pipe); `format` must not be Auto, `name`
+// ("standard output") names the stream in messages. Everything is checked before the first
+// byte; a stream that fails while being written throws Error(Io, "cannot write <name>: ...")
+// (an fdmsurf::Error the stream itself throws passes unchanged), and what was written before
+// stays written. The stream is flushed, not closed.
+void write_mesh(const Mesh& mesh, std::ostream& out, MeshFormat format, const std::string& name);
+
+// The format write_mesh would use for `path`; throws Error(InvalidArgument), listing every
+// supported extension, for any other.
 MeshFormat mesh_format_for_path(const std::string& path);
 
-// Reads PLY (ASCII or binary) or OBJ written by fdmsurf or another tool; for tests and tools.
+// ".ply", ".obj", ".glb", ".stl" or ".off"; "" for Auto.
+const char* mesh_format_extension(MeshFormat format) noexcept;
+
+// Reads PLY (ASCII or binary), OBJ, GLB, STL (binary or ASCII; identical corners welded into
+// shared vertices) or OFF written by fdmsurf or another tool; for tests and tools.
 Mesh read_mesh(const std::string& path);
 
 }  // namespace fdmsurf

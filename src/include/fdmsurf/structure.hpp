@@ -3,6 +3,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <iosfwd>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -105,12 +106,21 @@ Structure read_structure(const std::string& path, const ReadOptions& options = {
 Structure read_structure_from_memory(std::string_view data, const std::string& name,
                                      const ReadOptions& options = {});
 
+// The same from a stream read to its end (the CLI's standard input), gzip data decompressed;
+// with format Auto the format comes from `name`'s extension, else from the content (PDB, mmCIF,
+// PQR, XYZR, XYZRN). `name` ("standard input") names it in messages. A stream that fails to
+// read throws Error(Io).
+Structure read_structure(std::istream& in, const std::string& name,
+                         const ReadOptions& options = {});
+
 // Every model of a file (options.model == kAllModels), or only options.model, each selected
 // as read_structure would: element i is model i+1 (info.model). The file is read and parsed
 // once. PQR and XYZR give one Structure.
 std::vector<Structure> read_models(const std::string& path, const ReadOptions& options = {});
 std::vector<Structure> read_models_from_memory(std::string_view data, const std::string& name,
                                                const ReadOptions& options = {});
+std::vector<Structure> read_models(std::istream& in, const std::string& name,
+                                   const ReadOptions& options = {});
 
 // Van der Waals radius (Å) used for an element symbol (case-insensitive), or a negative value
 // for an unknown element. Table: Bondi (1964) where Bondi gives one, else gemmi's table
