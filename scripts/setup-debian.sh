@@ -24,6 +24,8 @@ packages=(
     # structure input: gemmi is header-only and its CIF parser needs PEGTL, which gemmi-dev
     # does not pull in (docs/structure.md); zlib for .gz
     gemmi-dev tao-pegtl-dev zlib1g-dev
+    # mesh simplification and vertex-cache/fetch reordering (--simplify, --optimize)
+    libmeshoptimizer-dev
     # GoogleTest, FFTW (CPU reference of the filter), glm (tests)
     libglm-dev libgtest-dev libfftw3-dev
     # ../shared/tools/meshstat.py; python3 also parses --stats json in scripts/all-structures.sh

@@ -5,6 +5,7 @@
 #include "fdmsurf/error.hpp"
 #include "fdmsurf/mesh.hpp"
 #include "fdmsurf/properties.hpp"
+#include "fdmsurf/simplify.hpp"
 #include "fdmsurf/structure.hpp"
 #include "fdmsurf/surface.hpp"
 #include "fdmsurf/vulkan_interop.hpp"
