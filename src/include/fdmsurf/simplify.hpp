@@ -27,30 +27,36 @@ struct SimplifyReport {
     std::size_t triangles_in = 0, vertices_in = 0;    // after welding
     std::size_t target_triangles = 0;                 // from ratio and max_triangles
     std::size_t triangles_out = 0, vertices_out = 0;  // the result
-    std::size_t welded = 0;     // input vertices merged into another at the same position
-    int attempts = 0;           // simplifier runs (more than one when closedness was restored)
-    double error = 0.0;         // meshoptimizer's estimate of the deviation, Å
-    // compare_meshes(input, result): the result's vertices are input vertices, so both are
-    // the input's vertices to the result's triangles (Å; NaN unless measure_distance).
+    std::size_t welded = 0;  // input vertices merged into another at the same position
+    std::size_t regions = 0;  // regions meshopt_simplify ran on (cells, over both passes)
+    std::size_t frozen_triangles = 0;  // kept as they were where a collapse broke the topology
+    std::size_t regions_kept_whole = 0;  // regions whose defects outlived every retry
+    int attempts = 0;                    // meshopt_simplify runs, over all regions
+    double error = 0.0;  // meshoptimizer's estimate of the deviation, Å (largest per pass, summed)
+    // compare_meshes(input, result): the input's vertices to the result's triangles, since the
+    // result's vertices are input vertices (Å; NaN unless measure_distance).
     double hausdorff = std::numeric_limits<double>::quiet_NaN();
     double rmsd = std::numeric_limits<double>::quiet_NaN();
-    // Topology of the result against the input: true unless the result has boundary,
-    // non-manifold or inconsistently oriented edges, non-manifold vertices or degenerate
-    // triangles that the input did not have, or lost positive volume.
+    // False when the result has boundary, non-manifold or inconsistently oriented edges,
+    // non-manifold vertices or degenerate triangles that the input did not have, or lost its
+    // positive volume.
     bool topology_kept = true;
-    MeshStats stats_in, stats_out;  // compute_stats of the (welded) input and of the result
-    std::vector<StageTime> times;   // "simplify", "simplify-compare" (host clock)
+    MeshStats stats_out;           // compute_stats of the result
+    std::vector<StageTime> times;  // "simplify", "simplify-compare" (host clock)
 };
 
 // A copy of `mesh` with about target = min(round(ratio · triangles), max_triangles) triangles
-// (at least 1), by meshoptimizer's edge collapses (meshopt_simplify, quadric error; mesh borders
-// locked, so an open patch keeps its outline). Vertices at the same position are welded first.
-// The result's vertices are a subset of the input's, in the input's order, each with its
-// normal, atom, colour and scalars. A collapse sequence that would leave a closed manifold
-// input non-manifold is undone by retrying closer to the input's count (docs/mesh.md), so the
-// result may keep more triangles than the target. ratio 1 and no cap: the welded input.
+// (at least 1), by meshoptimizer's edge collapses (meshopt_simplify, quadric error, borders
+// locked: an open patch keeps its outline). Vertices at bit-identical positions are welded
+// first. Meshes of more than 131,072 triangles are simplified in cells, in parallel on all
+// hardware threads. Where a collapse sequence breaks the topology (non-manifold edges or
+// vertices, which meshoptimizer 0.18 does not prevent), the input around it is kept as it was
+// and the rest simplified again, so the result keeps the input's topology and may keep more
+// triangles than the target (docs/mesh.md#simplification). The result's vertices are a subset
+// of the input's, in the input's order, each with its normal, atom, colour and scalars.
+// A target at or above the input's count returns the welded input.
 // Throws Error(InvalidArgument) for a ratio outside (0, 1], a negative or NaN max_error, or
-// malformed arrays (validate as write_mesh does).
+// malformed arrays (as write_mesh does).
 Mesh simplify_mesh(const Mesh& mesh, const SimplifyOptions& options,
                    SimplifyReport* report = nullptr);
 
