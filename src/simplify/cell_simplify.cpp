@@ -6,6 +6,7 @@
 // second pass's cubes.
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -83,43 +84,41 @@ std::vector<std::uint32_t> cells_of(const std::vector<float>& p, const std::vect
     return cell;
 }
 
-// One region's vertices (numbered in their global order), positions and local triangles.
+// One region's vertices (global numbers, in order of first use), positions and triangles.
 struct LocalRegion {
     std::vector<Index> vertices;
     std::vector<float> positions;
     std::vector<Index> own, context;
 };
 
+// `map`: one entry per global vertex, all kNone, and left so.
 LocalRegion localise(const std::vector<float>& positions, const std::vector<Index>& indices,
                      const Index* own, std::size_t own_count, const Index* context,
-                     std::size_t context_count) {
+                     std::size_t context_count, std::vector<Index>& map) {
+    constexpr Index kNone = std::numeric_limits<Index>::max();
     LocalRegion region;
-    for (const auto& [list, count] : {std::pair{own, own_count}, std::pair{context, context_count}}) {
-        for (std::size_t k = 0; k < count; ++k) {
-            const Index* tri = &indices[3 * std::size_t{list[k]}];
-            region.vertices.insert(region.vertices.end(), tri, tri + 3);
-        }
-    }
-    std::vector<Index>& vertices = region.vertices;
-    std::sort(vertices.begin(), vertices.end());
-    vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
-    region.positions.resize(3 * vertices.size());
-    for (std::size_t v = 0; v < vertices.size(); ++v) {
-        for (int a = 0; a < 3; ++a)
-            region.positions[3 * v + a] = positions[3 * std::size_t{vertices[v]} + a];
-    }
     auto local = [&](const Index* list, std::size_t count, std::vector<Index>& out) {
         out.reserve(3 * count);
         for (std::size_t k = 0; k < count; ++k) {
             const Index* tri = &indices[3 * std::size_t{list[k]}];
             for (int j = 0; j < 3; ++j) {
-                out.push_back(Index(std::lower_bound(vertices.begin(), vertices.end(), tri[j]) -
-                                    vertices.begin()));
+                Index& m = map[tri[j]];
+                if (m == kNone) {
+                    m = Index(region.vertices.size());
+                    region.vertices.push_back(tri[j]);
+                }
+                out.push_back(m);
             }
         }
     };
     local(own, own_count, region.own);
     local(context, context_count, region.context);
+    region.positions.resize(3 * region.vertices.size());
+    for (std::size_t v = 0; v < region.vertices.size(); ++v) {
+        const Index g = region.vertices[v];
+        for (int a = 0; a < 3; ++a) region.positions[3 * v + a] = positions[3 * std::size_t{g} + a];
+        map[g] = kNone;
+    }
     return region;
 }
 
@@ -212,23 +211,29 @@ PassResult run_pass(const std::vector<float>& positions, const std::vector<Index
 
     std::vector<LocalRegion> regions(cells.size());
     std::vector<RegionResult> results(cells.size());
+    // Each worker takes the next region, largest first, with its own vertex map.
     auto run = [&](const std::vector<std::size_t>& which, double region_cap) {
         std::vector<std::size_t> schedule = which;
         std::stable_sort(schedule.begin(), schedule.end(),
                          [&](std::size_t a, std::size_t b) { return sizes[a] > sizes[b]; });
-        parallel_chunks(schedule.size(), threads, [&](std::size_t k) {
-            const std::size_t i = schedule[k], c = cells[i];
-            if (regions[i].vertices.empty()) {
-                regions[i] = localise(positions, indices, &own.order[own.start[c]], sizes[i],
-                                      context.order.data() + context.start[c],
-                                      context.start[c + 1] - context.start[c]);
+        std::atomic<std::size_t> next{0};
+        parallel_chunks(threads, threads, [&](std::size_t) {
+            std::vector<Index> map;
+            for (std::size_t k; (k = next++) < schedule.size();) {
+                const std::size_t i = schedule[k], c = cells[i];
+                if (regions[i].vertices.empty()) {
+                    if (map.empty()) map.assign(nv, std::numeric_limits<Index>::max());
+                    regions[i] = localise(positions, indices, &own.order[own.start[c]], sizes[i],
+                                          context.order.data() + context.start[c],
+                                          context.start[c + 1] - context.start[c], map);
+                }
+                const auto target =
+                    static_cast<std::size_t>(std::round(ratio * static_cast<double>(sizes[i])));
+                const int before = results[i].attempts;  // a rerun counts the first run too
+                results[i] = simplify_region(regions[i].positions, regions[i].own,
+                                             regions[i].context, target, region_cap);
+                results[i].attempts += before;
             }
-            const auto target =
-                static_cast<std::size_t>(std::round(ratio * static_cast<double>(sizes[i])));
-            const int before = results[i].attempts;  // a rerun counts the first run too
-            results[i] = simplify_region(regions[i].positions, regions[i].own,
-                                         regions[i].context, target, region_cap);
-            results[i].attempts += before;
         });
     };
     std::vector<std::size_t> all(cells.size());
