@@ -1,9 +1,9 @@
 // Large meshes simplified cell by cell, in parallel: meshopt_simplify runs on one thread and
 // its cost grows with the mesh, and the topology guard of region_simplify.cpp must be able to
-// redo a small region rather than the whole surface. Two passes over a grid of cubes, the
-// second shifted by half a cube, as in clustered level-of-detail builders (B. Karis, "Nanite",
-// SIGGRAPH 2021 course): what the first pass locked along its cube faces lies inside the
-// second pass's cubes.
+// redo a small region rather than the whole surface. Two passes over grids of cubes, the
+// second's cubes twice as wide and its faces half a first cube away from the first's, as in
+// clustered level-of-detail builders (B. Karis, "Nanite", SIGGRAPH 2021 course): what the
+// first pass locked along its cube faces lies inside the second pass's cubes.
 #include <algorithm>
 #include <array>
 #include <atomic>
@@ -89,6 +89,7 @@ struct LocalRegion {
     std::vector<Index> vertices;
     std::vector<float> positions;
     std::vector<Index> own, context;
+    std::size_t fan = 0;  // own triangles at a corner of the context: locked, barely reducible
 };
 
 // `map`: one entry per global vertex, all kNone, and left so.
@@ -113,6 +114,11 @@ LocalRegion localise(const std::vector<float>& positions, const std::vector<Inde
     };
     local(own, own_count, region.own);
     local(context, context_count, region.context);
+    std::vector<std::uint8_t> locked(region.vertices.size(), 0);
+    for (Index v : region.context) locked[v] = 1;
+    for (std::size_t c = 0; c < region.own.size(); c += 3) {
+        region.fan += locked[region.own[c]] | locked[region.own[c + 1]] | locked[region.own[c + 2]];
+    }
     region.positions.resize(3 * region.vertices.size());
     for (std::size_t v = 0; v < region.vertices.size(); ++v) {
         const Index g = region.vertices[v];
@@ -150,15 +156,16 @@ inline constexpr double kOutlierFactor = 1.5;
 
 // One pass: the band (triangles at a vertex whose triangles lie in more than one cell) is
 // kept; the rest of each cell is simplified, with the band triangles it touches as context,
-// in parallel, largest cells first: with ratio > 0 each cell at that ratio, else all cells at
-// one ratio that makes `total` triangles with the band. meshopt_simplify stops at `cap` (Å).
-// A small cell at a corner of the grid is mostly locked outline, so it meets its count only by
-// coarse collapses: with `cap_outliers`, cells whose error exceeds kOutlierFactor times the
-// pass's typical error are run again with that as their cap. Regions in cell order, then the
-// band.
+// in parallel, largest cells first. A cell's fan (its triangles at a corner of the context,
+// whose vertices are locked) is left for the next pass too, and the rest of each cell goes to
+// `ratio` of its count, or, with ratio = 0, to the one ratio that makes `total` triangles with
+// the band and the fans. meshopt_simplify stops at `cap` (Å). A small cell at a corner of the
+// grid can still be mostly outline and meet its count only by coarse collapses: cells whose
+// error exceeds kOutlierFactor times the pass's typical error are run again with that as their
+// cap. Regions in cell order, then the band.
 PassResult run_pass(const std::vector<float>& positions, const std::vector<Index>& indices,
-                    const Grid& grid, double ratio, double total, double cap, bool cap_outliers,
-                    unsigned threads, CellPassStats& stats) {
+                    const Grid& grid, double ratio, double total, double cap, unsigned threads,
+                    CellPassStats& stats) {
     constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
     constexpr std::uint32_t kCut = kNone - 1;
     const std::size_t triangles = indices.size() / 3, nv = positions.size() / 3;
@@ -204,34 +211,46 @@ PassResult run_pass(const std::vector<float>& positions, const std::vector<Index
             sizes.push_back(own.start[c + 1] - own.start[c]);
         }
     }
+    // Every region localised first (in parallel): the targets depend on all the fans.
+    std::vector<LocalRegion> regions(cells.size());
+    {
+        std::atomic<std::size_t> next{0};
+        parallel_chunks(threads, threads, [&](std::size_t) {
+            std::vector<Index> map(nv, std::numeric_limits<Index>::max());
+            for (std::size_t i; (i = next++) < cells.size();) {
+                const std::size_t c = cells[i];
+                regions[i] = localise(positions, indices, &own.order[own.start[c]], sizes[i],
+                                      context.order.data() + context.start[c],
+                                      context.start[c + 1] - context.start[c], map);
+            }
+        });
+    }
+    std::size_t fans = 0;
+    for (const LocalRegion& r : regions) fans += r.fan;
     if (ratio <= 0.0) {
-        const std::size_t free = triangles - band_count;
-        ratio = free == 0 ? 1.0 : std::clamp((total - double(band_count)) / double(free), 0.0, 1.0);
+        const double reducible = double(triangles - band_count - fans);
+        ratio = reducible <= 0.0
+                    ? 1.0
+                    : std::clamp((total - double(band_count + fans)) / reducible, 0.0, 1.0);
     }
 
-    std::vector<LocalRegion> regions(cells.size());
     std::vector<RegionResult> results(cells.size());
-    // Each worker takes the next region, largest first, with its own vertex map.
+    // Each worker takes the next region, largest first.
     auto run = [&](const std::vector<std::size_t>& which, double region_cap) {
         std::vector<std::size_t> schedule = which;
         std::stable_sort(schedule.begin(), schedule.end(),
                          [&](std::size_t a, std::size_t b) { return sizes[a] > sizes[b]; });
         std::atomic<std::size_t> next{0};
         parallel_chunks(threads, threads, [&](std::size_t) {
-            std::vector<Index> map;
             for (std::size_t k; (k = next++) < schedule.size();) {
-                const std::size_t i = schedule[k], c = cells[i];
-                if (regions[i].vertices.empty()) {
-                    if (map.empty()) map.assign(nv, std::numeric_limits<Index>::max());
-                    regions[i] = localise(positions, indices, &own.order[own.start[c]], sizes[i],
-                                          context.order.data() + context.start[c],
-                                          context.start[c + 1] - context.start[c], map);
-                }
-                const auto target =
-                    static_cast<std::size_t>(std::round(ratio * static_cast<double>(sizes[i])));
+                const std::size_t i = schedule[k];
+                const LocalRegion& region = regions[i];
+                const double reducible = double(sizes[i] - region.fan);
+                const auto target = static_cast<std::size_t>(
+                    std::round(ratio * reducible + double(region.fan)));
                 const int before = results[i].attempts;  // a rerun counts the first run too
-                results[i] = simplify_region(regions[i].positions, regions[i].own,
-                                             regions[i].context, target, region_cap);
+                results[i] = simplify_region(region.positions, region.own, region.context,
+                                             target, region_cap);
                 results[i].attempts += before;
             }
         });
@@ -243,7 +262,7 @@ PassResult run_pass(const std::vector<float>& positions, const std::vector<Index
     for (std::size_t i = 0; i < cells.size(); ++i) errors[i] = results[i].error;
     PassResult pass;
     pass.typical = typical_error(errors, sizes);
-    if (cap_outliers && pass.typical > 0.0) {
+    if (pass.typical > 0.0) {
         const double outlier_cap = std::min(cap, kOutlierFactor * pass.typical);
         std::vector<std::size_t> outliers;
         for (std::size_t i = 0; i < cells.size(); ++i) {
@@ -329,16 +348,17 @@ std::vector<Index> simplify_in_cells(const std::vector<float>& positions,
         const double ratio = double(target) / double(triangles);
         if (threads == 0) threads = thread_count(0);
 
-        // First pass: each cell at the ratio, its band left for the second pass.
+        // First pass: each cell at the ratio, its band and fans left for the second pass.
         const PassResult first = run_pass(positions, indices, make_grid(lo, hi, cell, 0.0), ratio,
-                                          0.0, max_error, true, threads, s);
-        // Second pass: the band of the first at the core of its cells; all cells at the one
-        // ratio that meets the target, meshoptimizer's cheapest collapses (in the band) first,
-        // stopped at the first pass's typical error where a cell would have to go coarser.
-        const double cap = std::min(max_error, kOutlierFactor * first.typical);
-        const PassResult second = run_pass(positions, first.indices, make_grid(lo, hi, cell, 0.5),
-                                           0.0, double(target), cap > 0.0 ? cap : max_error,
-                                           false, threads, s);
+                                          0.0, max_error, threads, s);
+        // Second pass: the first's bands and fans, still at full density, inside its cells.
+        // Its input has about ratio times the triangles, so its cubes are twice as wide (the
+        // bands are then as narrow a share as in the first pass), and its faces lie half a
+        // first cube away from the first's. All cells at the one ratio that meets the target;
+        // meshoptimizer takes the cheap collapses (in the full-density strips) first.
+        const PassResult second =
+            run_pass(positions, first.indices, make_grid(lo, hi, 2.0 * cell, 0.25), 0.0,
+                     double(target), max_error, threads, s);
         out = second.indices;
         s.error = first.error + second.error;
     }

@@ -74,14 +74,15 @@ struct CellPassStats {
 inline constexpr std::size_t kCellTriangles = 32768;
 
 // Simplifies `indices` (into `positions`) towards `target` triangles: a mesh of up to
-// 2 kCellTriangles triangles as one region; a larger one in two passes over a grid of cubic
-// cells of about kCellTriangles triangles each, in parallel on `threads` threads (0: all).
-// In each pass the triangles at a vertex shared by two cells (the band along the cell faces)
-// stay as they are and are every adjacent cell's context, so that no two cells share a vertex
-// they may move or an edge they may create: defects cannot arise between cells. The second
-// pass, over the grid shifted by half a cell, simplifies the first pass's band; each of its
-// cells aims at its share of the input triangles times the ratio. Returns the indices into
-// `positions`; the same whatever the thread count.
+// 2 kCellTriangles triangles as one region; a larger one in two passes over grids of cubic
+// cells, in parallel on `threads` threads (0: all). In each pass the triangles at a vertex
+// shared by two cells (the band along the cell faces) stay as they are and are every adjacent
+// cell's context, so that no two cells share a vertex they may move or an edge they may
+// create: defects cannot arise between cells. The first pass's cells hold about
+// kCellTriangles triangles each and go to the ratio, leaving their band and the triangles at
+// their locked outline (fans) for the second; the second pass's cells are twice as wide, its
+// faces half a first cell away from the first's, and all its cells go to the one ratio that
+// meets the target. Returns the indices into `positions`; the same whatever the thread count.
 std::vector<std::uint32_t> simplify_in_cells(const std::vector<float>& positions,
                                              const std::vector<std::uint32_t>& indices,
                                              std::size_t target, double max_error,
