@@ -2,7 +2,7 @@
 // collapses edges without testing the link condition (T. K. Dey, H. Edelsbrunner, S. Guha and
 // D. V. Nekhayev, "Topology preserving edge contraction", 1999), so on molecular surfaces, with
 // their narrow necks and tunnels, a few collapses fold triangles onto each other: non-manifold
-// edges and vertices (fixed upstream in 2024, zeux/meshoptimizer#699). The guard here finds
+// edges and vertices (reported upstream as zeux/meshoptimizer#346, #699). The guard here finds
 // them afterwards and simplifies again with the input frozen around them.
 #include <meshoptimizer.h>
 
