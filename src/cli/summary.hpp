@@ -44,7 +44,6 @@ struct RunReport {
     bool optimized = false;               // --optimize
 };
 
-
 // Sums the times of stages that share a name (one per slab, say), keeping the first order.
 inline std::vector<StageTime> merge_times(const std::vector<StageTime>& times) {
     std::vector<StageTime> merged;

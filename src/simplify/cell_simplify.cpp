@@ -32,7 +32,8 @@ struct Grid {
         for (int a = 0; a < 3; ++a) {
             const double centroid =
                 (double(p[3 * std::size_t{tri[0]} + a]) + p[3 * std::size_t{tri[1]} + a] +
-                 p[3 * std::size_t{tri[2]} + a]) / 3.0;
+                 p[3 * std::size_t{tri[2]} + a]) /
+                3.0;
             const double x = std::floor((centroid - origin[a]) / cell);
             c[a] = static_cast<std::size_t>(std::clamp(x, 0.0, double(dims[a] - 1)));
         }
@@ -246,11 +247,11 @@ PassResult run_pass(const std::vector<float>& positions, const std::vector<Index
                 const std::size_t i = schedule[k];
                 const LocalRegion& region = regions[i];
                 const double reducible = double(sizes[i] - region.fan);
-                const auto target = static_cast<std::size_t>(
-                    std::round(ratio * reducible + double(region.fan)));
+                const auto target =
+                    static_cast<std::size_t>(std::round(ratio * reducible + double(region.fan)));
                 const int before = results[i].attempts;  // a rerun counts the first run too
-                results[i] = simplify_region(region.positions, region.own, region.context,
-                                             target, region_cap);
+                results[i] = simplify_region(region.positions, region.own, region.context, target,
+                                             region_cap);
                 results[i].attempts += before;
             }
         });

@@ -49,7 +49,8 @@ std::vector<EdgeCount> irregular_edges(const std::vector<Index>& indices) {
     for (std::size_t i = 0; i < keys.size();) {
         const std::uint64_t edge = keys[i] >> 1;  // lo << 32 | hi
         EdgeCount e{edge, 0, 0};
-        for (; i < keys.size() && keys[i] >> 1 == edge; ++i) ++(keys[i] & 1 ? e.backward : e.forward);
+        for (; i < keys.size() && keys[i] >> 1 == edge; ++i)
+            ++(keys[i] & 1 ? e.backward : e.forward);
         if (e.forward != 1 || e.backward != 1) irregular.push_back(e);
     }
     return irregular;
@@ -184,7 +185,8 @@ std::vector<Index> new_defects(const std::vector<Index>& in, const std::vector<I
                 const Index a = in[c + k], b = in[c + (k + 1) % 3];
                 const EdgeCount key{edge_key(a, b), 0, 0};
                 auto it = std::lower_bound(before.begin(), before.end(), key);
-                if (it != before.end() && it->edge == key.edge) ++(a < b ? it->forward : it->backward);
+                if (it != before.end() && it->edge == key.edge)
+                    ++(a < b ? it->forward : it->backward);
             }
         }
         std::vector<std::uint64_t> bad;
@@ -244,7 +246,7 @@ RegionResult simplify_region(const std::vector<float>& positions, const std::vec
                                      : static_cast<float>(max_error / scale);
     const double ratio = static_cast<double>(target) / static_cast<double>(triangles);
     // Edge of an equilateral triangle of the simplified mesh's mean area: the freezing radius
-    // grows by that much with every attempt.
+    // grows by half of it with every attempt.
     const double step = std::sqrt(4.0 / std::sqrt(3.0) * total_area(positions, indices) /
                                   static_cast<double>(std::max<std::size_t>(target, 1)));
     std::vector<Index> checked_in = indices;
@@ -267,8 +269,8 @@ RegionResult simplify_region(const std::vector<float>& positions, const std::vec
         const std::size_t count =
             free.empty() ? 0
                          : meshopt_simplify(result.data(), free.data(), free.size(),
-                                            positions.data(), nv, 3 * sizeof(float), 3 * goal,
-                                            cap, meshopt_SimplifyLockBorder, &error);
+                                            positions.data(), nv, 3 * sizeof(float), 3 * goal, cap,
+                                            meshopt_SimplifyLockBorder, &error);
         if (attempt == 1) first_error = error;
         std::vector<Index> out(result.begin(), result.begin() + count);
         for (std::size_t t = 0; t < triangles; ++t) {

@@ -153,22 +153,27 @@ bool topology_kept(const MeshStats& in, const MeshStats& out) {
            (!(in.volume > 0.0) || out.volume > 0.0);
 }
 
-
 void measure_distance(const Mesh& full, const Mesh& simplified, double& hausdorff, double& rmsd) {
     // compare_meshes would weld both meshes, build a tree on each and query both ways; the
     // way back is 0 here (the simplified mesh's vertices are vertices of the full one), so
     // only the full mesh's vertices are queried, against a tree of the simplified triangles.
-    CleanMesh reference{full.positions, full.indices};
-    const CleanMesh tested{simplified.positions, simplified.indices};
-    const std::vector<double> weights = vertex_weights(reference);
-    const std::vector<double> points(full.positions.begin(), full.positions.end());
-    reference = CleanMesh{};
-    const std::vector<ClosestPoint> closest = closest_points(tested, points);
+    // Vertices no triangle uses are left out, as compare's clean_mesh drops them.
+    const std::vector<double> weights = vertex_weights(CleanMesh{full.positions, full.indices});
+    std::vector<std::uint8_t> used(full.vertex_count(), 0);
+    for (std::uint32_t v : full.indices) used[v] = 1;
+    std::vector<double> points, point_weights;
+    for (std::size_t v = 0; v < used.size(); ++v) {
+        if (!used[v]) continue;
+        points.insert(points.end(), &full.positions[3 * v], &full.positions[3 * v] + 3);
+        point_weights.push_back(weights[v]);
+    }
+    const std::vector<ClosestPoint> closest =
+        closest_points(CleanMesh{simplified.positions, simplified.indices}, points);
     double sum_w = 0.0, sum_wd2 = 0.0, largest = 0.0;
-    for (std::size_t v = 0; v < closest.size(); ++v) {
-        const double d = closest[v].distance;
-        sum_w += weights[v];
-        sum_wd2 += weights[v] * d * d;
+    for (std::size_t i = 0; i < closest.size(); ++i) {
+        const double d = closest[i].distance;
+        sum_w += point_weights[i];
+        sum_wd2 += point_weights[i] * d * d;
         largest = std::max(largest, d);
     }
     hausdorff = largest;
@@ -192,7 +197,7 @@ Mesh simplify_mesh(const Mesh& mesh, const SimplifyOptions& options, SimplifyRep
 
     Mesh out;
     if (r.target_triangles >= r.triangles_in) {
-        out = in;
+        out = compact(in, in.indices);
     } else {
         CellPassStats cells;
         out = compact(in, simplify_in_cells(in.positions, in.indices, r.target_triangles,

@@ -20,7 +20,8 @@ std::size_t simplify_target(std::size_t triangles, const SimplifyOptions& option
 // kept), triangles that merging collapses (or that repeat a vertex) dropped, unused vertices
 // dropped; the rest in order, into `welded`. Returns false, leaving `welded` alone, when no
 // two vertices share a position and no triangle repeats a vertex (unused vertices are then
-// left in: simplify_mesh drops them at the end anyway). `merged` (may be null) gets the number of vertices merged into another.
+// left in: simplify_mesh drops them at the end anyway). `merged` (may be null) gets the number
+// of vertices merged into another.
 bool weld_exact(const Mesh& mesh, Mesh& welded, std::size_t* merged);
 
 // The Hausdorff distance and the area-weighted RMSD (Å) of compare_meshes(full, simplified)
@@ -63,11 +64,11 @@ RegionResult simplify_region(const std::vector<float>& positions,
                              double max_error);
 
 struct CellPassStats {
-    std::size_t regions = 0;   // regions (cells) run, over both passes
-    std::size_t frozen = 0;    // triangles frozen, over both passes
-    std::size_t gave_up = 0;   // regions kept whole
-    int attempts = 0;          // meshopt_simplify runs, over all regions
-    double error = 0.0;        // the largest estimate of each pass, summed over passes (Å)
+    std::size_t regions = 0;  // regions (cells) run, over both passes
+    std::size_t frozen = 0;   // triangles frozen, over both passes
+    std::size_t gave_up = 0;  // regions kept whole
+    int attempts = 0;         // meshopt_simplify runs, over all regions
+    double error = 0.0;       // the largest estimate of each pass, summed over passes (Å)
 };
 
 // Triangles per cell the passes aim at; meshes up to twice this are one region.
@@ -85,7 +86,7 @@ inline constexpr std::size_t kCellTriangles = 32768;
 // meets the target. Returns the indices into `positions`; the same whatever the thread count.
 std::vector<std::uint32_t> simplify_in_cells(const std::vector<float>& positions,
                                              const std::vector<std::uint32_t>& indices,
-                                             std::size_t target, double max_error,
-                                             unsigned threads, CellPassStats* stats);
+                                             std::size_t target, double max_error, unsigned threads,
+                                             CellPassStats* stats);
 
 }  // namespace fdmsurf::detail

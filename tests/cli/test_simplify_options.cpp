@@ -71,16 +71,16 @@ TEST(CliSimplify, RatioOutsideZeroOneIsRejectedNamingTheOption) {
         EXPECT_TRUE(contains(message, "not a finite number")) << message;
     }
     EXPECT_TRUE(contains(parse_error_with({"--simplify"}), "--simplify needs a value"));
-    EXPECT_TRUE(contains(parse_error_with({"--simplify", "--optimize"}),
-                         "--simplify needs a value"));
+    EXPECT_TRUE(
+        contains(parse_error_with({"--simplify", "--optimize"}), "--simplify needs a value"));
     EXPECT_TRUE(contains(parse_error_with({"--optimize=1"}), "--optimize takes no value"));
 }
 
 TEST(CliSimplify, MaxTrianglesMustBeAPositiveWholeNumber) {
     for (const char* value : {"0", "-5"}) {
         const std::string message = parse_error_with({"--max-triangles", value});
-        EXPECT_TRUE(contains(message,
-                             "option --max-triangles must be a whole number of triangles >= 1"))
+        EXPECT_TRUE(
+            contains(message, "option --max-triangles must be a whole number of triangles >= 1"))
             << message;
         EXPECT_TRUE(contains(message, std::string("(got ") + value + ")")) << message;
     }

@@ -176,8 +176,9 @@ TEST(CliSummary, SimplificationIsReportedInTextAndJson) {
                          "target 82,464), simplification broke closedness: 3 non-manifold "
                          "edges, 0 boundary edges, 1 non-manifold vertices\n"))
         << text;
-    EXPECT_EQ(parse_json(fdmsurf::cli::json_summary(r))->find("simplify")->find("topology_kept")->boolean,
-              false);
+    EXPECT_EQ(
+        parse_json(fdmsurf::cli::json_summary(r))->find("simplify")->find("topology_kept")->boolean,
+        false);
 }
 
 TEST(CliSummary, JsonIsOneValidObjectWithEveryKey) {

@@ -75,8 +75,9 @@ void decorate(Mesh& m) {
                 return ::testing::AssertionFailure() << "colour of vertex " << v;
         }
         if (!full.atoms.empty() && simplified.atoms[v] != full.atoms[o])
-            return ::testing::AssertionFailure() << "atom of vertex " << v << ": "
-                                                 << simplified.atoms[v] << ", was " << full.atoms[o];
+            return ::testing::AssertionFailure()
+                   << "atom of vertex " << v << ": " << simplified.atoms[v] << ", was "
+                   << full.atoms[o];
         for (std::size_t s = 0; s < full.scalars.size(); ++s) {
             if (simplified.scalars[s].name != full.scalars[s].name ||
                 simplified.scalars[s].values[v] != full.scalars[s].values[o])
@@ -299,10 +300,10 @@ TEST(SimplifyMesh, LargeSphereGoesThroughCellsInParallelAndDeterministically) {
     const double sagitta = sphere_sagitta(radius, r.target_triangles);
     EXPECT_LT(r.hausdorff, 8.0 * sagitta) << "sagitta " << sagitta;
     // The same triangles whatever the number of threads.
-    const auto one = detail::simplify_in_cells(sphere.positions, sphere.indices,
-                                               r.target_triangles, o.max_error, 1, nullptr);
-    const auto two = detail::simplify_in_cells(sphere.positions, sphere.indices,
-                                               r.target_triangles, o.max_error, 2, nullptr);
+    const auto one = detail::simplify_in_cells(sphere.positions, sphere.indices, r.target_triangles,
+                                               o.max_error, 1, nullptr);
+    const auto two = detail::simplify_in_cells(sphere.positions, sphere.indices, r.target_triangles,
+                                               o.max_error, 2, nullptr);
     EXPECT_EQ(one, two);
 }
 

@@ -1,5 +1,5 @@
 // Fewer triangles, and an order GPUs draw faster: mesh simplification and reordering through
-// meshoptimizer (docs/mesh.md#simplification-and-reordering).
+// meshoptimizer (docs/mesh.md, "Simplification ... and reordering").
 #pragma once
 
 #include <cstddef>
@@ -27,8 +27,8 @@ struct SimplifyReport {
     std::size_t triangles_in = 0, vertices_in = 0;    // after welding
     std::size_t target_triangles = 0;                 // from ratio and max_triangles
     std::size_t triangles_out = 0, vertices_out = 0;  // the result
-    std::size_t welded = 0;  // input vertices merged into another at the same position
-    std::size_t regions = 0;  // regions meshopt_simplify ran on (cells, over both passes)
+    std::size_t welded = 0;            // input vertices merged into another at the same position
+    std::size_t regions = 0;           // regions meshopt_simplify ran on (cells, over both passes)
     std::size_t frozen_triangles = 0;  // kept as they were where a collapse broke the topology
     std::size_t regions_kept_whole = 0;  // regions whose defects outlived every retry
     int attempts = 0;                    // meshopt_simplify runs, over all regions
@@ -48,15 +48,15 @@ struct SimplifyReport {
 // A copy of `mesh` with about target = min(round(ratio · triangles), max_triangles) triangles
 // (at least 1), by meshoptimizer's edge collapses (meshopt_simplify, quadric error, borders
 // locked: an open patch keeps its outline). Vertices at bit-identical positions are welded
-// first. Meshes of more than 131,072 triangles are simplified in cells, in parallel on all
-// hardware threads. Where a collapse sequence breaks the topology (non-manifold edges or
-// vertices, which meshoptimizer 0.18 does not prevent), the input around it is kept as it was
-// and the rest simplified again, so the result keeps the input's topology and may keep more
-// triangles than the target (docs/mesh.md#simplification). The result's vertices are a subset
-// of the input's, in the input's order, each with its normal, atom, colour and scalars.
-// A target at or above the input's count returns the welded input.
-// Throws Error(InvalidArgument) for a ratio outside (0, 1], a negative or NaN max_error, or
-// malformed arrays (as write_mesh does).
+// first. Meshes of more than 65,536 triangles are simplified in cells, in parallel on all
+// hardware threads. Where collapses leave non-manifold edges or vertices (meshoptimizer 0.18
+// does not prevent them), the input around them is kept as it was and the rest simplified
+// again: the result has no defect the input did not have (it may still close a tunnel or pinch
+// a neck narrower than its edges), and may keep more triangles than the target (docs/mesh.md,
+// "Keeping the mesh closed"). Its vertices are a subset of the input's, in the input's order,
+// each with its normal, atom, colour and scalars. A target at or above the input's count
+// returns the welded input, less unused vertices. Throws Error(InvalidArgument) for a ratio
+// outside (0, 1], a negative or NaN max_error, or malformed arrays (as write_mesh does).
 Mesh simplify_mesh(const Mesh& mesh, const SimplifyOptions& options,
                    SimplifyReport* report = nullptr);
 
