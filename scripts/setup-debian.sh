@@ -26,6 +26,8 @@ packages=(
     gemmi-dev tao-pegtl-dev zlib1g-dev
     # GLB output and input: tinygltf (Debian ships it as a shared library: no json or stb needed)
     libtinygltf-dev
+    # mesh simplification and vertex-cache/fetch reordering (--simplify, --optimize)
+    libmeshoptimizer-dev
     # GoogleTest, FFTW (CPU reference of the filter), glm (tests)
     libglm-dev libgtest-dev libfftw3-dev
     # ../shared/tools/meshstat.py; python3 also parses --stats json in scripts/all-structures.sh

@@ -237,6 +237,22 @@ int run_one(const CliOptions& options, Engine& engine, Progress& progress, doubl
                  "is empty");
     }
 
+    // Simplification and reordering come last, on the mesh as it will be written.
+    if (options.simplify_requested) {
+        result.mesh = simplify_mesh(result.mesh, options.simplify, &report.simplify);
+        report.times.insert(report.times.end(), report.simplify.times.begin(),
+                            report.simplify.times.end());
+        report.simplified = true;
+        report.simplify_options = options.simplify;
+        if (!report.simplify.topology_kept) warn(simplify_breakage(report.simplify));
+    }
+    if (options.optimize) {
+        t = Clock::now();
+        optimize_mesh(result.mesh);
+        report.times.push_back({"optimize", ms_since(t), false});
+        report.optimized = true;
+    }
+
     t = Clock::now();
     if (to_stdout) {
         StdoutBuffer buffer;

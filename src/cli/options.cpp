@@ -55,6 +55,9 @@ enum class Opt {
     MinCavity,
     Refine,
     Method,
+    Simplify,
+    MaxTriangles,
+    Optimize,
 };
 
 struct OptionSpec {
@@ -65,7 +68,7 @@ struct OptionSpec {
     bool numeric;  // a value that may start with '-' (a negative number, rejected later)
 };
 
-constexpr std::array<OptionSpec, 35> kOptions{{
+constexpr std::array<OptionSpec, 38> kOptions{{
     {"--output", "-o", Opt::Output, true, false},
     {"--output-format", "", Opt::OutputFormat, true, false},
     {"--surface", "", Opt::Surface, true, false},
@@ -101,6 +104,9 @@ constexpr std::array<OptionSpec, 35> kOptions{{
     {"--colour", "", Opt::Color, true, false},
     {"--properties", "", Opt::Properties, true, false},
     {"--patch", "", Opt::Patch, true, false},
+    {"--simplify", "", Opt::Simplify, true, true},
+    {"--max-triangles", "", Opt::MaxTriangles, true, true},
+    {"--optimize", "", Opt::Optimize, false, false},
 }};
 
 [[noreturn]] void fail(const std::string& message);
@@ -182,10 +188,11 @@ std::string lower(std::string_view text) {
 }
 
 // A number in plain decimal or exponent notation, finite, nothing after it.
-float parse_float(std::string_view option, const std::string& text) {
+template <class Real = float>
+Real parse_float(std::string_view option, const std::string& text) {
     std::string_view digits = text;
     if (!digits.empty() && digits.front() == '+') digits.remove_prefix(1);
-    float value = 0.0f;
+    Real value = 0;
     const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
     if (ec == std::errc::result_out_of_range) {
         fail("option " + std::string(option) + ": '" + text + "' is out of range");
@@ -417,6 +424,21 @@ void apply_value(CliOptions& o, const OptionSpec& spec, std::string_view name,
             if (text.empty()) fail("option " + std::string(name) + " needs a selection");
             o.patch = text;
             break;
+        case Opt::Simplify: {
+            const double ratio = parse_float<double>(name, text);
+            require(ratio > 0.0 && ratio <= 1.0, name,
+                    "the fraction of the triangles to keep, in (0, 1]", text);
+            o.simplify.ratio = ratio;
+            o.simplify_requested = true;
+            break;
+        }
+        case Opt::MaxTriangles: {
+            const int count = parse_int(name, text);
+            require(count >= 1, name, "a whole number of triangles >= 1", text);
+            o.simplify.max_triangles = static_cast<std::size_t>(count);
+            o.simplify_requested = true;
+            break;
+        }
         case Opt::Device:
             o.engine.device = text;
             break;
@@ -456,6 +478,9 @@ void apply_flag(CliOptions& o, const OptionSpec& spec) {
             break;
         case Opt::Paper:
             o.paper = true;
+            break;
+        case Opt::Optimize:
+            o.optimize = true;
             break;
         case Opt::NoCavities:
             o.surface.min_cavity_volume = std::numeric_limits<float>::infinity();
@@ -657,6 +682,18 @@ Colours and per-vertex properties (docs/properties.md):
                          shape_index (comma-separated)
   Every PLY vertex also gets `uint atom` (GLB: float _ATOM): the index (0-based,
   in input order) of the atom it belongs to.
+
+Mesh size and order (docs/mesh.md#simplification):
+  --simplify RATIO       keep about RATIO of the triangles (0 < RATIO <= 1), by
+                         meshoptimizer's edge collapses; the mesh stays closed
+                         (where a collapse would break it, the surface around is
+                         kept as it was) and every vertex keeps its atom, colour
+                         and properties; the distance to the full mesh
+                         (Hausdorff, RMSD) is in the summary
+  --max-triangles N      simplify to at most about N triangles (N >= 1); with
+                         --simplify too, the smaller of the two targets
+  --optimize             reorder triangles and vertices for the GPU's vertex
+                         cache and fetch (the same triangles); after --simplify
 
 Device:
   --device INDEX|NAME    Vulkan device: an index from --list-devices or part of

@@ -6,6 +6,7 @@
 
 #include "fdmsurf/error.hpp"
 #include "fdmsurf/mesh.hpp"
+#include "fdmsurf/simplify.hpp"
 #include "fdmsurf/structure.hpp"
 #include "fdmsurf/surface.hpp"
 
@@ -29,6 +30,11 @@ struct CliOptions {
     bool explicit_filter = false, explicit_level = false, explicit_cavities = false;
     bool all_models = false;  // --models all: one mesh per model (read.model = kAllModels)
     std::string patch;        // --patch EXPR: keep the triangles on the atoms EXPR selects
+    // --simplify RATIO and --max-triangles N (both: the smaller target); `simplify_requested`
+    // when either was given.
+    fdmsurf::SimplifyOptions simplify;
+    bool simplify_requested = false;
+    bool optimize = false;  // --optimize: vertex-cache and vertex-fetch order
 };
 
 // Parses the arguments after the program name. `--name value` and `--name=value` are both

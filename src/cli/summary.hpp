@@ -10,6 +10,7 @@
 #include "cli/json.hpp"
 #include "cli/options.hpp"
 #include "fdmsurf/mesh.hpp"
+#include "fdmsurf/simplify.hpp"
 #include "fdmsurf/structure.hpp"
 #include "fdmsurf/surface.hpp"
 
@@ -38,6 +39,10 @@ struct RunReport {
     std::size_t patch_atoms = 0;        // atoms EXPR matched
     ColorScheme color = ColorScheme::None;
     std::vector<std::string> properties;  // per-vertex scalars written
+    bool simplified = false;              // --simplify or --max-triangles
+    SimplifyOptions simplify_options;     // what was asked
+    SimplifyReport simplify;              // what simplify_mesh did
+    bool optimized = false;               // --optimize
 };
 
 // Sums the times of stages that share a name (one per slab, say), keeping the first order.
@@ -84,6 +89,19 @@ inline std::string format_general(double value, int precision = 3) {
     char buffer[64];
     std::snprintf(buffer, sizeof buffer, "%.*g", precision, value);
     return buffer;
+}
+
+// The summary's words for a simplification that did not keep the topology: the defects of
+// the result (for a closed input, all of them are new).
+inline std::string simplify_breakage(const SimplifyReport& s) {
+    const MeshStats& m = s.stats_out;
+    std::string text = "simplification broke closedness: " + format_count(m.nonmanifold_edges) +
+                       " non-manifold edges, " + format_count(m.boundary_edges) +
+                       " boundary edges, " + format_count(m.nonmanifold_vertices) +
+                       " non-manifold vertices";
+    if (m.inconsistent_edges != 0)
+        text += ", " + format_count(m.inconsistent_edges) + " inconsistently oriented edges";
+    return text;
 }
 
 inline std::string text_summary(const RunReport& r) {
@@ -138,6 +156,26 @@ inline std::string text_summary(const RunReport& r) {
     s += "\n";
     s += "  area         " + format_grouped(m.area, 1) + " Å²\n";
     s += "  volume       " + format_grouped(m.volume, 1) + " Å³\n";
+    if (r.simplified) {
+        const SimplifyReport& q = r.simplify;
+        const double kept = q.triangles_in ? 100.0 * q.triangles_out / q.triangles_in : 0.0;
+        s += "  simplified   " + format_count(q.triangles_in) + " -> " +
+             format_count(q.triangles_out) + " triangles (" + format_grouped(kept, 1) +
+             "%; target " + format_count(q.target_triangles) + "), ";
+        if (!q.topology_kept) {
+            s += simplify_breakage(q);
+        } else if (q.frozen_triangles != 0) {
+            s += "topology kept (" + format_count(q.frozen_triangles) +
+                 " triangles left as they were around collapses that would have broken it)";
+        } else {
+            s += "topology kept";
+        }
+        s += "\n";
+        s += "  deviation    Hausdorff " + format_general(q.hausdorff) + " Å, RMSD " +
+             format_general(q.rmsd) + " Å from the full mesh; meshoptimizer's estimate " +
+             format_general(q.error) + " Å\n";
+    }
+    if (r.optimized) s += "  order        optimised for the vertex cache and vertex fetch\n";
     if (r.color != ColorScheme::None || !r.properties.empty()) {
         s += "  properties   atom per vertex";
         if (r.color != ColorScheme::None) s += ", coloured by " + std::string(to_string(r.color));
@@ -206,6 +244,30 @@ inline std::string json_summary(const RunReport& r) {
     w.end_array();
     w.member("area", m.area);
     w.member("volume", m.volume);
+    if (r.simplified) {
+        const SimplifyReport& q = r.simplify;
+        w.key("simplify").begin_object();
+        w.member("ratio", r.simplify_options.ratio);
+        w.member("max_triangles", r.simplify_options.max_triangles);
+        w.member("target_triangles", q.target_triangles);
+        w.member("triangles_in", q.triangles_in);
+        w.member("vertices_in", q.vertices_in);
+        w.member("triangles_out", q.triangles_out);
+        w.member("vertices_out", q.vertices_out);
+        w.member("welded_vertices", q.welded);
+        w.member("topology_kept", q.topology_kept);
+        w.member("frozen_triangles", q.frozen_triangles);
+        w.member("regions", q.regions);
+        w.member("regions_kept_whole", q.regions_kept_whole);
+        w.member("attempts", q.attempts);
+        w.member("error", q.error);
+        w.member("hausdorff", q.hausdorff);
+        w.member("rmsd", q.rmsd);
+        w.end_object();
+    } else {
+        w.member("simplify", nullptr);
+    }
+    w.member("optimized", r.optimized);
     w.member("device", r.device);
 
     w.key("times").begin_object();

@@ -345,6 +345,63 @@ TEST_F(CliProgram, RefineOutOfRangeIsAUsageError) {
                    {"--refine", "not a whole number"});
 }
 
+TEST_F(CliProgram, SimplifiedMeshIsClosedAndItsDeviationReported) {
+    if (const auto why = no_usable_device()) {
+        if (device_required()) FAIL() << *why << "(FDMSURF_REQUIRE_DEVICE=1)";
+        GTEST_SKIP() << *why;
+    }
+    const std::string input = write_file("atoms.xyzr", kTwoAtomsXyzr);
+    const std::string full = path("full.ply"), simplified = path("simplified.ply");
+    const CliRun a = run({input, "-o", full, "--stats", "json"});
+    ASSERT_EQ(a.exit_code, 0) << a.err;
+    const auto whole = parse_json(lines_of(a.out).at(0));
+    ASSERT_TRUE(whole) << a.out;
+    EXPECT_EQ(whole->find("simplify")->type, JsonValue::Type::Null);
+    EXPECT_EQ(whole->find("optimized")->boolean, false);
+    const CliRun r =
+        run({input, "-o", simplified, "--stats", "json", "--simplify", "0.2", "--optimize"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(r.error_lines().empty()) << r.err;
+    const auto json = parse_json(lines_of(r.out).at(0));
+    ASSERT_TRUE(json) << r.out;
+    const JsonValue& s = *json->find("simplify");
+    ASSERT_EQ(s.type, JsonValue::Type::Object) << r.out;
+    EXPECT_EQ(s.find("ratio")->number, 0.2);
+    EXPECT_EQ(s.find("triangles_in")->number, whole->find("triangles")->number);
+    EXPECT_EQ(s.find("triangles_out")->number, json->find("triangles")->number);
+    EXPECT_LE(json->find("triangles")->number, 0.25 * whole->find("triangles")->number);
+    EXPECT_EQ(s.find("topology_kept")->boolean, true);
+    EXPECT_GT(s.find("hausdorff")->number, 0.0);
+    EXPECT_LT(s.find("hausdorff")->number, 0.5);
+    EXPECT_GT(s.find("rmsd")->number, 0.0);
+    EXPECT_EQ(json->find("closed_manifold")->boolean, true) << r.out;
+    EXPECT_EQ(json->find("optimized")->boolean, true);
+    for (const char* stage : {"simplify", "simplify-compare", "optimize"}) {
+        EXPECT_NE(json->find("times")->find(stage), nullptr) << stage;
+    }
+    const fdmsurf::Mesh mesh = fdmsurf::read_mesh(simplified);
+    EXPECT_EQ(double(mesh.triangle_count()), json->find("triangles")->number);
+    EXPECT_EQ(mesh.atoms.size(), mesh.vertex_count());
+    // The text summary: the counts, and the distance to the full mesh.
+    const CliRun text = run({input, "-o", path("text.ply"), "--max-triangles", "100"});
+    ASSERT_EQ(text.exit_code, 0) << text.err;
+    EXPECT_NE(text.out.find("  simplified   "), std::string::npos) << text.out;
+    EXPECT_NE(text.out.find("target 100), topology kept"), std::string::npos) << text.out;
+    EXPECT_NE(text.out.find("  deviation    Hausdorff "), std::string::npos) << text.out;
+}
+
+TEST_F(CliProgram, SimplifyRatioOutsideZeroOneIsAUsageError) {
+    const std::string input = write_file("atoms.xyzr", kTwoAtomsXyzr);
+    for (const char* value : {"0", "1.5", "-0.1"}) {
+        expect_failure(run({input, "-o", path("out.ply"), "--simplify", value}), 2,
+                       {"--simplify", "(0, 1]", std::string("got ") + value});
+    }
+    expect_failure(run({input, "-o", path("out.ply"), "--simplify", "half"}), 2,
+                   {"--simplify", "not a number"});
+    expect_failure(run({input, "-o", path("out.ply"), "--max-triangles", "0"}), 2,
+                   {"--max-triangles", "got 0"});
+}
+
 TEST_F(CliProgram, ExactSesIsReportedAsTheEdtMethod) {
     if (const auto why = no_usable_device()) {
         if (device_required()) FAIL() << *why << "(FDMSURF_REQUIRE_DEVICE=1)";

@@ -131,6 +131,56 @@ TEST(CliSummary, AssemblyIsNamedInTextAndJson) {
               0);
 }
 
+TEST(CliSummary, SimplificationIsReportedInTextAndJson) {
+    RunReport r = example_report();
+    EXPECT_FALSE(contains(fdmsurf::cli::text_summary(r), "simplified"));
+    EXPECT_EQ(parse_json(fdmsurf::cli::json_summary(r))->find("simplify")->type,
+              JsonValue::Type::Null);
+    r.simplified = true;
+    r.simplify_options.ratio = 0.1;
+    r.simplify.triangles_in = 824640;
+    r.simplify.target_triangles = 82464;
+    r.simplify.triangles_out = 82500;
+    r.simplify.frozen_triangles = 120;
+    r.simplify.hausdorff = 0.5;
+    r.simplify.rmsd = 0.0625;
+    r.simplify.error = 0.25;
+    r.optimized = true;
+    std::string text = fdmsurf::cli::text_summary(r);
+    for (const char* line :
+         {"  simplified   824,640 -> 82,500 triangles (10.0%; target 82,464), topology kept "
+          "(120 triangles left as they were around collapses that would have broken it)\n",
+          "  deviation    Hausdorff 0.5 Å, RMSD 0.0625 Å from the full mesh; meshoptimizer's "
+          "estimate 0.25 Å\n",
+          "  order        optimised for the vertex cache and vertex fetch\n"}) {
+        EXPECT_TRUE(contains(text, line)) << line << "\nin:\n" << text;
+    }
+    const auto value = parse_json(fdmsurf::cli::json_summary(r));
+    ASSERT_TRUE(value);
+    const JsonValue& s = *value->find("simplify");
+    EXPECT_EQ(s.find("ratio")->number, 0.1);
+    EXPECT_EQ(s.find("max_triangles")->number, 0);
+    EXPECT_EQ(s.find("target_triangles")->number, 82464);
+    EXPECT_EQ(s.find("triangles_out")->number, 82500);
+    EXPECT_EQ(s.find("topology_kept")->boolean, true);
+    EXPECT_EQ(s.find("hausdorff")->number, 0.5);
+    EXPECT_EQ(s.find("rmsd")->number, 0.0625);
+    EXPECT_EQ(s.find("error")->number, 0.25);
+    EXPECT_EQ(value->find("optimized")->boolean, true);
+    // A result that lost its closedness says so, with the counts.
+    r.simplify.topology_kept = false;
+    r.simplify.stats_out.nonmanifold_edges = 3;
+    r.simplify.stats_out.nonmanifold_vertices = 1;
+    text = fdmsurf::cli::text_summary(r);
+    EXPECT_TRUE(contains(text,
+                         "target 82,464), simplification broke closedness: 3 non-manifold "
+                         "edges, 0 boundary edges, 1 non-manifold vertices\n"))
+        << text;
+    EXPECT_EQ(
+        parse_json(fdmsurf::cli::json_summary(r))->find("simplify")->find("topology_kept")->boolean,
+        false);
+}
+
 TEST(CliSummary, JsonIsOneValidObjectWithEveryKey) {
     const std::string json = fdmsurf::cli::json_summary(example_report());
     EXPECT_EQ(json.find('\n'), std::string::npos);

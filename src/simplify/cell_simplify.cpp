@@ -1,0 +1,370 @@
+// Large meshes simplified cell by cell, in parallel: meshopt_simplify runs on one thread and
+// its cost grows with the mesh, and the topology guard of region_simplify.cpp must be able to
+// redo a small region rather than the whole surface. Two passes over grids of cubes, the
+// second's cubes twice as wide and its faces half a first cube away from the first's, as in
+// clustered level-of-detail builders (B. Karis, "Nanite", SIGGRAPH 2021 course): what the
+// first pass locked along its cube faces lies inside the second pass's cubes.
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "core/parallel.hpp"
+#include "simplify/simplify_detail.hpp"
+
+namespace fdmsurf::detail {
+namespace {
+
+using Index = std::uint32_t;
+
+struct Grid {
+    std::array<double, 3> origin{};
+    double cell = 1.0;
+    std::array<std::size_t, 3> dims{};
+    std::size_t count() const { return dims[0] * dims[1] * dims[2]; }
+
+    // The cell of a triangle's centroid, clamped into the grid.
+    std::size_t cell_of(const std::vector<float>& p, const Index* tri) const {
+        std::size_t c[3];
+        for (int a = 0; a < 3; ++a) {
+            const double centroid =
+                (double(p[3 * std::size_t{tri[0]} + a]) + p[3 * std::size_t{tri[1]} + a] +
+                 p[3 * std::size_t{tri[2]} + a]) /
+                3.0;
+            const double x = std::floor((centroid - origin[a]) / cell);
+            c[a] = static_cast<std::size_t>(std::clamp(x, 0.0, double(dims[a] - 1)));
+        }
+        return c[0] + dims[0] * (c[1] + dims[1] * c[2]);
+    }
+};
+
+// A grid of cubes of edge `cell` over [lo, hi], its origin moved down by `shift` cubes.
+Grid make_grid(const std::array<double, 3>& lo, const std::array<double, 3>& hi, double cell,
+               double shift) {
+    Grid g;
+    g.cell = cell;
+    for (int a = 0; a < 3; ++a) {
+        g.origin[a] = lo[a] - shift * cell;
+        g.dims[a] = static_cast<std::size_t>(std::floor((hi[a] - g.origin[a]) / cell)) + 1;
+    }
+    return g;
+}
+
+// The triangles of each cell, by their centroid: triangles order[start[c] .. start[c + 1]).
+struct CellLists {
+    std::vector<std::size_t> start;
+    std::vector<Index> order;
+};
+
+CellLists group(const std::vector<std::uint32_t>& cell_of_triangle, std::size_t cells,
+                const std::vector<std::uint8_t>* skip) {
+    CellLists lists;
+    lists.start.assign(cells + 1, 0);
+    const std::size_t triangles = cell_of_triangle.size();
+    for (std::size_t t = 0; t < triangles; ++t) {
+        if (!skip || !(*skip)[t]) ++lists.start[cell_of_triangle[t] + 1];
+    }
+    for (std::size_t c = 0; c < cells; ++c) lists.start[c + 1] += lists.start[c];
+    lists.order.resize(lists.start[cells]);
+    std::vector<std::size_t> fill(lists.start.begin(), lists.start.end() - 1);
+    for (std::size_t t = 0; t < triangles; ++t) {
+        if (!skip || !(*skip)[t]) lists.order[fill[cell_of_triangle[t]]++] = Index(t);
+    }
+    return lists;
+}
+
+std::vector<std::uint32_t> cells_of(const std::vector<float>& p, const std::vector<Index>& indices,
+                                    const Grid& grid) {
+    std::vector<std::uint32_t> cell(indices.size() / 3);
+    for (std::size_t t = 0; t < cell.size(); ++t) {
+        cell[t] = static_cast<std::uint32_t>(grid.cell_of(p, &indices[3 * t]));
+    }
+    return cell;
+}
+
+// One region's vertices (global numbers, in order of first use), positions and triangles.
+struct LocalRegion {
+    std::vector<Index> vertices;
+    std::vector<float> positions;
+    std::vector<Index> own, context;
+    std::size_t fan = 0;  // own triangles at a corner of the context: locked, barely reducible
+};
+
+// `map`: one entry per global vertex, all kNone, and left so.
+LocalRegion localise(const std::vector<float>& positions, const std::vector<Index>& indices,
+                     const Index* own, std::size_t own_count, const Index* context,
+                     std::size_t context_count, std::vector<Index>& map) {
+    constexpr Index kNone = std::numeric_limits<Index>::max();
+    LocalRegion region;
+    auto local = [&](const Index* list, std::size_t count, std::vector<Index>& out) {
+        out.reserve(3 * count);
+        for (std::size_t k = 0; k < count; ++k) {
+            const Index* tri = &indices[3 * std::size_t{list[k]}];
+            for (int j = 0; j < 3; ++j) {
+                Index& m = map[tri[j]];
+                if (m == kNone) {
+                    m = Index(region.vertices.size());
+                    region.vertices.push_back(tri[j]);
+                }
+                out.push_back(m);
+            }
+        }
+    };
+    local(own, own_count, region.own);
+    local(context, context_count, region.context);
+    std::vector<std::uint8_t> locked(region.vertices.size(), 0);
+    for (Index v : region.context) locked[v] = 1;
+    for (std::size_t c = 0; c < region.own.size(); c += 3) {
+        region.fan += locked[region.own[c]] | locked[region.own[c + 1]] | locked[region.own[c + 2]];
+    }
+    region.positions.resize(3 * region.vertices.size());
+    for (std::size_t v = 0; v < region.vertices.size(); ++v) {
+        const Index g = region.vertices[v];
+        for (int a = 0; a < 3; ++a) region.positions[3 * v + a] = positions[3 * std::size_t{g} + a];
+        map[g] = kNone;
+    }
+    return region;
+}
+
+// The error meshoptimizer reached on the bulk of the surface: the median over the regions,
+// each weighted by its triangle count.
+double typical_error(const std::vector<double>& errors, const std::vector<std::size_t>& sizes) {
+    std::vector<std::size_t> order(errors.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        return errors[a] < errors[b] || (errors[a] == errors[b] && a < b);
+    });
+    std::size_t total = 0, seen = 0;
+    for (std::size_t n : sizes) total += n;
+    for (std::size_t i : order) {
+        seen += sizes[i];
+        if (2 * seen >= total) return errors[i];
+    }
+    return 0.0;
+}
+
+struct PassResult {
+    std::vector<Index> indices;
+    double error = 0.0;    // the largest over the regions, Å
+    double typical = 0.0;  // typical_error, Å
+};
+
+// How far a region may go beyond the pass's typical error before it is capped there.
+inline constexpr double kOutlierFactor = 1.5;
+
+// One pass: the band (triangles at a vertex whose triangles lie in more than one cell) is
+// kept; the rest of each cell is simplified, with the band triangles it touches as context,
+// in parallel, largest cells first. A cell's fan (its triangles at a corner of the context,
+// whose vertices are locked) is left for the next pass too, and the rest of each cell goes to
+// `ratio` of its count, or, with ratio = 0, to the one ratio that makes `total` triangles with
+// the band and the fans. meshopt_simplify stops at `cap` (Å). A small cell at a corner of the
+// grid can still be mostly outline and meet its count only by coarse collapses: cells whose
+// error exceeds kOutlierFactor times the pass's typical error are run again with that as their
+// cap. Regions in cell order, then the band.
+PassResult run_pass(const std::vector<float>& positions, const std::vector<Index>& indices,
+                    const Grid& grid, double ratio, double total, double cap, unsigned threads,
+                    CellPassStats& stats) {
+    constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+    constexpr std::uint32_t kCut = kNone - 1;
+    const std::size_t triangles = indices.size() / 3, nv = positions.size() / 3;
+    const std::vector<std::uint32_t> cell = cells_of(positions, indices, grid);
+    // Each vertex's cell, or kCut when its triangles lie in several.
+    std::vector<std::uint32_t> vertex_cell(nv, kNone);
+    for (std::size_t t = 0; t < triangles; ++t) {
+        for (int k = 0; k < 3; ++k) {
+            std::uint32_t& vc = vertex_cell[indices[3 * t + k]];
+            vc = vc == kNone || vc == cell[t] ? cell[t] : kCut;
+        }
+    }
+    std::vector<std::uint8_t> band(triangles, 0);
+    std::size_t band_count = 0;
+    for (std::size_t t = 0; t < triangles; ++t) {
+        for (int k = 0; k < 3; ++k) band[t] |= vertex_cell[indices[3 * t + k]] == kCut;
+        band_count += band[t];
+    }
+    const CellLists own = group(cell, grid.count(), &band);
+    // Context: a band triangle belongs to the cell of each of its corners that is not cut.
+    std::vector<std::uint32_t> context_cell;
+    std::vector<Index> context_triangle;
+    for (std::size_t t = 0; t < triangles; ++t) {
+        if (!band[t]) continue;
+        std::uint32_t seen[3];
+        int n = 0;
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t vc = vertex_cell[indices[3 * t + k]];
+            if (vc != kCut && std::find(seen, seen + n, vc) == seen + n) seen[n++] = vc;
+        }
+        for (int k = 0; k < n; ++k) {
+            context_cell.push_back(seen[k]);
+            context_triangle.push_back(Index(t));
+        }
+    }
+    CellLists context = group(context_cell, grid.count(), nullptr);
+    for (Index& i : context.order) i = context_triangle[i];
+
+    std::vector<std::size_t> cells, sizes;
+    for (std::size_t c = 0; c < grid.count(); ++c) {
+        if (own.start[c + 1] > own.start[c]) {
+            cells.push_back(c);
+            sizes.push_back(own.start[c + 1] - own.start[c]);
+        }
+    }
+    // Every region localised first (in parallel): the targets depend on all the fans.
+    std::vector<LocalRegion> regions(cells.size());
+    {
+        std::atomic<std::size_t> next{0};
+        parallel_chunks(threads, threads, [&](std::size_t) {
+            std::vector<Index> map(nv, std::numeric_limits<Index>::max());
+            for (std::size_t i; (i = next++) < cells.size();) {
+                const std::size_t c = cells[i];
+                regions[i] = localise(positions, indices, &own.order[own.start[c]], sizes[i],
+                                      context.order.data() + context.start[c],
+                                      context.start[c + 1] - context.start[c], map);
+            }
+        });
+    }
+    std::size_t fans = 0;
+    for (const LocalRegion& r : regions) fans += r.fan;
+    if (ratio <= 0.0) {
+        const double reducible = double(triangles - band_count - fans);
+        ratio = reducible <= 0.0
+                    ? 1.0
+                    : std::clamp((total - double(band_count + fans)) / reducible, 0.0, 1.0);
+    }
+
+    std::vector<RegionResult> results(cells.size());
+    // Each worker takes the next region, largest first.
+    auto run = [&](const std::vector<std::size_t>& which, double region_cap) {
+        std::vector<std::size_t> schedule = which;
+        std::stable_sort(schedule.begin(), schedule.end(),
+                         [&](std::size_t a, std::size_t b) { return sizes[a] > sizes[b]; });
+        std::atomic<std::size_t> next{0};
+        parallel_chunks(threads, threads, [&](std::size_t) {
+            for (std::size_t k; (k = next++) < schedule.size();) {
+                const std::size_t i = schedule[k];
+                const LocalRegion& region = regions[i];
+                const double reducible = double(sizes[i] - region.fan);
+                const auto target =
+                    static_cast<std::size_t>(std::round(ratio * reducible + double(region.fan)));
+                const int before = results[i].attempts;  // a rerun counts the first run too
+                results[i] = simplify_region(region.positions, region.own, region.context, target,
+                                             region_cap);
+                results[i].attempts += before;
+            }
+        });
+    };
+    std::vector<std::size_t> all(cells.size());
+    for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
+    run(all, cap);
+    std::vector<double> errors(cells.size());
+    for (std::size_t i = 0; i < cells.size(); ++i) errors[i] = results[i].error;
+    PassResult pass;
+    pass.typical = typical_error(errors, sizes);
+    if (pass.typical > 0.0) {
+        const double outlier_cap = std::min(cap, kOutlierFactor * pass.typical);
+        std::vector<std::size_t> outliers;
+        for (std::size_t i = 0; i < cells.size(); ++i) {
+            if (errors[i] > outlier_cap) outliers.push_back(i);
+        }
+        run(outliers, outlier_cap);
+    }
+
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+        RegionResult& r = results[i];
+        for (Index& v : r.indices) v = regions[i].vertices[v];
+        pass.indices.insert(pass.indices.end(), r.indices.begin(), r.indices.end());
+        stats.frozen += r.frozen;
+        stats.gave_up += r.gave_up;
+        stats.attempts += r.attempts;
+        pass.error = std::max(pass.error, r.error);
+    }
+    for (std::size_t t = 0; t < triangles; ++t) {
+        if (band[t]) pass.indices.insert(pass.indices.end(), &indices[3 * t], &indices[3 * t] + 3);
+    }
+    stats.regions += cells.size();
+    return pass;
+}
+
+// Triangles per cell of `grid`, counting every `stride`-th triangle `stride` times.
+std::vector<std::size_t> counts(const std::vector<float>& p, const std::vector<Index>& indices,
+                                const Grid& grid, std::size_t stride = 1) {
+    std::vector<std::size_t> count(grid.count(), 0);
+    for (std::size_t c = 0; c < indices.size(); c += 3 * stride) {
+        count[grid.cell_of(p, &indices[c])] += stride;
+    }
+    return count;
+}
+
+}  // namespace
+
+std::vector<Index> simplify_in_cells(const std::vector<float>& positions,
+                                     const std::vector<Index>& indices, std::size_t target,
+                                     double max_error, unsigned threads, CellPassStats* stats) {
+    CellPassStats s;
+    const std::size_t triangles = indices.size() / 3;
+    std::vector<Index> out;
+    if (triangles <= 2 * kCellTriangles) {
+        RegionResult r = simplify_region(positions, indices, {}, target, max_error);
+        s.regions = 1;
+        s.frozen = r.frozen;
+        s.gave_up = r.gave_up;
+        s.attempts = r.attempts;
+        s.error = r.error;
+        out = std::move(r.indices);
+    } else {
+        std::array<double, 3> lo, hi;
+        lo.fill(std::numeric_limits<double>::infinity());
+        hi.fill(-std::numeric_limits<double>::infinity());
+        double area = 0.0;
+        for (std::size_t c = 0; c < indices.size(); c += 3) {
+            const float* a = &positions[3 * std::size_t{indices[c]}];
+            const float* b = &positions[3 * std::size_t{indices[c + 1]}];
+            const float* d = &positions[3 * std::size_t{indices[c + 2]}];
+            for (int k = 0; k < 3; ++k) {
+                lo[k] = std::min({lo[k], double(a[k]), double(b[k]), double(d[k])});
+                hi[k] = std::max({hi[k], double(a[k]), double(b[k]), double(d[k])});
+            }
+            const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+            const double w[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
+            const double x = u[1] * w[2] - u[2] * w[1], y = u[2] * w[0] - u[0] * w[2],
+                         z = u[0] * w[1] - u[1] * w[0];
+            area += 0.5 * std::sqrt(x * x + y * y + z * z);
+        }
+        // A cube of edge e holds about 2 e² of a molecular surface where it cuts through
+        // (a plane: e²; the surface folds), so kCellTriangles triangles of the mean area; but
+        // a small molecule lies in few cubes, and cubes inside a large one hold nothing: the
+        // edge shrinks until no cube holds more than 1.5 kCellTriangles.
+        double cell = std::sqrt(double(kCellTriangles) * area / double(triangles) / 2.0);
+        const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+        cell = std::max({cell, extent / 256.0, 1e-3});
+        for (int shrink = 0; shrink < 8 && cell > extent / 256.0; ++shrink) {
+            const std::vector<std::size_t> n =
+                counts(positions, indices, make_grid(lo, hi, cell, 0.0), 8);
+            if (*std::max_element(n.begin(), n.end()) <= kCellTriangles * 3 / 2) break;
+            cell *= 0.8;
+        }
+        const double ratio = double(target) / double(triangles);
+        if (threads == 0) threads = thread_count(0);
+
+        // First pass: each cell at the ratio, its band and fans left for the second pass.
+        const PassResult first = run_pass(positions, indices, make_grid(lo, hi, cell, 0.0), ratio,
+                                          0.0, max_error, threads, s);
+        // Second pass: the first's bands and fans, still at full density, inside its cells.
+        // Its input has about ratio times the triangles, so its cubes are twice as wide (the
+        // bands are then as narrow a share as in the first pass), and its faces lie half a
+        // first cube away from the first's. All cells at the one ratio that meets the target;
+        // meshoptimizer takes the cheap collapses (in the full-density strips) first.
+        const PassResult second =
+            run_pass(positions, first.indices, make_grid(lo, hi, 2.0 * cell, 0.25), 0.0,
+                     double(target), max_error, threads, s);
+        out = second.indices;
+        s.error = first.error + second.error;
+    }
+    if (stats) *stats = s;
+    return out;
+}
+
+}  // namespace fdmsurf::detail

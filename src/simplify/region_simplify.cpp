@@ -1,0 +1,298 @@
+// One region simplified by meshopt_simplify without breaking its topology. meshoptimizer 0.18
+// collapses edges without testing the link condition (T. K. Dey, H. Edelsbrunner, S. Guha and
+// D. V. Nekhayev, "Topology preserving edge contraction", 1999), so on molecular surfaces, with
+// their narrow necks and tunnels, a few collapses fold triangles onto each other: non-manifold
+// edges and vertices (reported upstream as zeux/meshoptimizer#346, #699). The guard here finds
+// them afterwards and simplifies again with the input frozen around them.
+#include <meshoptimizer.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "simplify/simplify_detail.hpp"
+
+namespace fdmsurf::detail {
+namespace {
+
+using Index = std::uint32_t;
+
+// One key per triangle side: lo << 33 | hi << 1 | (1 when the triangle runs hi -> lo). Sorted,
+// the uses of one edge are adjacent, those along lo -> hi first.
+std::vector<std::uint64_t> edge_uses(const std::vector<Index>& indices) {
+    std::vector<std::uint64_t> keys;
+    keys.reserve(indices.size());
+    for (std::size_t c = 0; c < indices.size(); c += 3) {
+        for (int k = 0; k < 3; ++k) {
+            const std::uint64_t a = indices[c + k], b = indices[c + (k + 1) % 3];
+            keys.push_back(a < b ? (a << 33 | b << 1) : (b << 33 | a << 1 | 1));
+        }
+    }
+    std::sort(keys.begin(), keys.end());
+    return keys;
+}
+
+struct EdgeCount {
+    std::uint64_t edge;  // lo << 32 | hi
+    Index forward;       // uses lo -> hi
+    Index backward;      // uses hi -> lo
+    bool operator<(const EdgeCount& o) const { return edge < o.edge; }
+};
+
+// The edges not used exactly once each way, sorted by edge.
+std::vector<EdgeCount> irregular_edges(const std::vector<Index>& indices) {
+    const std::vector<std::uint64_t> keys = edge_uses(indices);
+    std::vector<EdgeCount> irregular;
+    for (std::size_t i = 0; i < keys.size();) {
+        const std::uint64_t edge = keys[i] >> 1;  // lo << 32 | hi
+        EdgeCount e{edge, 0, 0};
+        for (; i < keys.size() && keys[i] >> 1 == edge; ++i)
+            ++(keys[i] & 1 ? e.backward : e.forward);
+        if (e.forward != 1 || e.backward != 1) irregular.push_back(e);
+    }
+    return irregular;
+}
+
+std::uint64_t edge_key(Index a, Index b) {
+    return a < b ? std::uint64_t{a} << 32 | b : std::uint64_t{b} << 32 | a;
+}
+
+// Per vertex, how many fans its triangles form (triangles joined through the edges at the
+// vertex): 1 on a manifold vertex, 0 on an unused one.
+std::vector<Index> fan_counts(const std::vector<Index>& indices, std::size_t vertex_count) {
+    std::vector<Index> start(vertex_count + 1, 0);
+    for (Index v : indices) ++start[v + 1];
+    for (std::size_t v = 0; v < vertex_count; ++v) start[v + 1] += start[v];
+    std::vector<Index> corners(indices.size());
+    std::vector<Index> fill(start.begin(), start.end() - 1);
+    for (std::size_t c = 0; c < indices.size(); ++c) corners[fill[indices[c]]++] = Index(c);
+
+    std::vector<Index> fans(vertex_count, 0);
+    std::vector<std::array<Index, 2>> others;
+    std::vector<Index> parent;
+    for (std::size_t v = 0; v < vertex_count; ++v) {
+        const Index n = start[v + 1] - start[v];
+        if (n == 0) continue;
+        others.clear();
+        for (Index i = start[v]; i < start[v + 1]; ++i) {
+            const Index c = corners[i], t = c - c % 3;
+            others.push_back({indices[t + (c % 3 + 1) % 3], indices[t + (c % 3 + 2) % 3]});
+        }
+        parent.resize(n);
+        for (Index i = 0; i < n; ++i) parent[i] = i;
+        auto find = [&parent](Index x) {
+            while (parent[x] != x) x = parent[x] = parent[parent[x]];
+            return x;
+        };
+        // Triangles sharing a neighbour share the edge to it: one fan. Valences are small.
+        for (Index i = 0; i < n; ++i) {
+            for (Index j = 0; j < i; ++j) {
+                const auto& a = others[i];
+                const auto& b = others[j];
+                if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) {
+                    parent[find(i)] = find(j);
+                }
+            }
+        }
+        Index roots = 0;
+        for (Index i = 0; i < n; ++i) roots += find(i) == i;
+        fans[v] = roots;
+    }
+    return fans;
+}
+
+// Marks the triangles with a corner among `defects` or within `radius` (Å) of one of them.
+std::size_t freeze_around(const std::vector<float>& positions, const std::vector<Index>& indices,
+                          const std::vector<Index>& defects, double radius,
+                          std::vector<std::uint8_t>& frozen) {
+    const std::size_t nv = positions.size() / 3;
+    std::vector<std::uint8_t> near(nv, 0);
+    for (Index v : defects) near[v] = 1;
+    if (radius > 0.0) {
+        // Defects bucketed in cubes of edge `radius` (keys may collide; the distance decides).
+        auto cell = [radius](float x) { return std::int64_t(std::floor(double(x) / radius)); };
+        auto key = [](std::int64_t x, std::int64_t y, std::int64_t z) {
+            constexpr std::uint64_t m = (1u << 21) - 1;
+            return (std::uint64_t(x) & m) << 42 | (std::uint64_t(y) & m) << 21 |
+                   (std::uint64_t(z) & m);
+        };
+        std::vector<std::pair<std::uint64_t, Index>> buckets;
+        for (Index v : defects) {
+            const float* p = &positions[3 * std::size_t{v}];
+            buckets.push_back({key(cell(p[0]), cell(p[1]), cell(p[2])), v});
+        }
+        std::sort(buckets.begin(), buckets.end());
+        const double r2 = radius * radius;
+        for (std::size_t v = 0; v < nv; ++v) {
+            if (near[v]) continue;
+            const float* p = &positions[3 * v];
+            const std::int64_t cx = cell(p[0]), cy = cell(p[1]), cz = cell(p[2]);
+            for (int d = 0; d < 27 && !near[v]; ++d) {
+                const std::uint64_t k = key(cx + d % 3 - 1, cy + d / 3 % 3 - 1, cz + d / 9 - 1);
+                auto it = std::lower_bound(buckets.begin(), buckets.end(),
+                                           std::pair<std::uint64_t, Index>{k, 0});
+                for (; it != buckets.end() && it->first == k; ++it) {
+                    const float* q = &positions[3 * std::size_t{it->second}];
+                    const double dx = p[0] - q[0], dy = p[1] - q[1], dz = p[2] - q[2];
+                    if (dx * dx + dy * dy + dz * dz <= r2) {
+                        near[v] = 1;
+                        break;
+                    }
+                }
+            }
+        }
+    }
+    std::size_t count = 0;
+    for (std::size_t t = 0; t < frozen.size(); ++t) {
+        const Index* tri = &indices[3 * t];
+        if (near[tri[0]] || near[tri[1]] || near[tri[2]]) frozen[t] = 1;
+        count += frozen[t];
+    }
+    return count;
+}
+
+double total_area(const std::vector<float>& p, const std::vector<Index>& indices) {
+    double area = 0.0;
+    for (std::size_t c = 0; c < indices.size(); c += 3) {
+        const float* a = &p[3 * std::size_t{indices[c]}];
+        const float* b = &p[3 * std::size_t{indices[c + 1]}];
+        const float* d = &p[3 * std::size_t{indices[c + 2]}];
+        const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+        const double w[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
+        const double x = u[1] * w[2] - u[2] * w[1], y = u[2] * w[0] - u[0] * w[2],
+                     z = u[0] * w[1] - u[1] * w[0];
+        area += 0.5 * std::sqrt(x * x + y * y + z * z);
+    }
+    return area;
+}
+
+}  // namespace
+
+std::vector<Index> new_defects(const std::vector<Index>& in, const std::vector<Index>& out,
+                               std::size_t vertex_count) {
+    std::vector<Index> defects;
+    // The input is larger than the output: it is only scanned, for the edges and vertices that
+    // look wrong in the output.
+    const std::vector<EdgeCount> out_irregular = irregular_edges(out);
+    if (!out_irregular.empty()) {
+        std::vector<EdgeCount> before(out_irregular);
+        for (EdgeCount& e : before) e.forward = e.backward = 0;
+        for (std::size_t c = 0; c < in.size(); c += 3) {
+            for (int k = 0; k < 3; ++k) {
+                const Index a = in[c + k], b = in[c + (k + 1) % 3];
+                const EdgeCount key{edge_key(a, b), 0, 0};
+                auto it = std::lower_bound(before.begin(), before.end(), key);
+                if (it != before.end() && it->edge == key.edge)
+                    ++(a < b ? it->forward : it->backward);
+            }
+        }
+        std::vector<std::uint64_t> bad;
+        for (std::size_t i = 0; i < out_irregular.size(); ++i) {
+            const EdgeCount& e = out_irregular[i];
+            if (e.forward != before[i].forward || e.backward != before[i].backward) {
+                bad.push_back(e.edge);
+            }
+        }
+        for (std::size_t c = 0; c < out.size() && !bad.empty(); c += 3) {
+            for (int k = 0; k < 3; ++k) {
+                if (std::binary_search(bad.begin(), bad.end(),
+                                       edge_key(out[c + k], out[c + (k + 1) % 3]))) {
+                    defects.insert(defects.end(), {out[c], out[c + 1], out[c + 2]});
+                    break;
+                }
+            }
+        }
+    }
+    const std::vector<Index> out_fans = fan_counts(out, vertex_count);
+    std::vector<std::uint8_t> suspect(vertex_count, 0);
+    bool any = false;
+    for (std::size_t v = 0; v < vertex_count; ++v) {
+        suspect[v] = out_fans[v] > 1;
+        any = any || suspect[v];
+    }
+    if (any) {
+        // The input's stars of the suspects: every triangle at one of them.
+        std::vector<Index> stars;
+        for (std::size_t c = 0; c < in.size(); c += 3) {
+            if (suspect[in[c]] || suspect[in[c + 1]] || suspect[in[c + 2]]) {
+                stars.insert(stars.end(), &in[c], &in[c] + 3);
+            }
+        }
+        const std::vector<Index> in_fans = fan_counts(stars, vertex_count);
+        for (std::size_t v = 0; v < vertex_count; ++v) {
+            if (suspect[v] && out_fans[v] > in_fans[v]) defects.push_back(Index(v));
+        }
+    }
+    std::sort(defects.begin(), defects.end());
+    defects.erase(std::unique(defects.begin(), defects.end()), defects.end());
+    return defects;
+}
+
+RegionResult simplify_region(const std::vector<float>& positions, const std::vector<Index>& indices,
+                             const std::vector<Index>& context, std::size_t target,
+                             double max_error) {
+    const std::size_t nv = positions.size() / 3, triangles = indices.size() / 3;
+    RegionResult r;
+    if (target >= triangles) {
+        r.indices = indices;
+        return r;
+    }
+    const float scale = meshopt_simplifyScale(positions.data(), nv, 3 * sizeof(float));
+    const float relative_error = std::isinf(max_error) || !(scale > 0.0f)
+                                     ? std::numeric_limits<float>::max()
+                                     : static_cast<float>(max_error / scale);
+    const double ratio = static_cast<double>(target) / static_cast<double>(triangles);
+    // Edge of an equilateral triangle of the simplified mesh's mean area: the freezing radius
+    // grows by half of it with every attempt.
+    const double step = std::sqrt(4.0 / std::sqrt(3.0) * total_area(positions, indices) /
+                                  static_cast<double>(std::max<std::size_t>(target, 1)));
+    std::vector<Index> checked_in = indices;
+    checked_in.insert(checked_in.end(), context.begin(), context.end());
+    std::vector<std::uint8_t> frozen(triangles, 0);
+    std::vector<Index> free, result(indices.size());
+    float first_error = 0.0f;
+    for (int attempt = 1; attempt <= kMaxRegionAttempts; ++attempt) {
+        free.clear();
+        for (std::size_t t = 0; t < triangles; ++t) {
+            if (!frozen[t]) free.insert(free.end(), &indices[3 * t], &indices[3 * t] + 3);
+        }
+        // The free part at the region's ratio: frozen triangles come on top of the target
+        // rather than making the rest coarser.
+        const auto goal = static_cast<std::size_t>(std::round(ratio * double(free.size() / 3)));
+        // Retries stop at the first run's error: the frozen outlines lock vertices, and the
+        // goal would otherwise be met by coarser collapses elsewhere.
+        const float cap = attempt == 1 ? relative_error : std::min(relative_error, first_error);
+        float error = 0.0f;
+        const std::size_t count =
+            free.empty() ? 0
+                         : meshopt_simplify(result.data(), free.data(), free.size(),
+                                            positions.data(), nv, 3 * sizeof(float), 3 * goal, cap,
+                                            meshopt_SimplifyLockBorder, &error);
+        if (attempt == 1) first_error = error;
+        std::vector<Index> out(result.begin(), result.begin() + count);
+        for (std::size_t t = 0; t < triangles; ++t) {
+            if (frozen[t]) out.insert(out.end(), &indices[3 * t], &indices[3 * t] + 3);
+        }
+        r.attempts = attempt;
+        r.error = static_cast<double>(error) * scale;
+        const std::size_t own = out.size();
+        out.insert(out.end(), context.begin(), context.end());
+        const std::vector<Index> defects = new_defects(checked_in, out, nv);
+        if (defects.empty()) {
+            out.resize(own);
+            r.indices = std::move(out);
+            return r;
+        }
+        r.frozen = freeze_around(positions, indices, defects, (attempt - 1) * 0.5 * step, frozen);
+    }
+    r.gave_up = true;
+    r.indices = indices;
+    r.frozen = triangles;
+    r.error = 0.0;
+    return r;
+}
+
+}  // namespace fdmsurf::detail

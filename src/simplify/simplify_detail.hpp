@@ -1,0 +1,92 @@
+// Internals of simplify_mesh, exposed for the tests: the target, exact welding, the guarded
+// simplification of one region, and the two passes over cells that run regions in parallel.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "fdmsurf/mesh.hpp"
+#include "fdmsurf/simplify.hpp"
+
+namespace fdmsurf::detail {
+
+// The triangle count simplify_mesh aims at for an input of `triangles`: round(ratio ·
+// triangles), at least 1, capped at max_triangles when that is set. Throws
+// Error(InvalidArgument) for a ratio outside (0, 1] or a max_error that is negative or NaN.
+std::size_t simplify_target(std::size_t triangles, const SimplifyOptions& options);
+
+// Vertices at bit-identical positions merged into the lowest-numbered one (its attributes
+// kept), triangles that merging collapses (or that repeat a vertex) dropped, unused vertices
+// dropped; the rest in order, into `welded`. Returns false, leaving `welded` alone, when no
+// two vertices share a position and no triangle repeats a vertex (unused vertices are then
+// left in: simplify_mesh drops them at the end anyway). `merged` (may be null) gets the number
+// of vertices merged into another.
+bool weld_exact(const Mesh& mesh, Mesh& welded, std::size_t* merged);
+
+// The Hausdorff distance and the area-weighted RMSD (Å) of compare_meshes(full, simplified)
+// for a simplified mesh whose vertices are vertices of `full`: the distances from full's
+// vertices to simplified's triangles (the other way they are 0).
+void measure_distance(const Mesh& full, const Mesh& simplified, double& hausdorff, double& rmsd);
+
+// False when `out` has more boundary, non-manifold or inconsistently oriented edges,
+// non-manifold vertices or degenerate triangles than `in`, or lost its positive volume.
+bool topology_kept(const MeshStats& in, const MeshStats& out);
+
+// The vertices around the topological defects that `out` has and `in` has not (both index
+// triangles into the same `vertex_count` vertices): both ends of, and the third corner of every
+// triangle on, an edge whose uses (count in each direction) differ from the input's and are
+// not one each way; and the vertices whose triangles form more fans than in `in`. Sorted,
+// unique; empty when `out` kept the input's topology everywhere.
+std::vector<std::uint32_t> new_defects(const std::vector<std::uint32_t>& in,
+                                       const std::vector<std::uint32_t>& out,
+                                       std::size_t vertex_count);
+
+struct RegionResult {
+    std::vector<std::uint32_t> indices;  // the simplified region, into the region's vertices
+    double error = 0.0;                  // meshoptimizer's estimate, Å
+    std::size_t frozen = 0;              // input triangles kept as they were for the topology
+    int attempts = 0;                    // meshopt_simplify runs
+    bool gave_up = false;                // defects remained: the region was kept whole
+};
+
+// One region (positions: 3 floats per vertex, Å; indices: 3 per triangle) simplified towards
+// `target` triangles by meshopt_simplify with its border locked, then checked by new_defects
+// together with `context`, triangles around the region that stay as they are (their corners
+// are locked as the region's border, and they are checked with it, not returned). While a run
+// leaves a defect, the input triangles within a growing distance of the defects are frozen
+// (kept as they are) and the rest simplified again at the same ratio; after kMaxRegionAttempts
+// runs the region is kept whole. `max_error`: Å, infinity for none.
+inline constexpr int kMaxRegionAttempts = 8;
+RegionResult simplify_region(const std::vector<float>& positions,
+                             const std::vector<std::uint32_t>& indices,
+                             const std::vector<std::uint32_t>& context, std::size_t target,
+                             double max_error);
+
+struct CellPassStats {
+    std::size_t regions = 0;  // regions (cells) run, over both passes
+    std::size_t frozen = 0;   // triangles frozen, over both passes
+    std::size_t gave_up = 0;  // regions kept whole
+    int attempts = 0;         // meshopt_simplify runs, over all regions
+    double error = 0.0;       // the largest estimate of each pass, summed over passes (Å)
+};
+
+// Triangles per cell the passes aim at; meshes up to twice this are one region.
+inline constexpr std::size_t kCellTriangles = 32768;
+
+// Simplifies `indices` (into `positions`) towards `target` triangles: a mesh of up to
+// 2 kCellTriangles triangles as one region; a larger one in two passes over grids of cubic
+// cells, in parallel on `threads` threads (0: all). In each pass the triangles at a vertex
+// shared by two cells (the band along the cell faces) stay as they are and are every adjacent
+// cell's context, so that no two cells share a vertex they may move or an edge they may
+// create: defects cannot arise between cells. The first pass's cells hold about
+// kCellTriangles triangles each and go to the ratio, leaving their band and the triangles at
+// their locked outline (fans) for the second; the second pass's cells are twice as wide, its
+// faces half a first cell away from the first's, and all its cells go to the one ratio that
+// meets the target. Returns the indices into `positions`; the same whatever the thread count.
+std::vector<std::uint32_t> simplify_in_cells(const std::vector<float>& positions,
+                                             const std::vector<std::uint32_t>& indices,
+                                             std::size_t target, double max_error, unsigned threads,
+                                             CellPassStats* stats);
+
+}  // namespace fdmsurf::detail
