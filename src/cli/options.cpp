@@ -683,7 +683,7 @@ Colours and per-vertex properties (docs/properties.md):
   Every PLY vertex also gets `uint atom` (GLB: float _ATOM): the index (0-based,
   in input order) of the atom it belongs to.
 
-Mesh size and order (docs/mesh.md#simplification):
+Mesh size and order (docs/mesh.md, "Simplification"):
   --simplify RATIO       keep about RATIO of the triangles (0 < RATIO <= 1), by
                          meshoptimizer's edge collapses; the mesh stays closed
                          (where a collapse would break it, the surface around is

@@ -13,6 +13,7 @@
 #include <limits>
 #include <vector>
 
+#include "mesh/union_find.hpp"
 #include "simplify/simplify_detail.hpp"
 
 namespace fdmsurf::detail {
@@ -102,6 +103,39 @@ std::vector<Index> fan_counts(const std::vector<Index>& indices, std::size_t ver
         fans[v] = roots;
     }
     return fans;
+}
+
+// The vertex triples (sorted) of triangles that share their three vertices with another.
+std::vector<std::array<Index, 3>> doubled_triangles(const std::vector<Index>& indices) {
+    std::vector<std::array<Index, 3>> triples(indices.size() / 3);
+    for (std::size_t t = 0; t < triples.size(); ++t) {
+        triples[t] = {indices[3 * t], indices[3 * t + 1], indices[3 * t + 2]};
+        std::sort(triples[t].begin(), triples[t].end());
+    }
+    std::sort(triples.begin(), triples.end());
+    std::vector<std::array<Index, 3>> doubled;
+    for (std::size_t t = 1; t < triples.size(); ++t) {
+        if (triples[t] == triples[t - 1] && (doubled.empty() || doubled.back() != triples[t]))
+            doubled.push_back(triples[t]);
+    }
+    return doubled;
+}
+
+// The vertices of the input's pieces (joined through triangles) of which no vertex is left.
+std::vector<Index> vanished_pieces(const std::vector<Index>& in, const std::vector<Index>& out,
+                                   std::size_t vertex_count) {
+    DisjointSets sets(vertex_count);
+    for (std::size_t c = 0; c < in.size(); c += 3) {
+        sets.unite(in[c], in[c + 1]);
+        sets.unite(in[c], in[c + 2]);
+    }
+    std::vector<std::uint8_t> alive(vertex_count, 0);
+    for (Index v : out) alive[sets.find(v)] = 1;
+    std::vector<Index> gone;
+    for (Index v : in) {
+        if (!alive[sets.find(v)]) gone.push_back(v);
+    }
+    return gone;
 }
 
 // Marks the triangles with a corner among `defects` or within `radius` (Å) of one of them.
@@ -226,6 +260,17 @@ std::vector<Index> new_defects(const std::vector<Index>& in, const std::vector<I
             if (suspect[v] && out_fans[v] > in_fans[v]) defects.push_back(Index(v));
         }
     }
+    // A small closed piece can fold flat into two triangles on the same three vertices (every
+    // edge used once each way, one fan per vertex, no volume), and then vanish.
+    const std::vector<std::array<Index, 3>> out_doubles = doubled_triangles(out);
+    if (!out_doubles.empty()) {
+        const std::vector<std::array<Index, 3>> in_doubles = doubled_triangles(in);
+        for (const auto& t : out_doubles) {
+            if (!std::binary_search(in_doubles.begin(), in_doubles.end(), t))
+                defects.insert(defects.end(), t.begin(), t.end());
+        }
+    }
+    for (Index v : vanished_pieces(in, out, vertex_count)) defects.push_back(v);
     std::sort(defects.begin(), defects.end());
     defects.erase(std::unique(defects.begin(), defects.end()), defects.end());
     return defects;

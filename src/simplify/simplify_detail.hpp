@@ -36,8 +36,10 @@ bool topology_kept(const MeshStats& in, const MeshStats& out);
 // The vertices around the topological defects that `out` has and `in` has not (both index
 // triangles into the same `vertex_count` vertices): both ends of, and the third corner of every
 // triangle on, an edge whose uses (count in each direction) differ from the input's and are
-// not one each way; and the vertices whose triangles form more fans than in `in`. Sorted,
-// unique; empty when `out` kept the input's topology everywhere.
+// not one each way; the vertices whose triangles form more fans than in `in`; the corners of
+// two triangles on the same three vertices (a piece folded flat); and every vertex of a piece
+// of `in` that has no vertex left in `out`. Sorted, unique; empty when `out` kept the input's
+// topology everywhere.
 std::vector<std::uint32_t> new_defects(const std::vector<std::uint32_t>& in,
                                        const std::vector<std::uint32_t>& out,
                                        std::size_t vertex_count);

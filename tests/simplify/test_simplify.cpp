@@ -235,6 +235,18 @@ TEST(SimplifyDefects, FindsNewNonManifoldEdgesAndPinchedVertices) {
     }
     EXPECT_EQ(detail::new_defects(two.indices, pinched, two.vertex_count()),
               std::vector<std::uint32_t>{shared});
+    // The second sphere folded flat into two faces on three vertices (each edge used once each
+    // way, one fan per vertex), then gone altogether.
+    const auto first = std::ptrdiff_t(sphere.indices.size());  // the first sphere's triangles
+    std::vector<std::uint32_t> flat(two.indices.begin(), two.indices.begin() + first);
+    const std::uint32_t a = moved, b = moved + 1, c = moved + 2;
+    flat.insert(flat.end(), {a, b, c, a, c, b});
+    EXPECT_EQ(detail::new_defects(two.indices, flat, two.vertex_count()),
+              (std::vector<std::uint32_t>{a, b, c}));
+    const std::vector<std::uint32_t> gone(two.indices.begin(), two.indices.begin() + first);
+    const auto lost = detail::new_defects(two.indices, gone, two.vertex_count());
+    ASSERT_EQ(lost.size(), n);  // every vertex of the second sphere
+    EXPECT_EQ(lost.front(), moved);
 }
 
 TEST(SimplifyMesh, SphereKeepsItsShapeAndTopology) {
@@ -364,6 +376,35 @@ TEST(SimplifyMesh, MaxTrianglesCapsAndRatioOneKeepsEverything) {
     EXPECT_EQ(same.indices, sphere.indices);
     EXPECT_EQ(same.positions, sphere.positions);
     EXPECT_EQ(r.hausdorff, 0.0);
+}
+
+TEST(SimplifyMesh, TinyAndEmptyMeshesStayValid) {
+    // A tetrahedron cannot lose a triangle and stay closed: it comes back whole.
+    Mesh tetra;
+    for (const auto& p :
+         std::vector<std::array<double, 3>>{{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}}) {
+        fdmsurf::test::add_vertex(tetra, p[0], p[1], p[2]);
+    }
+    tetra.indices = {0, 1, 2, 0, 2, 3, 0, 3, 1, 1, 3, 2};
+    ASSERT_TRUE(IsClosedManifold(tetra));
+    SimplifyOptions o;
+    o.ratio = 0.1;
+    SimplifyReport r;
+    const Mesh out = simplify_mesh(tetra, o, &r);
+    EXPECT_TRUE(IsClosedManifold(out));
+    EXPECT_TRUE(r.topology_kept);
+    EXPECT_EQ(out.triangle_count(), 4u);
+    // An icosahedron at 10%: as far as it can go closed.
+    const Mesh ico = simplify_mesh(icosphere(1.0, 0), o, &r);
+    EXPECT_TRUE(IsClosedManifold(ico));
+    EXPECT_GE(ico.triangle_count(), 4u);
+    // Nothing in, nothing out.
+    const Mesh empty = simplify_mesh(Mesh{}, o, &r);
+    EXPECT_EQ(empty.triangle_count(), 0u);
+    EXPECT_EQ(r.triangles_out, 0u);
+    Mesh none;
+    optimize_mesh(none);
+    EXPECT_EQ(none.vertex_count(), 0u);
 }
 
 // meshoptimizer's post-transform cache model: vertices transformed per triangle.
