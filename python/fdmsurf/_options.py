@@ -8,6 +8,7 @@ import functools
 import inspect
 import numbers
 import re
+import textwrap
 from typing import Any, NamedTuple, Optional
 
 from . import _fdmsurf
@@ -232,13 +233,17 @@ def with_keywords(*groups, exclude=()):
         lines = []
         for k in table:
             option = f" [{k.cli}]" if k.cli else ""
-            lines.append(f"    {k.name}={k.default!r}{option}\n        {k.doc}.")
+            lines.append(f"    {k.name}={k.default!r}{option}")
+            lines.append(textwrap.fill(f"{k.doc}.", width=92, initial_indent=" " * 8,
+                                       subsequent_indent=" " * 8))
         doc = inspect.cleandoc(function.__doc__ or "")
         doc = doc.replace("{keywords}", "\n".join(lines))
 
+        allowed = names + [p.name for p in positional]
+
         @functools.wraps(function)
         def wrapper(*args, **given):
-            check_names(function.__qualname__, given, names)
+            check_names(function.__qualname__, given, allowed)
             return function(*args, **given)
 
         wrapper.__signature__ = signature.replace(parameters=positional + keywords)

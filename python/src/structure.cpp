@@ -221,11 +221,14 @@ are numpy arrays in atom order, or None for atoms without metadata (XYZR input, 
             [](PyStructure& s) -> py::object {
                 if (s.metadata.contains("element")) return s.metadata["element"];
                 py::object out = py::none();
-                if (!s.data->atoms.element.empty()) out = string_array(s.data->atoms.element);
+                const auto& element = s.data->atoms.element;
+                if (std::any_of(element.begin(), element.end(),
+                                [](const std::string& e) { return !e.empty(); }))
+                    out = string_array(element);
                 s.metadata["element"] = out;
                 return out;
             },
-            "Upper-case element symbols, (N,) str, or None (XYZR).")
+            "Upper-case element symbols, (N,) str, or None (XYZR, or arrays without element=).")
         .def_property_readonly(
             "name", [](PyStructure& s) { return meta_strings(s, "name", [](const AtomMeta& a) { return a.name; }); },
             "Atom names ('CA'), (N,) str, or None.")

@@ -48,7 +48,7 @@ def cli():
         pytest.skip(f"the fdmsurf program is not built ({path})")
 
     def run(*args, check=True):
-        done = subprocess.run([path, *map(str, args)], capture_output=True, text=True)
+        done = subprocess.run([path, *map(str, args)], capture_output=True, encoding="utf-8")
         if check and done.returncode != 0:
             raise AssertionError(f"fdmsurf {' '.join(map(str, args))} failed "
                                  f"({done.returncode}): {done.stderr}")

@@ -26,7 +26,7 @@ def rows_of(outdir):
 
 def run_batch(*args):
     return subprocess.run([sys.executable, "-m", "fdmsurf.batch", *map(str, args)],
-                          capture_output=True, text=True, timeout=600)
+                          capture_output=True, encoding="utf-8", timeout=600)
 
 
 def test_inputs_outputs_and_hash(data, tmp_path):
