@@ -180,6 +180,14 @@ def _worker_engine():
     return plugin.engine
 
 
+def _worker_address():
+    try:
+        from distributed import get_worker
+        return get_worker().address
+    except (ImportError, ValueError):  # not on a Dask worker (compute called directly)
+        return None
+
+
 def _ms(start):
     return round((time.perf_counter() - start) * 1000.0, 3)
 
@@ -230,6 +238,7 @@ def compute(path, outdir, keywords, mesh_format, all_models, digest, engine=None
         else:
             row.update(models[0])
         row.update(status="ok", error=None, error_class=None, device=engine.device["name"])
+        row["worker"] = _worker_address()
     except Exception as e:  # noqa: BLE001 - any failure is this structure's row
         row.update(status="failed", error=str(e) or repr(e), error_class=type(e).__name__)
     row["elapsed_ms"] = _ms(start)
@@ -273,8 +282,9 @@ def run(inputs, outdir, *, scheduler=None, workers=None, client=None, device=Non
         validation=False, mesh_format="ply", all_models=False, retry_failed=False,
         memory_limit="auto", progress=sys.stderr, **keywords):
     """Computes the surfaces of INPUTS into OUTDIR on a Dask cluster (see the module's help);
-    returns a summary dict: inputs, skipped, computed, failed, seconds, workers, manifest, rows
-    (the rows written by this run). client: an existing distributed.Client to use (its cluster
+    returns a summary dict: inputs, skipped (done before), computed, failed, failed_before
+    (skipped because they failed before), seconds, workers, manifest, rows (the rows written
+    by this run). client: an existing distributed.Client to use (its cluster
     is left running); else scheduler: an address to join; else a LocalCluster of `workers`
     processes (default_workers()). keywords: those of fdmsurf.Engine.surface."""
     _options.check_names("run", keywords, list(_options.KEYWORDS))
@@ -295,11 +305,17 @@ def run(inputs, outdir, *, scheduler=None, workers=None, client=None, device=Non
                                             retry_failed)]
     # Largest files first: the long tasks start early and do not trail at the end.
     todo.sort(key=lambda p: -os.path.getsize(p) if os.path.exists(p) else 0)
+    # Structures skipped because they failed before, for a reason that would repeat.
+    failed_before = sum(1 for p in paths if p not in todo and
+                        previous[os.path.abspath(p)].get("status") != "ok")
     summary = {"inputs": len(paths), "skipped": len(paths) - len(todo), "computed": 0,
-               "failed": 0, "seconds": 0.0, "workers": 0, "manifest": manifest, "rows": []}
+               "failed": 0, "failed_before": failed_before, "seconds": 0.0, "workers": 0,
+               "manifest": manifest, "rows": []}
     if progress is not None:
-        print(f"fdmsurf.batch: {len(paths)} structure(s), {summary['skipped']} done already, "
-              f"{len(todo)} to compute", file=progress, flush=True)
+        note = (f" ({failed_before} of them failed: --retry-failed retries them)"
+                if failed_before else "")
+        print(f"fdmsurf.batch: {len(paths)} structure(s), {summary['skipped']} done "
+              f"already{note}, {len(todo)} to compute", file=progress, flush=True)
     if not todo:
         return summary
 
@@ -446,7 +462,7 @@ def main(argv=None):
     except (fdmsurf.Error, OSError) as e:
         print(f"fdmsurf.batch: error: {e}", file=sys.stderr)
         return 1
-    return 1 if summary["failed"] else 0
+    return 1 if summary["failed"] or summary["failed_before"] else 0
 
 
 if __name__ == "__main__":

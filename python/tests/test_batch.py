@@ -85,7 +85,8 @@ def test_local_cluster_of_two_workers_then_a_rerun_that_computes_nothing(cli, da
     again = run_batch(*inputs, "-o", out, "--workers", "2", "--spacing", "1", "--colour",
                       "chain")
     assert again.returncode == 1  # the two failures stand
-    assert "6 done already, 0 to compute" in again.stderr
+    assert "6 done already (2 of them failed: --retry-failed retries them), 0 to compute" \
+        in again.stderr
     assert "worker" not in again.stderr
     assert {p: os.stat(out / p).st_mtime_ns for p in os.listdir(out)} == stamps
 
@@ -135,7 +136,7 @@ def test_a_worker_killed_mid_run(data, tmp_path):
         thread = threading.Thread(target=lambda: summary.update(
             batch.run(inputs, out, client=client, progress=None)))
         thread.start()
-        victim = None
+        victim, interrupted = None, []
         deadline = time.monotonic() + 120
         while victim is None and time.monotonic() < deadline and thread.is_alive():
             busy = [w for w, tasks in client.processing().items() if tasks and w in pids]
@@ -144,6 +145,7 @@ def test_a_worker_killed_mid_run(data, tmp_path):
             if busy and os.path.exists(out / batch.MANIFEST) and rows_of(out):
                 victim = busy[0]
                 time.sleep(0.1)
+                interrupted = list(client.processing()[victim])
                 os.kill(pids[victim], signal.SIGKILL)
             time.sleep(0.02)
         thread.join(timeout=600)
@@ -159,6 +161,12 @@ def test_a_worker_killed_mid_run(data, tmp_path):
     outputs = sorted(os.listdir(out))
     expected = sorted([batch.stem_of(str(p)) + ".ply" for p in inputs] + [batch.MANIFEST])
     assert outputs == expected  # every mesh, and no temporary file left
+    # The task the killed worker was on ran again elsewhere.
+    by_stem = {batch.stem_of(r["input"]): r for r in rows}
+    assert interrupted
+    for key in interrupted:  # fdmsurf-STEM-HASH-RANDOM
+        row = by_stem[key[len("fdmsurf-"):].rsplit("-", 2)[0]]
+        assert row["status"] == "ok" and row["worker"] != victim
     for row in rows:
         mesh = fdmsurf.read_mesh(row["output"])
         assert mesh.triangle_count == row["triangles"] and mesh.closed_manifold
