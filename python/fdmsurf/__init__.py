@@ -37,6 +37,7 @@ from ._fdmsurf import (
     compare,
     list_devices,
     read_mesh,
+    sas_areas,
 )
 from ._options import READ, SURFACE, with_keywords
 
@@ -44,8 +45,8 @@ __version__ = _fdmsurf.__version__
 
 __all__ = [
     "Engine", "surface", "default_engine", "read_structure", "read_models", "parse_structure",
-    "plan_grid", "compare", "read_mesh", "list_devices", "Structure", "Mesh", "SurfaceResult",
-    "Error", "InvalidArgumentError", "InputError", "FileError", "FormatError",
+    "plan_grid", "compare", "read_mesh", "list_devices", "sas_areas", "Structure", "Mesh",
+    "SurfaceResult", "Error", "InvalidArgumentError", "InputError", "FileError", "FormatError",
     "EmptySelectionError", "DeviceError", "NoDeviceError", "DeviceLimitError", "VulkanError",
     "FftError", "InternalError", "__version__",
 ]

@@ -141,8 +141,10 @@ except ImportError:  # fdmsurf.batch's helpers stay importable without Dask
 
 class EnginePlugin(WorkerPlugin):
     """Makes one fdmsurf.Engine per worker process, when the worker starts, for every task it
-    runs. device: as Engine's; None gives each worker of a LocalCluster on a several-GPU machine
-    its own GPU (worker i gets GPU i mod the count), else the default device."""
+    runs. device: as Engine's; None gives each worker on a several-GPU machine its own GPU when
+    the worker's name ends in a number i (a LocalCluster's 0, 1, ...; `dask-worker --nworkers
+    N --name NODE` gives NODE-0 ... NODE-(N-1)): GPU i mod their count; else the default
+    device."""
 
     name = PLUGIN
 
@@ -158,8 +160,9 @@ class EnginePlugin(WorkerPlugin):
             if device is None:
                 gpus = [d["index"] for d in fdmsurf.list_devices()
                         if d["usable"] and d["type"] != "CPU"]
-                if len(gpus) > 1 and str(worker.name).isdigit():
-                    device = gpus[int(worker.name) % len(gpus)]
+                number = re.search(r"([0-9]+)$", str(worker.name))
+                if len(gpus) > 1 and number:
+                    device = gpus[int(number.group(1)) % len(gpus)]
             self.engine = fdmsurf.Engine(device=device, validation=self.validation)
         except fdmsurf.Error as e:
             self.error = e  # each task reports it as its failure
@@ -283,8 +286,8 @@ def run(inputs, outdir, *, scheduler=None, workers=None, client=None, device=Non
         memory_limit="auto", progress=sys.stderr, **keywords):
     """Computes the surfaces of INPUTS into OUTDIR on a Dask cluster (see the module's help);
     returns a summary dict: inputs, skipped (done before), computed, failed, failed_before
-    (skipped because they failed before), seconds, workers, manifest, rows (the rows written
-    by this run). client: an existing distributed.Client to use (its cluster
+    (skipped because they failed before), seconds, startup_seconds (cluster start and engine
+    creation), workers, manifest, rows (the rows written by this run). client: an existing distributed.Client to use (its cluster
     is left running); else scheduler: an address to join; else a LocalCluster of `workers`
     processes (default_workers()). keywords: those of fdmsurf.Engine.surface."""
     _options.check_names("run", keywords, list(_options.KEYWORDS))
@@ -309,7 +312,8 @@ def run(inputs, outdir, *, scheduler=None, workers=None, client=None, device=Non
     failed_before = sum(1 for p in paths if p not in todo and
                         previous[os.path.abspath(p)].get("status") != "ok")
     summary = {"inputs": len(paths), "skipped": len(paths) - len(todo), "computed": 0,
-               "failed": 0, "failed_before": failed_before, "seconds": 0.0, "workers": 0,
+               "failed": 0, "failed_before": failed_before, "seconds": 0.0,
+               "startup_seconds": 0.0, "workers": 0,
                "manifest": manifest, "rows": []}
     if progress is not None:
         note = (f" ({failed_before} of them failed: --retry-failed retries them)"
@@ -342,6 +346,7 @@ def run(inputs, outdir, *, scheduler=None, workers=None, client=None, device=Non
             raise fdmsurf.DeviceError("no worker could make an fdmsurf engine: "
                                       f"{first.get('exception_text') or first}")
         summary["workers"] = len(responses)
+        summary["startup_seconds"] = time.perf_counter() - start  # cluster, engines
         if progress is not None:
             where = scheduler or ("LocalCluster" if cluster else client.scheduler.address)
             print(f"fdmsurf.batch: {len(responses)} worker(s) on {where}", file=progress,

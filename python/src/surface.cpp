@@ -334,6 +334,15 @@ from; `atoms` indexes them), cavities_removed, specks_removed, total_ms.)")
             "times", [](const PySurface& s) { return times_dict(s.times); },
             "Milliseconds per stage ('density', 'fft-forward', ...), in order of execution.")
         .def_property_readonly(
+            "stages",
+            [](const PySurface& s) {
+                py::list out;
+                for (const StageTime& t : s.times) out.append(py::make_tuple(t.name, t.ms, t.gpu));
+                return out;
+            },
+            "Every stage as it ran, (name, ms, gpu) in order (a stage per slab repeats): gpu is "
+            "True where the time comes from GPU timestamps, False for host work.")
+        .def_property_readonly(
             "warnings", [](const PySurface& s) { return s.warnings; },
             "The engine's warnings (the CLI prints them as `fdmsurf: warning:` lines), and the "
             "validation layer's messages with Engine(validation=True).")
@@ -341,6 +350,19 @@ from; `atoms` indexes them), cavities_removed, specks_removed, total_ms.)")
                                "The Vulkan device's name.")
         .def_property_readonly("structure", [](const PySurface& s) { return s.structure; },
                                "The Structure the surface was made from.")
+        .def(
+            "atom_areas",
+            [](PySurface& s) {
+                std::vector<double> areas;
+                {
+                    py::gil_scoped_release release;
+                    areas = atom_mesh_areas(*s.mesh, s.structure.data->atoms.size());
+                }
+                return py::array_t<double>(py::ssize_t(areas.size()), areas.data());
+            },
+            R"(The surface's area shared out to the structure's atoms, (N,) float64, Å²: each
+triangle gives a third of its area to the atom of each of its vertices (docs/areas.md); the sum
+is the area. Atoms that own no vertex get 0.)")
         .def_property_readonly("cavities_removed",
                                [](const PySurface& s) { return s.cavities_removed; })
         .def_property_readonly("specks_removed", [](const PySurface& s) { return s.specks_removed; })
@@ -384,6 +406,21 @@ from; `atoms` indexes them), cavities_removed, specks_removed, total_ms.)")
 driver, api_version, usable, reason (why not usable), max_storage_buffer_range and
 device_memory (bytes). Raises NoDeviceError when the Vulkan loader or every driver is
 missing (install mesa-vulkan-drivers for lavapipe, the CPU device).)");
+
+    m.def(
+        "sas_areas",
+        [](const PyStructure& structure, float probe, int points) {
+            std::vector<double> areas;
+            {
+                py::gil_scoped_release release;
+                areas = atom_sas_areas(structure.data->atoms, probe, points);
+            }
+            return py::array_t<double>(py::ssize_t(areas.size()), areas.data());
+        },
+        py::arg("structure"), py::arg("probe") = 1.4f, py::arg("points") = 1000,
+        R"(The solvent-accessible area of every atom of `structure`, (N,) float64, Å², by
+Shrake & Rupley's test points (`points` per atom; probe 0 gives the van der Waals area), on
+the host with every thread (docs/areas.md).)");
 
     m.def(
         "read_mesh",

@@ -155,6 +155,8 @@ def test_result_describes_the_run(engine, data):
     assert set(result.grid) == {"dims", "spacing", "origin", "cutoff", "slabs"}
     assert result.grid["spacing"] == 1.0 and result.grid["cutoff"] == pytest.approx(0.232, 1e-2)
     assert "density" in result.times and all(ms >= 0 for ms in result.times.values())
+    assert ("density", result.times["density"], True) in result.stages
+    assert sum(ms for _, ms, _ in result.stages) == pytest.approx(sum(result.times.values()))
     assert isinstance(result.warnings, list)
     assert result.device == engine.device["name"]
     assert result.stats["closed_manifold"] is True and result.stats["boundary_edges"] == 0
@@ -230,6 +232,18 @@ def test_compare_and_read_mesh(engine, data, tmp_path):
     assert vs["rmsd_weighted"] < 0.05 and abs(vs["area_rel_error"]) < 0.02
     mesh = fdmsurf.read_mesh(data / "1crn-ses-nanoshaper.ply.gz")
     assert mesh.vertex_count > 0 and mesh.atoms is None and "Mesh" in repr(mesh)
+
+
+def test_areas_per_atom(engine, data):
+    result = engine.surface(data / "1crn.pdb", spacing=1.0)
+    areas = result.atom_areas()
+    assert areas.shape == (327,) and areas.dtype == np.float64
+    assert areas.sum() == pytest.approx(result.area, rel=1e-9)
+    one = fdmsurf.Structure([[0, 0, 0]], [1.6])
+    assert fdmsurf.sas_areas(one, probe=1.4)[0] == pytest.approx(4 * math.pi * 9.0, rel=1e-9)
+    sas = fdmsurf.sas_areas(result.structure, probe=1.4)
+    vs_mesh = engine.surface(data / "1crn.pdb", surface="sas", spacing=0.5)
+    assert sas.sum() == pytest.approx(vs_mesh.area, rel=0.03)
 
 
 def test_keywords_are_the_cli_options_with_their_defaults(cli):
