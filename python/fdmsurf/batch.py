@@ -155,6 +155,7 @@ class EnginePlugin(WorkerPlugin):
         self.error = None
 
     def setup(self, worker):
+        _undo_malloc_trimming()
         try:
             device = self.device
             if device is None:
@@ -171,6 +172,23 @@ class EnginePlugin(WorkerPlugin):
     def teardown(self, worker):
         if self.engine is not None:
             self.engine.close()
+
+
+def _undo_malloc_trimming():
+    """Dask's nanny starts workers with MALLOC_TRIM_THRESHOLD_=65536, which also fixes glibc's
+    mmap threshold at 128 KiB: every large allocation is then a fresh mmap, faulted in page by
+    page. Lavapipe allocates its working memory as it computes, and its FFTs ran 5 times slower
+    so (docs/python.md, Throughput). Restore the thresholds glibc would have grown to."""
+    if "MALLOC_TRIM_THRESHOLD_" not in os.environ:
+        return
+    try:
+        import ctypes
+        libc = ctypes.CDLL("libc.so.6")
+    except OSError:  # not glibc
+        return
+    m_trim_threshold, m_mmap_threshold = -1, -3  # <malloc.h>
+    libc.mallopt(m_mmap_threshold, 32 << 20)  # glibc's largest dynamic mmap threshold
+    libc.mallopt(m_trim_threshold, 64 << 20)  # twice that, as glibc's dynamic rule keeps it
 
 
 def _worker_engine():
