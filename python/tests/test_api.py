@@ -285,6 +285,22 @@ def test_help_reads_well():
         assert function.__doc__ and len(function.__doc__) > 40, function
 
 
+def test_stubs_declare_the_api():
+    import ast
+    import pathlib
+    stub = ast.parse(pathlib.Path(fdmsurf.__file__).with_suffix(".pyi").read_text())
+    declared = {node.name for node in stub.body if isinstance(node, (ast.FunctionDef,
+                                                                     ast.ClassDef))}
+    assert set(fdmsurf.__all__) - {"__version__"} <= declared
+    engine = next(n for n in stub.body if isinstance(n, ast.ClassDef) and n.name == "Engine")
+    methods = {n.name for n in engine.body if isinstance(n, ast.FunctionDef)}
+    public = {n for n in dir(fdmsurf.Engine) if not n.startswith("_")}
+    assert public <= methods
+    surface = next(n for n in engine.body if getattr(n, "name", "") == "surface")
+    stubbed = [a.arg for a in surface.args.kwonlyargs]
+    assert stubbed == list(inspect.signature(fdmsurf.Engine.surface).parameters)[3:]
+
+
 def test_devices_and_version(engine, cli):
     devices = fdmsurf.list_devices()
     assert any(d["usable"] for d in devices)

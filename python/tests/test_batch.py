@@ -142,7 +142,8 @@ def test_a_worker_killed_mid_run(data, tmp_path):
             busy = [w for w, tasks in client.processing().items() if tasks and w in pids]
             # Once a worker is on a task and one structure is done (the engines are up),
             # kill a worker that is computing.
-            if busy and os.path.exists(out / batch.MANIFEST) and rows_of(out):
+            manifest = out / batch.MANIFEST
+            if busy and os.path.exists(manifest) and os.path.getsize(manifest) > 0:
                 victim = busy[0]
                 time.sleep(0.1)
                 interrupted = list(client.processing()[victim])
@@ -170,3 +171,20 @@ def test_a_worker_killed_mid_run(data, tmp_path):
     for row in rows:
         mesh = fdmsurf.read_mesh(row["output"])
         assert mesh.triangle_count == row["triangles"] and mesh.closed_manifold
+
+
+def test_joining_a_running_cluster(data, tmp_path):
+    """--scheduler ADDRESS: the run uses that cluster's workers and leaves the cluster up."""
+    cluster = distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True,
+                                       dashboard_address=None, silence_logs=50)
+    try:
+        done = run_batch(data / "1crn.pdb", data / "3al1.pdb", "-o", tmp_path,
+                         "--scheduler", cluster.scheduler_address, "--spacing", "1.0")
+        assert done.returncode == 0, done.stderr
+        workers = set(cluster.scheduler_info["workers"])
+        rows = rows_of(tmp_path)
+        assert len(rows) == 2 and all(r["status"] == "ok" for r in rows)
+        assert {r["worker"] for r in rows} <= workers
+        assert cluster.scheduler_info["workers"]  # still up
+    finally:
+        cluster.close()
