@@ -153,6 +153,7 @@ class EnginePlugin(WorkerPlugin):
         self.validation = validation
         self.engine = None
         self.error = None
+        self.device_in_use = device
 
     def setup(self, worker):
         _undo_malloc_trimming()
@@ -164,6 +165,7 @@ class EnginePlugin(WorkerPlugin):
                 number = re.search(r"([0-9]+)$", str(worker.name))
                 if len(gpus) > 1 and number:
                     device = gpus[int(number.group(1)) % len(gpus)]
+            self.device_in_use = device
             self.engine = fdmsurf.Engine(device=device, validation=self.validation)
         except fdmsurf.Error as e:
             self.error = e  # each task reports it as its failure
@@ -199,6 +201,24 @@ def _worker_engine():
             raise plugin.error
         raise fdmsurf.DeviceError("this worker has no fdmsurf engine (plugin not set up)")
     return plugin.engine
+
+
+def _renew_worker_engine():
+    """A new engine for this worker after a Vulkan failure; if that fails too, the worker's
+    later tasks report why."""
+    try:
+        from distributed import get_worker
+        plugin = get_worker().plugins.get(PLUGIN)
+    except (ImportError, ValueError):
+        return
+    if plugin is None or plugin.engine is None:
+        return
+    plugin.engine.close()
+    plugin.engine = None
+    try:
+        plugin.engine = fdmsurf.Engine(device=plugin.device_in_use, validation=plugin.validation)
+    except fdmsurf.Error as e:
+        plugin.error = e
 
 
 def _worker_address():
@@ -262,6 +282,8 @@ def compute(path, outdir, keywords, mesh_format, all_models, digest, engine=None
         row["worker"] = _worker_address()
     except Exception as e:  # noqa: BLE001 - any failure is this structure's row
         row.update(status="failed", error=str(e) or repr(e), error_class=type(e).__name__)
+        if isinstance(e, fdmsurf.VulkanError):
+            _renew_worker_engine()  # a failed device (lost, out of memory) fails every later task
     row["elapsed_ms"] = _ms(start)
     return row
 
