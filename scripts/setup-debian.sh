@@ -32,6 +32,9 @@ packages=(
     libglm-dev libgtest-dev libfftw3-dev
     # ../shared/tools/meshstat.py; python3 also parses --stats json in scripts/all-structures.sh
     python3 python3-numpy python3-scipy
+    # the Python module (python/, docs/python.md): pybind11 and Python's headers build it; Dask's
+    # distributed scheduler runs fdmsurf.batch; pytest runs the module's tests under ctest
+    pybind11-dev python3-dev python3-distributed python3-pytest
     # gzip; GNU time (/usr/bin/time -v) for the peak memory column of scripts/all-structures.sh
     gzip time
 )

@@ -1,0 +1,253 @@
+"""The keywords of Engine.surface and read_structure: one table of names, defaults and CLI
+options, and the conversion of the keywords a call gives into the CLI's options, which the
+compiled module parses with the CLI's own parser (python/src/options.cpp): same names, same
+defaults, same checks and messages as ``fdmsurf --help``."""
+
+import difflib
+import functools
+import inspect
+import numbers
+import re
+import textwrap
+from typing import Any, NamedTuple, Optional
+
+from . import _fdmsurf
+
+
+class Keyword(NamedTuple):
+    name: str           # the Python keyword: the CLI option's name with '_' for '-'
+    default: Any        # None: the CLI's default when the option is not given
+    kind: str           # how a value becomes an option (see _option_args)
+    cli: Optional[str]  # the CLI option; None for the library-only settings
+    doc: str
+
+
+# In the order of `fdmsurf --help`.
+SURFACE = (
+    Keyword("surface", "ses", "choice", "--surface",
+            "'ses' (solvent excluded), 'vdw' (van der Waals) or 'sas' (solvent accessible)"),
+    Keyword("method", "fdm", "choice", "--method",
+            "how the ses surface is computed: 'fdm', the filtered density map (smooth, about "
+            "0.15-0.2 Å from the exact SES), or 'edt', the exact SES (no filter; cutoff, sigma, "
+            "level, filter and paper are refused with it)"),
+    Keyword("spacing", 0.5, "float", "--spacing", "grid spacing, Å (> 0)"),
+    Keyword("probe", 1.4, "float", "--probe", "solvent probe radius, Å (>= 0)"),
+    Keyword("cutoff", 0.0, "float", "--cutoff",
+            "filter cut-off, 1/Å (>= 0; 0: 1.3/(4 probe) for the Gaussian filter, 1/(4 probe) "
+            "for the ideal one); ses with fdm only"),
+    Keyword("sigma", 3.0, "float", "--sigma", "Gaussian width of each atom's density, Å (> 0)"),
+    Keyword("level", None, "float", "--level",
+            "iso-level in units of T, the density on each van der Waals sphere (> 0; None: 0.9 "
+            "for ses with the Gaussian filter, 1 otherwise)"),
+    Keyword("filter", "gaussian", "choice", "--filter",
+            "filter shape: 'gaussian' 2^-(|f|/cutoff)^2 or the paper's 'ideal' spherical mask"),
+    Keyword("paper", False, "flag", "--paper",
+            "the paper's settings: ideal filter at 1/(4 probe), level 1, every cavity kept "
+            "(filter, level and cavity keywords given explicitly still apply)"),
+    Keyword("no_cavities", False, "flag", "--no-cavities",
+            "keep only outer surfaces: remove every cavity"),
+    Keyword("min_cavity_volume", None, "float", "--min-cavity-volume",
+            "remove cavities enclosing less than this many Å³ (>= 0; None: for fdm remove the "
+            "cavities no probe sphere fits in, for edt, vdw and sas keep all)"),
+    Keyword("padding", None, "float", "--padding",
+            "empty space around the atoms, Å (>= 0; None: one filter wavelength for ses, 1 Å "
+            "for vdw and sas)"),
+    Keyword("refine", 0, "int", "--refine",
+            "refinement levels, 0 to 4: each splits every triangle into four (modified "
+            "butterfly) and moves the new vertices onto the surface"),
+    Keyword("color", None, "color", "--color",
+            "vertex colours: 'chain', 'element', 'residue', 'hydrophobicity', 'bfactor', "
+            "'coulombic', '#RRGGBB' or an (r, g, b) tuple of 0-255; None: uncoloured"),
+    Keyword("properties", None, "list", "--properties",
+            "per-vertex scalars, a list (or comma-separated str) of 'coulombic', "
+            "'hydrophobicity', 'bfactor', 'mean_curvature', 'gaussian_curvature', "
+            "'shape_index': SurfaceResult.properties"),
+    Keyword("patch", None, "str", "--patch",
+            "compute the surface of every atom, then keep only the triangles whose three "
+            "vertices belong to atoms this gemmi selection matches: an open patch"),
+    Keyword("density_cut", 0.01, "fraction", None,
+            "(library only) an atom's Gaussian is taken as 0 below this fraction of T, in (0, 1)"),
+    Keyword("min_grid", None, "grid", None,
+            "(library only) grid points per axis at least, (nx, ny, nz): structures given one "
+            "grid share one FFT plan"),
+)
+
+# Selection rules when the source is a path (PDB and mmCIF; PQR and XYZR are taken whole).
+READ = (
+    Keyword("format", None, "choice", "--format",
+            "'pdb', 'cif', 'pqr', 'xyzr' or 'xyzrn'; None: from the extension, then the content"),
+    Keyword("model", 1, "int", "--model", "the model to read, 1-based"),
+    Keyword("assembly", 0, "int", "--assembly",
+            "biological assembly N (the n-th the file lists), built before selection; 0: the "
+            "model as deposited"),
+    Keyword("chains", None, "list", "--chains",
+            "keep only these chains (author ids, case-sensitive): a list or 'A,B'"),
+    Keyword("select", None, "str", "--select",
+            "keep only the atoms gemmi's selection matches ('A/10-50', '(HEM)', '[S]', ';b>20')"),
+    Keyword("waters", False, "flag", "--waters", "keep water molecules"),
+    Keyword("hydrogens", False, "flag", "--hydrogens", "keep hydrogen atoms"),
+    Keyword("ligands", True, "negflag", "--no-ligands",
+            "keep HETATM residues other than water (False: the CLI's --no-ligands)"),
+)
+
+KEYWORDS = {k.name: k for k in SURFACE + READ}
+READ_NAMES = frozenset(k.name for k in READ)
+
+# CLI option -> keyword, to word the parser's messages for Python callers.
+_BY_OPTION = {k.cli: k for k in SURFACE + READ if k.cli}
+_BY_OPTION["--colour"] = KEYWORDS["color"]
+
+
+def _real(name, value):
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{name} must be a number, not {type(value).__name__}")
+    return repr(float(value))
+
+
+def _integer(name, value):
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise TypeError(f"{name} must be a whole number, not {type(value).__name__}")
+    return str(int(value))
+
+
+def _text(name, value):
+    if not isinstance(value, str):
+        raise TypeError(f"{name} must be a str, not {type(value).__name__}")
+    return value
+
+
+def _items(name, value):
+    if isinstance(value, str):
+        return value
+    try:
+        items = list(value)
+    except TypeError:
+        raise TypeError(f"{name} must be a list of str or a comma-separated str, "
+                        f"not {type(value).__name__}") from None
+    for item in items:
+        _text(f"each item of {name}", item)
+    return ",".join(items)
+
+
+def _color(name, value):
+    if isinstance(value, str):
+        return value
+    try:
+        rgb = [int(c) for c in value]
+        if len(rgb) == 3 and all(0 <= c <= 255 and c == v for c, v in zip(rgb, value)):
+            return "#%02x%02x%02x" % tuple(rgb)
+    except (TypeError, ValueError):
+        pass
+    raise TypeError(f"{name} must be a scheme name, '#RRGGBB' or an (r, g, b) tuple of whole "
+                    f"numbers 0-255, not {value!r}")
+
+
+def _flag(name, value):
+    if not isinstance(value, (bool, int)) or value not in (0, 1):
+        raise TypeError(f"{name} must be True or False, not {value!r}")
+    return bool(value)
+
+
+def _option_args(given):
+    """The CLI arguments of the keywords in `given` (name -> value), and the library-only
+    settings. A keyword given as None is left at its default."""
+    args, library = [], {}
+    for name, value in given.items():
+        k = KEYWORDS[name]
+        if value is None:
+            continue
+        if k.kind == "float":
+            args.append(f"{k.cli}={_real(name, value)}")
+        elif k.kind == "int":
+            args.append(f"{k.cli}={_integer(name, value)}")
+        elif k.kind in ("choice", "str"):
+            args.append(f"{k.cli}={_text(name, value)}")
+        elif k.kind == "list":
+            text = _items(name, value)
+            if text:  # an empty list: every chain, no property
+                args.append(f"{k.cli}={text}")
+        elif k.kind == "color":
+            args.append(f"{k.cli}={_color(name, value)}")
+        elif k.kind == "flag":
+            if _flag(name, value):
+                args.append(k.cli)
+        elif k.kind == "negflag":
+            if not _flag(name, value):
+                args.append(k.cli)
+        elif k.kind == "fraction":
+            _real(name, value)
+            library[name] = float(value)
+        elif k.kind == "grid":
+            grid = tuple(value)
+            if len(grid) != 3:
+                raise TypeError(f"{name} must be three whole numbers (nx, ny, nz)")
+            library[name] = tuple(int(_integer(name, n)) for n in grid)
+            if min(library[name]) < 0:
+                raise _fdmsurf.InvalidArgumentError(f"{name} must be >= 0 on every axis")
+    return args, library
+
+
+def _python_words(message):
+    """The CLI parser's message with keyword names for option names."""
+    def keyword(match):
+        k = _BY_OPTION.get(match.group(2))
+        if k is None:
+            return match.group(0)
+        return "ligands=False" if k.name == "ligands" else k.name
+    return re.sub(r"(option )?(--[a-z][a-z-]*)", keyword, message)
+
+
+def parse(given, extra_args=()):
+    """The parsed options (_fdmsurf._Options) of the keywords in `given`."""
+    args, library = _option_args(given)
+    try:
+        options = _fdmsurf._Options(args + list(extra_args))
+        for name, value in library.items():
+            setattr(options, name, value)
+    except _fdmsurf.InvalidArgumentError as e:
+        raise _fdmsurf.InvalidArgumentError(_python_words(str(e))) from None
+    return options
+
+
+def check_names(function_name, given, allowed):
+    """TypeError for a keyword `function_name` does not take, with the nearest one."""
+    for name in given:
+        if name not in allowed:
+            close = difflib.get_close_matches(name, allowed, n=1)
+            hint = f" (did you mean {close[0]}?)" if close else ""
+            raise TypeError(f"{function_name}() got an unknown keyword '{name}'{hint}")
+
+
+def with_keywords(*groups, exclude=()):
+    """Decorator for `f(*args, **keywords)`: gives f the signature and the docstring section of
+    the keywords of `groups`, and refuses other keywords with the nearest name."""
+    table = [k for group in groups for k in group if k.name not in exclude]
+    names = [k.name for k in table]
+
+    def decorate(function):
+        signature = inspect.signature(function)
+        positional = [p for p in signature.parameters.values()
+                      if p.kind is not inspect.Parameter.VAR_KEYWORD]
+        keywords = [inspect.Parameter(k.name, inspect.Parameter.KEYWORD_ONLY, default=k.default)
+                    for k in table]
+        lines = []
+        for k in table:
+            option = f" [{k.cli}]" if k.cli else ""
+            lines.append(f"    {k.name}={k.default!r}{option}")
+            lines.append(textwrap.fill(f"{k.doc}.", width=92, initial_indent=" " * 8,
+                                       subsequent_indent=" " * 8))
+        doc = inspect.cleandoc(function.__doc__ or "")
+        doc = doc.replace("{keywords}", "\n".join(lines))
+
+        allowed = names + [p.name for p in positional]
+
+        @functools.wraps(function)
+        def wrapper(*args, **given):
+            check_names(function.__qualname__, given, allowed)
+            return function(*args, **given)
+
+        wrapper.__signature__ = signature.replace(parameters=positional + keywords)
+        wrapper.__doc__ = doc
+        return wrapper
+
+    return decorate

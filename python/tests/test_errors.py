@@ -1,0 +1,152 @@
+"""Bad input raises clear exceptions: fdmsurf.Error subclasses with the CLI's messages, TypeError
+for wrong types and unknown keywords."""
+
+import numpy as np
+import pytest
+
+import fdmsurf
+
+
+def test_error_classes():
+    assert issubclass(fdmsurf.InvalidArgumentError, fdmsurf.Error)
+    assert issubclass(fdmsurf.InvalidArgumentError, ValueError)
+    for cls in (fdmsurf.FileError, fdmsurf.FormatError, fdmsurf.EmptySelectionError):
+        assert issubclass(cls, fdmsurf.InputError)
+    assert issubclass(fdmsurf.FileError, OSError)
+    for cls in (fdmsurf.NoDeviceError, fdmsurf.DeviceLimitError, fdmsurf.VulkanError,
+                fdmsurf.FftError):
+        assert issubclass(cls, fdmsurf.DeviceError)
+    assert fdmsurf.FileError.__module__ == "fdmsurf"
+    assert fdmsurf.FormatError.code == "format"
+
+
+@pytest.mark.parametrize("xyz,radii,message", [
+    (np.zeros((3, 2)), np.ones(3), r"xyz must have shape \(N, 3\), not \(3, 2\)"),
+    (np.zeros(3), np.ones(1), r"xyz must have shape \(N, 3\), not \(3,\)"),
+    (np.zeros((3, 3)), np.ones((3, 1)), r"radii must have shape \(N,\), not \(3, 1\)"),
+    (np.zeros((3, 3)), np.ones(2), "xyz has 3 atoms but radii 2"),
+    ([[0, 0, 0], [1, np.nan, 0]], [1, 1], r"xyz\[1\] is not finite"),
+    ([[0, 0, 0], [1, np.inf, 0]], [1, 1], r"xyz\[1\] is not finite"),
+    ([[0, 0, 0], [3, 0, 0]], [1.5, -1.0], r"radii\[1\] is -1.0+: radii must be positive"),
+    ([[0, 0, 0], [3, 0, 0]], [1.5, 0.0], r"radii\[1\] is 0.0+: radii must be positive"),
+])
+def test_bad_arrays(xyz, radii, message):
+    with pytest.raises(fdmsurf.InvalidArgumentError, match=message):
+        fdmsurf.Structure(xyz, radii)
+
+
+def test_bad_array_types(engine):
+    with pytest.raises(TypeError, match="xyz must hold real numbers, not dtype complex128"):
+        fdmsurf.Structure(np.zeros((2, 3), dtype=complex), np.ones(2))
+    with pytest.raises(TypeError, match="radii must hold real numbers, not dtype <U1"):
+        fdmsurf.Structure(np.zeros((2, 3)), np.array(["a", "b"]))
+    with pytest.raises(TypeError, match="xyz must hold real numbers, not dtype bool"):
+        fdmsurf.Structure(np.zeros((2, 3), dtype=bool), np.ones(2))
+    with pytest.raises(TypeError, match="with radii="):
+        engine.surface(np.zeros((2, 3)))
+    with pytest.raises(TypeError, match="radii goes with an xyz array"):
+        engine.surface("x.pdb", radii=np.ones(2))
+    with pytest.raises(fdmsurf.InvalidArgumentError, match=r"xyz\[0\] is not finite"):
+        engine.surface(np.full((1, 3), np.nan), radii=[1.0])
+    with pytest.raises(fdmsurf.EmptySelectionError, match="no atoms"):
+        engine.surface(np.zeros((0, 3)), radii=np.zeros(0))
+
+
+def test_unknown_keywords_name_the_nearest(engine, data):
+    with pytest.raises(TypeError, match=r"unknown keyword 'spacng' \(did you mean spacing\?\)"):
+        engine.surface(data / "1crn.pdb", spacng=1.0)
+    with pytest.raises(TypeError, match="unknown keyword 'model'"):
+        engine.surface_models(data / "1d3z.pdb.gz", model=2)
+    with pytest.raises(TypeError, match="unknown keyword 'spacing'"):
+        fdmsurf.read_structure(data / "1crn.pdb", spacing=1.0)
+    with pytest.raises(TypeError, match="unknown keyword 'colour'"):
+        fdmsurf.surface(data / "1crn.pdb", colour="chain")
+
+
+@pytest.mark.parametrize("keywords,error,message", [
+    ({"spacing": -1}, fdmsurf.InvalidArgumentError, r"spacing must be > 0 Å \(got -1.0\)"),
+    ({"spacing": "0.5"}, TypeError, "spacing must be a number, not str"),
+    ({"spacing": True}, TypeError, "spacing must be a number, not bool"),
+    ({"refine": 1.5}, TypeError, "refine must be a whole number, not float"),
+    ({"refine": 9}, fdmsurf.InvalidArgumentError, "refine must be"),
+    ({"probe": -0.5}, fdmsurf.InvalidArgumentError, "probe must be >= 0"),
+    ({"surface": "ses2"}, fdmsurf.InvalidArgumentError,
+     r"unknown surface kind 'ses2' for surface \(expected ses, vdw or sas\)"),
+    ({"method": "edt", "cutoff": 0.2}, fdmsurf.InvalidArgumentError,
+     "cutoff is a setting of the FDM method"),
+    ({"method": "edt", "surface": "vdw"}, fdmsurf.InvalidArgumentError,
+     "it does not apply to surface vdw"),
+    ({"properties": ["coulombic", "nope"]}, fdmsurf.InvalidArgumentError,
+     "unknown vertex property 'nope' for properties"),
+    ({"properties": 3}, TypeError, "properties must be a list of str"),
+    ({"color": "pink"}, fdmsurf.InvalidArgumentError, "unknown colour scheme 'pink' for color"),
+    ({"color": (300, 0, 0)}, TypeError, "an .r, g, b. tuple of whole numbers 0-255"),
+    ({"model": 0}, fdmsurf.InvalidArgumentError, "model must be >= 1"),
+    ({"chains": ["A B"]}, fdmsurf.InvalidArgumentError, "is not a comma-separated list"),
+    ({"select": "A/(("}, fdmsurf.InvalidArgumentError, "select"),
+    ({"patch": "A/(("}, fdmsurf.InvalidArgumentError, "patch"),
+    ({"no_cavities": "yes"}, TypeError, "no_cavities must be True or False"),
+    ({"density_cut": 2.0}, fdmsurf.InvalidArgumentError, r"density_cut must be in \(0, 1\)"),
+    ({"min_grid": (1, 2)}, TypeError, "min_grid must be three whole numbers"),
+])
+def test_bad_options(engine, data, keywords, error, message):
+    with pytest.raises(error, match=message):
+        engine.surface(data / "1crn.pdb", **keywords)
+
+
+def test_read_options_need_a_file(engine):
+    with pytest.raises(fdmsurf.InvalidArgumentError, match="chains, model select atoms while "
+                                                           "reading a file"):
+        engine.surface(np.zeros((1, 3)), radii=[1.0], model=2, chains="A")
+
+
+def test_file_errors_carry_the_cli_messages(engine, cli, data, tmp_path):
+    missing = tmp_path / "missing.pdb"
+    with pytest.raises(fdmsurf.FileError) as caught:
+        engine.surface(missing)
+    done = cli(missing, "-o", tmp_path / "x.ply", check=False)
+    assert done.returncode == 3
+    assert done.stderr.strip() == f"fdmsurf: error: {caught.value}"
+    assert str(missing) in str(caught.value)
+    assert caught.value.code == "io" and caught.value.vk_result == 0
+    assert isinstance(caught.value, OSError) and isinstance(caught.value, fdmsurf.InputError)
+
+    garbage = tmp_path / "garbage.pdb"
+    garbage.write_text("this is not a structure\n")
+    with pytest.raises(fdmsurf.FormatError) as caught:
+        fdmsurf.read_structure(garbage)
+    done = cli(garbage, "-o", tmp_path / "x.ply", check=False)
+    assert done.stderr.strip() == f"fdmsurf: error: {caught.value}"
+
+    with pytest.raises(fdmsurf.InvalidArgumentError) as caught:
+        engine.surface(data / "3al1.pdb", chains=["Z"])
+    done = cli(data / "3al1.pdb", "-o", tmp_path / "x.ply", "--chains", "Z", check=False)
+    assert done.stderr.strip() == f"fdmsurf: error: {caught.value}"
+    assert "A" in str(caught.value)  # lists the chains present
+
+    with pytest.raises(fdmsurf.EmptySelectionError, match="patch 'B/1' matches none"):
+        engine.surface(data / "1crn.pdb", patch="B/1")
+
+
+def test_write_errors(engine, data, tmp_path):
+    result = engine.surface(data / "1crn.pdb", spacing=1.0)
+    with pytest.raises(fdmsurf.InvalidArgumentError, match=r"unknown output format '.stl'"):
+        result.write(tmp_path / "mesh.stl")
+    with pytest.raises(fdmsurf.InvalidArgumentError, match="unknown mesh format 'stl'"):
+        result.write(tmp_path / "mesh.ply", format="stl")
+    with pytest.raises(fdmsurf.FileError, match="cannot write"):
+        result.write(tmp_path / "no" / "such" / "folder.ply")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_engine_errors(data):
+    with pytest.raises(fdmsurf.NoDeviceError) as caught:
+        fdmsurf.Engine(device="no such device")
+    assert isinstance(caught.value, fdmsurf.DeviceError)
+    with pytest.raises(TypeError, match="device must be"):
+        fdmsurf.Engine(device=1.5)
+    engine = fdmsurf.Engine()
+    engine.close()
+    assert engine.closed and "closed" in repr(engine)
+    with pytest.raises(fdmsurf.InvalidArgumentError, match="this Engine was closed"):
+        engine.surface(data / "1crn.pdb")
