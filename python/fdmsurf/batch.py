@@ -327,9 +327,11 @@ def run(inputs, outdir, *, scheduler=None, workers=None, client=None, device=Non
     """Computes the surfaces of INPUTS into OUTDIR on a Dask cluster (see the module's help);
     returns a summary dict: inputs, skipped (done before), computed, failed, failed_before
     (skipped because they failed before), seconds, startup_seconds (cluster start and engine
-    creation), workers, manifest, rows (the rows written by this run). client: an existing distributed.Client to use (its cluster
-    is left running); else scheduler: an address to join; else a LocalCluster of `workers`
-    processes (default_workers()). keywords: those of fdmsurf.Engine.surface."""
+    creation), workers, manifest, rows (the rows written by this run). client: an existing
+    distributed.Client to use (its cluster is left running); else scheduler: an address to
+    join; else a LocalCluster of `workers` processes (default_workers()). keywords: those of
+    fdmsurf.Engine.surface. From a script, call it under `if __name__ == "__main__":` (Dask
+    spawns the worker processes, which import the script)."""
     _options.check_names("run", keywords, list(_options.KEYWORDS))
     if mesh_format not in ("ply", "obj"):
         raise fdmsurf.InvalidArgumentError(f"mesh format must be ply or obj, not {mesh_format!r}")

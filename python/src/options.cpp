@@ -5,10 +5,11 @@
 // applies the CLI's defaults, ranges, interplay (--paper against explicit --filter/--level,
 // --method edt against the FDM options) and messages: one parser for both, so that the API
 // cannot drift from the command line.
+#include "cli/options.hpp"
+
 #include <cmath>
 #include <cstdio>
 
-#include "cli/options.hpp"
 #include "objects.hpp"
 
 namespace fdmsurf::python {

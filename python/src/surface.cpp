@@ -286,10 +286,10 @@ area, volume, pieces, closed_manifold and stats describe the mesh as it was made
                 return d;
             },
             "Per-vertex scalars asked for with `properties`, {name: (V,) float32}.")
-        .def_property_readonly(
-            "vertex_count", [](const PyMesh& s) { return s.mesh->vertex_count(); })
-        .def_property_readonly(
-            "triangle_count", [](const PyMesh& s) { return s.mesh->triangle_count(); })
+        .def_property_readonly("vertex_count",
+                               [](const PyMesh& s) { return s.mesh->vertex_count(); })
+        .def_property_readonly("triangle_count",
+                               [](const PyMesh& s) { return s.mesh->triangle_count(); })
         .def_property_readonly(
             "area", [](PyMesh& s) { return s.get_stats().area; }, "Surface area, Å².")
         .def_property_readonly(
@@ -323,7 +323,8 @@ FileError when the file cannot be written.)")
         .def("__len__", [](const PyMesh& s) { return s.mesh->triangle_count(); })
         .def("__repr__", [](PyMesh& s) { return mesh_repr(s, "Mesh"); });
 
-    py::class_<PySurface, PyMesh>(m, "SurfaceResult", R"(The surface Engine.surface made: a Mesh, and
+    py::class_<PySurface, PyMesh>(m, "SurfaceResult",
+                                  R"(The surface Engine.surface made: a Mesh, and
 what the engine says of it: grid, times, warnings, device, structure (the atoms it was made
 from; `atoms` indexes them), cavities_removed, specks_removed, total_ms.)")
         .def_property_readonly(
@@ -346,10 +347,11 @@ from; `atoms` indexes them), cavities_removed, specks_removed, total_ms.)")
             "warnings", [](const PySurface& s) { return s.warnings; },
             "The engine's warnings (the CLI prints them as `fdmsurf: warning:` lines), and the "
             "validation layer's messages with Engine(validation=True).")
-        .def_property_readonly("device", [](const PySurface& s) { return s.device; },
-                               "The Vulkan device's name.")
-        .def_property_readonly("structure", [](const PySurface& s) { return s.structure; },
-                               "The Structure the surface was made from.")
+        .def_property_readonly(
+            "device", [](const PySurface& s) { return s.device; }, "The Vulkan device's name.")
+        .def_property_readonly(
+            "structure", [](const PySurface& s) { return s.structure; },
+            "The Structure the surface was made from.")
         .def(
             "atom_areas",
             [](PySurface& s) {
@@ -365,9 +367,11 @@ triangle gives a third of its area to the atom of each of its vertices (docs/are
 is the area. Atoms that own no vertex get 0.)")
         .def_property_readonly("cavities_removed",
                                [](const PySurface& s) { return s.cavities_removed; })
-        .def_property_readonly("specks_removed", [](const PySurface& s) { return s.specks_removed; })
-        .def_property_readonly("total_ms", [](const PySurface& s) { return s.total_ms; },
-                               "Wall time of the call, milliseconds.")
+        .def_property_readonly("specks_removed",
+                               [](const PySurface& s) { return s.specks_removed; })
+        .def_property_readonly(
+            "total_ms", [](const PySurface& s) { return s.total_ms; },
+            "Wall time of the call, milliseconds.")
         .def("__repr__", [](PySurface& s) { return mesh_repr(s, "SurfaceResult"); });
 
     py::class_<PyEngine>(m, "_Engine")

@@ -1,5 +1,6 @@
-"""fdmsurf.batch on Dask's distributed scheduler: a LocalCluster of two workers, failed structures as
-rows, re-runs that compute nothing, and a worker killed mid-run with every output written once."""
+"""fdmsurf.batch on Dask's distributed scheduler: a LocalCluster of two workers, failed structures
+as rows, re-runs that compute nothing, and a worker killed mid-run with every output written
+once."""
 
 import json
 import os
