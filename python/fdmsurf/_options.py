@@ -65,6 +65,17 @@ SURFACE = (
     Keyword("patch", None, "str", "--patch",
             "compute the surface of every atom, then keep only the triangles whose three "
             "vertices belong to atoms this gemmi selection matches: an open patch"),
+    Keyword("simplify", None, "float", "--simplify",
+            "keep about this fraction of the triangles, in (0, 1], by meshoptimizer's edge "
+            "collapses, after patch; the mesh stays closed (where a collapse would break it, the "
+            "surface around is kept as it was) and every vertex keeps its atom, colour and "
+            "properties; SurfaceResult.simplify reports the result (None: no simplification)"),
+    Keyword("max_triangles", None, "int", "--max-triangles",
+            "simplify to at most about this many triangles (>= 1); with simplify too, the "
+            "smaller of the two targets (None: no cap)"),
+    Keyword("optimize", False, "flag", "--optimize",
+            "reorder triangles and vertices for the GPU's vertex cache and fetch (the same "
+            "triangles), after simplification"),
     Keyword("density_cut", 0.01, "fraction", None,
             "(library only) an atom's Gaussian is taken as 0 below this fraction of T, in (0, 1)"),
     Keyword("min_grid", None, "grid", None,
@@ -193,7 +204,7 @@ def _python_words(message):
         k = _BY_OPTION.get(match.group(2))
         if k is None:
             return match.group(0)
-        return "ligands=False" if k.name == "ligands" else k.name
+        return f"{k.name}=False" if k.kind == "negflag" else k.name
     return re.sub(r"(option )?(--[a-z][a-z-]*)", keyword, message)
 
 

@@ -25,7 +25,14 @@ PyOptions parse(const std::vector<std::string>& args) {
         throw Error(ErrorCode::Internal, "keywords parsed into something other than options");
     effective_cutoff(cli.surface);  // the checks the CLI makes before any work
     if (!cli.patch.empty()) check_selection(cli.patch, "--patch");
-    return PyOptions{cli.read, cli.surface, cli.patch};
+    PyOptions out;
+    out.read = cli.read;
+    out.surface = cli.surface;
+    out.patch = cli.patch;
+    out.simplify = cli.simplify;
+    out.simplify_requested = cli.simplify_requested;
+    out.optimize = cli.optimize;
+    return out;
 }
 
 const char* filter_name(FilterShape shape) {
@@ -63,6 +70,13 @@ py::dict describe(const PyOptions& o) {
     for (VertexProperty p : s.properties.scalars) properties.append(to_string(p));
     d["properties"] = properties;
     d["patch"] = o.patch;
+    // None: no simplification (1.0 with max_triangles alone: the CLI's ratio, no cap of its own)
+    d["simplify"] =
+        o.simplify_requested ? py::object(py::float_(o.simplify.ratio)) : py::object(py::none());
+    d["max_triangles"] = o.simplify.max_triangles == 0
+                             ? py::object(py::none())
+                             : py::object(py::int_(o.simplify.max_triangles));
+    d["optimize"] = o.optimize;
     d["format"] = to_string(o.read.format);
     d["model"] = o.read.model == kAllModels ? py::object(py::str("all"))
                                             : py::object(py::int_(o.read.model));

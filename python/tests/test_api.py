@@ -31,6 +31,10 @@ CASES = [
      ["--method", "edt", "--refine", "1", "--spacing", "1.0"]),
     ("4hhb.pdb.gz", {"surface": "sas", "probe": 1.2, "spacing": 1.0, "ligands": False},
      ["--surface", "sas", "--probe", "1.2", "--spacing", "1.0", "--no-ligands"]),
+    ("3al1.pdb", {"simplify": 0.3, "max_triangles": 20000, "optimize": True, "color": "chain",
+                  "properties": ["bfactor"]},
+     ["--simplify", "0.3", "--max-triangles", "20000", "--optimize", "--color", "chain",
+      "--properties", "bfactor"]),
 ]
 
 
@@ -62,6 +66,63 @@ def test_obj_is_the_cli_obj(engine, cli, data, tmp_path):
     assert (tmp_path / "api.obj").read_text() == (tmp_path / "cli.obj").read_text()
     engine.surface(data / "1crn.pdb", color="element").write(tmp_path / "api.txt", format="obj")
     assert (tmp_path / "api.txt").read_text() == (tmp_path / "cli.obj").read_text()
+
+
+@pytest.mark.parametrize("extension", ["glb", "stl", "off"])
+def test_other_formats_are_the_cli_files(engine, cli, data, tmp_path, extension):
+    cli(data / "1crn.pdb", "-o", tmp_path / f"cli.{extension}", "--quiet", "--spacing", "1.0",
+        "--color", "element")
+    result = engine.surface(data / "1crn.pdb", spacing=1.0, color="element")
+    result.write(tmp_path / f"api.{extension}")
+    expected = (tmp_path / f"cli.{extension}").read_bytes()
+    assert (tmp_path / f"api.{extension}").read_bytes() == expected
+    result.write(tmp_path / "api.mesh", format=extension)  # the CLI's --output-format names
+    assert (tmp_path / "api.mesh").read_bytes() == expected
+    back = fdmsurf.read_mesh(tmp_path / f"api.{extension}")
+    assert back.triangle_count == result.triangle_count
+    assert back.area == pytest.approx(result.area, rel=1e-5)
+
+
+def test_simplify_and_optimize_change_the_mesh(engine, data):
+    full = engine.surface(data / "1crn.pdb")
+    assert full.simplify is None and not full.optimized
+    half = engine.surface(data / "1crn.pdb", simplify=0.5)
+    report = half.simplify
+    assert report["triangles_in"] == full.triangle_count and report["ratio"] == 0.5
+    assert report["target_triangles"] == round(full.triangle_count / 2)
+    assert half.triangle_count == report["triangles_out"]
+    # About half (the closedness guard may keep a few more), still closed, same pieces.
+    assert 0.5 <= half.triangle_count / full.triangle_count < 0.55
+    assert half.closed_manifold and half.pieces == full.pieces and report["topology_kept"]
+    assert half.area == pytest.approx(full.area, rel=0.01)
+    assert half.volume == pytest.approx(full.volume, rel=0.01)
+    assert 0 < report["rmsd"] < report["hausdorff"] < 0.5
+    assert "simplify" in half.times and not half.warnings
+    # Vertices are a subset of the full mesh's, each with its atom.
+    full_atoms = {tuple(v): a for v, a in zip(full.vertices.tolist(), full.atoms.tolist())}
+    assert all(full_atoms[tuple(v)] == a
+               for v, a in zip(half.vertices.tolist(), half.atoms.tolist()))
+
+    capped = engine.surface(data / "1crn.pdb", max_triangles=4000)
+    assert capped.simplify["target_triangles"] == 4000 and capped.simplify["ratio"] == 1.0
+    assert 4000 <= capped.triangle_count < 4400 and capped.closed_manifold
+    both = engine.surface(data / "1crn.pdb", simplify=0.5, max_triangles=4000)
+    assert both.simplify["target_triangles"] == 4000  # the smaller target
+
+    # optimize: the same triangles (each corner order kept up to rotation), in another order.
+    ordered = engine.surface(data / "1crn.pdb", optimize=True)
+    assert ordered.optimized and ordered.simplify is None and "optimize" in ordered.times
+    assert ordered.triangle_count == full.triangle_count
+    assert not np.array_equal(ordered.faces, full.faces)
+
+    def triangles(mesh):
+        corners = mesh.vertices[mesh.faces].tolist()
+        out = []
+        for t in corners:
+            first = min(range(3), key=lambda i: t[i])
+            out.append(tuple(tuple(t[(first + i) % 3]) for i in range(3)))
+        return sorted(out)
+    assert triangles(ordered) == triangles(full)
 
 
 def test_summary_matches_the_cli_json(engine, cli, data, tmp_path):
