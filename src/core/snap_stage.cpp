@@ -1,0 +1,72 @@
+// The snap stage: marching cubes' mesh placed on the exact surface on the host. vdw and sas:
+// crease recovery on the union of balls (src/mesh/creases.cpp); the exact SES: every vertex
+// projected onto the exact distance (src/mesh/refine.cpp's projection, no subdivision).
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+#include "core/engine_impl.hpp"
+#include "core/surface_fields.hpp"
+#include "mesh/creases.hpp"
+#include "mesh/refine.hpp"
+
+namespace fdmsurf::detail {
+
+bool snaps(const SurfaceOptions& options, const GridPlan& plan) {
+    return options.snap && !plan.filtered;
+}
+
+double chord_tolerance_for(const SurfaceOptions& options) {
+    if (options.chord_tolerance >= 0.0f) return options.chord_tolerance;
+    return options.spacing / 25.0;
+}
+
+void EngineImpl::snap(SurfaceResult& result, const Atoms& atoms, const SurfaceOptions& options,
+                      const GridPlan& plan, const SesFeatures* features) {
+    if (!snaps(options, plan) || result.mesh.triangle_count() == 0) return;
+    const double t0 = now_ms();
+    char buf[240];
+    if (plan.exact_ses) {
+        const SesDistanceField field(*features, plan.iso, plan.ses_d_max);
+        const std::size_t nv = result.mesh.vertex_count();
+        const ProjectStats p = project_onto_field(result.mesh, 0, field,
+                                                  project_options_for_spacing(plan.info.spacing));
+        normals_from_field(result.mesh, field);
+        result.times.push_back({"snap", now_ms() - t0, false});
+        if (p.failed() > 0 && double(p.failed()) > 1e-3 * double(nv)) {
+            std::snprintf(buf, sizeof buf,
+                          "snap: %zu of %zu vertices (%.2f%%) could not be projected onto the "
+                          "exact SES and keep their marching-cubes position",
+                          p.failed(), nv, 100.0 * double(p.failed()) / double(nv));
+            result.warnings.emplace_back(buf);
+        }
+        return;
+    }
+    // vdw and sas: the surface is the level set pi = pi_iso of the power distance, the union of
+    // the balls of radius sqrt((r + radius_add)^2 + pi_iso).
+    const double sigma2 = double(plan.density.sigma) * plan.density.sigma;
+    const double pi_iso = -sigma2 * std::log(double(plan.iso) / plan.density.level_t);
+    const BallUnion balls(atoms, plan.density.radius_add, pi_iso);
+    CreaseOptions co;
+    co.chord_tolerance = chord_tolerance_for(options);
+    if (const char* r = std::getenv("FDMSURF_SNAP_ROUNDS")) co.max_rounds = std::atoi(r);
+    const std::size_t nv = result.mesh.vertex_count();
+    const CreaseStats s = recover_creases(result.mesh, balls, co);
+    result.times.push_back({"snap", now_ms() - t0, false});
+    if (s.unresolved > 0 && double(s.unresolved) > 1e-3 * double(nv)) {
+        std::snprintf(buf, sizeof buf,
+                      "snap: %zu of %zu vertices (%.2f%%) found no exposed point of the balls "
+                      "near them and keep their marching-cubes position",
+                      s.unresolved, nv, 100.0 * double(s.unresolved) / double(nv));
+        result.warnings.emplace_back(buf);
+    }
+    if (std::getenv("FDMSURF_SNAP_DEBUG")) {
+        std::fprintf(stderr,
+                     "snap: projected %zu unresolved %zu snapped %zu crease %zu chord %zu other %zu corners "
+                     "%zu vetoed %zu crossings-left %zu crease-v %zu corner-v %zu rounds %d\n",
+                     s.projected, s.unresolved, s.snapped, s.crease_splits, s.chord_splits, s.other_splits,
+                     s.corners, s.vetoed, s.crossings_left, s.crease_vertices, s.corner_vertices, s.rounds);
+    }
+}
+
+}  // namespace fdmsurf::detail
