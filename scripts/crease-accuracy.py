@@ -116,12 +116,12 @@ def run_fdmsurf(fdmsurf, path, surface, spacing, creases, tmp):
     if surface == "sas":
         cmd += ["--probe", str(PROBE)]
     if not creases:
-        cmd.append("--no-creases")
+        cmd.append("--no-snap")
     t0 = time.time()
     out = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
     wall = time.time() - t0
     s = json.loads(out)
-    creases_ms = sum(t["ms"] for t in s["times"] if t["name"] == "creases")
+    creases_ms = s["times"].get("snap", 0.0)
     return s, wall, creases_ms
 
 

@@ -609,7 +609,7 @@ Surface:
                          split to the chord tolerance; for edt projected onto the
                          exact SES)
   --chord-tolerance T    vdw and sas: split edges whose arc lies more than T Å
-                         from them (>= 0; 0: none; default spacing / 25)
+                         from them (>= 0; 0: none; default spacing / 50)
 
 Input:
   --format pdb|cif|pqr|xyzr|xyzrn  input format (default: from the extension,

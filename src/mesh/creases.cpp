@@ -112,6 +112,10 @@ struct Label {
 
 Label common(const Label& x, const Label& y) {
     Label c;
+    if (x.n == 1 && y.n == 1) {  // the usual case
+        if (x.b[0] == y.b[0]) c.add(x.b[0]);
+        return c;
+    }
     for (int k = 0; k < x.n; ++k)
         if (y.has(x.b[k])) c.add(x.b[k]);
     return c;
@@ -361,6 +365,7 @@ public:
             // its edges.
             const std::size_t splits = split_edges(options_.chord_tolerance > 0.0);
             const std::size_t corners = insert_corners();
+            if (std::getenv("FDMSURF_RESNAP")) snap_vertices();
             if (std::getenv("FDMSURF_SNAP_DEBUG"))
                 std::fprintf(stderr, "round %d: splits %zu (crease %zu chord %zu other %zu vetoed %zu) corners %zu  %.0f ms, %zu tris\n", round,
                              splits, stats_.crease_splits, stats_.chord_splits, stats_.other_splits, stats_.vetoed, corners, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_start).count(), mesh_.triangle_count());
@@ -668,17 +673,20 @@ private:
                     }
                 }
         });
-        std::vector<EdgeSplit> splits;
-        for (auto& f : found) splits.insert(splits.end(), f.begin(), f.end());
-        found.clear();
-        if (splits.empty()) return 0;
-        std::sort(splits.begin(), splits.end(),
-                  [](const EdgeSplit& x, const EdgeSplit& y) { return x.key < y.key; });
-        splits.erase(std::unique(splits.begin(), splits.end(),
-                                 [](const EdgeSplit& x, const EdgeSplit& y) {
-                                     return x.key == y.key;
-                                 }),
-                     splits.end());
+        // Sorted by key (pairs of key and place, not the records), one per key.
+        std::vector<std::pair<std::uint64_t, const EdgeSplit*>> order;
+        for (const auto& f : found)
+            for (const EdgeSplit& e : f) order.emplace_back(e.key, &e);
+        if (order.empty()) return 0;
+        std::sort(order.begin(), order.end(),
+                  [](const auto& x, const auto& y) { return x.first < y.first; });
+        order.erase(std::unique(order.begin(), order.end(),
+                                [](const auto& x, const auto& y) { return x.first == y.first; }),
+                    order.end());
+        std::vector<EdgeSplit> splits(order.size());
+        for (std::size_t k = 0; k < order.size(); ++k) splits[k] = *order[k].second;
+        order = {};
+        found = {};
         const std::size_t nv = mesh_.vertex_count();
         if (nv + splits.size() > std::size_t(kNone)) {
             throw Error(ErrorCode::InvalidArgument,
@@ -1053,11 +1061,10 @@ private:
             for (std::size_t k = 0; k < kept.size(); ++k) labels[k] = labels_[kept[k]];
             labels_ = std::move(labels);
         }
-        const HalfEdges he = build_half_edges(mesh_);
-        for (std::size_t e = 0; e < he.first.size(); ++e) {
-            const Index h = he.first[e];
-            const Index a = mesh_.indices[h], b = mesh_.indices[next_he(h)];
-            if (labels_[a].n > 0 && labels_[b].n > 0 && !share(a, b)) ++stats_.crossings_left;
+        for (std::size_t h = 0; h < mesh_.indices.size(); ++h) {
+            const Index a = mesh_.indices[h], b = mesh_.indices[h % 3 == 2 ? h - 2 : h + 1];
+            if (a < b && labels_[a].n > 0 && labels_[b].n > 0 && !share(a, b))
+                ++stats_.crossings_left;
         }
         clear_attributes(mesh_);
         if (std::getenv("FDMSURF_SNAP_DEBUG")) {

@@ -72,7 +72,7 @@ struct SurfaceOptions {
     // field has no exact surface to snap to.
     bool snap = true;
     // vdw and sas with snap: the most an edge's arc may lie from the edge (sagitta), Å; longer
-    // edges are split. < 0: spacing / 25 (0.02 Å at 0.5 Å); 0: no chord splits.
+    // edges are split. < 0: spacing / 50 (0.01 Å at 0.5 Å); 0: no chord splits.
     float chord_tolerance = -1.0f;
     // Grid points per axis at least (0: as many as the atoms need). A batch of similar
     // structures (the models of an NMR ensemble) given the largest grid of the batch shares one
