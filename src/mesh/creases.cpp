@@ -567,11 +567,6 @@ private:
         return true;
     }
 
-    static double sliver_ratio() {
-        const char* e = std::getenv("FDMSURF_SLIVER");
-        return e ? std::atof(e) : 0.0;
-    }
-
     static double dev_limit() {
         const char* e = std::getenv("FDMSURF_DEV");
         return e ? std::atof(e) : 2.0;
@@ -876,8 +871,9 @@ private:
                     if (m[0] == kNone && m[1] == kNone && m[2] == kNone) continue;
                     if (folded(idx[3 * t], idx[3 * t + 1], idx[3 * t + 2])) continue;
                     const Vec p0 = position(mesh_, idx[3 * t]);
-                    const double whole = norm(cross(sub(position(mesh_, idx[3 * t + 1]), p0),
-                                                    sub(position(mesh_, idx[3 * t + 2]), p0)));
+                    const Vec p1 = position(mesh_, idx[3 * t + 1]), p2 = position(mesh_, idx[3 * t + 2]);
+                    const double whole = norm(cross(sub(p1, p0), sub(p2, p0)));
+                    const double longest = std::max({dist(p0, p1), dist(p1, p2), dist(p2, p0)});
                     const int n = split_triangle(t, m, out);
                     bool bad = false;
                     for (int k = 0; k < n && !bad; ++k) {
@@ -885,10 +881,15 @@ private:
                         const Vec q0 = position(mesh_, out[3 * k]), q1 = position(mesh_, out[3 * k + 1]),
                                   q2 = position(mesh_, out[3 * k + 2]);
                         const double twice = norm(cross(sub(q1, q0), sub(q2, q0)));
-                        const double longest = std::max({dist(q0, q1), dist(q1, q2), dist(q2, q0)});
-                        bad = twice > 0.05 * whole && twice > sliver_ratio() * longest * longest;
+                        bad = twice > 0.05 * whole && twice > 0.02 * longest * longest;
                     }
                     if (!bad) continue;
+                    if (std::getenv("FDMSURF_VETO_DEBUG")) {
+                        std::fprintf(stderr, "veto t %zu whole %.3g longest %.3g\n", t, whole, longest);
+                        for (int k = 0; k < 3; ++k) { const Vec p = position(mesh_, idx[3*t+k]); const Vec nn = vertex_normal(idx[3*t+k]); std::fprintf(stderr, "  v (%.4f %.4f %.4f) n (%.2f %.2f %.2f) l%d\n", p[0],p[1],p[2],nn[0],nn[1],nn[2], labels_[idx[3*t+k]].n); }
+                        for (int k = 0; k < 3; ++k) if (m[k] != kNone) { const Vec p = position(mesh_, m[k]); std::fprintf(stderr, "  m%d (%.4f %.4f %.4f) l%d\n", k, p[0],p[1],p[2], labels_[m[k]].n); }
+                        for (int k = 0; k < n; ++k) { const Vec q0 = position(mesh_, out[3*k]); const double tw = norm(cross(sub(position(mesh_, out[3*k+1]), q0), sub(position(mesh_, out[3*k+2]), q0))); std::fprintf(stderr, "  out folded %d twice %.3g\n", int(folded(out[3*k], out[3*k+1], out[3*k+2])), tw); }
+                    }
                     for (int k = 0; k < 3; ++k)
                         if (m[k] != kNone) veto[c].push_back(slots[i][k]);
                 }

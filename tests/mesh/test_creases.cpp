@@ -18,6 +18,7 @@
 #include "fdmsurf/structure.hpp"
 #include "isosurface/marching_cubes_cpu.hpp"
 #include "mesh/creases.hpp"
+#include "support/ball_union.hpp"
 #include "support/mesh_checks.hpp"
 
 namespace {
@@ -28,6 +29,16 @@ using fdmsurf::detail::BallUnion;
 using fdmsurf::detail::CreaseOptions;
 using fdmsurf::detail::CreaseStats;
 using fdmsurf::detail::recover_creases;
+using fdmsurf::test::Ball;
+using fdmsurf::test::circle_radius;
+using fdmsurf::test::dot3;
+using fdmsurf::test::norm3;
+using fdmsurf::test::OnSpheres;
+using fdmsurf::test::share_sphere;
+using fdmsurf::test::spheres_of;
+using fdmsurf::test::sub3;
+using fdmsurf::test::union_area;
+using fdmsurf::test::union_volume;
 using V = std::array<double, 3>;
 
 constexpr double kPi = std::numbers::pi;
@@ -40,14 +51,9 @@ constexpr double kOnTolerance = 1e-5;
 double area_bound(double h) { return h > 0.3 ? 0.006 : 0.0025; }
 double volume_bound(double h) { return h > 0.3 ? 0.012 : 0.005; }
 
-struct Ball {
-    V c;
-    double r;
-};
-
-V sub(const V& a, const V& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-double dot(const V& a, const V& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-double norm(const V& a) { return std::sqrt(dot(a, a)); }
+V sub(const V& a, const V& b) { return sub3(a, b); }
+double dot(const V& a, const V& b) { return dot3(a, b); }
+double norm(const V& a) { return norm3(a); }
 V cross(const V& a, const V& b) {
     return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
@@ -98,102 +104,8 @@ Mesh union_mesh(const std::vector<Ball>& balls, double h) {
     return fdmsurf::detail::marching_cubes_cpu(view, p);
 }
 
-// Area of the intersection of two caps of half-angles tj, tk whose axes are d apart, on the unit
-// sphere: Gauss-Bonnet on the lens bounded by two small-circle arcs (corner angles gamma, arcs of
-// phi_j and phi_k about their axes, geodesic curvature cot(t)).
-double cap_overlap(double tj, double tk, double d) {
-    if (d >= tj + tk) return 0.0;
-    if (d <= std::abs(tj - tk)) return 2.0 * kPi * (1.0 - std::cos(std::min(tj, tk)));
-    const double gamma = std::acos(std::clamp(
-        (std::cos(d) - std::cos(tj) * std::cos(tk)) / (std::sin(tj) * std::sin(tk)), -1.0, 1.0));
-    auto arc = [&](double a, double b) {
-        return 2.0 * std::acos(std::clamp(
-                         (std::cos(b) - std::cos(a) * std::cos(d)) / (std::sin(a) * std::sin(d)),
-                         -1.0, 1.0));
-    };
-    return 2.0 * kPi - 2.0 * gamma - arc(tj, tk) * std::cos(tj) - arc(tk, tj) * std::cos(tk);
-}
-
-// Area of the union of up to three balls, none inside another: each sphere less the caps the
-// others bury (the caps' overlap added back).
-double union_area(const std::vector<Ball>& balls) {
-    double area = 0.0;
-    for (std::size_t i = 0; i < balls.size(); ++i) {
-        const double r = balls[i].r;
-        std::vector<std::pair<V, double>> caps;  // axis, half-angle
-        for (std::size_t j = 0; j < balls.size(); ++j) {
-            if (j == i) continue;
-            const V e = sub(balls[j].c, balls[i].c);
-            const double d = norm(e);
-            if (d >= r + balls[j].r) continue;
-            const double a = (d * d + r * r - balls[j].r * balls[j].r) / (2.0 * d);
-            caps.push_back({{e[0] / d, e[1] / d, e[2] / d}, std::acos(a / r)});
-        }
-        double exposed = 4.0 * kPi;
-        for (const auto& c : caps) exposed -= 2.0 * kPi * (1.0 - std::cos(c.second));
-        if (caps.size() == 2) {
-            const double d = std::acos(std::clamp(dot(caps[0].first, caps[1].first), -1.0, 1.0));
-            exposed += cap_overlap(caps[0].second, caps[1].second, d);
-        }
-        area += r * r * exposed;
-    }
-    return area;
-}
-
-// Volume of the union by stratified Monte Carlo (one point per cell of a 0.02 Å lattice's
-// worth: 2^22 points), fixed seed; relative standard error about 1e-4 here.
-double union_volume(const std::vector<Ball>& balls) {
-    V lo{1e9, 1e9, 1e9}, hi{-1e9, -1e9, -1e9};
-    for (const Ball& b : balls)
-        for (int a = 0; a < 3; ++a) {
-            lo[a] = std::min(lo[a], b.c[a] - b.r);
-            hi[a] = std::max(hi[a], b.c[a] + b.r);
-        }
-    constexpr int n = 160;
-    std::mt19937_64 rng(13);
-    std::uniform_real_distribution<double> u(0.0, 1.0);
-    std::size_t inside = 0;
-    for (int z = 0; z < n; ++z)
-        for (int y = 0; y < n; ++y)
-            for (int x = 0; x < n; ++x) {
-                const V p{lo[0] + (hi[0] - lo[0]) * (x + u(rng)) / n,
-                          lo[1] + (hi[1] - lo[1]) * (y + u(rng)) / n,
-                          lo[2] + (hi[2] - lo[2]) * (z + u(rng)) / n};
-                for (const Ball& b : balls) {
-                    const V d = sub(p, b.c);
-                    if (dot(d, d) <= b.r * b.r) {
-                        ++inside;
-                        break;
-                    }
-                }
-            }
-    return double(inside) / (double(n) * n * n) * (hi[0] - lo[0]) * (hi[1] - lo[1]) *
-           (hi[2] - lo[2]);
-}
-
 V vertex(const Mesh& m, std::size_t v) {
     return {m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]};
-}
-
-// The spheres vertex v lies on (within kOnTolerance), and whether a ball buries it.
-struct OnSpheres {
-    std::vector<int> on;
-    bool buried = false;
-};
-OnSpheres spheres_of(const std::vector<Ball>& balls, const V& p) {
-    OnSpheres s;
-    for (std::size_t i = 0; i < balls.size(); ++i) {
-        const double d = norm(sub(p, balls[i].c)) - balls[i].r;
-        if (std::abs(d) <= kOnTolerance) s.on.push_back(int(i));
-        else if (d < 0.0) s.buried = true;
-    }
-    return s;
-}
-
-bool share(const OnSpheres& a, const OnSpheres& b) {
-    for (int i : a.on)
-        if (std::find(b.on.begin(), b.on.end(), i) != b.on.end()) return true;
-    return false;
 }
 
 struct Measured {
@@ -210,7 +122,7 @@ Measured check_union_mesh(const Mesh& mesh, const std::vector<Ball>& balls) {
     std::vector<OnSpheres> on(mesh.vertex_count());
     std::size_t off = 0, buried = 0;
     for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
-        on[v] = spheres_of(balls, vertex(mesh, v));
+        on[v] = spheres_of(balls, vertex(mesh, v), kOnTolerance);
         off += on[v].on.empty();
         buried += on[v].buried;
         m.crease_vertices += on[v].on.size() == 2;
@@ -223,7 +135,7 @@ Measured check_union_mesh(const Mesh& mesh, const std::vector<Ball>& balls) {
         for (int k = 0; k < 3; ++k) {
             const std::uint32_t a = mesh.indices[3 * t + k], b = mesh.indices[3 * t + (k + 1) % 3];
             if (a > b) continue;
-            if (!share(on[a], on[b])) ++crossing;
+            if (!share_sphere(on[a], on[b])) ++crossing;
             if (on[a].on.size() >= 2 && on[b].on.size() >= 2) {
                 // Both ends on a circle: an edge along the crease when they share two spheres.
                 int shared = 0;
@@ -234,12 +146,6 @@ Measured check_union_mesh(const Mesh& mesh, const std::vector<Ball>& balls) {
         }
     EXPECT_EQ(crossing, 0u) << "edges across a crease (ends on no common sphere)";
     return m;
-}
-
-double circle_radius(const Ball& a, const Ball& b) {
-    const double d = norm(sub(b.c, a.c));
-    const double x = (d * d + a.r * a.r - b.r * b.r) / (2.0 * d);
-    return std::sqrt(a.r * a.r - x * x);
 }
 
 void expect_rel(double got, double want, double tolerance, const char* what) {
@@ -335,7 +241,7 @@ TEST(Creases, TwoBallsKeepTheirCreaseAsAPolylineOnTheCircle) {
 TEST(Creases, ThreeBallsGetTheirCornerPoints) {
     const std::vector<Ball> balls = three_balls();
     const double exact = union_area(balls);
-    const double volume = union_volume(balls);
+    const double volume = union_volume(balls, 0.02);
     // The two points where the three spheres meet (exposed: no fourth ball).
     std::vector<V> corners;
     {
@@ -411,7 +317,7 @@ TEST(Creases, NormalsAreTheSpheresOrTheirMeanOnACrease) {
     ASSERT_EQ(mesh.normals.size(), mesh.positions.size());
     for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
         const V p = vertex(mesh, v);
-        const OnSpheres on = spheres_of(balls, p);
+        const OnSpheres on = spheres_of(balls, p, kOnTolerance);
         V want{0, 0, 0};
         for (int i : on.on) {
             const V d = sub(p, balls[std::size_t(i)].c);
@@ -431,7 +337,7 @@ TEST(Creases, BallsThatDoNotMeetStayApartAndClosed) {
     recover(mesh, balls, 0.01);
     EXPECT_TRUE(IsClosedManifold(mesh));
     for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
-        EXPECT_FALSE(spheres_of(balls, vertex(mesh, v)).on.empty()) << "vertex " << v;
+        EXPECT_FALSE(spheres_of(balls, vertex(mesh, v), kOnTolerance).on.empty()) << "vertex " << v;
 }
 
 TEST(Creases, EmptyMeshAndNoBallsAreLeftAlone) {
