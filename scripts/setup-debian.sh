@@ -30,6 +30,9 @@ packages=(
     python3 python3-numpy python3-scipy
     # gzip; GNU time (/usr/bin/time -v) for the peak memory column of scripts/all-structures.sh
     gzip time
+    # FreeSASA (Lee-Richards areas): the reference of the vdw and sas area tests and of
+    # scripts/crease-accuracy.py
+    freesasa
 )
 
 missing=()
