@@ -3,7 +3,6 @@
 // projected onto the exact distance (src/mesh/refine.cpp's projection, no subdivision).
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 
 #include "core/engine_impl.hpp"
 #include "core/surface_fields.hpp"
@@ -18,9 +17,11 @@ bool snaps(const SurfaceOptions& options, const GridPlan& plan) {
 
 double chord_tolerance_for(const SurfaceOptions& options) {
     if (options.chord_tolerance >= 0.0f) return options.chord_tolerance;
-    // h / 50: at 0.5 Å the chord deficit of the vdw balls (r 1.5-1.8 Å) falls from about 2% of
-    // the area and 3% of the volume to under 0.3%, and that of the sas balls (r + 1.4 Å) from
-    // about 0.6% to under 0.1% (docs/mesh.md, "Snapping").
+    // h / 50: on one ball of 1.8 Å at 0.5 Å the chord deficit falls from -1.8% to -0.43% of the
+    // area (-0.85% of the volume), and 1CRN's and 4HHB's vdw and sas areas come within 0.7% of
+    // FreeSASA's (docs/accuracy.md); h / 25 left 4HHB's sas 0.84% short and 1CRN's vdw volume
+    // 0.66%. Proportional to h, it splits less at finer spacings, where the marching-cubes
+    // edges are already short.
     return options.spacing / 50.0;
 }
 
@@ -37,8 +38,6 @@ void EngineImpl::snap(SurfaceResult& result, const Atoms& atoms, const SurfaceOp
         // longer move would be onto another sheet of the level set (near a cusp).
         po.max_distance = 0.5 * plan.info.spacing;
         const ProjectStats p = project_onto_field(result.mesh, 0, field, po);
-        if (std::getenv("FDMSURF_SNAP_DEBUG"))
-            std::fprintf(stderr, "snap edt: projected %zu not converged %zu outside %zu off-normal %zu\n", p.projected, p.not_converged, p.outside_field, p.off_normal);
         normals_from_field(result.mesh, field);
         result.times.push_back({"snap", now_ms() - t0, false});
         if (p.failed() > 0 && double(p.failed()) > 1e-3 * double(nv)) {
@@ -57,7 +56,6 @@ void EngineImpl::snap(SurfaceResult& result, const Atoms& atoms, const SurfaceOp
     const BallUnion balls(atoms, plan.density.radius_add, pi_iso);
     CreaseOptions co;
     co.chord_tolerance = chord_tolerance_for(options);
-    if (const char* r = std::getenv("FDMSURF_SNAP_ROUNDS")) co.max_rounds = std::atoi(r);
     const std::size_t nv = result.mesh.vertex_count();
     const CreaseStats s = recover_creases(result.mesh, balls, co);
     result.times.push_back({"snap", now_ms() - t0, false});
@@ -67,13 +65,6 @@ void EngineImpl::snap(SurfaceResult& result, const Atoms& atoms, const SurfaceOp
                       "near them and keep their marching-cubes position",
                       s.unresolved, nv, 100.0 * double(s.unresolved) / double(nv));
         result.warnings.emplace_back(buf);
-    }
-    if (std::getenv("FDMSURF_SNAP_DEBUG")) {
-        std::fprintf(stderr,
-                     "snap: projected %zu unresolved %zu snapped %zu crease %zu chord %zu other %zu corners "
-                     "%zu vetoed %zu crossings-left %zu crease-v %zu corner-v %zu rounds %d\n",
-                     s.projected, s.unresolved, s.snapped, s.crease_splits, s.chord_splits, s.other_splits,
-                     s.corners, s.vetoed, s.crossings_left, s.crease_vertices, s.corner_vertices, s.rounds);
     }
 }
 
