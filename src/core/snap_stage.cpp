@@ -59,6 +59,14 @@ void EngineImpl::snap(SurfaceResult& result, const Atoms& atoms, const SurfaceOp
     const std::size_t nv = result.mesh.vertex_count();
     const CreaseStats s = recover_creases(result.mesh, balls, co);
     result.times.push_back({"snap", now_ms() - t0, false});
+    if (s.stopped_at_size) {
+        std::snprintf(buf, sizeof buf,
+                      "snap: stopped splitting at %zu triangles after %d of %d rounds; creases "
+                      "and chords may be left (use a coarser spacing or a larger "
+                      "--chord-tolerance)",
+                      result.mesh.triangle_count(), s.rounds, co.max_rounds);
+        result.warnings.emplace_back(buf);
+    }
     if (s.unresolved > 0 && double(s.unresolved) > 1e-3 * double(nv)) {
         std::snprintf(buf, sizeof buf,
                       "snap: %zu of %zu vertices (%.2f%%) found no exposed point of the balls "

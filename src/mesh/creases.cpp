@@ -358,6 +358,10 @@ public:
         project_vertices();
         snap_vertices();
         for (int round = 0; round < options_.max_rounds; ++round) {
+            if (mesh_.triangle_count() >= options_.max_triangles) {
+                stats_.stopped_at_size = true;
+                break;
+            }
             stats_.rounds = round + 1;
             // Edges (crossings and chords) first, then corners: a corner's triangle appears in
             // a round's splits and gets its three-sphere point before the next round could cut

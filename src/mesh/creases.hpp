@@ -74,6 +74,8 @@ struct CreaseOptions {
     double chord_tolerance = 0.0;
     double min_edge = 1e-4;  // Å: shorter edges are never split
     int max_rounds = 4;      // rounds of splits and corner insertions
+    // No further round starts once the mesh has this many triangles (2^27, about 3 GB of mesh).
+    std::size_t max_triangles = std::size_t{1} << 27;
 };
 
 struct CreaseStats {
@@ -89,6 +91,7 @@ struct CreaseStats {
     std::size_t crease_vertices = 0; // vertices on two spheres at the end
     std::size_t corner_vertices = 0; // vertices on three at the end
     int rounds = 0;
+    bool stopped_at_size = false;    // max_triangles reached: rounds left out
 };
 
 // Moves every vertex of `mesh` (a closed or open triangle mesh near the boundary of `balls`)

@@ -340,6 +340,19 @@ TEST(Creases, BallsThatDoNotMeetStayApartAndClosed) {
         EXPECT_FALSE(spheres_of(balls, vertex(mesh, v), kOnTolerance).on.empty()) << "vertex " << v;
 }
 
+TEST(Creases, SizeCapStopsTheRoundsAndLeavesAClosedMesh) {
+    const std::vector<Ball> balls = two_balls();
+    Mesh mesh = union_mesh(balls, 0.5);
+    const BallUnion union_(atoms_of(balls), 0.0, 0.0);
+    CreaseOptions o;
+    o.chord_tolerance = 0.001;
+    o.max_triangles = mesh.triangle_count() + 1;
+    const CreaseStats s = recover_creases(mesh, union_, o);
+    EXPECT_TRUE(s.stopped_at_size);
+    EXPECT_EQ(s.rounds, 1);
+    EXPECT_TRUE(IsClosedManifold(mesh));
+}
+
 TEST(Creases, EmptyMeshAndNoBallsAreLeftAlone) {
     Mesh empty;
     const BallUnion none(Atoms{}, 0.0, 0.0);
