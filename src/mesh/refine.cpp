@@ -505,8 +505,9 @@ namespace {
 
 enum class Outcome { Converged, NotConverged, Outside };
 
-Outcome newton(const SurfaceField& field, const Vec3& start, const ProjectOptions& o, Vec3& out) {
-    Vec3 x = start, g;
+Outcome newton(const SurfaceField& field, const Vec3& start, const ProjectOptions& o, Vec3& out,
+               Vec3& g) {
+    Vec3 x = start;
     double value = 0.0;
     for (int it = 0;; ++it) {
         if (!field.sample(x, value, g)) return Outcome::Outside;
@@ -531,9 +532,8 @@ Outcome newton(const SurfaceField& field, const Vec3& start, const ProjectOption
 // Off: the line meets the level set at a grazing angle (over 78 degrees from the gradient).
 enum class LineOutcome { Converged, NotConverged, Outside, Grazing };
 LineOutcome newton_on_line(const SurfaceField& field, const Vec3& start, const Vec3& dir,
-                           const ProjectOptions& o, Vec3& out) {
+                           const ProjectOptions& o, Vec3& out, Vec3& g) {
     double s = 0.0, value = 0.0;
-    Vec3 g;
     for (int it = 0;; ++it) {
         const Vec3 x{start[0] + s * dir[0], start[1] + s * dir[1], start[2] + s * dir[2]};
         if (!field.sample(x, value, g)) return LineOutcome::Outside;
@@ -570,6 +570,14 @@ ProjectStats project_onto_field(Mesh& mesh, std::size_t first, const SurfaceFiel
     parallel_chunks(chunks, thread_count(), [&](std::size_t c) {
         ProjectStats& stats = per_chunk[c];
         const std::size_t end = std::min(nv, first + (c + 1) * kChunk);
+        Vec3 g{};
+        auto set_normal = [&](std::size_t v) {
+            if (!options.set_normals || mesh.normals.size() != 3 * nv) return;
+            const double len = std::sqrt(dot(g, g));
+            if (!(len > 0.0) || !std::isfinite(len)) return;
+            for (int a = 0; a < 3; ++a)
+                mesh.normals[3 * v + a] = float(field.outward() * g[a] / len);
+        };
         for (std::size_t v = first + c * kChunk; v < end; ++v) {
             Vec3 out;
             if (along) {
@@ -579,9 +587,10 @@ ProjectStats project_onto_field(Mesh& mesh, std::size_t first, const SurfaceFiel
                 if (len > 0.5) {
                     const Vec3 unit{dir[0] / len, dir[1] / len, dir[2] / len};
                     const LineOutcome o =
-                        newton_on_line(field, vertex(mesh, v), unit, options, out);
+                        newton_on_line(field, vertex(mesh, v), unit, options, out, g);
                     if (o == LineOutcome::Converged) {
                         for (int a = 0; a < 3; ++a) mesh.positions[3 * v + a] = float(out[a]);
+                        set_normal(v);
                         ++stats.projected;
                         continue;
                     }
@@ -592,9 +601,10 @@ ProjectStats project_onto_field(Mesh& mesh, std::size_t first, const SurfaceFiel
                     ++stats.off_normal;  // grazing or not converged on the line: along the gradient
                 }
             }
-            switch (newton(field, vertex(mesh, v), options, out)) {
+            switch (newton(field, vertex(mesh, v), options, out, g)) {
                 case Outcome::Converged:
                     for (int a = 0; a < 3; ++a) mesh.positions[3 * v + a] = float(out[a]);
+                    set_normal(v);
                     ++stats.projected;
                     break;
                 case Outcome::NotConverged:
