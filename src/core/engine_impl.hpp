@@ -71,8 +71,8 @@ struct EngineImpl {
                 const FieldView* host_field);
     // The host stages after marching cubes, in order: snap (edt), refine, snap (vdw, sas).
     void host_stages(SurfaceResult& result, const Atoms& atoms, const SurfaceOptions& options,
-                     const GridPlan& plan, const SesFeatures* features,
-                     const Buffer* device_field, const FieldView* host_field);
+                     const GridPlan& plan, const SesFeatures* features, const Buffer* device_field,
+                     const FieldView* host_field);
     // The snap stage (snap_stage.cpp): result.mesh placed on the exact surface (vdw, sas:
     // crease recovery on the balls; edt: projection onto the distance of `features`). Nothing
     // when options.snap is off or for the FDM method.

@@ -46,8 +46,7 @@ BallUnion::BallUnion(const Atoms& atoms, double radius_add, double pi_iso) {
     for (std::size_t i = 0; i < n; ++i) {
         std::int64_t c[3];
         for (int a = 0; a < 3; ++a)
-            c[a] = std::min(dims_[a] - 1,
-                            std::int64_t((centre_[3 * i + a] - origin_[a]) / cell_));
+            c[a] = std::min(dims_[a] - 1, std::int64_t((centre_[3 * i + a] - origin_[a]) / cell_));
         cell_of[i] = std::uint32_t((c[2] * dims_[1] + c[1]) * dims_[0] + c[0]);
         ++start_[cell_of[i] + 1];
     }
@@ -100,7 +99,9 @@ double dist(const Vec& a, const Vec& b) { return norm(sub(a, b)); }
 struct Label {
     std::array<Index, 3> b{kNone, kNone, kNone};
     std::uint8_t n = 0;
-    bool has(Index i) const { return (n > 0 && b[0] == i) || (n > 1 && b[1] == i) || (n > 2 && b[2] == i); }
+    bool has(Index i) const {
+        return (n > 0 && b[0] == i) || (n > 1 && b[1] == i) || (n > 2 && b[2] == i);
+    }
     void add(Index i) {
         if (n < 3 && !has(i)) b[n++] = i;
     }
@@ -469,9 +470,8 @@ private:
         });
         std::vector<Move> moves;
         for (auto& f : found) moves.insert(moves.end(), f.begin(), f.end());
-        std::sort(moves.begin(), moves.end(), [](const Move& a, const Move& b) {
-            return a.d != b.d ? a.d < b.d : a.v < b.v;
-        });
+        std::sort(moves.begin(), moves.end(),
+                  [](const Move& a, const Move& b) { return a.d != b.d ? a.d < b.d : a.v < b.v; });
         std::vector<std::uint8_t> locked(nv, 0);
         std::size_t moved = 0;
         for (const Move& m : moves) {
@@ -487,7 +487,8 @@ private:
                 bad = folded(idx[3 * t], idx[3 * t + 1], idx[3 * t + 2]);
             }
             if (bad) {
-                for (int a = 0; a < 3; ++a) mesh_.positions[3 * std::size_t(m.v) + a] = float(old_p[a]);
+                for (int a = 0; a < 3; ++a)
+                    mesh_.positions[3 * std::size_t(m.v) + a] = float(old_p[a]);
                 labels_[m.v] = old_l;
                 continue;
             }
@@ -506,8 +507,8 @@ private:
     // points of i, j and k, nearest the chord. Else the nearest surface point of the midpoint,
     // if it lies on a sphere of neither end. Every split point shares a sphere with an end and
     // is not on that end's spheres only, so that the crossing moves on.
-    bool crossing_split(const Label& la, const Label& lb, const Vec& pa, const Vec& pb,
-                        double len, EdgeSplit& s) const {
+    bool crossing_split(const Label& la, const Label& lb, const Vec& pa, const Vec& pb, double len,
+                        EdgeSplit& s) const {
         double best = std::numeric_limits<double>::infinity();
         auto consider = [&](const Vec& q, Label l, const Vec& from) {
             if (subset(l, la) || subset(l, lb)) return;
@@ -720,9 +721,15 @@ private:
             if (ids[k] == kNone) continue;
             ++kept;
             switch (splits[k].kind) {
-                case SplitKind::Crease: ++stats_.crease_splits; break;
-                case SplitKind::Chord: ++stats_.chord_splits; break;
-                case SplitKind::Other: ++stats_.other_splits; break;
+                case SplitKind::Crease:
+                    ++stats_.crease_splits;
+                    break;
+                case SplitKind::Chord:
+                    ++stats_.chord_splits;
+                    break;
+                case SplitKind::Other:
+                    ++stats_.other_splits;
+                    break;
             }
         }
         stats_.vetoed += splits.size() - kept;
@@ -858,14 +865,16 @@ private:
                     if (m[0] == kNone && m[1] == kNone && m[2] == kNone) continue;
                     if (folded(idx[3 * t], idx[3 * t + 1], idx[3 * t + 2])) continue;
                     const Vec p0 = position(mesh_, idx[3 * t]);
-                    const Vec p1 = position(mesh_, idx[3 * t + 1]), p2 = position(mesh_, idx[3 * t + 2]);
+                    const Vec p1 = position(mesh_, idx[3 * t + 1]),
+                              p2 = position(mesh_, idx[3 * t + 2]);
                     const double whole = norm(cross(sub(p1, p0), sub(p2, p0)));
                     const double longest = std::max({dist(p0, p1), dist(p1, p2), dist(p2, p0)});
                     const int n = split_triangle(t, m, out);
                     bool bad = false;
                     for (int k = 0; k < n && !bad; ++k) {
                         if (!folded(out[3 * k], out[3 * k + 1], out[3 * k + 2])) continue;
-                        const Vec q0 = position(mesh_, out[3 * k]), q1 = position(mesh_, out[3 * k + 1]),
+                        const Vec q0 = position(mesh_, out[3 * k]),
+                                  q1 = position(mesh_, out[3 * k + 1]),
                                   q2 = position(mesh_, out[3 * k + 2]);
                         const double twice = norm(cross(sub(q1, q0), sub(q2, q0)));
                         bad = twice > 0.05 * whole && twice > 0.02 * longest * longest;
@@ -972,9 +981,9 @@ private:
                     const Vec& x = corner[z];
                     const Vec& y = corner[(z + 1) % 3];
                     const Vec n = cross(sub(y, x), sub(pts[which], x));
-                    const Vec m = add(add(vertex_normal(idx[3 * t + z]),
-                                          vertex_normal(idx[3 * t + (z + 1) % 3])),
-                                      nw);
+                    const Vec m = add(
+                        add(vertex_normal(idx[3 * t + z]), vertex_normal(idx[3 * t + (z + 1) % 3])),
+                        nw);
                     bad = dot(n, m) <= 0.0;
                 }
                 if (bad) continue;
@@ -1079,7 +1088,8 @@ CreaseStats recover_creases(Mesh& mesh, const BallUnion& balls, const CreaseOpti
     validate_mesh(mesh, "creases", true);
     CreaseStats stats;
     if (mesh.triangle_count() == 0 || balls.size() == 0) return stats;
-    if (mesh.normals.size() != mesh.positions.size()) mesh.normals.assign(mesh.positions.size(), 0.0f);
+    if (mesh.normals.size() != mesh.positions.size())
+        mesh.normals.assign(mesh.positions.size(), 0.0f);
     Recovery(mesh, balls, options, stats).run();
     return stats;
 }

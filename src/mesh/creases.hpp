@@ -51,7 +51,9 @@ public:
     }
     // The balls that meet or touch ball i, i left out.
     const std::uint32_t* neighbours_begin(std::uint32_t i) const { return &nb_[nb_start_[i]]; }
-    const std::uint32_t* neighbours_end(std::uint32_t i) const { return &nb_[0] + nb_start_[i + 1]; }
+    const std::uint32_t* neighbours_end(std::uint32_t i) const {
+        return &nb_[0] + nb_start_[i + 1];
+    }
     std::size_t neighbour_count(std::uint32_t i) const { return nb_start_[i + 1] - nb_start_[i]; }
 
 private:
@@ -79,19 +81,19 @@ struct CreaseOptions {
 };
 
 struct CreaseStats {
-    std::size_t projected = 0;       // input vertices placed on the surface
-    std::size_t unresolved = 0;      // input vertices left in place (no exposed point near)
-    std::size_t snapped = 0;         // vertices moved onto a crease (instead of a split)
-    std::size_t crease_splits = 0;   // edges split on a circle where two spheres meet
-    std::size_t chord_splits = 0;    // edges split on their ball or circle (chord tolerance)
-    std::size_t other_splits = 0;    // crossing edges split at a nearest surface point
-    std::size_t vetoed = 0;          // splits withdrawn: they would have folded a triangle over
-    std::size_t corners = 0;         // three-sphere points inserted
-    std::size_t crossings_left = 0;  // edges whose ends still share no ball at the end
-    std::size_t crease_vertices = 0; // vertices on two spheres at the end
-    std::size_t corner_vertices = 0; // vertices on three at the end
+    std::size_t projected = 0;        // input vertices placed on the surface
+    std::size_t unresolved = 0;       // input vertices left in place (no exposed point near)
+    std::size_t snapped = 0;          // vertices moved onto a crease (instead of a split)
+    std::size_t crease_splits = 0;    // edges split on a circle where two spheres meet
+    std::size_t chord_splits = 0;     // edges split on their ball or circle (chord tolerance)
+    std::size_t other_splits = 0;     // crossing edges split at a nearest surface point
+    std::size_t vetoed = 0;           // splits withdrawn: they would have folded a triangle over
+    std::size_t corners = 0;          // three-sphere points inserted
+    std::size_t crossings_left = 0;   // edges whose ends still share no ball at the end
+    std::size_t crease_vertices = 0;  // vertices on two spheres at the end
+    std::size_t corner_vertices = 0;  // vertices on three at the end
     int rounds = 0;
-    bool stopped_at_size = false;    // max_triangles reached: rounds left out
+    bool stopped_at_size = false;  // max_triangles reached: rounds left out
 };
 
 // Moves every vertex of `mesh` (a closed or open triangle mesh near the boundary of `balls`)

@@ -151,12 +151,14 @@ TEST_F(ExactSes, SnappingOntoTheExactDistanceRecoversTheChordDeficit) {
     EXPECT_LE(std::abs(b.area_rel_error), 0.007);
     EXPECT_LT(std::abs(b.area_rel_error), std::abs(a.area_rel_error));
     // Every vertex within 1e-3 of a spacing of the exact level set.
-    const fdmsurf::detail::SesFeatures features = fdmsurf::detail::build_ses_features(crambin(), 1.4f);
+    const fdmsurf::detail::SesFeatures features =
+        fdmsurf::detail::build_ses_features(crambin(), 1.4f);
     double worst = 0.0;
     for (std::size_t v = 0; v < on.mesh.vertex_count(); ++v) {
         const double p[3] = {on.mesh.positions[3 * v], on.mesh.positions[3 * v + 1],
                              on.mesh.positions[3 * v + 2]};
-        worst = std::max(worst, std::abs(fdmsurf::detail::ses_distance(features, p, 2.4, nullptr) - 1.4));
+        worst = std::max(worst,
+                         std::abs(fdmsurf::detail::ses_distance(features, p, 2.4, nullptr) - 1.4));
     }
     std::printf("  snapped vertices at most %.2e Å from the exact SES\n", worst);
     EXPECT_LE(worst, 1e-3 * 0.5 + 1e-5);

@@ -3,13 +3,12 @@
 // union of balls; skipped when freesasa is not installed (a failure under
 // FDMSURF_REQUIRE_TOOLS=1).
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <string>
-
-#include <unistd.h>
 
 #include "fdmsurf/mesh.hpp"
 #include "fdmsurf/structure.hpp"
@@ -63,11 +62,11 @@ void check(fdmsurf::Engine& engine, const Case& c, const std::string& folder) {
     EXPECT_TRUE(IsClosedManifold(res.mesh));
     const MeshStats s = fdmsurf::compute_stats(res.mesh), p = fdmsurf::compute_stats(off.mesh);
     const double da = s.area / reference - 1.0, dv = s.volume / volume - 1.0;
-    std::printf("  %s %s %.2f Å: area %.1f vs FreeSASA %.1f (%+.2f%%; marching cubes alone "
-                "%+.2f%%), volume %.1f vs Monte Carlo %.1f (%+.2f%%), %zu triangles (%zu)\n",
-                c.file, fdmsurf::to_string(c.kind), c.spacing, s.area, reference, 100 * da,
-                100 * (p.area / reference - 1.0), s.volume, volume, 100 * dv, s.triangles,
-                p.triangles);
+    std::printf(
+        "  %s %s %.2f Å: area %.1f vs FreeSASA %.1f (%+.2f%%; marching cubes alone "
+        "%+.2f%%), volume %.1f vs Monte Carlo %.1f (%+.2f%%), %zu triangles (%zu)\n",
+        c.file, fdmsurf::to_string(c.kind), c.spacing, s.area, reference, 100 * da,
+        100 * (p.area / reference - 1.0), s.volume, volume, 100 * dv, s.triangles, p.triangles);
     EXPECT_LE(std::abs(da), c.area_bound) << c.file << " " << fdmsurf::to_string(c.kind);
     EXPECT_LE(std::abs(dv), c.volume_bound) << c.file << " " << fdmsurf::to_string(c.kind);
     EXPECT_LT(std::abs(da), std::abs(p.area / reference - 1.0));

@@ -156,11 +156,11 @@ TEST_F(Surface, OneAtomVdwIsASphere) {
     EXPECT_LT(std::abs(fine.volume), std::abs(coarse.volume) / 2.0);
     // Snapped (the default): chords split to h / 50, the deficit at 0.5 Å under half a percent
     // of the area (measured -0.44%, volume -0.85%), at 0.25 Å -0.17% (volume -0.39%).
-    const Exact snapped_05 = vdw_errors(engine(), one_ball(), 0.5f, kOneBall, 0.012,
-                                        "vdw sphere r 1.8", true);
+    const Exact snapped_05 =
+        vdw_errors(engine(), one_ball(), 0.5f, kOneBall, 0.012, "vdw sphere r 1.8", true);
     EXPECT_LT(std::abs(snapped_05.area), 0.006);
-    const Exact snapped_025 = vdw_errors(engine(), one_ball(), 0.25f, kOneBall, 0.005,
-                                         "vdw sphere r 1.8", true);
+    const Exact snapped_025 =
+        vdw_errors(engine(), one_ball(), 0.25f, kOneBall, 0.005, "vdw sphere r 1.8", true);
     EXPECT_LT(std::abs(snapped_025.area), std::abs(coarse.area));
     EXPECT_LT(std::abs(snapped_025.area), 0.0025);
 }
@@ -192,7 +192,8 @@ struct CreaseCheck {
     double crease_length = 0.0;
     std::size_t on_two = 0, on_three = 0;
 };
-CreaseCheck check_creases(const fdmsurf::Mesh& mesh, const std::vector<fdmsurf::test::Ball>& balls) {
+CreaseCheck check_creases(const fdmsurf::Mesh& mesh,
+                          const std::vector<fdmsurf::test::Ball>& balls) {
     constexpr double tolerance = 2e-5;  // Å: a float position of a point placed exactly
     EXPECT_TRUE(IsClosedManifold(mesh));
     CreaseCheck c;
@@ -212,8 +213,7 @@ CreaseCheck check_creases(const fdmsurf::Mesh& mesh, const std::vector<fdmsurf::
             if (a > b) continue;
             crossing += !fdmsurf::test::share_sphere(on[a], on[b]);
             int shared = 0;
-            for (int i : on[a].on)
-                shared += std::count(on[b].on.begin(), on[b].on.end(), i);
+            for (int i : on[a].on) shared += std::count(on[b].on.begin(), on[b].on.end(), i);
             if (shared >= 2) {
                 const float* p = &mesh.positions[3 * std::size_t(a)];
                 const float* q = &mesh.positions[3 * std::size_t(b)];
@@ -253,14 +253,15 @@ TEST_F(Surface, TwoOverlappingAtomsKeepTheirCrease) {
 TEST_F(Surface, ThreeAtomsMeetAtTheirCorners) {
     // Three spheres meeting pairwise and at two exposed points: those points are vertices, vdw
     // and sas (radii + probe) alike; area against the closed form, volume against Monte Carlo.
-    const Atoms atoms =
-        atoms_of({0.13f, 0.21f, -0.17f, 2.53f, 0.31f, 0.09f, 1.21f, 2.12f, 0.23f}, {1.7f, 1.6f, 1.8f});
-    for (const auto& [kind, add] : {std::pair{SurfaceKind::Vdw, 0.0}, std::pair{SurfaceKind::Sas, 0.6}}) {
+    const Atoms atoms = atoms_of({0.13f, 0.21f, -0.17f, 2.53f, 0.31f, 0.09f, 1.21f, 2.12f, 0.23f},
+                                 {1.7f, 1.6f, 1.8f});
+    for (const auto& [kind, add] :
+         {std::pair{SurfaceKind::Vdw, 0.0}, std::pair{SurfaceKind::Sas, 0.6}}) {
         const auto balls = fdmsurf::test::balls_of(atoms, add);
         const double area = fdmsurf::test::union_area(balls);
         const double volume = fdmsurf::test::union_volume(balls, 0.02);
-        const SurfaceResult res = engine().make_surface(
-            atoms, {.surface = kind, .spacing = 0.5f, .probe = float(add)});
+        const SurfaceResult res =
+            engine().make_surface(atoms, {.surface = kind, .spacing = 0.5f, .probe = float(add)});
         const MeshStats s = expect_one_closed_piece(res);
         const CreaseCheck c = check_creases(res.mesh, balls);
         std::printf("  three balls %s, h 0.5: %zu crease and %zu corner vertices\n",

@@ -271,12 +271,13 @@ TEST(Creases, ThreeBallsGetTheirCornerPoints) {
             double nearest = 1e9;
             for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
                 nearest = std::min(nearest, norm(sub(vertex(mesh, v), c)));
-            EXPECT_LE(nearest, kOnTolerance) << "no vertex at the corner " << c[0] << ", " << c[1]
-                                             << ", " << c[2];
+            EXPECT_LE(nearest, kOnTolerance)
+                << "no vertex at the corner " << c[0] << ", " << c[1] << ", " << c[2];
         }
-        const double circles = 2.0 * kPi * (circle_radius(balls[0], balls[1]) +
-                                            circle_radius(balls[1], balls[2]) +
-                                            circle_radius(balls[0], balls[2]));
+        const double circles =
+            2.0 * kPi *
+            (circle_radius(balls[0], balls[1]) + circle_radius(balls[1], balls[2]) +
+             circle_radius(balls[0], balls[2]));
         // Only the exposed arcs are creases: less than the full circles.
         EXPECT_LT(m.crease_length, circles);
         expect_rel(before, exact, 0.06, "area, marching cubes");

@@ -125,7 +125,8 @@ inline double union_volume(const std::vector<Ball>& balls, double cell) {
                          !in && j <= std::min(b[1] + 1, nb[1] - 1); ++j)
                         for (std::int64_t i = std::max<std::int64_t>(b[0] - 1, 0);
                              !in && i <= std::min(b[0] + 1, nb[0] - 1); ++i)
-                            for (const std::uint32_t q : bins[std::size_t((k * nb[1] + j) * nb[0] + i)]) {
+                            for (const std::uint32_t q :
+                                 bins[std::size_t((k * nb[1] + j) * nb[0] + i)]) {
                                 const V3 d = sub3(p, balls[q].c);
                                 if (dot3(d, d) <= balls[q].r * balls[q].r) {
                                     in = true;

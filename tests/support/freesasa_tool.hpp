@@ -43,10 +43,11 @@ inline double freesasa_total(const Atoms& atoms, double probe, const std::string
     char probe_text[32];
     std::snprintf(probe_text, sizeof probe_text, "%g", probe);
     int status = 0;
-    const std::string text = run_capture("freesasa --radius-from-occupancy --lee-richards "
-                                         "--resolution 100 --probe-radius " +
-                                             std::string(probe_text) + " '" + pdb + "' 2>&1",
-                                         status);
+    const std::string text = run_capture(
+        "freesasa --radius-from-occupancy --lee-richards "
+        "--resolution 100 --probe-radius " +
+            std::string(probe_text) + " '" + pdb + "' 2>&1",
+        status);
     std::filesystem::remove(pdb);
     const std::size_t at = text.find("Total");
     if (status != 0 || at == std::string::npos) return -1.0;
@@ -57,11 +58,11 @@ inline double freesasa_total(const Atoms& atoms, double probe, const std::string
 }  // namespace fdmsurf::test
 
 // Skips the test (or fails it under FDMSURF_REQUIRE_TOOLS=1) when freesasa cannot run.
-#define FDMSURF_REQUIRE_FREESASA()                                                           \
-    do {                                                                                     \
-        const std::string why_ = ::fdmsurf::test::freesasa_unavailable();                    \
-        if (!why_.empty()) {                                                                 \
+#define FDMSURF_REQUIRE_FREESASA()                                                                 \
+    do {                                                                                           \
+        const std::string why_ = ::fdmsurf::test::freesasa_unavailable();                          \
+        if (!why_.empty()) {                                                                       \
             if (::fdmsurf::test::tools_required()) FAIL() << why_ << " (FDMSURF_REQUIRE_TOOLS=1)"; \
-            GTEST_SKIP() << why_;                                                            \
-        }                                                                                    \
+            GTEST_SKIP() << why_;                                                                  \
+        }                                                                                          \
     } while (0)
