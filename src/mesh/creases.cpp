@@ -399,13 +399,6 @@ private:
         stats_.projected = nv - stats_.unresolved;
     }
 
-    // Where the chord pa -> pb crosses the plane of circle c (clamped to the chord).
-    static Vec chord_at_plane(const Circle& c, const Vec& pa, const Vec& pb) {
-        const double fa = dot(sub(pa, c.m), c.u), fb = dot(sub(pb, c.m), c.u);
-        const double t = fa == fb ? 0.5 : std::clamp(fa / (fa - fb), 0.0, 1.0);
-        return add(pa, scale(sub(pb, pa), t));
-    }
-
     // Vertices next to a crease moved onto it, before any split: for each vertex, the nearest
     // exposed point of a circle between its sphere and the sphere of a neighbour across a
     // crease, when the vertex is the nearer end of that crossing edge and the move is at most
