@@ -55,6 +55,14 @@ SURFACE = (
     Keyword("refine", 0, "int", "--refine",
             "refinement levels, 0 to 4: each splits every triangle into four (modified "
             "butterfly) and moves the new vertices onto the surface"),
+    Keyword("snap", True, "negflag", "--no-snap",
+            "place the mesh on the exact surface after marching cubes: for vdw and sas every "
+            "vertex on its ball, with vertices on the creases where spheres meet and chords "
+            "split to chord_tolerance; for edt every vertex projected onto the exact SES; fdm "
+            "is not snapped (False: the CLI's --no-snap, marching cubes' vertices as they are)"),
+    Keyword("chord_tolerance", None, "float", "--chord-tolerance",
+            "vdw and sas with snap: split edges whose arc lies more than this from them, Å (>= "
+            "0; 0: creases only; None: spacing / 50)"),
     Keyword("color", None, "color", "--color",
             "vertex colours: 'chain', 'element', 'residue', 'hydrophobicity', 'bfactor', "
             "'coulombic', '#RRGGBB' or an (r, g, b) tuple of 0-255; None: uncoloured"),
@@ -100,6 +108,12 @@ READ = (
     Keyword("ligands", True, "negflag", "--no-ligands",
             "keep HETATM residues other than water (False: the CLI's --no-ligands)"),
 )
+
+# What the CLI's negated flags do (--no-ligands is ligands=False): fdmsurf.batch's help.
+NEGATED_HELP = {
+    "snap": "keep marching cubes' vertices where they are (snap=False)",
+    "ligands": "leave out HETATM residues other than water (ligands=False)",
+}
 
 KEYWORDS = {k.name: k for k in SURFACE + READ}
 READ_NAMES = frozenset(k.name for k in READ)

@@ -491,7 +491,7 @@ def _argument_parser():
                                  help=k.doc)
         elif k.kind == "negflag":
             surface.add_argument(k.cli, dest=k.name, action="store_false", default=None,
-                                 help="leave out HETATM residues other than water")
+                                 help=_options.NEGATED_HELP[k.name])
         else:
             names = [k.cli, "--colour"] if k.name == "color" else [k.cli]
             surface.add_argument(*names, dest=k.name, type=types.get(k.kind, str),

@@ -64,6 +64,10 @@ py::dict describe(const PyOptions& o) {
     d["min_cavity_volume"] = s.min_cavity_volume < 0 ? py::object(py::none())
                                                      : py::object(py::float_(s.min_cavity_volume));
     d["refine"] = s.refine;
+    d["snap"] = s.snap;
+    // None: the library's spacing / 50
+    d["chord_tolerance"] =
+        s.chord_tolerance < 0 ? py::object(py::none()) : py::object(py::float_(s.chord_tolerance));
     d["min_grid"] = py::make_tuple(s.min_grid[0], s.min_grid[1], s.min_grid[2]);
     d["color"] = color_name(s.properties);
     py::list properties;

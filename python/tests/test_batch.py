@@ -51,6 +51,9 @@ def test_inputs_outputs_and_hash(data, tmp_path):
     assert h != batch.options_hash({"max_triangles": 1000}, "ply", False)
     assert h != batch.options_hash({"optimize": True}, "ply", False)
     assert h == batch.options_hash({"optimize": False, "simplify": None}, "ply", False)
+    assert h == batch.options_hash({"snap": True, "chord_tolerance": None}, "ply", False)
+    assert h != batch.options_hash({"snap": False}, "ply", False)
+    assert h != batch.options_hash({"chord_tolerance": 0.0}, "ply", False)
     with pytest.raises(fdmsurf.InvalidArgumentError, match="spacing must be > 0"):
         batch.options_hash({"spacing": 0}, "ply", False)
     with pytest.raises(fdmsurf.InvalidArgumentError, match="mesh format must be ply, obj, glb, "
@@ -58,8 +61,9 @@ def test_inputs_outputs_and_hash(data, tmp_path):
         batch.run([data / "1crn.pdb"], tmp_path / "out", mesh_format="xyz")
     args = batch._argument_parser().parse_args(["x.pdb", "-o", "out", "--simplify", "0.5",
                                                 "--max-triangles", "100", "--optimize",
-                                                "--mesh-format", "glb"])
+                                                "--mesh-format", "glb", "--no-snap"])
     assert (args.simplify, args.max_triangles, args.optimize) == (0.5, 100, True)
+    assert args.snap is False
     assert args.mesh_format == "glb"
 
 

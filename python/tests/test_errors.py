@@ -94,6 +94,9 @@ def test_unknown_keywords_name_the_nearest(engine, data):
     ({"max_triangles": 0}, fdmsurf.InvalidArgumentError, "max_triangles must be a whole number"),
     ({"max_triangles": 10.5}, TypeError, "max_triangles must be a whole number, not float"),
     ({"optimize": "yes"}, TypeError, "optimize must be True or False"),
+    ({"snap": "no"}, TypeError, "snap must be True or False"),
+    ({"chord_tolerance": -0.1}, fdmsurf.InvalidArgumentError,
+     r"chord_tolerance must be >= 0 Å \(got -0.1\)"),
 ])
 def test_bad_options(engine, data, keywords, error, message):
     with pytest.raises(error, match=message):
