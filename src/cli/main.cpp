@@ -2,6 +2,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <chrono>
 #include <csignal>
@@ -151,6 +152,142 @@ MeshFormat check_output(const std::string& output, MeshFormat format) {
     return format;
 }
 
+// --areas FILE: its folder exists and FILE is not one (the extension was checked with the
+// options), so that a typo costs no work.
+void check_areas_output(const std::string& path) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::path parent = fs::path(path).parent_path();
+    if (!parent.empty() && !fs::is_directory(parent, ec))
+        throw Error(ErrorCode::Io, "cannot write '" + path + "': '" + parent.string() +
+                                       (fs::exists(parent, ec) ? "' is not a folder"
+                                                               : "' does not exist"));
+    if (fs::is_directory(path, ec))
+        throw Error(ErrorCode::Io, "cannot write '" + path + "': it is a folder");
+}
+
+// What --areas, --relative and --buried need from the structure, checked before any device
+// work: residues for --relative, the two groups of --buried (exit 2 with the reason).
+struct AreasPlan {
+    bool wanted = false;
+    std::vector<std::uint8_t> groups;  // --buried: 1 or 2 per atom, 0 in neither
+    std::array<std::string, 2> names;
+    std::size_t outside = 0;  // atoms in neither group
+};
+
+AreasPlan plan_areas(const CliOptions& options, const Structure& structure,
+                     const std::string& input) {
+    AreasPlan plan;
+    if (options.areas.empty()) return plan;
+    plan.wanted = true;
+    const Atoms& atoms = structure.atoms;
+    const bool residues = atoms.meta.size() == atoms.size();
+    if (options.relative != RelativeTable::None && !residues)
+        throw Error(ErrorCode::InvalidArgument,
+                    input + ": --relative needs residues, and " +
+                        to_string(structure.info.format) +
+                        " input has none (only coordinates and radii): give PDB, mmCIF, PQR "
+                        "or XYZRN");
+    if (!options.buried.empty()) {
+        try {
+            plan.groups = match_buried_groups(atoms, options.buried, plan.names,
+                                              structure.info.model);
+        } catch (const Error& e) {
+            throw Error(ErrorCode::InvalidArgument, input + ": --buried: " + e.what());
+        }
+        plan.outside = std::size_t(std::count(plan.groups.begin(), plan.groups.end(), 0));
+    }
+    return plan;
+}
+
+// The --areas file and the report's lines for it.
+void write_areas_file(const CliOptions& options, const std::string& input,
+                      const std::string& output, const Atoms& atoms, const AtomAreas& areas,
+                      const BuriedAreas* buried, double mesh_area, bool has_mesh,
+                      RunReport& report) {
+    auto t = Clock::now();
+    std::vector<ResidueArea> residues;
+    if (atoms.meta.size() == atoms.size()) residues = residue_areas(atoms, areas, options.relative);
+    AreasReport file;
+    file.input = input;
+    file.output = output;
+    file.surface = options.surface;
+    file.has_mesh = has_mesh;
+    file.mesh_area = mesh_area;
+    file.relative = options.relative;
+    file.atoms = &atoms;
+    file.areas = &areas;
+    file.residues = &residues;
+    file.buried = buried;
+    write_areas(file, options.areas);
+    report.times.push_back({"write-areas", ms_since(t), false});
+    report.areas_file = options.areas;
+    report.areas_exact = areas.exact;
+    report.areas_total = 0.0;
+    for (double a : areas.area) report.areas_total += a;
+    report.areas_mesh_total = -1.0;
+    if (!areas.mesh_area.empty()) {
+        report.areas_mesh_total = 0.0;
+        for (double a : areas.mesh_area) report.areas_mesh_total += a;
+        report.areas_on_patches = areas.exact ? areas.mesh_on_patches : 0.0;
+    }
+    report.areas_residues = residues.size();
+    if (buried) {
+        report.buried = options.buried;
+        report.buried_area = buried->buried();
+        for (int g = 0; g < 2; ++g)
+            report.buried_groups[g] = buried->area_alone[g] - buried->area_in_complex[g];
+        report.buried_mesh_area = has_mesh ? buried->mesh_buried() : -1.0;
+    }
+}
+
+// --areas with no -o: the exact vdw or sas areas, no mesh and no device.
+int areas_only(const CliOptions& options, const Structure& structure, double parse_ms,
+               const AreasPlan& plan) {
+    const auto start = Clock::now();
+    RunReport report;
+    report.times.push_back({"parse", parse_ms, false});
+    for (const std::string& message : structure.info.warnings) {
+        print_warning(message);
+        report.warnings.push_back(message);
+    }
+    const std::string& input = options.inputs.front();
+    if (structure.atoms.meta.size() != structure.atoms.size()) {
+        const std::string message =
+            "--areas: " + input + " has no residues (" + to_string(structure.info.format) +
+            " input): the file has per-atom and total areas only";
+        print_warning(message);
+        report.warnings.push_back(message);
+    }
+    auto t = Clock::now();
+    if (!plan.groups.empty()) {
+        const BuriedAreas buried =
+            buried_areas(nullptr, structure.atoms, plan.groups, plan.names, options.surface);
+        report.times.push_back({"areas", ms_since(t), false});
+        write_areas_file(options, input, "", buried.complex, buried.in_complex, &buried, 0.0,
+                         false, report);
+        report.atoms_outside_groups = plan.outside;
+        report.atoms_used = buried.complex.size();
+    } else {
+        const AtomAreas areas = surface_atom_areas(structure.atoms, options.surface, nullptr);
+        report.times.push_back({"areas", ms_since(t), false});
+        write_areas_file(options, input, "", structure.atoms, areas, nullptr, 0.0, false, report);
+        report.atoms_used = structure.atoms.size();
+    }
+    report.version = version();
+    report.input = input;
+    report.surface = options.surface.surface;
+    report.model = structure.info.model;
+    report.info = structure.info;
+    report.total_ms = ms_since(start) + parse_ms;
+    if (options.json)
+        std::printf("%s\n", areas_only_json(report).c_str());
+    else if (!options.quiet)
+        std::fputs(areas_only_text(report).c_str(), stdout);
+    std::fflush(stdout);
+    return kExitOk;
+}
+
 // Prints the validation layer's messages; returns how many there were.
 std::size_t report_validation(Engine& engine) {
     const std::vector<std::string> messages = engine.take_validation_messages();
@@ -165,7 +302,8 @@ std::size_t report_validation(Engine& engine) {
 // stage, for the second and later models of a file read once), else null.
 int run_one(const CliOptions& options, Engine& engine, Progress& progress, double init_ms,
             const std::string& input, const std::string& output,
-            const Structure* read = nullptr, double parse_ms = 0.0) {
+            const Structure* read = nullptr, double parse_ms = 0.0,
+            const AreasPlan* areas_plan = nullptr) {
     const auto start = Clock::now();
     RunReport report;
     auto warn = [&report, &progress](const std::string& message) {
@@ -202,9 +340,33 @@ int run_one(const CliOptions& options, Engine& engine, Progress& progress, doubl
                             std::to_string(structure.atoms.size()) + " atoms read");
     }
 
+    // --buried: the complex (the atoms of both groups) is the surface written; each group's own
+    // surface is computed on the same engine.
+    const bool buried = areas_plan != nullptr && !areas_plan->groups.empty();
+    BuriedAreas buried_result;
+    if (areas_plan != nullptr && areas_plan->wanted &&
+        structure.atoms.meta.size() != structure.atoms.size())
+        warn("--areas: " + input + " has no residues (" + to_string(structure.info.format) +
+             " input): the file has per-atom and total areas only");
+    if (buried && areas_plan->outside != 0)
+        warn("--buried " + options.buried + ": the " + format_count(areas_plan->outside) +
+             " atoms in neither group are left out of the surface and the areas");
+
     SurfaceResult result;
     try {
-        result = engine.make_surface(structure.atoms, options.surface);
+        if (buried) {
+            t = Clock::now();
+            buried_result = buried_areas(&engine, structure.atoms, areas_plan->groups,
+                                         areas_plan->names, options.surface);
+            const double all_ms = ms_since(t);
+            result = std::move(buried_result.complex_surface);
+            double complex_ms = 0.0;
+            for (const StageTime& s : result.times) complex_ms += s.ms;
+            // The two groups alone and the areas, as one host-timed stage.
+            result.times.push_back({"buried-groups", std::max(0.0, all_ms - complex_ms), false});
+        } else {
+            result = engine.make_surface(structure.atoms, options.surface);
+        }
     } catch (...) {
         // The layer's messages often explain a Vulkan failure: show them before the error.
         if (options.engine.validation) {
@@ -253,6 +415,15 @@ int run_one(const CliOptions& options, Engine& engine, Progress& progress, doubl
         report.optimized = true;
     }
 
+    // Areas of the mesh as it will be written (after --patch and --simplify).
+    AtomAreas areas;
+    if (areas_plan != nullptr && areas_plan->wanted && !buried) {
+        t = Clock::now();
+        areas = surface_atom_areas(structure.atoms, options.surface, &result.mesh);
+        report.times.push_back({"areas", ms_since(t), false});
+        progress.stage("areas");
+    }
+
     t = Clock::now();
     if (to_stdout) {
         StdoutBuffer buffer;
@@ -268,6 +439,17 @@ int run_one(const CliOptions& options, Engine& engine, Progress& progress, doubl
     t = Clock::now();
     report.stats = compute_stats(result.mesh);
     report.times.push_back({"mesh-stats", ms_since(t), false});
+    if (areas_plan != nullptr && areas_plan->wanted) {
+        if (buried)
+            write_areas_file(options, input, output, buried_result.complex,
+                             buried_result.in_complex, &buried_result, report.stats.area, true,
+                             report);
+        else
+            write_areas_file(options, input, output, structure.atoms, areas, nullptr,
+                             report.stats.area, true, report);
+        report.atoms_outside_groups = buried ? areas_plan->outside : 0;
+        progress.stage("write-areas");
+    }
     report.closed_manifold = report.stats.is_closed_manifold();
     report.patch = options.patch;
     report.color = options.surface.properties.color;
@@ -281,7 +463,7 @@ int run_one(const CliOptions& options, Engine& engine, Progress& progress, doubl
     report.method = options.surface.method;
     report.model = structure.info.model;
     report.info = structure.info;
-    report.atoms_used = structure.atoms.size();
+    report.atoms_used = buried ? buried_result.complex.size() : structure.atoms.size();
     report.grid = result.grid;
     report.device = engine.device().name;
     // A structure read before this call: its parse time counts in the total all the same.
@@ -325,11 +507,14 @@ void make_output_folder(const std::string& output) {
 int run(const CliOptions& options) {
     // Option checks that need neither the structure nor the device come first. The warning
     // for a spacing too coarse for the filter comes from the engine, with result.warnings.
-    make_output_folder(options.output);
-    for (const std::string& input : options.inputs)
-        check_output(output_of(options, input, 1), options.output_format);
+    if (!options.output.empty()) {
+        make_output_folder(options.output);
+        for (const std::string& input : options.inputs)
+            check_output(output_of(options, input, 1), options.output_format);
+    }
     effective_cutoff(options.surface);
     if (!options.patch.empty()) check_selection(options.patch, "--patch");
+    if (!options.areas.empty()) check_areas_output(options.areas);
     // Progress on stderr (a terminal, not --quiet): the engine reports its stages to it.
     Progress progress(progress_wanted(options.quiet));
     EngineOptions engine_options = options.engine;
@@ -339,10 +524,14 @@ int run(const CliOptions& options) {
         auto t = Clock::now();
         const Structure structure = std::move(read_input(options, options.inputs.front()).front());
         const double parse_ms = ms_since(t);
+        // --areas, --relative and --buried are checked against the atoms before any device work.
+        const AreasPlan areas_plan = plan_areas(options, structure, options.inputs.front());
+        if (options.output.empty()) return areas_only(options, structure, parse_ms, areas_plan);
         t = Clock::now();
         Engine engine(engine_options);
         return run_one(options, engine, progress, ms_since(t), options.inputs.front(),
-                       output_of(options, options.inputs.front(), 1), &structure, parse_ms);
+                       output_of(options, options.inputs.front(), 1), &structure, parse_ms,
+                       &areas_plan);
     }
 
     // Several inputs or models: one engine for all, so that its pipelines and FFT plans are

@@ -60,6 +60,9 @@ enum class Opt {
     Simplify,
     MaxTriangles,
     Optimize,
+    Areas,
+    Relative,
+    Buried,
 };
 
 struct OptionSpec {
@@ -70,7 +73,7 @@ struct OptionSpec {
     bool numeric;  // a value that may start with '-' (a negative number, rejected later)
 };
 
-constexpr std::array<OptionSpec, 40> kOptions{{
+constexpr std::array<OptionSpec, 43> kOptions{{
     {"--output", "-o", Opt::Output, true, false},
     {"--output-format", "", Opt::OutputFormat, true, false},
     {"--surface", "", Opt::Surface, true, false},
@@ -111,6 +114,9 @@ constexpr std::array<OptionSpec, 40> kOptions{{
     {"--simplify", "", Opt::Simplify, true, true},
     {"--max-triangles", "", Opt::MaxTriangles, true, true},
     {"--optimize", "", Opt::Optimize, false, false},
+    {"--areas", "", Opt::Areas, true, false},
+    {"--relative", "", Opt::Relative, true, false},
+    {"--buried", "", Opt::Buried, true, false},
 }};
 
 [[noreturn]] void fail(const std::string& message);
@@ -321,6 +327,11 @@ constexpr std::array<std::pair<std::string_view, MeshFormat>, 5> kOutputFormats{
      {"stl", MeshFormat::Stl},
      {"off", MeshFormat::Off}}};
 
+constexpr std::array<std::pair<std::string_view, RelativeTable>, 3> kRelativeTables{
+    {{"tien2013", RelativeTable::Tien2013},
+     {"miller1987", RelativeTable::Miller1987},
+     {"sander1994", RelativeTable::Sander1994}}};
+
 constexpr std::array<std::pair<std::string_view, bool>, 2> kStats{
     {{"json", true}, {"text", false}}};
 
@@ -447,6 +458,22 @@ void apply_value(CliOptions& o, const OptionSpec& spec, std::string_view name,
             o.simplify_requested = true;
             break;
         }
+        case Opt::Areas:
+            areas_format_for_path(text);  // .csv or .json, before any work
+            o.areas = text;
+            break;
+        case Opt::Relative:
+            o.relative = parse_choice(name, text, kRelativeTables, "relative-area table",
+                                      "tien2013, miller1987 or sander1994");
+            break;
+        case Opt::Buried:
+            if (std::count(text.begin(), text.end(), ':') != 1 || text.front() == ':' ||
+                text.back() == ':')
+                fail("option " + std::string(name) + " '" + text +
+                     "': give two groups separated by one ':' (chain ids, e.g. A:B or A,C:B,D, "
+                     "or gemmi selections, e.g. 'A/1-50:B')");
+            o.buried = text;
+            break;
         case Opt::Device:
             o.engine.device = text;
             break;
@@ -584,6 +611,33 @@ CliOptions parse_args(const std::vector<std::string>& args) {
 
     if (o.help || o.version || o.list_devices) return o;
     if (o.inputs.empty()) fail("missing INPUT, the structure file to read; see fdmsurf --help");
+    if (o.areas.empty()) {
+        if (o.relative != RelativeTable::None)
+            fail("--relative divides the per-residue areas of --areas FILE: give --areas too");
+        if (!o.buried.empty())
+            fail("--buried writes the buried areas into --areas FILE: give --areas too");
+    } else {
+        if (o.inputs.size() > 1 || o.all_models)
+            fail("--areas writes one file for one structure: give one INPUT (and no --models "
+                 "all)");
+        if (o.output.empty() && o.surface.surface == SurfaceKind::Ses)
+            fail("--areas without -o computes no mesh, which the ses areas come from (the "
+                 "vdw and sas areas are exact without one): give -o OUTPUT, or --surface sas");
+        if (!o.buried.empty() && !o.patch.empty())
+            fail("--buried compares whole surfaces; it cannot go with --patch");
+        if (!o.buried.empty() && o.simplify_requested)
+            fail("--buried compares the full surfaces; it cannot go with --simplify or "
+                 "--max-triangles");
+        if (!o.output.empty() && o.output != kStdio && o.output == o.areas)
+            fail("--areas and -o name the same file '" + o.areas + "'");
+    }
+    if (o.output.empty() && !o.areas.empty()) {
+        // Areas only: the exact sphere patches, no mesh and no device.
+        if (o.simplify_requested || o.optimize || !o.patch.empty() || o.surface.refine != 0)
+            fail("--simplify, --max-triangles, --optimize, --patch and --refine act on the mesh; "
+                 "without -o none is computed");
+        return o;
+    }
     if (o.output.empty())
         fail(
             "missing -o OUTPUT, the mesh file to write (.ply, .obj, .glb, .stl or .off; - for "
@@ -610,6 +664,7 @@ CliOptions parse_args(const std::vector<std::string>& args) {
 
 std::string usage_text() {
     return R"(Usage: fdmsurf INPUT -o OUTPUT [options]
+       fdmsurf INPUT [-o OUTPUT] --areas FILE.csv|FILE.json [options]
        fdmsurf INPUT... -o FOLDER/ [options]
        fdmsurf INPUT... --models all -o FOLDER/ [options]
        fdmsurf compare REFERENCE TESTED --spacing H [--stats json] [--outer]
@@ -712,6 +767,25 @@ Mesh size and order (docs/mesh.md, "Simplification"):
                          --simplify too, the smaller of the two targets
   --optimize             reorder triangles and vertices for the GPU's vertex
                          cache and fetch (the same triangles); after --simplify
+
+Areas (docs/areas.md):
+  --areas FILE           write the area of the surface per atom, per residue
+                         (chain, number, insertion code, name) and in total to
+                         FILE, as .csv or .json by its extension. vdw and sas:
+                         the exact area of each atom's sphere patch (sas: the
+                         SASA), beside the written mesh's own area split by
+                         sphere patch; ses: the mesh's area split by the atom
+                         of each vertex. Without -o: no mesh, no device (vdw
+                         and sas only)
+  --relative TABLE       add each residue's area relative to its maximum in a
+                         published table: tien2013 (Tien et al. 2013,
+                         theoretical), miller1987 or sander1994 (with --areas)
+  --buried G1:G2         the buried interface area between two groups of atoms,
+                         each a list of chain ids (A:B, A,C:B,D) or a gemmi
+                         selection ('A/1-50:B'): each group's surface alone
+                         against their complex, whose surface is the one
+                         written (atoms in neither group are left out); per
+                         atom, per residue and in total (with --areas)
 
 Device:
   --device INDEX|NAME    Vulkan device: an index from --list-devices or part of

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "fdmsurf/areas.hpp"
 #include "fdmsurf/error.hpp"
 #include "fdmsurf/mesh.hpp"
 #include "fdmsurf/simplify.hpp"
@@ -35,11 +36,16 @@ struct CliOptions {
     fdmsurf::SimplifyOptions simplify;
     bool simplify_requested = false;
     bool optimize = false;  // --optimize: vertex-cache and vertex-fetch order
+    // --areas FILE (.csv or .json): areas per atom, per residue and in total; with no -o, the
+    // areas alone (vdw and sas: exact, no mesh, no device).
+    std::string areas;
+    fdmsurf::RelativeTable relative = fdmsurf::RelativeTable::None;  // --relative TABLE
+    std::string buried;  // --buried GROUP1:GROUP2: the buried interface area
 };
 
 // Parses the arguments after the program name. `--name value` and `--name=value` are both
 // accepted; `--` ends the options. Throws Error(InvalidArgument) naming the offending option.
-// With --help, --version or --list-devices no INPUT or -o is required. Several INPUTs need -o
+// With --help, --version or --list-devices no INPUT or -o is required; with --areas no -o. Several INPUTs need -o
 // to name a folder, and so does --models all.
 CliOptions parse_args(const std::vector<std::string>& args);
 

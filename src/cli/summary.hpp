@@ -1,6 +1,7 @@
 // The run summary of the fdmsurf program, as text or as one JSON object (--stats json).
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -43,6 +44,19 @@ struct RunReport {
     SimplifyOptions simplify_options;     // what was asked
     SimplifyReport simplify;              // what simplify_mesh did
     bool optimized = false;               // --optimize
+    // --areas: the file and its totals (areas_file empty: not asked for).
+    std::string areas_file;
+    bool areas_exact = false;        // exact sphere patches (vdw, sas) rather than the mesh's
+    double areas_total = 0.0;        // Å², sum of the per-atom areas
+    double areas_mesh_total = -1.0;  // Å², the mesh's split (< 0: no mesh, areas only)
+    double areas_on_patches = 0.0;   // Å² of it split by sphere patch
+    std::size_t areas_residues = 0;
+    // --buried: the groups, the area the complex buries, and the atoms in neither group.
+    std::string buried;  // "A:B"; empty: not asked for
+    std::array<double, 2> buried_groups{};  // Å² buried per group
+    double buried_area = 0.0;
+    double buried_mesh_area = -1.0;  // < 0: no mesh
+    std::size_t atoms_outside_groups = 0;
 };
 
 // Sums the times of stages that share a name (one per slab, say), keeping the first order.
@@ -102,6 +116,75 @@ inline std::string simplify_breakage(const SimplifyReport& s) {
     if (m.inconsistent_edges != 0)
         text += ", " + format_count(m.inconsistent_edges) + " inconsistently oriented edges";
     return text;
+}
+
+// The summary's lines for --areas and --buried (empty when neither was asked for).
+inline std::string areas_lines(const RunReport& r) {
+    std::string s;
+    if (r.areas_file.empty()) return s;
+    s += "  areas        " + format_grouped(r.areas_total, 1) + " Å² (";
+    if (r.areas_exact)
+        s += "exact sphere patches";
+    else
+        s += "the mesh split by vertex atom";
+    if (r.areas_exact && r.areas_mesh_total >= 0.0) {
+        const double share =
+            r.areas_mesh_total > 0.0 ? 100.0 * r.areas_on_patches / r.areas_mesh_total : 100.0;
+        s += "; the mesh " + format_grouped(r.areas_mesh_total, 1) + " Å², " +
+             format_grouped(share, 1) + "% of it split by sphere patch";
+    }
+    s += ") per atom" + std::string(r.areas_residues ? " and residue (" +
+                                                           format_count(r.areas_residues) + ")"
+                                                     : "") +
+         ": " + r.areas_file + "\n";
+    if (!r.buried.empty()) {
+        const std::size_t colon = r.buried.find(':');
+        s += "  buried       " + format_grouped(r.buried_area, 1) + " Å² between " +
+             r.buried.substr(0, colon) + " and " + r.buried.substr(colon + 1) + " (" +
+             format_grouped(r.buried_groups[0], 1) + " + " + format_grouped(r.buried_groups[1], 1);
+        if (r.buried_mesh_area >= 0.0) s += "; mesh " + format_grouped(r.buried_mesh_area, 1) + " Å²";
+        s += ")";
+        if (r.atoms_outside_groups)
+            s += "; " + format_count(r.atoms_outside_groups) + " atoms in neither group left out";
+        s += "\n";
+    }
+    return s;
+}
+
+inline void areas_json(JsonWriter& w, const RunReport& r) {
+    if (r.areas_file.empty()) {
+        w.member("areas", nullptr);
+    } else {
+        w.key("areas").begin_object();
+        w.member("file", r.areas_file);
+        w.member("exact", r.areas_exact);
+        w.member("total", r.areas_total);
+        if (r.areas_mesh_total >= 0.0) {
+            w.member("mesh_total", r.areas_mesh_total);
+            w.member("mesh_on_patches", r.areas_on_patches);
+        } else {
+            w.member("mesh_total", nullptr);
+            w.member("mesh_on_patches", nullptr);
+        }
+        w.member("residues", r.areas_residues);
+        w.end_object();
+    }
+    if (r.buried.empty()) {
+        w.member("buried", nullptr);
+    } else {
+        w.key("buried").begin_object();
+        w.member("groups", r.buried);
+        w.member("area", r.buried_area);
+        w.key("group_areas").begin_array();
+        for (double a : r.buried_groups) w.value(a);
+        w.end_array();
+        if (r.buried_mesh_area >= 0.0)
+            w.member("mesh_area", r.buried_mesh_area);
+        else
+            w.member("mesh_area", nullptr);
+        w.member("atoms_outside_groups", r.atoms_outside_groups);
+        w.end_object();
+    }
 }
 
 inline std::string text_summary(const RunReport& r) {
@@ -176,6 +259,7 @@ inline std::string text_summary(const RunReport& r) {
              format_general(q.error) + " Å\n";
     }
     if (r.optimized) s += "  order        optimised for the vertex cache and vertex fetch\n";
+    s += areas_lines(r);
     if (r.color != ColorScheme::None || !r.properties.empty()) {
         s += "  properties   atom per vertex";
         if (r.color != ColorScheme::None) s += ", coloured by " + std::string(to_string(r.color));
@@ -268,6 +352,7 @@ inline std::string json_summary(const RunReport& r) {
         w.member("simplify", nullptr);
     }
     w.member("optimized", r.optimized);
+    areas_json(w, r);
     w.member("device", r.device);
 
     w.key("times").begin_object();
@@ -275,6 +360,42 @@ inline std::string json_summary(const RunReport& r) {
     w.end_object();
     w.member("total_ms", r.total_ms);
 
+    w.key("warnings").begin_array();
+    for (const std::string& warning : r.warnings) w.value(warning);
+    w.end_array();
+    w.end_object();
+    return w.str();
+}
+
+// The summary of a run with --areas and no -o: no grid, mesh or device.
+inline std::string areas_only_text(const RunReport& r) {
+    std::string s = "fdmsurf " + r.version + ": " + surface_name(r.surface) + " areas of " +
+                    r.input + " (exact sphere patches, no mesh)\n";
+    s += "  atoms        " + format_count(r.atoms_used) + " used (" +
+         format_count(r.info.atoms_in_file) + " in file)\n";
+    s += areas_lines(r);
+    s += "  time (ms)    ";
+    for (const StageTime& t : merge_times(r.times)) s += t.name + " " + format_grouped(t.ms, 1) + " | ";
+    s += "total " + format_grouped(r.total_ms, 1) + "\n";
+    return s;
+}
+
+inline std::string areas_only_json(const RunReport& r) {
+    JsonWriter w;
+    w.begin_object();
+    w.member("version", r.version);
+    w.member("input", r.input);
+    w.member("output", nullptr);
+    w.member("input_format", to_string(r.info.format));
+    w.member("surface", surface_name(r.surface));
+    w.member("model", r.model);
+    w.member("atoms_used", r.atoms_used);
+    w.member("atoms_in_file", r.info.atoms_in_file);
+    areas_json(w, r);
+    w.key("times").begin_object();
+    for (const StageTime& t : merge_times(r.times)) w.member(t.name, t.ms);
+    w.end_object();
+    w.member("total_ms", r.total_ms);
     w.key("warnings").begin_array();
     for (const std::string& warning : r.warnings) w.value(warning);
     w.end_array();

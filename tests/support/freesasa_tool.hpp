@@ -8,7 +8,9 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "fdmsurf/structure.hpp"
 #include "support/meshstat_tool.hpp"
@@ -53,6 +55,84 @@ inline double freesasa_total(const Atoms& atoms, double probe, const std::string
     if (status != 0 || at == std::string::npos) return -1.0;
     const std::size_t colon = text.find(':', at);
     return colon == std::string::npos ? -1.0 : std::atof(text.c_str() + colon + 1);
+}
+
+
+// Writes `atoms` as a PDB file for FreeSASA: ATOM records with their chain, residue and atom
+// names (generic ones for atoms without metadata) and the radius in the occupancy column.
+// Chains must be one character long.
+inline void write_freesasa_pdb(const Atoms& atoms, const std::string& pdb) {
+    std::ofstream out(pdb);
+    const bool meta = atoms.meta.size() == atoms.size();
+    char line[128];
+    for (std::size_t i = 0; i < atoms.size(); ++i) {
+        std::string name = meta ? atoms.meta[i].name : "C";
+        if (name.size() < 4) name = " " + name;
+        const std::string res = meta ? atoms.meta[i].residue_name.substr(0, 3) : "ALA";
+        const char chain = meta && !atoms.meta[i].chain.empty() ? atoms.meta[i].chain[0]
+                                                                 : char('A' + (i / 100000) % 26);
+        const int number = meta ? atoms.meta[i].residue_number : int((i / 10) % 10000);
+        const char icode = meta ? atoms.meta[i].insertion_code : ' ';
+        std::snprintf(line, sizeof line,
+                      "ATOM  %5zu %-4.4s %3s %c%4d%c   %8.3f%8.3f%8.3f%6.2f%6.2f          %2s\n",
+                      (i + 1) % 100000, name.c_str(), res.c_str(), chain, number % 10000, icode,
+                      atoms.xyz[3 * i], atoms.xyz[3 * i + 1], atoms.xyz[3 * i + 2],
+                      atoms.radius[i], 0.0, "C");
+        out << line;
+    }
+    out << "END\n";
+}
+
+inline std::string freesasa_command(double probe, const std::string& extra) {
+    char probe_text[32];
+    std::snprintf(probe_text, sizeof probe_text, "%g", probe);
+    return "freesasa --radius-from-occupancy --lee-richards --resolution 100 --probe-radius " +
+           std::string(probe_text) + " " + extra;
+}
+
+// FreeSASA's area of every atom (Å², input order; 0.01 Å² steps: its PDB output's B-factor
+// column), or an empty vector when it fails.
+inline std::vector<double> freesasa_atom_areas(const Atoms& atoms, double probe,
+                                               const std::string& folder) {
+    const std::string pdb = folder + "/freesasa-atoms.pdb";
+    write_freesasa_pdb(atoms, pdb);
+    int status = 0;
+    const std::string text =
+        run_capture(freesasa_command(probe, "--format pdb '" + pdb + "' 2>/dev/null"), status);
+    std::filesystem::remove(pdb);
+    std::vector<double> area;
+    if (status != 0) return area;
+    std::istringstream in(text);
+    std::string line;
+    while (std::getline(in, line))
+        if (line.rfind("ATOM", 0) == 0 && line.size() >= 66)
+            area.push_back(std::atof(line.substr(60, 6).c_str()));
+    if (area.size() != atoms.size()) area.clear();
+    return area;
+}
+
+// FreeSASA's totals (Å²) for the chain groups of `groups` ("A+B+AB": A alone, B alone, A and B
+// together), in that order, or an empty vector when it fails.
+inline std::vector<double> freesasa_chain_groups(const Atoms& atoms, double probe,
+                                                 const std::string& groups,
+                                                 const std::string& folder) {
+    const std::string pdb = folder + "/freesasa-groups.pdb";
+    write_freesasa_pdb(atoms, pdb);
+    int status = 0;
+    const std::string text = run_capture(
+        freesasa_command(probe, "--chain-groups=" + groups + " '" + pdb + "' 2>/dev/null"),
+        status);
+    std::filesystem::remove(pdb);
+    std::vector<double> totals;
+    if (status != 0) return totals;
+    // The whole structure comes first, then each group.
+    for (std::size_t at = text.find("Total"); at != std::string::npos;
+         at = text.find("Total", at + 5)) {
+        const std::size_t colon = text.find(':', at);
+        if (colon != std::string::npos) totals.push_back(std::atof(text.c_str() + colon + 1));
+    }
+    if (!totals.empty()) totals.erase(totals.begin());
+    return totals;
 }
 
 }  // namespace fdmsurf::test

@@ -1,0 +1,145 @@
+// A vdw or sas mesh's area shared out to atoms by the sphere patch each triangle lies on (the
+// snap stage puts every vertex on its balls, the creases' vertices on two, docs/mesh.md), with
+// the atom of each vertex as the fallback for triangles on no single sphere.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+
+#include "areas/areas_detail.hpp"
+#include "core/parallel.hpp"
+#include "fdmsurf/error.hpp"
+#include "mesh/creases.hpp"
+
+namespace fdmsurf::detail {
+
+namespace {
+
+// The balls (indices into BallUnion) a vertex lies on; at most four kept.
+struct Label {
+    std::array<std::uint32_t, 4> ball{};
+    std::uint8_t count = 0;
+    bool has(std::uint32_t b) const {
+        for (std::uint8_t k = 0; k < count; ++k)
+            if (ball[k] == b) return true;
+        return false;
+    }
+};
+
+}  // namespace
+
+std::vector<double> mesh_patch_areas(const Mesh& mesh, const Atoms& atoms,
+                                     const BallParameters& params, double tolerance,
+                                     double* on_patches) {
+    const std::size_t n = atoms.size();
+    if (on_patches) *on_patches = 0.0;
+    std::vector<double> area(n, 0.0);
+    const std::size_t nv = mesh.vertex_count(), nt = mesh.triangle_count();
+    if (nt == 0) return area;
+    if (mesh.atoms.size() != nv)
+        throw Error(ErrorCode::InvalidArgument,
+                    "mesh_patch_areas: the mesh has no per-vertex atoms (Mesh::atoms)");
+    for (std::uint32_t a : mesh.atoms)
+        if (a >= n)
+            throw Error(ErrorCode::InvalidArgument,
+                        "mesh_patch_areas: vertex atom " + std::to_string(a) + " out of range (" +
+                            std::to_string(n) + " atoms)");
+    for (std::uint32_t v : mesh.indices)
+        if (v >= nv) throw Error(ErrorCode::InvalidArgument, "mesh_patch_areas: index out of range");
+
+    // Balls and atoms: BallUnion leaves out balls of no positive radius.
+    constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+    std::vector<std::uint32_t> ball_of(n, kNone), atom_of;
+    for (std::size_t i = 0; i < n; ++i) {
+        const double r = double(atoms.radius[i]) + params.radius_add;
+        if (r * r + params.pi_iso > 0.0) {
+            ball_of[i] = std::uint32_t(atom_of.size());
+            atom_of.push_back(std::uint32_t(i));
+        }
+    }
+    const BallUnion balls(atoms, params.radius_add, params.pi_iso);
+
+    // Which balls each vertex lies on: its atom's ball and that ball's neighbours (a point on
+    // the surface has power distance 0 to its own ball, so its atom is one of them).
+    std::vector<Label> labels(nv);
+    const unsigned threads = thread_count();
+    const std::size_t chunk = 4096;
+    parallel_chunks((nv + chunk - 1) / chunk, threads, [&](std::size_t c) {
+        for (std::size_t v = c * chunk; v < std::min(nv, (c + 1) * chunk); ++v) {
+            const std::uint32_t b = ball_of[mesh.atoms[v]];
+            if (b == kNone) continue;
+            const double p[3] = {mesh.positions[3 * v], mesh.positions[3 * v + 1],
+                                 mesh.positions[3 * v + 2]};
+            Label& label = labels[v];
+            auto test = [&](std::uint32_t k) {
+                const double* q = balls.centre(k);
+                const double dx = p[0] - q[0], dy = p[1] - q[1], dz = p[2] - q[2];
+                const double d = std::sqrt(dx * dx + dy * dy + dz * dz) - balls.radius(k);
+                if (std::abs(d) <= tolerance && label.count < label.ball.size())
+                    label.ball[label.count++] = k;
+            };
+            test(b);
+            for (const std::uint32_t* it = balls.neighbours_begin(b); it != balls.neighbours_end(b);
+                 ++it)
+                test(*it);
+        }
+    });
+
+    // Triangles, in one block per thread with its own sums.
+    std::vector<std::vector<double>> partial(threads, std::vector<double>(n, 0.0));
+    std::vector<double> patch_sum(threads, 0.0);
+    const std::size_t block = (nt + threads - 1) / threads;
+    parallel_chunks(threads, threads, [&](std::size_t w) {
+        std::vector<double>& acc = partial[w];
+        double patches = 0.0;
+        for (std::size_t t = w * block; t < std::min(nt, (w + 1) * block); ++t) {
+            const std::uint32_t* v = &mesh.indices[3 * t];
+            double p[3][3];
+            for (int k = 0; k < 3; ++k)
+                for (int q = 0; q < 3; ++q) p[k][q] = mesh.positions[3 * std::size_t(v[k]) + q];
+            const double e1[3] = {p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
+            const double e2[3] = {p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
+            const double nx = e1[1] * e2[2] - e1[2] * e2[1], ny = e1[2] * e2[0] - e1[0] * e2[2],
+                         nz = e1[0] * e2[1] - e1[1] * e2[0];
+            const double a = 0.5 * std::sqrt(nx * nx + ny * ny + nz * nz);
+            // The balls all three vertices lie on.
+            std::uint32_t best = kNone;
+            double best_align = -2.0;
+            const Label& l0 = labels[v[0]];
+            for (std::uint8_t k = 0; k < l0.count; ++k) {
+                const std::uint32_t b = l0.ball[k];
+                if (!labels[v[1]].has(b) || !labels[v[2]].has(b)) continue;
+                // Along a crease (on two balls): the ball whose outward normal at the centroid
+                // is closest to the triangle's.
+                const double* q = balls.centre(b);
+                const double g[3] = {(p[0][0] + p[1][0] + p[2][0]) / 3.0 - q[0],
+                                     (p[0][1] + p[1][1] + p[2][1]) / 3.0 - q[1],
+                                     (p[0][2] + p[1][2] + p[2][2]) / 3.0 - q[2]};
+                const double gl = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+                const double nl = 2.0 * a;
+                const double align =
+                    gl > 0.0 && nl > 0.0 ? (g[0] * nx + g[1] * ny + g[2] * nz) / (gl * nl) : -1.0;
+                if (best == kNone || align > best_align) {
+                    best = b;
+                    best_align = align;
+                }
+            }
+            if (best != kNone) {
+                acc[atom_of[best]] += a;
+                patches += a;
+            } else {
+                for (int k = 0; k < 3; ++k) acc[mesh.atoms[v[k]]] += a / 3.0;
+            }
+        }
+        patch_sum[w] = patches;
+    });
+    for (unsigned w = 0; w < threads; ++w) {
+        for (std::size_t i = 0; i < n; ++i) area[i] += partial[w][i];
+        if (on_patches) *on_patches += patch_sum[w];
+    }
+    return area;
+}
+
+}  // namespace fdmsurf::detail
