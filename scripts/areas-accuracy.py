@@ -12,11 +12,13 @@ Lee-Richards, resolution 100, --radius-from-occupancy, probe 1.4 Å for sas and 
 per-atom areas from its PDB output's B-factor column). Compares the totals, the per-residue areas
 (mean absolute difference, 99th percentile and largest of |fdmsurf - FreeSASA|) and the per-atom
 areas, for the exact sphere patches (`area`) and the mesh's split (`mesh_area`). With
---buried G1:G2 (chain ids, e.g. A:B), also the buried area against FreeSASA's --chain-groups.
+--buried 'G1:G2;...' (chain ids, e.g. A:B), also the buried area against FreeSASA's
+--chain-groups (which uses FreeSASA's own ProtOr radii whatever the options: fdmsurf then reads
+the same radii from a PQR file).
 Needs /usr/bin/python3 with numpy, and `freesasa` on the PATH.
 
     scripts/areas-accuracy.py                                  # 1crn 4hhb 1aon, sas, 0.5 Å
-    scripts/areas-accuracy.py --structures 4hhb --buried A:B,A:D,A,C:B,D --spacings 0.5
+    scripts/areas-accuracy.py --structures 4hhb --buried 'A:B;A:D;A,C:B,D' --spacings 0.5
     scripts/areas-accuracy.py --structures 1crn --surfaces vdw --spacings 0.5,0.25
 """
 import argparse
@@ -81,7 +83,10 @@ def freesasa_atoms(pdb, probe):
 
 
 def freesasa_groups(pdb, probe, groups):
-    out, _ = freesasa(pdb, probe, ["--chain-groups=" + groups])
+    """Totals of the groups, with FreeSASA's own radii (see main)."""
+    out = subprocess.run(["freesasa", "--lee-richards", "--resolution", "100", "--probe-radius",
+                          str(probe), "--chain-groups=" + groups, pdb],
+                         check=True, capture_output=True, text=True).stdout
     totals = [float(l.split(":")[1]) for l in out.splitlines() if l.startswith("Total")]
     return totals[1:]
 
@@ -145,34 +150,57 @@ def main():
                               % (name, surface, h, label, s["total"], s["reference"],
                                  100 * s["dA"], s["residue_mad"], s["residue_p99"],
                                  s["residue_max"], s["atom_mad"], s["atom_p99"]), flush=True)
+            if args.buried:
+                # FreeSASA 2.1.2 gives --chain-groups its own radii (ProtOr) even with
+                # --radius-from-occupancy: fdmsurf gets those radii through a PQR file.
+                json_path = os.path.join(tmp, "atoms.json")
+                subprocess.run([args.fdmsurf, path, "--surface", "sas", "--areas", json_path],
+                               check=True, capture_output=True, text=True)
+                with open(json_path) as f:
+                    atoms = [{"chain": a["chain"], "residue_number": a["residue_number"],
+                              "insertion_code": a["insertion_code"],
+                              "residue_name": a["residue_name"], "atom_name": a["name"],
+                              "element": a["element"], "x": a["xyz"][0], "y": a["xyz"][1],
+                              "z": a["xyz"][2], "radius": a["radius"]}
+                             for a in json.load(f)["atoms"]]
+                pdb = os.path.join(tmp, "g.pdb")
+                write_pdb(atoms, pdb)
+                out = subprocess.run(["freesasa", "--format", "pdb", pdb], check=True,
+                                     capture_output=True, text=True).stdout
+                radii = [float(l[54:60]) for l in out.splitlines() if l.startswith("ATOM")]
+                assert len(radii) == len(atoms)
+                pqr = os.path.join(tmp, "protor.pqr")
+                with open(pqr, "w") as f:
+                    for i, (a, r) in enumerate(zip(atoms, radii)):
+                        f.write("ATOM %6d %-4s %-4s %s %5d %9.3f %9.3f %9.3f 0.0 %.2f\n"
+                                % (i + 1, a["atom_name"], a["residue_name"], a["chain"],
+                                   a["residue_number"], a["x"], a["y"], a["z"], r))
             for spec in [g for g in args.buried.split(";") if g]:
                 g1, g2 = spec.split(":")
                 json_path = os.path.join(tmp, "b.json")
-                subprocess.run([args.fdmsurf, path, "--surface", "sas", "--spacing",
-                                args.spacings.split(",")[0], "-o", os.path.join(tmp, "b.ply"),
-                                "--areas", json_path, "--buried", spec],
-                               check=True, capture_output=True, text=True)
+                h = args.spacings.split(",")[0]
+                t0 = time.time()
+                subprocess.run([args.fdmsurf, pqr, "--surface", "sas", "--spacing", h, "-o",
+                                os.path.join(tmp, "b.ply"), "--areas", json_path,
+                                "--buried", spec], check=True, capture_output=True, text=True)
+                wall = time.time() - t0
                 with open(json_path) as f:
-                    doc = json.load(f)
-                atoms = [{"chain": a["chain"], "residue_number": a["residue_number"],
-                          "insertion_code": a["insertion_code"], "residue_name": a["residue_name"],
-                          "atom_name": a["name"], "element": a["element"], "x": a["xyz"][0],
-                          "y": a["xyz"][1], "z": a["xyz"][2], "radius": a["radius"]}
-                         for a in doc["atoms"]]
-                pdb = os.path.join(tmp, "g.pdb")
-                write_pdb(atoms, pdb)
+                    b = json.load(f)["buried"]
                 c1, c2 = g1.replace(",", ""), g2.replace(",", "")
+                t0 = time.time()
                 t = freesasa_groups(pdb, 1.4, "%s+%s+%s" % (c1, c2, c1 + c2))
+                fs_wall = time.time() - t0
                 ref = t[0] + t[1] - t[2]
-                b = doc["buried"]
-                row = {"structure": name, "buried": spec, "exact": b["buried_area"],
-                       "mesh": b["mesh_buried_area"], "freesasa": ref,
-                       "freesasa_groups": t}
+                row = {"structure": name, "buried": spec, "spacing": float(h),
+                       "exact": b["buried_area"], "mesh": b["mesh_buried_area"], "freesasa": ref,
+                       "freesasa_groups": t, "fdmsurf_s": wall, "freesasa_s": fs_wall,
+                       "groups": b["groups"]}
                 results.append(row)
-                print("%-5s buried %-9s exact %8.1f, mesh %8.1f vs FreeSASA %8.1f Å² "
-                      "(exact %+.3f%%, mesh %+.3f%%)"
-                      % (name, spec, row["exact"], row["mesh"], ref,
-                         100 * (row["exact"] / ref - 1), 100 * (row["mesh"] / ref - 1)), flush=True)
+                print("%-5s buried %-9s exact %8.1f, mesh (%s Å) %8.1f vs FreeSASA --chain-groups "
+                      "%8.1f Å² (exact %+.3f%%, mesh %+.3f%%)"
+                      % (name, spec, row["exact"], h, row["mesh"], ref,
+                         100 * (row["exact"] / ref - 1), 100 * (row["mesh"] / ref - 1)),
+                      flush=True)
     if args.json:
         with open(args.json, "w") as f:
             json.dump(results, f, indent=1)

@@ -111,17 +111,43 @@ inline std::vector<double> freesasa_atom_areas(const Atoms& atoms, double probe,
     return area;
 }
 
+// The radii FreeSASA's own classifier (ProtOr) gives `atoms` (from its PDB output's occupancy
+// column), or an empty vector when it fails. FreeSASA 2.1.2 applies --radius-from-occupancy to
+// the whole structure but not to --chain-groups, whose groups get these radii: the buried-area
+// tests give fdmsurf the same.
+inline std::vector<double> freesasa_default_radii(const Atoms& atoms, const std::string& folder) {
+    const std::string pdb = folder + "/freesasa-radii.pdb";
+    write_freesasa_pdb(atoms, pdb);
+    int status = 0;
+    const std::string text = run_capture(
+        "freesasa --lee-richards --resolution 20 --format pdb '" + pdb + "' 2>/dev/null", status);
+    std::filesystem::remove(pdb);
+    std::vector<double> radius;
+    if (status != 0) return radius;
+    std::istringstream in(text);
+    std::string line;
+    while (std::getline(in, line))
+        if (line.rfind("ATOM", 0) == 0 && line.size() >= 60)
+            radius.push_back(std::atof(line.substr(54, 6).c_str()));
+    if (radius.size() != atoms.size()) radius.clear();
+    return radius;
+}
+
 // FreeSASA's totals (Å²) for the chain groups of `groups` ("A+B+AB": A alone, B alone, A and B
-// together), in that order, or an empty vector when it fails.
+// together), in that order, with its own radii (ProtOr; see freesasa_default_radii), or an
+// empty vector when it fails.
 inline std::vector<double> freesasa_chain_groups(const Atoms& atoms, double probe,
                                                  const std::string& groups,
                                                  const std::string& folder) {
     const std::string pdb = folder + "/freesasa-groups.pdb";
     write_freesasa_pdb(atoms, pdb);
     int status = 0;
-    const std::string text = run_capture(
-        freesasa_command(probe, "--chain-groups=" + groups + " '" + pdb + "' 2>/dev/null"),
-        status);
+    char probe_text[32];
+    std::snprintf(probe_text, sizeof probe_text, "%g", probe);
+    const std::string text = run_capture("freesasa --lee-richards --resolution 100 --probe-radius " +
+                                             std::string(probe_text) + " --chain-groups=" +
+                                             groups + " '" + pdb + "' 2>/dev/null",
+                                         status);
     std::filesystem::remove(pdb);
     std::vector<double> totals;
     if (status != 0) return totals;

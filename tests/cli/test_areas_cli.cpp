@@ -1,0 +1,146 @@
+// The fdmsurf program's --areas, --relative and --buried: parsing, errors found before any
+// device work (exit 2, nothing written), areas alone without a device, and with a mesh.
+#include <gtest/gtest.h>
+
+#include "cli/cli_program.hpp"
+#include "cli/json_check.hpp"
+#include "cli/parse_check.hpp"
+
+namespace {
+
+using namespace fdmsurf_cli_test;
+
+TEST(CliAreas, OptionsAreParsed) {
+    const fdmsurf::cli::CliOptions o =
+        parse_with({"--areas", "a.csv", "--relative", "miller1987", "--buried", "A,C:B,D"});
+    EXPECT_EQ(o.areas, "a.csv");
+    EXPECT_EQ(o.relative, fdmsurf::RelativeTable::Miller1987);
+    EXPECT_EQ(o.buried, "A,C:B,D");
+    // No -o: the areas alone (vdw and sas).
+    const fdmsurf::cli::CliOptions alone =
+        fdmsurf::cli::parse_args({"in.pdb", "--surface", "sas", "--areas", "a.json"});
+    EXPECT_TRUE(alone.output.empty());
+}
+
+TEST(CliAreas, BadOptionsAreUsageErrors) {
+    EXPECT_TRUE(contains(parse_error_with({"--areas", "a.txt"}), "unknown extension '.txt'"));
+    EXPECT_TRUE(contains(parse_error_with({"--areas", "a.csv", "--relative", "naccess"}),
+                         "tien2013, miller1987 or sander1994"));
+    EXPECT_TRUE(contains(parse_error_with({"--relative", "tien2013"}), "give --areas too"));
+    EXPECT_TRUE(contains(parse_error_with({"--buried", "A:B"}), "give --areas too"));
+    EXPECT_TRUE(contains(parse_error_with({"--areas", "a.csv", "--buried", "AB"}), "one ':'"));
+    EXPECT_TRUE(contains(parse_error_with({"--areas", "a.csv", "--buried", "A:B", "--patch", "A"}),
+                         "--patch"));
+    EXPECT_TRUE(contains(
+        parse_error_with({"--areas", "a.csv", "--buried", "A:B", "--simplify", "0.5"}),
+        "--simplify"));
+    EXPECT_TRUE(contains(parse_error_with({"--areas", "out.ply"}), "unknown extension"));
+    try {
+        fdmsurf::cli::parse_args({"in.pdb", "--areas", "a.csv"});  // ses needs the mesh
+        ADD_FAILURE();
+    } catch (const fdmsurf::Error& e) {
+        EXPECT_TRUE(contains(e.what(), "give -o OUTPUT, or --surface sas")) << e.what();
+    }
+    try {
+        fdmsurf::cli::parse_args({"a.pdb", "b.pdb", "-o", "out/", "--areas", "a.csv"});
+        ADD_FAILURE();
+    } catch (const fdmsurf::Error& e) {
+        EXPECT_TRUE(contains(e.what(), "one INPUT")) << e.what();
+    }
+}
+
+TEST(CliAreas, HelpDescribesTheOptions) {
+    const std::string help = fdmsurf::cli::usage_text();
+    for (const char* text : {"--areas FILE", "--relative TABLE", "--buried G1:G2", "tien2013",
+                             "docs/areas.md"})
+        EXPECT_TRUE(contains(help, text)) << text;
+}
+
+class CliAreasRun : public CliProgram {
+protected:
+    std::string data(const std::string& file) const { return std::string(kDataDir) + "/" + file; }
+};
+
+// Errors about the structure come before the device is even looked for: with a device that
+// does not exist, they still exit 2 with their own reason.
+TEST_F(CliAreasRun, StructureErrorsComeBeforeTheDevice) {
+    const std::string mesh = path("m.ply"), areas = path("a.json");
+    expect_failure(run({data("4hhb.pdb.gz"), "-o", mesh, "--surface", "sas", "--areas", areas,
+                        "--buried", "A:Q", "--device", "no-such-device"}),
+                   2, {"--buried", "chain Q is not in the structure", "chains present: A, B, C, D"});
+    expect_failure(run({data("4hhb.pdb.gz"), "-o", mesh, "--areas", areas, "--buried", "A,B:B",
+                        "--device", "no-such-device"}),
+                   2, {"overlap"});
+    expect_failure(run({data("4hhb.pdb.gz"), "-o", mesh, "--areas", areas, "--buried",
+                        "A:B/2000-3000", "--device", "no-such-device"}),
+                   2, {"selects none of the"});
+    expect_failure(run({data("1crn.xyzr"), "-o", mesh, "--areas", areas, "--relative",
+                        "tien2013", "--device", "no-such-device"}),
+                   2, {"--relative needs residues", "xyzr"});
+    expect_failure(run({data("1crn.xyzr"), "-o", mesh, "--areas", areas, "--buried", "A:B",
+                        "--device", "no-such-device"}),
+                   2, {"need chains"});
+    expect_failure(run({data("1crn.pdb"), "-o", mesh, "--areas", path("no/a.csv"), "--device",
+                        "no-such-device"}),
+                   3, {"does not exist"});
+    expect_failure(run({data("1crn.pdb"), "-o", mesh, "--areas", path("a.tsv")}), 2,
+                   {"unknown extension '.tsv'"});
+}
+
+TEST_F(CliAreasRun, AreasAloneNeedNoDevice) {
+    const std::string areas = path("a.csv");
+    const CliRun r = run({data("1crn.pdb"), "--surface", "sas", "--areas", areas, "--relative",
+                          "tien2013", "--device", "no-such-device"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(contains(r.out, "sas areas of")) << r.out;
+    EXPECT_TRUE(contains(r.out, "exact sphere patches")) << r.out;
+    const std::vector<std::string> lines = lines_of(read_text(areas));
+    ASSERT_EQ(lines.size(), 1u + 327u + 46u + 1u);  // header, atoms, residues, total
+    EXPECT_TRUE(lines[1].rfind("atom,0,1,A,1,,THR,N,N,", 0) == 0) << lines[1];
+    EXPECT_TRUE(lines.back().rfind("total,", 0) == 0);
+    // Residue THR 1: its relative area is filled, the mesh area is not (no mesh).
+    EXPECT_TRUE(lines[328].rfind("residue,,,A,1,,THR,", 0) == 0) << lines[328];
+    EXPECT_TRUE(contains(lines[328], ",,0.")) << lines[328];
+    // XYZR: per atom and in total, with a warning.
+    const CliRun x = run({data("1crn.xyzr"), "--surface", "vdw", "--areas", path("x.json"),
+                          "--stats", "json"});
+    ASSERT_EQ(x.exit_code, 0) << x.err;
+    EXPECT_TRUE(contains(x.err, "per-atom and total areas only")) << x.err;
+    const auto summary = parse_json(x.out);
+    ASSERT_TRUE(summary.has_value()) << x.out;
+    EXPECT_TRUE(summary->find("areas")->find("exact")->boolean);
+    EXPECT_EQ(summary->find("areas")->find("residues")->number, 0);
+    const auto file = parse_json(read_text(path("x.json")));
+    ASSERT_TRUE(file.has_value());
+    EXPECT_EQ(file->find("atoms")->array.size(), 327u);
+    EXPECT_TRUE(file->find("residues")->array.empty());
+}
+
+TEST_F(CliAreasRun, AreasBesideTheMesh) {
+    if (const auto why = no_usable_device()) {
+        if (device_required()) FAIL() << *why;
+        GTEST_SKIP() << *why;
+    }
+    const std::string mesh = path("m.ply"), areas = path("a.json");
+    const CliRun r = run({data("3al1.pdb"), "-o", mesh, "--surface", "sas", "--areas", areas,
+                          "--buried", "A:B", "--stats", "json"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(contains(r.err, "atoms in neither group are left out")) << r.err;
+    const auto summary = parse_json(r.out);
+    ASSERT_TRUE(summary.has_value()) << r.out;
+    const JsonValue* buried = summary->find("buried");
+    ASSERT_NE(buried, nullptr);
+    EXPECT_GT(buried->find("area")->number, 100.0);
+    EXPECT_GT(buried->find("mesh_area")->number, 100.0);
+    const JsonValue* a = summary->find("areas");
+    EXPECT_NEAR(a->find("mesh_total")->number, summary->find("area")->number,
+                1e-6 * summary->find("area")->number);
+    const auto file = parse_json(read_text(areas));
+    ASSERT_TRUE(file.has_value());
+    EXPECT_EQ(file->find("mesh")->string, mesh);
+    EXPECT_EQ(file->find("atoms")->array.size(), std::size_t(summary->find("atoms_used")->number));
+    EXPECT_EQ(file->find("buried")->find("groups")->array.size(), 2u);
+    EXPECT_NE(file->find("atoms")->array[0].find("mesh_area")->type, JsonValue::Type::Null);
+}
+
+}  // namespace
