@@ -68,99 +68,178 @@ double circular_segment(double cos_t, double dphi) {
     return dphi * (1.0 - cos_t) - triangle;
 }
 
+// An exposed crossing point of two circles.
+struct Crossing {
+    Vec n;
+};
+
+// One crossing on a circle: the point, the other circle, and a pseudo-angle that orders the
+// points around the circle as the azimuth does (no trigonometry).
+struct OnCircle {
+    double key;
+    std::uint32_t crossing;
+    std::uint32_t other;
+};
+
+// Scratch space of one thread, reused from atom to atom.
+struct Scratch {
+    std::vector<std::uint8_t> dropped;
+    std::vector<std::vector<std::uint32_t>> overlapping;  // per cap, the caps it meets
+    std::vector<std::vector<OnCircle>> around;             // per cap, its crossings
+    std::vector<Crossing> crossings;
+    std::vector<std::uint8_t> crossed;  // per cap: its circle crosses another
+};
+
+double pseudo_angle(double x, double y) {
+    const double t = x / (std::abs(x) + std::abs(y));
+    return y >= 0.0 ? 1.0 - t : 3.0 + t;  // in [0, 4), increasing with atan2(y, x) mod 2π
+}
+
 // The exposed solid angle (steradians) of a unit sphere less the union of `caps` (none empty).
-double exposed_solid_angle(std::vector<Cap>& caps, std::vector<std::uint8_t>& dropped,
-                           std::vector<std::vector<double>>& azimuths) {
+//
+// An arc of a circle between two consecutive crossings crosses no other circle, so it lies
+// inside some other cap all along or outside all of them; when a crossing at its end lies
+// inside a third cap the arc does too. So exposed arcs run between exposed crossings, and an
+// arc between two consecutive exposed crossings is exposed when its midpoint is.
+double exposed_solid_angle(const std::vector<Cap>& caps, Scratch& w) {
     constexpr double eps = 1e-12;
     const std::size_t m = caps.size();
-    dropped.assign(m, 0);
-    // Caps inside other caps (or equal to one) change nothing: drop them.
+    w.dropped.assign(m, 0);
+    if (w.overlapping.size() < m) w.overlapping.resize(m);
+    if (w.around.size() < m) w.around.resize(m);
     for (std::size_t j = 0; j < m; ++j) {
-        if (dropped[j]) continue;
-        for (std::size_t k = 0; k < m; ++k) {
-            if (k == j || dropped[k]) continue;
-            const Cap& a = caps[j];
-            const Cap& b = caps[k];
-            // j inside k: angle(u_j, u_k) + θ_j <= θ_k, i.e. θ_j <= θ_k and
-            // u_j·u_k >= cos(θ_k − θ_j).
-            if (a.h >= b.h - eps && dot(a.u, b.u) >= a.h * b.h + a.s * b.s - eps &&
-                (a.h > b.h + eps || j > k || dot(a.u, b.u) < 1.0 - eps)) {
-                dropped[j] = 1;
-                break;
-            }
-        }
+        w.overlapping[j].clear();
+        w.around[j].clear();
     }
-    // Crossing points, as azimuths on both circles.
-    if (azimuths.size() < m) azimuths.resize(m);
-    for (std::size_t j = 0; j < m; ++j) azimuths[j].clear();
+    w.crossings.clear();
+    // Caps inside other caps (or equal to one) change nothing: drop them. The others that
+    // meet are listed: only they can bury a point of each other's circle.
     for (std::size_t j = 0; j < m; ++j) {
-        if (dropped[j]) continue;
+        const Cap& a = caps[j];
         for (std::size_t k = j + 1; k < m; ++k) {
-            if (dropped[k]) continue;
-            const Cap& a = caps[j];
             const Cap& b = caps[k];
             const double g = dot(a.u, b.u);
-            // The circles cross when |θ_j − θ_k| < angle < θ_j + θ_k.
-            if (g <= a.h * b.h - a.s * b.s || g >= a.h * b.h + a.s * b.s) continue;
+            if (g <= a.h * b.h - a.s * b.s) continue;  // apart: angle >= θ_j + θ_k
+            if (g >= a.h * b.h + a.s * b.s - eps) {
+                // One inside the other: angle <= |θ_j − θ_k|; the smaller goes (of equal ones
+                // the later).
+                w.dropped[a.h > b.h + eps ? j : k] = 1;
+                continue;
+            }
+            w.overlapping[j].push_back(std::uint32_t(k));
+            w.overlapping[k].push_back(std::uint32_t(j));
+        }
+    }
+    // A point of circle j inside another cap (that cap meets cap j: it is in j's list). The cap
+    // that buried the last point is tried first: neighbouring points share it.
+    std::uint32_t last = 0;
+    auto buried_by = [&](const Vec& n, std::size_t j, std::size_t skip) {
+        if (last != skip && last < m && !w.dropped[last] && dot(n, caps[last].u) > caps[last].h + eps)
+            return true;
+        for (const std::uint32_t k : w.overlapping[j])
+            if (k != skip && !w.dropped[k] && dot(n, caps[k].u) > caps[k].h + eps) {
+                last = k;
+                return true;
+            }
+        return false;
+    };
+    // Crossing points of the circles that cross. A buried one is only counted: both arcs at
+    // it lie inside the cap that buries it (neither crosses that cap's circle before the next
+    // crossing), so only exposed crossings can end an exposed arc.
+    w.crossed.assign(m, 0);
+    for (std::size_t j = 0; j < m; ++j) {
+        if (w.dropped[j]) continue;
+        const Cap& a = caps[j];
+        for (const std::uint32_t k : w.overlapping[j]) {
+            if (k <= j || w.dropped[k]) continue;
+            const Cap& b = caps[k];
+            const double g = dot(a.u, b.u);
             const double w2 = 1.0 - g * g;
             if (w2 < 1e-14) continue;
             const double p = (a.h - b.h * g) / w2, q = (b.h - a.h * g) / w2;
             const double rest = 1.0 - (p * p + q * q + 2.0 * p * q * g);
             if (rest <= 0.0) continue;  // tangent (within rounding)
             const double t = std::sqrt(rest / w2);
-            const Vec base = p * a.u + q * b.u, w = cross(a.u, b.u);
+            const Vec base = p * a.u + q * b.u, c = cross(a.u, b.u);
+            w.crossed[j] = w.crossed[k] = 1;
             for (const double sign : {1.0, -1.0}) {
-                const Vec n = base + (sign * t) * w;
-                azimuths[j].push_back(std::atan2(dot(n, a.e2), dot(n, a.e1)));
-                azimuths[k].push_back(std::atan2(dot(n, b.e2), dot(n, b.e1)));
+                const Vec n = base + (sign * t) * c;
+                if (buried_by(n, j, k)) continue;
+                const std::uint32_t id = std::uint32_t(w.crossings.size());
+                w.crossings.push_back({n});
+                w.around[j].push_back({pseudo_angle(dot(n, a.e1), dot(n, a.e2)), id, k});
+                w.around[k].push_back({pseudo_angle(dot(n, b.e1), dot(n, b.e2)), id,
+                                       std::uint32_t(j)});
             }
         }
     }
     // The pole: N, the antipode of the centre S of the largest cap; S is buried and every arc
     // stays at least that cap's angular radius away from it.
-    std::size_t largest = 0;
-    for (std::size_t j = 1; j < m; ++j)
-        if (!dropped[j] && (dropped[largest] || caps[j].h < caps[largest].h)) largest = j;
+    std::size_t largest = m;
+    for (std::size_t j = 0; j < m; ++j)
+        if (!w.dropped[j] && (largest == m || caps[j].h < caps[largest].h)) largest = j;
     const Vec pole = -1.0 * caps[largest].u;
 
-    auto buried_by_other = [&](const Vec& n, std::size_t j) {
-        for (std::size_t k = 0; k < m; ++k)
-            if (k != j && !dropped[k] && dot(n, caps[k].u) > caps[k].h + eps) return true;
-        return false;
-    };
-    // One exposed arc of circle j, from azimuth `hi` down to `lo` (the cap on the right).
-    auto arc = [&](std::size_t j, double lo, double hi) {
-        const Cap& c = caps[j];
-        const int pieces = std::max(1, int(std::ceil((hi - lo) / (0.5 * kPi))));
-        const double step = (hi - lo) / pieces;
+    // One exposed arc of circle j from `from` to `to` (counter-clockwise about u_j, spanning
+    // `dphi`), integrated from `to` back to `from`: the cap on the right.
+    auto arc = [&](const Cap& c, const Vec& from, const Vec& to, double dphi) {
         // The great circle through the ends cuts into the cap for θ <= π/2 (the arc bounds less
         // than the chord's triangle) and into the exposed side otherwise.
-        const double segment =
-            c.h >= 0.0 ? -circular_segment(c.h, step) : circular_segment(-c.h, step);
+        auto segment = [&](double step) {
+            return c.h >= 0.0 ? -circular_segment(c.h, step) : circular_segment(-c.h, step);
+        };
+        if (dphi <= 0.5 * kPi) return solid_angle(pole, to, from) + segment(dphi);
+        const int pieces = int(std::ceil(dphi / (0.5 * kPi)));
+        const double step = dphi / pieces;
+        const double phi0 = std::atan2(dot(from, c.e2), dot(from, c.e1));
         double sum = 0.0;
-        Vec from = on_circle(c, hi);
+        Vec a = to;
         for (int s = 1; s <= pieces; ++s) {
-            const Vec to = on_circle(c, hi - s * step);
-            sum += solid_angle(pole, from, to) + segment;
-            from = to;
+            const Vec b = s == pieces ? from : on_circle(c, phi0 + dphi - s * step);
+            sum += solid_angle(pole, a, b) + segment(step);
+            a = b;
         }
         return sum;
     };
     double total = 0.0;
     for (std::size_t j = 0; j < m; ++j) {
-        if (dropped[j]) continue;
-        std::vector<double>& a = azimuths[j];
-        if (a.empty()) {
+        if (w.dropped[j]) continue;
+        const Cap& c = caps[j];
+        std::vector<OnCircle>& around = w.around[j];
+        if (!w.crossed[j]) {
             // No crossing: the whole circle is boundary unless another cap buries it.
-            if (!buried_by_other(on_circle(caps[j], 0.0), j)) total += arc(j, 0.0, 2.0 * kPi);
+            const Vec p = on_circle(c, 0.0);
+            if (!buried_by(p, j, m)) total += arc(c, p, p, 2.0 * kPi);
             continue;
         }
-        std::sort(a.begin(), a.end());
-        for (std::size_t t = 0; t < a.size(); ++t) {
-            const double lo = a[t];
-            const double hi = t + 1 < a.size() ? a[t + 1] : a[0] + 2.0 * kPi;
-            if (hi - lo < 1e-15) continue;
-            if (!buried_by_other(on_circle(caps[j], 0.5 * (lo + hi)), j)) total += arc(j, lo, hi);
+        // One exposed crossing or none: every arc touches a buried one.
+        if (around.size() < 2) continue;
+        std::sort(around.begin(), around.end(),
+                  [](const OnCircle& x, const OnCircle& y) { return x.key < y.key; });
+        const std::size_t count = around.size();
+        for (std::size_t t = 0; t < count; ++t) {
+            const OnCircle& from = around[t];
+            const OnCircle& to = around[(t + 1) % count];
+            const Crossing& p = w.crossings[from.crossing];
+            const Crossing& q = w.crossings[to.crossing];
+            // In the circle's plane: the ends' directions from its centre, the angle between.
+            const Vec pa = p.n + (-c.h) * c.u, pb = q.n + (-c.h) * c.u;
+            const double cosine = dot(pa, pb), sine = dot(cross(pa, pb), c.u);
+            double dphi = std::atan2(sine, cosine);
+            if (dphi < 0.0) dphi += 2.0 * kPi;
+            if (dphi < 1e-12) continue;  // three circles through one point
+            // The midpoint outside every other cap? (Buried crossings between the ends would
+            // make the whole arc buried, and then its midpoint too.)
+            Vec mid_dir = pa + pb;
+            double len = std::sqrt(dot(mid_dir, mid_dir));
+            if (dphi > kPi) mid_dir = -1.0 * mid_dir;
+            if (len < 1e-9 * c.s) {  // ends opposite each other: the perpendicular
+                mid_dir = cross(c.u, pa);
+                len = std::sqrt(dot(mid_dir, mid_dir));
+            }
+            const Vec mid = c.h * c.u + (c.s / len) * mid_dir;
+            if (buried_by(mid, j, m)) continue;
+            total += arc(c, p.n, q.n, dphi);
         }
     }
     // Rounding can leave a hair below 0 or above 4π.
@@ -185,8 +264,7 @@ std::vector<double> exact_ball_areas(const Atoms& atoms, double radius_add, doub
     const std::size_t chunk = 128;
     parallel_chunks((nb + chunk - 1) / chunk, thread_count(), [&](std::size_t c) {
         std::vector<Cap> caps;
-        std::vector<std::uint8_t> dropped;
-        std::vector<std::vector<double>> azimuths;
+        Scratch scratch;
         for (std::size_t i = c * chunk; i < std::min(nb, (c + 1) * chunk); ++i) {
             const double* ci = balls.centre(std::uint32_t(i));
             const double ri = balls.radius(std::uint32_t(i));
@@ -228,7 +306,7 @@ std::vector<double> exact_ball_areas(const Atoms& atoms, double radius_add, doub
             if (buried)
                 omega = 0.0;
             else if (!caps.empty())
-                omega = exposed_solid_angle(caps, dropped, azimuths);
+                omega = exposed_solid_angle(caps, scratch);
             area[atom_of[i]] = omega * ri * ri;
         }
     });
