@@ -12,11 +12,12 @@ the machine hits every tool alike:
   fdmsurf-mesh     fdmsurf X --surface sas -o X.ply               (the surface alone, 0.5 Å)
   fdmsurf-both     fdmsurf X --surface sas -o X.ply --areas X.csv (the surface and its areas)
 
-and reports the median wall time of each (whole process, as a user waits for it), the areas'
-own stages from fdmsurf's --stats json (`areas`, `write-areas`) against the run without them,
+and reports the median wall time of each (whole process, as a user waits for it) and its CPU
+time (user + system: less sensitive to other work on a shared machine), the areas' own stages from fdmsurf's --stats json (`areas`, `write-areas`) against the run without them,
 and how far each tool's per-residue areas are from FreeSASA's at resolution 100 (mean absolute
 difference and 99th percentile, Å²). FreeSASA runs on its default 2 threads, fdmsurf on all
-(2 here). Needs build/fdmsurf, `freesasa` (Debian) and /usr/bin/python3 with numpy.
+(2 here); both read the same plain PDB file (fdmsurf with its own radii, the same values).
+Needs build/fdmsurf, `freesasa` (Debian) and /usr/bin/python3 with numpy.
 
     bench/areas.py                              # 4hhb and 1aon, 3 repetitions
     bench/areas.py --structures 4hhb --reps 5 --out bench/out
@@ -25,6 +26,7 @@ import argparse
 import json
 import os
 import platform
+import resource
 import statistics
 import subprocess
 import sys
@@ -42,12 +44,17 @@ STRUCTURES = {
 }
 
 
-def run(cmd):
+def run(cmd, cpu=None):
+    """Wall time (s) and stdout of `cmd`; its CPU time (user + system, s) appended to `cpu`."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
     p = subprocess.run(cmd, capture_output=True, text=True)
     dt = time.perf_counter() - t0
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
     if p.returncode != 0:
         raise SystemExit("failed: %s\n%s" % (" ".join(cmd), p.stderr))
+    if cpu is not None:
+        cpu.append(after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime)
     return dt, p.stdout
 
 
@@ -93,8 +100,8 @@ def main():
     os.makedirs(args.out, exist_ok=True)
     report = {"machine": {"nproc": os.cpu_count(), "platform": platform.platform(),
                           "load_before": os.getloadavg()}, "results": []}
-    lines = ["| structure | atoms | residues | tool | median wall (s) | runs (s) | residue MAD vs LR 100 (Å²) | residue p99 (Å²) |",
-             "|---|---|---|---|---|---|---|---|"]
+    lines = ["| structure | atoms | residues | tool | median wall (s) | runs (s) | median CPU (s) | residue MAD vs LR 100 (Å²) | residue p99 (Å²) |",
+             "|---|---|---|---|---|---|---|---|---|"]
     with tempfile.TemporaryDirectory() as tmp:
         for name in args.structures.split(","):
             path = STRUCTURES.get(name, name)
@@ -109,18 +116,19 @@ def main():
                 "freesasa-lr100": ["freesasa", "-O", "--lee-richards", "--resolution", "100",
                                    "--format", "seq", pdb],
                 "freesasa-sr100": ["freesasa", "-O", "--shrake-rupley", "--format", "seq", pdb],
-                "fdmsurf-areas": [args.fdmsurf, path, "--surface", "sas", "--areas", csv,
+                "fdmsurf-areas": [args.fdmsurf, pdb, "--surface", "sas", "--areas", csv,
                                   "--stats", "json"],
-                "fdmsurf-mesh": [args.fdmsurf, path, "--surface", "sas", "--spacing",
+                "fdmsurf-mesh": [args.fdmsurf, pdb, "--surface", "sas", "--spacing",
                                  args.spacing, "-o", ply, "--stats", "json"],
-                "fdmsurf-both": [args.fdmsurf, path, "--surface", "sas", "--spacing",
+                "fdmsurf-both": [args.fdmsurf, pdb, "--surface", "sas", "--spacing",
                                  args.spacing, "-o", ply, "--areas", csv, "--stats", "json"],
             }
             times = {t: [] for t in tools}
+            cpus = {t: [] for t in tools}
             stages = {t: [] for t in tools}
             for rep in range(args.reps):
                 for tool, cmd in tools.items():
-                    dt, out = run(cmd)
+                    dt, out = run(cmd, cpus[tool])
                     times[tool].append(dt)
                     if tool.startswith("fdmsurf"):
                         stages[tool].append(json.loads(out))
@@ -141,7 +149,8 @@ def main():
             for tool in tools:
                 med = statistics.median(times[tool])
                 row = {"structure": name, "tool": tool, "atoms": len(atoms), "residues": nres,
-                       "median_s": med, "runs_s": times[tool]}
+                       "median_s": med, "runs_s": times[tool], "cpu_s": statistics.median(cpus[tool]),
+                       "cpu_runs_s": cpus[tool]}
                 acc = ""
                 if tool in accuracy:
                     d = np.abs(accuracy[tool] - ref)
@@ -156,9 +165,9 @@ def main():
                                         for k in s[0]["times"]}
                     row["total_ms"] = statistics.median(x["total_ms"] for x in s)
                 report["results"].append(row)
-                lines.append("| %s | %d | %d | %s | %.2f | %s | %s |"
+                lines.append("| %s | %d | %d | %s | %.2f | %s | %.2f | %s |"
                              % (name, len(atoms), nres, tool, med,
-                                ", ".join("%.2f" % t for t in times[tool]), acc))
+                                ", ".join("%.2f" % t for t in times[tool]), row["cpu_s"], acc))
             both = [r for r in report["results"] if r["structure"] == name]
             b = [r for r in both if r["tool"] == "fdmsurf-both"][0]
             m = [r for r in both if r["tool"] == "fdmsurf-mesh"][0]
@@ -166,11 +175,13 @@ def main():
             lines.append("")
             lines.append("%s: areas stages %.0f ms (areas %.0f + write-areas %.0f) = %.1f%% of the "
                          "surface run without them (fdmsurf total %.0f ms); whole-process medians "
-                         "%.2f s with, %.2f s without (%+.1f%%)"
+                         "%.2f s with, %.2f s without (%+.1f%%); CPU %.2f s with, %.2f s without "
+                         "(%+.1f%%)"
                          % (name, areas_ms, b["stages_ms"].get("areas", 0.0),
                             b["stages_ms"].get("write-areas", 0.0),
                             100 * areas_ms / m["total_ms"], m["total_ms"], b["median_s"],
-                            m["median_s"], 100 * (b["median_s"] / m["median_s"] - 1)))
+                            m["median_s"], 100 * (b["median_s"] / m["median_s"] - 1),
+                            b["cpu_s"], m["cpu_s"], 100 * (b["cpu_s"] / m["cpu_s"] - 1)))
             lines.append("")
             print("\n".join(lines[-3:]), flush=True)
     report["machine"]["load_after"] = os.getloadavg()

@@ -24,7 +24,7 @@
 #include "core/parallel.hpp"
 #include "fdmsurf/areas.hpp"
 #include "fdmsurf/error.hpp"
-#include "mesh/creases.hpp"
+#include "core/cell_list.hpp"
 
 namespace fdmsurf {
 namespace detail {
@@ -252,44 +252,49 @@ std::vector<double> exact_ball_areas(const Atoms& atoms, double radius_add, doub
     const std::size_t n = atoms.size();
     std::vector<double> area(n, 0.0);
     if (n == 0) return area;
-    // BallUnion leaves out balls whose radius would not be positive: map its balls to atoms.
-    std::vector<std::uint32_t> atom_of;
-    atom_of.reserve(n);
+    // Ball radii; 0 for balls that vanish (r² + π_iso <= 0).
+    std::vector<double> radius(n, 0.0);
+    double r_max = 0.0;
     for (std::size_t i = 0; i < n; ++i) {
         const double r = double(atoms.radius[i]) + radius_add;
-        if (r * r + pi_iso > 0.0) atom_of.push_back(std::uint32_t(i));
+        if (r * r + pi_iso > 0.0) radius[i] = std::sqrt(r * r + pi_iso);
+        r_max = std::max(r_max, radius[i]);
     }
-    const BallUnion balls(atoms, radius_add, pi_iso);
-    const std::size_t nb = balls.size();
+    if (r_max == 0.0) return area;
+    // Two balls meet when their centres are closer than the sum of the radii, at most 2 r_max:
+    // the neighbours are in the 27 cells around a centre's.
+    const CellList cells = make_cell_list(atoms.xyz, 2.0 * r_max);
     const std::size_t chunk = 128;
-    parallel_chunks((nb + chunk - 1) / chunk, thread_count(), [&](std::size_t c) {
+    parallel_chunks((n + chunk - 1) / chunk, thread_count(), [&](std::size_t c) {
         std::vector<Cap> caps;
         Scratch scratch;
-        for (std::size_t i = c * chunk; i < std::min(nb, (c + 1) * chunk); ++i) {
-            const double* ci = balls.centre(std::uint32_t(i));
-            const double ri = balls.radius(std::uint32_t(i));
+        for (std::size_t i = c * chunk; i < std::min(n, (c + 1) * chunk); ++i) {
+            const double ri = radius[i];
+            if (ri == 0.0) continue;
+            const double ci[3] = {atoms.xyz[3 * i], atoms.xyz[3 * i + 1], atoms.xyz[3 * i + 2]};
             caps.clear();
             bool buried = false;
-            for (const std::uint32_t* it = balls.neighbours_begin(std::uint32_t(i));
-                 it != balls.neighbours_end(std::uint32_t(i)) && !buried; ++it) {
-                const std::uint32_t j = *it;
-                const double* cj = balls.centre(j);
-                const double rj = balls.radius(j);
+            cells.for_each_near(ci, [&](std::uint32_t j) {
+                if (j == i || buried || radius[j] == 0.0) return;
+                const double cj[3] = {atoms.xyz[3 * j], atoms.xyz[3 * j + 1],
+                                      atoms.xyz[3 * j + 2]};
+                const double rj = radius[j];
                 const Vec e{cj[0] - ci[0], cj[1] - ci[1], cj[2] - ci[2]};
-                const double d = std::sqrt(dot(e, e));
-                if (d >= ri + rj) continue;
-                if (d == 0.0) {
+                const double d2 = dot(e, e);
+                if (d2 >= (ri + rj) * (ri + rj)) return;
+                if (d2 == 0.0) {
                     // Twins: the first keeps the area (as atom_sas_areas); a larger ball at the
                     // same centre buries this one, a smaller one nothing.
                     if (rj > ri || (rj == ri && j < i)) buried = true;
-                    continue;
+                    return;
                 }
-                const double h = (d * d + ri * ri - rj * rj) / (2.0 * d * ri);
+                const double d = std::sqrt(d2);
+                const double h = (d2 + ri * ri - rj * rj) / (2.0 * d * ri);
                 if (h <= -1.0) {
                     buried = true;  // inside ball j
-                    continue;
+                    return;
                 }
-                if (h >= 1.0) continue;  // ball j inside this one
+                if (h >= 1.0) return;  // ball j inside this one
                 Cap cap;
                 cap.u = (1.0 / d) * e;
                 cap.h = h;
@@ -301,13 +306,13 @@ std::vector<double> exact_ball_areas(const Atoms& atoms, double radius_add, doub
                 cap.e1 = e1;
                 cap.e2 = cross(cap.u, e1);
                 caps.push_back(cap);
-            }
+            });
             double omega = 4.0 * kPi;
             if (buried)
                 omega = 0.0;
             else if (!caps.empty())
                 omega = exposed_solid_angle(caps, scratch);
-            area[atom_of[i]] = omega * ri * ri;
+            area[i] = omega * ri * ri;
         }
     });
     return area;
