@@ -11,13 +11,13 @@
 #include "areas/areas_detail.hpp"
 #include "core/parallel.hpp"
 #include "fdmsurf/error.hpp"
-#include "mesh/creases.hpp"
+#include "core/cell_list.hpp"
 
 namespace fdmsurf::detail {
 
 namespace {
 
-// The balls (indices into BallUnion) a vertex lies on; at most four kept.
+// The balls (atom indices) a vertex lies on; at most four kept.
 struct Label {
     std::array<std::uint32_t, 4> ball{};
     std::uint8_t count = 0;
@@ -49,41 +49,56 @@ std::vector<double> mesh_patch_areas(const Mesh& mesh, const Atoms& atoms,
     for (std::uint32_t v : mesh.indices)
         if (v >= nv) throw Error(ErrorCode::InvalidArgument, "mesh_patch_areas: index out of range");
 
-    // Balls and atoms: BallUnion leaves out balls of no positive radius.
+    // Ball radii (0 for balls that vanish) and, per atom, the balls that meet its ball.
     constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
-    std::vector<std::uint32_t> ball_of(n, kNone), atom_of;
+    std::vector<double> radius(n, 0.0);
+    double r_max = 0.0;
     for (std::size_t i = 0; i < n; ++i) {
         const double r = double(atoms.radius[i]) + params.radius_add;
-        if (r * r + params.pi_iso > 0.0) {
-            ball_of[i] = std::uint32_t(atom_of.size());
-            atom_of.push_back(std::uint32_t(i));
-        }
+        if (r * r + params.pi_iso > 0.0) radius[i] = std::sqrt(r * r + params.pi_iso);
+        r_max = std::max(r_max, radius[i]);
     }
-    const BallUnion balls(atoms, params.radius_add, params.pi_iso);
-
-    // Which balls each vertex lies on: its atom's ball and that ball's neighbours (a point on
-    // the surface has power distance 0 to its own ball, so its atom is one of them).
-    std::vector<Label> labels(nv);
+    if (r_max == 0.0) return area;
+    const CellList cells = make_cell_list(atoms.xyz, 2.0 * r_max + tolerance);
     const unsigned threads = thread_count();
+    std::vector<std::vector<std::uint32_t>> near(n);
+    parallel_chunks((n + 255) / 256, threads, [&](std::size_t c) {
+        for (std::size_t i = 256 * c; i < std::min(n, 256 * (c + 1)); ++i) {
+            if (radius[i] == 0.0) continue;
+            const double p[3] = {atoms.xyz[3 * i], atoms.xyz[3 * i + 1], atoms.xyz[3 * i + 2]};
+            cells.for_each_near(p, [&](std::uint32_t j) {
+                if (j == i || radius[j] == 0.0) return;
+                const double dx = p[0] - atoms.xyz[3 * j], dy = p[1] - atoms.xyz[3 * j + 1],
+                             dz = p[2] - atoms.xyz[3 * j + 2];
+                // Touching within the tolerance: a point on both spheres must see both.
+                const double reach = radius[i] + radius[j] + 2.0 * tolerance;
+                if (dx * dx + dy * dy + dz * dz < reach * reach) near[i].push_back(j);
+            });
+        }
+    });
+
+    // Which balls each vertex lies on: its atom's ball and the balls that meet it (a point on
+    // the surface has power distance 0 to its own ball, so its atom is one of them). Squared
+    // distances against (R ± tolerance)²: no square root.
+    std::vector<Label> labels(nv);
     const std::size_t chunk = 4096;
     parallel_chunks((nv + chunk - 1) / chunk, threads, [&](std::size_t c) {
         for (std::size_t v = c * chunk; v < std::min(nv, (c + 1) * chunk); ++v) {
-            const std::uint32_t b = ball_of[mesh.atoms[v]];
-            if (b == kNone) continue;
+            const std::uint32_t a = mesh.atoms[v];
+            if (radius[a] == 0.0) continue;
             const double p[3] = {mesh.positions[3 * v], mesh.positions[3 * v + 1],
                                  mesh.positions[3 * v + 2]};
             Label& label = labels[v];
             auto test = [&](std::uint32_t k) {
-                const double* q = balls.centre(k);
-                const double dx = p[0] - q[0], dy = p[1] - q[1], dz = p[2] - q[2];
-                const double d = std::sqrt(dx * dx + dy * dy + dz * dz) - balls.radius(k);
-                if (std::abs(d) <= tolerance && label.count < label.ball.size())
+                const double dx = p[0] - atoms.xyz[3 * k], dy = p[1] - atoms.xyz[3 * k + 1],
+                             dz = p[2] - atoms.xyz[3 * k + 2];
+                const double d2 = dx * dx + dy * dy + dz * dz;
+                const double lo = std::max(0.0, radius[k] - tolerance), hi = radius[k] + tolerance;
+                if (d2 >= lo * lo && d2 <= hi * hi && label.count < label.ball.size())
                     label.ball[label.count++] = k;
             };
-            test(b);
-            for (const std::uint32_t* it = balls.neighbours_begin(b); it != balls.neighbours_end(b);
-                 ++it)
-                test(*it);
+            test(a);
+            for (const std::uint32_t k : near[a]) test(k);
         }
     });
 
@@ -113,7 +128,8 @@ std::vector<double> mesh_patch_areas(const Mesh& mesh, const Atoms& atoms,
                 if (!labels[v[1]].has(b) || !labels[v[2]].has(b)) continue;
                 // Along a crease (on two balls): the ball whose outward normal at the centroid
                 // is closest to the triangle's.
-                const double* q = balls.centre(b);
+                const double q[3] = {atoms.xyz[3 * std::size_t(b)], atoms.xyz[3 * std::size_t(b) + 1],
+                                     atoms.xyz[3 * std::size_t(b) + 2]};
                 const double g[3] = {(p[0][0] + p[1][0] + p[2][0]) / 3.0 - q[0],
                                      (p[0][1] + p[1][1] + p[2][1]) / 3.0 - q[1],
                                      (p[0][2] + p[1][2] + p[2][2]) / 3.0 - q[2]};
@@ -127,7 +143,7 @@ std::vector<double> mesh_patch_areas(const Mesh& mesh, const Atoms& atoms,
                 }
             }
             if (best != kNone) {
-                acc[atom_of[best]] += a;
+                acc[best] += a;
                 patches += a;
             } else {
                 for (int k = 0; k < 3; ++k) acc[mesh.atoms[v[k]]] += a / 3.0;
