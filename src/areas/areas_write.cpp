@@ -94,7 +94,8 @@ void check(const AreasReport& r) {
     if (r.atoms == nullptr || r.areas == nullptr)
         throw Error(ErrorCode::InvalidArgument, "write_areas: no atoms or areas");
     const std::size_t n = r.atoms->size();
-    if (r.areas->area.size() != n || (!r.areas->mesh_area.empty() && r.areas->mesh_area.size() != n))
+    if (r.areas->area.size() != n ||
+        (!r.areas->mesh_area.empty() && r.areas->mesh_area.size() != n))
         throw Error(ErrorCode::InvalidArgument, "write_areas: one area per atom needed");
     if (r.buried && (r.buried->complex.size() != n || r.buried->alone.area.size() != n))
         throw Error(ErrorCode::InvalidArgument,
@@ -138,8 +139,8 @@ void write_csv(const AreasReport& r, detail::AtomicFile& out) {
                 for (std::uint32_t i : res.atoms) alone += r.buried->alone.area[i];
             line = "residue,,," + csv_field(res.chain) + "," + std::to_string(res.number) + "," +
                    csv_field(icode(res.insertion_code)) + "," + csv_field(res.name) + ",,,,,,," +
-                   csv_field(res.atoms.empty() ? std::string() : bv.name(res.atoms.front())) +
-                   "," + number(res.area) + "," + (mesh ? number(res.mesh_area) : "") + "," +
+                   csv_field(res.atoms.empty() ? std::string() : bv.name(res.atoms.front())) + "," +
+                   number(res.area) + "," + (mesh ? number(res.mesh_area) : "") + "," +
                    (res.relative >= 0.0 ? number(res.relative) : "") + "," +
                    buried_cells(alone, res.area) + "\n";
             out.write(line);
@@ -153,8 +154,9 @@ void write_csv(const AreasReport& r, detail::AtomicFile& out) {
     if (r.buried) {
         const BuriedAreas& b = *r.buried;
         for (int g = 0; g < 2; ++g) {
-            line = "group,,,,,,,,,,,,," + csv_field(b.names[g]) + "," + number(b.area_in_complex[g]) +
-                   "," + (mesh ? number(b.mesh_area_in_complex[g]) : "") + ",," +
+            line = "group,,,,,,,,,,,,," + csv_field(b.names[g]) + "," +
+                   number(b.area_in_complex[g]) + "," +
+                   (mesh ? number(b.mesh_area_in_complex[g]) : "") + ",," +
                    buried_cells(b.area_alone[g], b.area_in_complex[g]) + "\n";
             out.write(line);
         }
@@ -193,9 +195,9 @@ void write_json(const AreasReport& r, detail::AtomicFile& out) {
     j += "  \"area_method\": \"" +
          std::string(a.exact ? "exact sphere patches" : "mesh by vertex atom") + "\",\n";
     j += "  \"mesh_split\": " +
-         std::string(!mesh       ? "null"
-                     : a.exact   ? "\"sphere patches, else vertex atoms\""
-                                 : "\"vertex atoms\"") +
+         std::string(!mesh     ? "null"
+                     : a.exact ? "\"sphere patches, else vertex atoms\""
+                               : "\"vertex atoms\"") +
          ",\n";
     j += "  \"relative_table\": " +
          (r.relative == RelativeTable::None ? std::string("null")
@@ -232,8 +234,8 @@ void write_json(const AreasReport& r, detail::AtomicFile& out) {
         for (const ResidueArea& res : *r.residues) {
             j = first ? "\n    " : ",\n    ";
             first = false;
-            j += "{\"chain\": " + json_string(res.chain) + ", \"number\": " +
-                 std::to_string(res.number) +
+            j += "{\"chain\": " + json_string(res.chain) +
+                 ", \"number\": " + std::to_string(res.number) +
                  ", \"insertion_code\": " + json_string(icode(res.insertion_code)) +
                  ", \"name\": " + json_string(res.name) +
                  ", \"atoms\": " + std::to_string(res.atoms.size()) +
@@ -260,8 +262,8 @@ void write_json(const AreasReport& r, detail::AtomicFile& out) {
         j += "{\"index\": " + std::to_string(i);
         if (meta) {
             const AtomMeta& m = atoms.meta[i];
-            j += ", \"serial\": " + std::to_string(m.serial) + ", \"name\": " + json_string(m.name) +
-                 ", \"chain\": " + json_string(m.chain) +
+            j += ", \"serial\": " + std::to_string(m.serial) +
+                 ", \"name\": " + json_string(m.name) + ", \"chain\": " + json_string(m.chain) +
                  ", \"residue_number\": " + std::to_string(m.residue_number) +
                  ", \"insertion_code\": " + json_string(icode(m.insertion_code)) +
                  ", \"residue_name\": " + json_string(m.residue_name);
@@ -289,10 +291,10 @@ AreasFormat areas_format_for_path(const std::string& path) {
     const std::string ext = lower_extension(path);
     if (ext == ".csv") return AreasFormat::Csv;
     if (ext == ".json") return AreasFormat::Json;
-    throw Error(ErrorCode::InvalidArgument,
-                "areas file '" + path + "': " +
-                    (ext.empty() ? std::string("no extension") : "unknown extension '" + ext + "'") +
-                    "; give FILE.csv or FILE.json");
+    throw Error(ErrorCode::InvalidArgument, "areas file '" + path + "': " +
+                                                (ext.empty() ? std::string("no extension")
+                                                             : "unknown extension '" + ext + "'") +
+                                                "; give FILE.csv or FILE.json");
 }
 
 void write_areas(const AreasReport& report, const std::string& path) {

@@ -39,7 +39,8 @@ std::vector<std::uint8_t> match_group(const Atoms& atoms, const std::string& tex
         std::vector<std::string> wanted;
         for (std::size_t start = 0;;) {
             const std::size_t comma = text.find(',', start);
-            wanted.push_back(text.substr(start, comma == std::string::npos ? comma : comma - start));
+            wanted.push_back(
+                text.substr(start, comma == std::string::npos ? comma : comma - start));
             if (comma == std::string::npos) break;
             start = comma + 1;
         }
@@ -96,16 +97,15 @@ std::vector<std::uint8_t> match_buried_groups(const Atoms& atoms, const std::str
                     std::to_string(atoms.size()) + " atoms");
     }
     if (shared != 0)
-        invalid("buried groups '" + names[0] + "' and '" + names[1] + "' overlap: " +
-                std::to_string(shared) + " atom" + (shared == 1 ? " is" : "s are") +
+        invalid("buried groups '" + names[0] + "' and '" + names[1] +
+                "' overlap: " + std::to_string(shared) + " atom" + (shared == 1 ? " is" : "s are") +
                 " in both; the groups must be disjoint");
     return group;
 }
 
 BuriedAreas buried_areas(Engine* engine, const Atoms& atoms, const std::vector<std::uint8_t>& group,
                          const std::array<std::string, 2>& names, const SurfaceOptions& options) {
-    if (group.size() != atoms.size())
-        invalid("buried_areas: one group entry per atom needed");
+    if (group.size() != atoms.size()) invalid("buried_areas: one group entry per atom needed");
     BuriedAreas out;
     out.names = names;
     out.group = group;

@@ -9,9 +9,9 @@
 #include <string>
 
 #include "areas/areas_detail.hpp"
+#include "core/cell_list.hpp"
 #include "core/parallel.hpp"
 #include "fdmsurf/error.hpp"
-#include "core/cell_list.hpp"
 
 namespace fdmsurf::detail {
 
@@ -43,11 +43,12 @@ std::vector<double> mesh_patch_areas(const Mesh& mesh, const Atoms& atoms,
                     "mesh_patch_areas: the mesh has no per-vertex atoms (Mesh::atoms)");
     for (std::uint32_t a : mesh.atoms)
         if (a >= n)
-            throw Error(ErrorCode::InvalidArgument,
-                        "mesh_patch_areas: vertex atom " + std::to_string(a) + " out of range (" +
-                            std::to_string(n) + " atoms)");
+            throw Error(ErrorCode::InvalidArgument, "mesh_patch_areas: vertex atom " +
+                                                        std::to_string(a) + " out of range (" +
+                                                        std::to_string(n) + " atoms)");
     for (std::uint32_t v : mesh.indices)
-        if (v >= nv) throw Error(ErrorCode::InvalidArgument, "mesh_patch_areas: index out of range");
+        if (v >= nv)
+            throw Error(ErrorCode::InvalidArgument, "mesh_patch_areas: index out of range");
 
     // Ball radii (0 for balls that vanish) and, per atom, the balls that meet its ball.
     constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
@@ -128,7 +129,8 @@ std::vector<double> mesh_patch_areas(const Mesh& mesh, const Atoms& atoms,
                 if (!labels[v[1]].has(b) || !labels[v[2]].has(b)) continue;
                 // Along a crease (on two balls): the ball whose outward normal at the centroid
                 // is closest to the triangle's.
-                const double q[3] = {atoms.xyz[3 * std::size_t(b)], atoms.xyz[3 * std::size_t(b) + 1],
+                const double q[3] = {atoms.xyz[3 * std::size_t(b)],
+                                     atoms.xyz[3 * std::size_t(b) + 1],
                                      atoms.xyz[3 * std::size_t(b) + 2]};
                 const double g[3] = {(p[0][0] + p[1][0] + p[2][0]) / 3.0 - q[0],
                                      (p[0][1] + p[1][1] + p[2][1]) / 3.0 - q[1],

@@ -21,10 +21,10 @@
 #include <vector>
 
 #include "areas/areas_detail.hpp"
+#include "core/cell_list.hpp"
 #include "core/parallel.hpp"
 #include "fdmsurf/areas.hpp"
 #include "fdmsurf/error.hpp"
-#include "core/cell_list.hpp"
 
 namespace fdmsurf {
 namespace detail {
@@ -85,7 +85,7 @@ struct OnCircle {
 struct Scratch {
     std::vector<std::uint8_t> dropped;
     std::vector<std::vector<std::uint32_t>> overlapping;  // per cap, the caps it meets
-    std::vector<std::vector<OnCircle>> around;             // per cap, its crossings
+    std::vector<std::vector<OnCircle>> around;            // per cap, its crossings
     std::vector<Crossing> crossings;
     std::vector<std::uint8_t> crossed;  // per cap: its circle crosses another
 };
@@ -134,7 +134,8 @@ double exposed_solid_angle(const std::vector<Cap>& caps, Scratch& w) {
     // that buried the last point is tried first: neighbouring points share it.
     std::uint32_t last = 0;
     auto buried_by = [&](const Vec& n, std::size_t j, std::size_t skip) {
-        if (last != skip && last < m && !w.dropped[last] && dot(n, caps[last].u) > caps[last].h + eps)
+        if (last != skip && last < m && !w.dropped[last] &&
+            dot(n, caps[last].u) > caps[last].h + eps)
             return true;
         for (const std::uint32_t k : w.overlapping[j])
             if (k != skip && !w.dropped[k] && dot(n, caps[k].u) > caps[k].h + eps) {
@@ -168,8 +169,8 @@ double exposed_solid_angle(const std::vector<Cap>& caps, Scratch& w) {
                 const std::uint32_t id = std::uint32_t(w.crossings.size());
                 w.crossings.push_back({n});
                 w.around[j].push_back({pseudo_angle(dot(n, a.e1), dot(n, a.e2)), id, k});
-                w.around[k].push_back({pseudo_angle(dot(n, b.e1), dot(n, b.e2)), id,
-                                       std::uint32_t(j)});
+                w.around[k].push_back(
+                    {pseudo_angle(dot(n, b.e1), dot(n, b.e2)), id, std::uint32_t(j)});
             }
         }
     }
@@ -276,8 +277,7 @@ std::vector<double> exact_ball_areas(const Atoms& atoms, double radius_add, doub
             bool buried = false;
             cells.for_each_near(ci, [&](std::uint32_t j) {
                 if (j == i || buried || radius[j] == 0.0) return;
-                const double cj[3] = {atoms.xyz[3 * j], atoms.xyz[3 * j + 1],
-                                      atoms.xyz[3 * j + 2]};
+                const double cj[3] = {atoms.xyz[3 * j], atoms.xyz[3 * j + 1], atoms.xyz[3 * j + 2]};
                 const double rj = radius[j];
                 const Vec e{cj[0] - ci[0], cj[1] - ci[1], cj[2] - ci[2]};
                 const double d2 = dot(e, e);
@@ -322,9 +322,9 @@ std::vector<double> exact_ball_areas(const Atoms& atoms, double radius_add, doub
 
 std::vector<double> atom_exact_areas(const Atoms& atoms, float probe) {
     if (!(probe >= 0.0f) || !std::isfinite(probe))
-        throw Error(ErrorCode::InvalidArgument,
-                    "atom_exact_areas: the probe radius must be >= 0 (got " +
-                        std::to_string(probe) + ")");
+        throw Error(
+            ErrorCode::InvalidArgument,
+            "atom_exact_areas: the probe radius must be >= 0 (got " + std::to_string(probe) + ")");
     return detail::exact_ball_areas(atoms, probe, 0.0);
 }
 

@@ -159,9 +159,9 @@ void check_areas_output(const std::string& path) {
     std::error_code ec;
     const fs::path parent = fs::path(path).parent_path();
     if (!parent.empty() && !fs::is_directory(parent, ec))
-        throw Error(ErrorCode::Io, "cannot write '" + path + "': '" + parent.string() +
-                                       (fs::exists(parent, ec) ? "' is not a folder"
-                                                               : "' does not exist"));
+        throw Error(ErrorCode::Io,
+                    "cannot write '" + path + "': '" + parent.string() +
+                        (fs::exists(parent, ec) ? "' is not a folder" : "' does not exist"));
     if (fs::is_directory(path, ec))
         throw Error(ErrorCode::Io, "cannot write '" + path + "': it is a folder");
 }
@@ -184,14 +184,13 @@ AreasPlan plan_areas(const CliOptions& options, const Structure& structure,
     const bool residues = atoms.meta.size() == atoms.size();
     if (options.relative != RelativeTable::None && !residues)
         throw Error(ErrorCode::InvalidArgument,
-                    input + ": --relative needs residues, and " +
-                        to_string(structure.info.format) +
+                    input + ": --relative needs residues, and " + to_string(structure.info.format) +
                         " input has none (only coordinates and radii): give PDB, mmCIF, PQR "
                         "or XYZRN");
     if (!options.buried.empty()) {
         try {
-            plan.groups = match_buried_groups(atoms, options.buried, plan.names,
-                                              structure.info.model);
+            plan.groups =
+                match_buried_groups(atoms, options.buried, plan.names, structure.info.model);
         } catch (const Error& e) {
             throw Error(ErrorCode::InvalidArgument, input + ": --buried: " + e.what());
         }
@@ -253,9 +252,9 @@ int areas_only(const CliOptions& options, const Structure& structure, double par
     }
     const std::string& input = options.inputs.front();
     if (structure.atoms.meta.size() != structure.atoms.size()) {
-        const std::string message =
-            "--areas: " + input + " has no residues (" + to_string(structure.info.format) +
-            " input): the file has per-atom and total areas only";
+        const std::string message = "--areas: " + input + " has no residues (" +
+                                    to_string(structure.info.format) +
+                                    " input): the file has per-atom and total areas only";
         print_warning(message);
         report.warnings.push_back(message);
     }
@@ -264,8 +263,8 @@ int areas_only(const CliOptions& options, const Structure& structure, double par
         const BuriedAreas buried =
             buried_areas(nullptr, structure.atoms, plan.groups, plan.names, options.surface);
         report.times.push_back({"areas", ms_since(t), false});
-        write_areas_file(options, input, "", buried.complex, buried.in_complex, &buried, 0.0,
-                         false, report);
+        write_areas_file(options, input, "", buried.complex, buried.in_complex, &buried, 0.0, false,
+                         report);
         report.atoms_outside_groups = plan.outside;
         report.atoms_used = buried.complex.size();
     } else {
@@ -301,9 +300,8 @@ std::size_t report_validation(Engine& engine) {
 // `read`: the structure when it was read already, with its parse time (< 0: report no parse
 // stage, for the second and later models of a file read once), else null.
 int run_one(const CliOptions& options, Engine& engine, Progress& progress, double init_ms,
-            const std::string& input, const std::string& output,
-            const Structure* read = nullptr, double parse_ms = 0.0,
-            const AreasPlan* areas_plan = nullptr) {
+            const std::string& input, const std::string& output, const Structure* read = nullptr,
+            double parse_ms = 0.0, const AreasPlan* areas_plan = nullptr) {
     const auto start = Clock::now();
     RunReport report;
     auto warn = [&report, &progress](const std::string& message) {

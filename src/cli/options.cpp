@@ -618,24 +618,28 @@ CliOptions parse_args(const std::vector<std::string>& args) {
             fail("--buried writes the buried areas into --areas FILE: give --areas too");
     } else {
         if (o.inputs.size() > 1 || o.all_models)
-            fail("--areas writes one file for one structure: give one INPUT (and no --models "
-                 "all)");
+            fail(
+                "--areas writes one file for one structure: give one INPUT (and no --models "
+                "all)");
         if (o.output.empty() && o.surface.surface == SurfaceKind::Ses)
-            fail("--areas without -o computes no mesh, which the ses areas come from (the "
-                 "vdw and sas areas are exact without one): give -o OUTPUT, or --surface sas");
+            fail(
+                "--areas without -o computes no mesh, which the ses areas come from (the "
+                "vdw and sas areas are exact without one): give -o OUTPUT, or --surface sas");
         if (!o.buried.empty() && !o.patch.empty())
             fail("--buried compares whole surfaces; it cannot go with --patch");
         if (!o.buried.empty() && o.simplify_requested)
-            fail("--buried compares the full surfaces; it cannot go with --simplify or "
-                 "--max-triangles");
+            fail(
+                "--buried compares the full surfaces; it cannot go with --simplify or "
+                "--max-triangles");
         if (!o.output.empty() && o.output != kStdio && o.output == o.areas)
             fail("--areas and -o name the same file '" + o.areas + "'");
     }
     if (o.output.empty() && !o.areas.empty()) {
         // Areas only: the exact sphere patches, no mesh and no device.
         if (o.simplify_requested || o.optimize || !o.patch.empty() || o.surface.refine != 0)
-            fail("--simplify, --max-triangles, --optimize, --patch and --refine act on the mesh; "
-                 "without -o none is computed");
+            fail(
+                "--simplify, --max-triangles, --optimize, --patch and --refine act on the mesh; "
+                "without -o none is computed");
         return o;
     }
     if (o.output.empty())

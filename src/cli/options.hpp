@@ -45,8 +45,8 @@ struct CliOptions {
 
 // Parses the arguments after the program name. `--name value` and `--name=value` are both
 // accepted; `--` ends the options. Throws Error(InvalidArgument) naming the offending option.
-// With --help, --version or --list-devices no INPUT or -o is required; with --areas no -o. Several INPUTs need -o
-// to name a folder, and so does --models all.
+// With --help, --version or --list-devices no INPUT or -o is required; with --areas no -o. Several
+// INPUTs need -o to name a folder, and so does --models all.
 CliOptions parse_args(const std::vector<std::string>& args);
 
 // The INPUT and OUTPUT that stand for standard input and standard output.

@@ -52,7 +52,7 @@ struct RunReport {
     double areas_on_patches = 0.0;   // Å² of it split by sphere patch
     std::size_t areas_residues = 0;
     // --buried: the groups, the area the complex buries, and the atoms in neither group.
-    std::string buried;  // "A:B"; empty: not asked for
+    std::string buried;                     // "A:B"; empty: not asked for
     std::array<double, 2> buried_groups{};  // Å² buried per group
     double buried_area = 0.0;
     double buried_mesh_area = -1.0;  // < 0: no mesh
@@ -133,16 +133,17 @@ inline std::string areas_lines(const RunReport& r) {
         s += "; the mesh " + format_grouped(r.areas_mesh_total, 1) + " Å², " +
              format_grouped(share, 1) + "% of it split by sphere patch";
     }
-    s += ") per atom" + std::string(r.areas_residues ? " and residue (" +
-                                                           format_count(r.areas_residues) + ")"
-                                                     : "") +
+    s += ") per atom" +
+         std::string(r.areas_residues ? " and residue (" + format_count(r.areas_residues) + ")"
+                                      : "") +
          ": " + r.areas_file + "\n";
     if (!r.buried.empty()) {
         const std::size_t colon = r.buried.find(':');
         s += "  buried       " + format_grouped(r.buried_area, 1) + " Å² between " +
              r.buried.substr(0, colon) + " and " + r.buried.substr(colon + 1) + " (" +
              format_grouped(r.buried_groups[0], 1) + " + " + format_grouped(r.buried_groups[1], 1);
-        if (r.buried_mesh_area >= 0.0) s += "; mesh " + format_grouped(r.buried_mesh_area, 1) + " Å²";
+        if (r.buried_mesh_area >= 0.0)
+            s += "; mesh " + format_grouped(r.buried_mesh_area, 1) + " Å²";
         s += ")";
         if (r.atoms_outside_groups)
             s += "; " + format_count(r.atoms_outside_groups) + " atoms in neither group left out";
@@ -375,7 +376,8 @@ inline std::string areas_only_text(const RunReport& r) {
          format_count(r.info.atoms_in_file) + " in file)\n";
     s += areas_lines(r);
     s += "  time (ms)    ";
-    for (const StageTime& t : merge_times(r.times)) s += t.name + " " + format_grouped(t.ms, 1) + " | ";
+    for (const StageTime& t : merge_times(r.times))
+        s += t.name + " " + format_grouped(t.ms, 1) + " | ";
     s += "total " + format_grouped(r.total_ms, 1) + "\n";
     return s;
 }

@@ -178,9 +178,9 @@ TEST(AreasFile, CsvAndJsonLayouts) {
     EXPECT_EQ(res0.find("max_area")->number, 160.0);
     EXPECT_NEAR(json->find("buried")->find("buried_area")->number, b.buried(), 1e-3);
     const auto& atom0 = json->find("atoms")->array[0];
-    for (const char* key : {"index", "serial", "name", "chain", "residue_number", "insertion_code",
-                            "residue_name", "element", "xyz", "radius", "area", "mesh_area",
-                            "group", "area_alone", "buried_area"})
+    for (const char* key :
+         {"index", "serial", "name", "chain", "residue_number", "insertion_code", "residue_name",
+          "element", "xyz", "radius", "area", "mesh_area", "group", "area_alone", "buried_area"})
         EXPECT_NE(atom0.find(key), nullptr) << key;
 }
 

@@ -28,7 +28,7 @@ std::string scratch() {
 }
 
 struct Agreement {
-    double total_error = 0;  // relative
+    double total_error = 0;                                    // relative
     double residue_mad = 0, residue_p99 = 0, residue_max = 0;  // Å²
     double atom_mad = 0, atom_max = 0;                         // Å²
 };
@@ -50,7 +50,8 @@ Agreement compare(const Atoms& atoms, const std::vector<double>& ours,
     AtomAreas mine, theirs;
     mine.area = ours;
     theirs.area = reference;
-    const std::vector<ResidueArea> rm = residue_areas(atoms, mine), rt = residue_areas(atoms, theirs);
+    const std::vector<ResidueArea> rm = residue_areas(atoms, mine),
+                                   rt = residue_areas(atoms, theirs);
     std::vector<double> d;
     for (std::size_t k = 0; k < rm.size(); ++k) d.push_back(std::abs(rm[k].area - rt[k].area));
     a.residue_mad = std::accumulate(d.begin(), d.end(), 0.0) / double(d.size());
@@ -123,11 +124,12 @@ TEST(AreasFreesasa, HaemoglobinInterfacesMatchChainGroups) {
         const std::vector<std::uint8_t> g = match_buried_groups(atoms, spec, names);
         const BuriedAreas b = buried_areas(nullptr, atoms, g, names, options);
         const double reference = t[0] + t[1] - t[2];
-        std::printf("  4HHB %s: buried %.1f Å² (alone %.1f + %.1f, complex %.1f), FreeSASA %.1f Å² "
-                    "(%.1f + %.1f, %.1f): %+.3f%%\n",
-                    spec.c_str(), b.buried(), b.area_alone[0], b.area_alone[1],
-                    b.area_in_complex[0] + b.area_in_complex[1], reference, t[0], t[1], t[2],
-                    100 * (b.buried() / reference - 1));
+        std::printf(
+            "  4HHB %s: buried %.1f Å² (alone %.1f + %.1f, complex %.1f), FreeSASA %.1f Å² "
+            "(%.1f + %.1f, %.1f): %+.3f%%\n",
+            spec.c_str(), b.buried(), b.area_alone[0], b.area_alone[1],
+            b.area_in_complex[0] + b.area_in_complex[1], reference, t[0], t[1], t[2],
+            100 * (b.buried() / reference - 1));
         EXPECT_NEAR(b.area_alone[0], t[0], 5e-4 * t[0]);
         EXPECT_NEAR(b.area_alone[1], t[1], 5e-4 * t[1]);
         EXPECT_NEAR(b.area_in_complex[0] + b.area_in_complex[1], t[2], 5e-4 * t[2]);

@@ -54,7 +54,8 @@ TEST(AtomExactAreas, OneAndTwoBallsAreTheirClosedForms) {
 TEST(AtomExactAreas, ThreeBallsWithCornersMatchGaussBonnet) {
     // The middle ball's two caps overlap (the spheres meet at two corners): sphere less both
     // caps plus their overlap (ball_union.hpp's closed form, itself checked by Monte Carlo).
-    const std::vector<test::Ball> balls{{{0, 0, 0}, 1.7}, {{2.2, 0.6, 0}, 1.6}, {{0.9, 2.1, 0.4}, 1.8}};
+    const std::vector<test::Ball> balls{
+        {{0, 0, 0}, 1.7}, {{2.2, 0.6, 0}, 1.6}, {{0.9, 2.1, 0.4}, 1.8}};
     Atoms atoms;
     for (const test::Ball& b : balls) {
         atoms.xyz.insert(atoms.xyz.end(), {float(b.c[0]), float(b.c[1]), float(b.c[2])});
@@ -95,8 +96,8 @@ TEST(AtomExactAreas, CoveredTwinsAndContainedBallsHaveNone) {
                                 {0, 0, 1.2f, 1.6f},
                                 {0, 0, -1.2f, 1.6f}});
     EXPECT_EQ(atom_exact_areas(covered, 0.0f)[0], 0.0);
-    const Atoms atoms = make_atoms({{0, 0, 0, 1.5f}, {0, 0, 0, 1.5f}, {10, 0, 0, 2.0f},
-                                    {10.2f, 0, 0, 0.5f}});
+    const Atoms atoms =
+        make_atoms({{0, 0, 0, 1.5f}, {0, 0, 0, 1.5f}, {10, 0, 0, 2.0f}, {10.2f, 0, 0, 0.5f}});
     const std::vector<double> a = atom_exact_areas(atoms, 1.4f);
     EXPECT_NEAR(a[0], 4 * kPi * ball(1.5f, 1.4f) * ball(1.5f, 1.4f), 1e-12 * a[0]);
     EXPECT_EQ(a[1], 0.0);
@@ -140,8 +141,10 @@ TEST(AtomExactAreas, CrambinMatchesFineSampling) {
     const std::vector<double> fine = atom_sas_areas(atoms, 1.4f, 20000);
     EXPECT_NEAR(sum(exact), sum(fine), 2e-4 * sum(fine));
     double worst = 0.0;
-    for (std::size_t i = 0; i < atoms.size(); ++i) worst = std::max(worst, std::abs(exact[i] - fine[i]));
+    for (std::size_t i = 0; i < atoms.size(); ++i)
+        worst = std::max(worst, std::abs(exact[i] - fine[i]));
     EXPECT_LT(worst, 0.3);
-    std::printf("  1CRN SASA exact %.2f Å², Shrake-Rupley 20,000 points %.2f Å², worst atom %.3f Å²\n",
-                sum(exact), sum(fine), worst);
+    std::printf(
+        "  1CRN SASA exact %.2f Å², Shrake-Rupley 20,000 points %.2f Å², worst atom %.3f Å²\n",
+        sum(exact), sum(fine), worst);
 }

@@ -31,9 +31,9 @@ TEST(CliAreas, BadOptionsAreUsageErrors) {
     EXPECT_TRUE(contains(parse_error_with({"--areas", "a.csv", "--buried", "AB"}), "one ':'"));
     EXPECT_TRUE(contains(parse_error_with({"--areas", "a.csv", "--buried", "A:B", "--patch", "A"}),
                          "--patch"));
-    EXPECT_TRUE(contains(
-        parse_error_with({"--areas", "a.csv", "--buried", "A:B", "--simplify", "0.5"}),
-        "--simplify"));
+    EXPECT_TRUE(
+        contains(parse_error_with({"--areas", "a.csv", "--buried", "A:B", "--simplify", "0.5"}),
+                 "--simplify"));
     EXPECT_TRUE(contains(parse_error_with({"--areas", "out.ply"}), "unknown extension"));
     try {
         fdmsurf::cli::parse_args({"in.pdb", "--areas", "a.csv"});  // ses needs the mesh
@@ -51,8 +51,8 @@ TEST(CliAreas, BadOptionsAreUsageErrors) {
 
 TEST(CliAreas, HelpDescribesTheOptions) {
     const std::string help = fdmsurf::cli::usage_text();
-    for (const char* text : {"--areas FILE", "--relative TABLE", "--buried G1:G2", "tien2013",
-                             "docs/areas.md"})
+    for (const char* text :
+         {"--areas FILE", "--relative TABLE", "--buried G1:G2", "tien2013", "docs/areas.md"})
         EXPECT_TRUE(contains(help, text)) << text;
 }
 
@@ -67,15 +67,16 @@ TEST_F(CliAreasRun, StructureErrorsComeBeforeTheDevice) {
     const std::string mesh = path("m.ply"), areas = path("a.json");
     expect_failure(run({data("4hhb.pdb.gz"), "-o", mesh, "--surface", "sas", "--areas", areas,
                         "--buried", "A:Q", "--device", "no-such-device"}),
-                   2, {"--buried", "chain Q is not in the structure", "chains present: A, B, C, D"});
+                   2,
+                   {"--buried", "chain Q is not in the structure", "chains present: A, B, C, D"});
     expect_failure(run({data("4hhb.pdb.gz"), "-o", mesh, "--areas", areas, "--buried", "A,B:B",
                         "--device", "no-such-device"}),
                    2, {"overlap"});
     expect_failure(run({data("4hhb.pdb.gz"), "-o", mesh, "--areas", areas, "--buried",
                         "A:B/2000-3000", "--device", "no-such-device"}),
                    2, {"selects none of the"});
-    expect_failure(run({data("1crn.xyzr"), "-o", mesh, "--areas", areas, "--relative",
-                        "tien2013", "--device", "no-such-device"}),
+    expect_failure(run({data("1crn.xyzr"), "-o", mesh, "--areas", areas, "--relative", "tien2013",
+                        "--device", "no-such-device"}),
                    2, {"--relative needs residues", "xyzr"});
     expect_failure(run({data("1crn.xyzr"), "-o", mesh, "--areas", areas, "--buried", "A:B",
                         "--device", "no-such-device"}),
@@ -102,8 +103,8 @@ TEST_F(CliAreasRun, AreasAloneNeedNoDevice) {
     EXPECT_TRUE(lines[328].rfind("residue,,,A,1,,THR,", 0) == 0) << lines[328];
     EXPECT_TRUE(contains(lines[328], ",,0.")) << lines[328];
     // XYZR: per atom and in total, with a warning.
-    const CliRun x = run({data("1crn.xyzr"), "--surface", "vdw", "--areas", path("x.json"),
-                          "--stats", "json"});
+    const CliRun x =
+        run({data("1crn.xyzr"), "--surface", "vdw", "--areas", path("x.json"), "--stats", "json"});
     ASSERT_EQ(x.exit_code, 0) << x.err;
     EXPECT_TRUE(contains(x.err, "per-atom and total areas only")) << x.err;
     const auto summary = parse_json(x.out);

@@ -57,7 +57,6 @@ inline double freesasa_total(const Atoms& atoms, double probe, const std::string
     return colon == std::string::npos ? -1.0 : std::atof(text.c_str() + colon + 1);
 }
 
-
 // Writes `atoms` as a PDB file for FreeSASA: ATOM records with their chain, residue and atom
 // names (generic ones for atoms without metadata) and the radius in the occupancy column.
 // Chains must be one character long.
@@ -70,14 +69,14 @@ inline void write_freesasa_pdb(const Atoms& atoms, const std::string& pdb) {
         if (name.size() < 4) name = " " + name;
         const std::string res = meta ? atoms.meta[i].residue_name.substr(0, 3) : "ALA";
         const char chain = meta && !atoms.meta[i].chain.empty() ? atoms.meta[i].chain[0]
-                                                                 : char('A' + (i / 100000) % 26);
+                                                                : char('A' + (i / 100000) % 26);
         const int number = meta ? atoms.meta[i].residue_number : int((i / 10) % 10000);
         const char icode = meta ? atoms.meta[i].insertion_code : ' ';
         std::snprintf(line, sizeof line,
                       "ATOM  %5zu %-4.4s %3s %c%4d%c   %8.3f%8.3f%8.3f%6.2f%6.2f          %2s\n",
                       (i + 1) % 100000, name.c_str(), res.c_str(), chain, number % 10000, icode,
-                      atoms.xyz[3 * i], atoms.xyz[3 * i + 1], atoms.xyz[3 * i + 2],
-                      atoms.radius[i], 0.0, "C");
+                      atoms.xyz[3 * i], atoms.xyz[3 * i + 1], atoms.xyz[3 * i + 2], atoms.radius[i],
+                      0.0, "C");
         out << line;
     }
     out << "END\n";
@@ -144,10 +143,10 @@ inline std::vector<double> freesasa_chain_groups(const Atoms& atoms, double prob
     int status = 0;
     char probe_text[32];
     std::snprintf(probe_text, sizeof probe_text, "%g", probe);
-    const std::string text = run_capture("freesasa --lee-richards --resolution 100 --probe-radius " +
-                                             std::string(probe_text) + " --chain-groups=" +
-                                             groups + " '" + pdb + "' 2>/dev/null",
-                                         status);
+    const std::string text = run_capture(
+        "freesasa --lee-richards --resolution 100 --probe-radius " + std::string(probe_text) +
+            " --chain-groups=" + groups + " '" + pdb + "' 2>/dev/null",
+        status);
     std::filesystem::remove(pdb);
     std::vector<double> totals;
     if (status != 0) return totals;

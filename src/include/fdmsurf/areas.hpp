@@ -93,13 +93,13 @@ std::vector<ResidueArea> residue_areas(const Atoms& atoms, const AtomAreas& area
 // Buried interface area between two groups of atoms: each group's surface alone against their
 // complex (the union of the two groups), the three surfaces computed on one engine.
 struct BuriedAreas {
-    std::array<std::string, 2> names;    // the groups as given ("A", "B,D", "A/1-50")
-    std::vector<std::uint8_t> group;     // per atom of `atoms`: 1 or 2, 0 in neither group
-    Atoms complex;                       // the atoms of both groups, in input order
+    std::array<std::string, 2> names;          // the groups as given ("A", "B,D", "A/1-50")
+    std::vector<std::uint8_t> group;           // per atom of `atoms`: 1 or 2, 0 in neither group
+    Atoms complex;                             // the atoms of both groups, in input order
     std::vector<std::uint32_t> complex_atoms;  // their indices in `atoms`
-    SurfaceResult complex_surface;       // make_surface(complex); empty in areas-only mode
-    AtomAreas in_complex;                // per atom of `complex`
-    AtomAreas alone;                     // per atom of `complex`, each in its own group's surface
+    SurfaceResult complex_surface;             // make_surface(complex); empty in areas-only mode
+    AtomAreas in_complex;                      // per atom of `complex`
+    AtomAreas alone;  // per atom of `complex`, each in its own group's surface
     std::array<std::size_t, 2> atom_count{};
     std::array<double, 2> area_alone{};       // Å², AtomAreas::area summed per group
     std::array<double, 2> area_in_complex{};  // Å²
@@ -134,10 +134,10 @@ BuriedAreas buried_areas(Engine* engine, const Atoms& atoms, const std::vector<s
 // not asked for; its per-atom arrays index `atoms`.
 struct AreasReport {
     std::string input;
-    std::string output;        // the mesh written, "" in areas-only mode
-    SurfaceOptions surface;    // kind, probe, spacing, method
-    bool has_mesh = false;     // false: areas-only (exact sphere patches, no mesh)
-    double mesh_area = 0.0;    // Å², the written mesh's area (compute_stats)
+    std::string output;      // the mesh written, "" in areas-only mode
+    SurfaceOptions surface;  // kind, probe, spacing, method
+    bool has_mesh = false;   // false: areas-only (exact sphere patches, no mesh)
+    double mesh_area = 0.0;  // Å², the written mesh's area (compute_stats)
     RelativeTable relative = RelativeTable::None;
     const Atoms* atoms = nullptr;
     const AtomAreas* areas = nullptr;
