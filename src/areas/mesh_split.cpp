@@ -15,21 +15,6 @@
 
 namespace fdmsurf::detail {
 
-namespace {
-
-// The balls (atom indices) a vertex lies on; at most four kept.
-struct Label {
-    std::array<std::uint32_t, 4> ball{};
-    std::uint8_t count = 0;
-    bool has(std::uint32_t b) const {
-        for (std::uint8_t k = 0; k < count; ++k)
-            if (ball[k] == b) return true;
-        return false;
-    }
-};
-
-}  // namespace
-
 std::vector<double> mesh_patch_areas(const Mesh& mesh, const Atoms& atoms,
                                      const BallParameters& params, double tolerance,
                                      double* on_patches) {
@@ -50,7 +35,7 @@ std::vector<double> mesh_patch_areas(const Mesh& mesh, const Atoms& atoms,
         if (v >= nv)
             throw Error(ErrorCode::InvalidArgument, "mesh_patch_areas: index out of range");
 
-    // Ball radii (0 for balls that vanish) and, per atom, the balls that meet its ball.
+    // Ball radii, 0 for balls that vanish.
     constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
     std::vector<double> radius(n, 0.0);
     double r_max = 0.0;
@@ -60,50 +45,21 @@ std::vector<double> mesh_patch_areas(const Mesh& mesh, const Atoms& atoms,
         r_max = std::max(r_max, radius[i]);
     }
     if (r_max == 0.0) return area;
-    const CellList cells = make_cell_list(atoms.xyz, 2.0 * r_max + tolerance);
+    // Cells of r_max: the balls a point can lie on are in the 27 cells around it.
+    const CellList cells = make_cell_list(atoms.xyz, r_max + tolerance);
+
+    // Whether point p lies on ball k (squared distances against (R ± tolerance)²).
+    auto on_ball = [&](const double* p, std::uint32_t k) {
+        if (radius[k] == 0.0) return false;
+        const double dx = p[0] - atoms.xyz[3 * std::size_t(k)],
+                     dy = p[1] - atoms.xyz[3 * std::size_t(k) + 1],
+                     dz = p[2] - atoms.xyz[3 * std::size_t(k) + 2];
+        const double d2 = dx * dx + dy * dy + dz * dz;
+        const double lo = std::max(0.0, radius[k] - tolerance), hi = radius[k] + tolerance;
+        return d2 >= lo * lo && d2 <= hi * hi;
+    };
+
     const unsigned threads = thread_count();
-    std::vector<std::vector<std::uint32_t>> near(n);
-    parallel_chunks((n + 255) / 256, threads, [&](std::size_t c) {
-        for (std::size_t i = 256 * c; i < std::min(n, 256 * (c + 1)); ++i) {
-            if (radius[i] == 0.0) continue;
-            const double p[3] = {atoms.xyz[3 * i], atoms.xyz[3 * i + 1], atoms.xyz[3 * i + 2]};
-            cells.for_each_near(p, [&](std::uint32_t j) {
-                if (j == i || radius[j] == 0.0) return;
-                const double dx = p[0] - atoms.xyz[3 * j], dy = p[1] - atoms.xyz[3 * j + 1],
-                             dz = p[2] - atoms.xyz[3 * j + 2];
-                // Touching within the tolerance: a point on both spheres must see both.
-                const double reach = radius[i] + radius[j] + 2.0 * tolerance;
-                if (dx * dx + dy * dy + dz * dz < reach * reach) near[i].push_back(j);
-            });
-        }
-    });
-
-    // Which balls each vertex lies on: its atom's ball and the balls that meet it (a point on
-    // the surface has power distance 0 to its own ball, so its atom is one of them). Squared
-    // distances against (R ± tolerance)²: no square root.
-    std::vector<Label> labels(nv);
-    const std::size_t chunk = 4096;
-    parallel_chunks((nv + chunk - 1) / chunk, threads, [&](std::size_t c) {
-        for (std::size_t v = c * chunk; v < std::min(nv, (c + 1) * chunk); ++v) {
-            const std::uint32_t a = mesh.atoms[v];
-            if (radius[a] == 0.0) continue;
-            const double p[3] = {mesh.positions[3 * v], mesh.positions[3 * v + 1],
-                                 mesh.positions[3 * v + 2]};
-            Label& label = labels[v];
-            auto test = [&](std::uint32_t k) {
-                const double dx = p[0] - atoms.xyz[3 * k], dy = p[1] - atoms.xyz[3 * k + 1],
-                             dz = p[2] - atoms.xyz[3 * k + 2];
-                const double d2 = dx * dx + dy * dy + dz * dz;
-                const double lo = std::max(0.0, radius[k] - tolerance), hi = radius[k] + tolerance;
-                if (d2 >= lo * lo && d2 <= hi * hi && label.count < label.ball.size())
-                    label.ball[label.count++] = k;
-            };
-            test(a);
-            for (const std::uint32_t k : near[a]) test(k);
-        }
-    });
-
-    // Triangles, in one block per thread with its own sums.
     std::vector<std::vector<double>> partial(threads, std::vector<double>(n, 0.0));
     std::vector<double> patch_sum(threads, 0.0);
     const std::size_t block = (nt + threads - 1) / threads;
@@ -120,30 +76,39 @@ std::vector<double> mesh_patch_areas(const Mesh& mesh, const Atoms& atoms,
             const double nx = e1[1] * e2[2] - e1[2] * e2[1], ny = e1[2] * e2[0] - e1[0] * e2[2],
                          nz = e1[0] * e2[1] - e1[1] * e2[0];
             const double a = 0.5 * std::sqrt(nx * nx + ny * ny + nz * nz);
-            // The balls all three vertices lie on.
+            // The balls that all three vertices lie on: first among the vertices' own atoms (a
+            // point of the surface has power distance 0 to its atom's ball, so its atom is one
+            // of its balls; inside a patch all three are that patch's), else among every ball
+            // near the first vertex (a triangle whose corners are all on creases).
+            const std::array<std::uint32_t, 3> candidates{mesh.atoms[v[0]], mesh.atoms[v[1]],
+                                                          mesh.atoms[v[2]]};
+            auto fits = [&](std::uint32_t b) {
+                return on_ball(p[0], b) && on_ball(p[1], b) && on_ball(p[2], b);
+            };
             std::uint32_t best = kNone;
             double best_align = -2.0;
-            const Label& l0 = labels[v[0]];
-            for (std::uint8_t k = 0; k < l0.count; ++k) {
-                const std::uint32_t b = l0.ball[k];
-                if (!labels[v[1]].has(b) || !labels[v[2]].has(b)) continue;
+            auto consider = [&](std::uint32_t b) {
+                if (b == best || !fits(b)) return;
                 // Along a crease (on two balls): the ball whose outward normal at the centroid
                 // is closest to the triangle's.
-                const double q[3] = {atoms.xyz[3 * std::size_t(b)],
-                                     atoms.xyz[3 * std::size_t(b) + 1],
-                                     atoms.xyz[3 * std::size_t(b) + 2]};
-                const double g[3] = {(p[0][0] + p[1][0] + p[2][0]) / 3.0 - q[0],
-                                     (p[0][1] + p[1][1] + p[2][1]) / 3.0 - q[1],
-                                     (p[0][2] + p[1][2] + p[2][2]) / 3.0 - q[2]};
+                const double* c = &atoms.xyz[3 * std::size_t(b)];
+                const double g[3] = {(p[0][0] + p[1][0] + p[2][0]) / 3.0 - c[0],
+                                     (p[0][1] + p[1][1] + p[2][1]) / 3.0 - c[1],
+                                     (p[0][2] + p[1][2] + p[2][2]) / 3.0 - c[2]};
                 const double gl = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
-                const double nl = 2.0 * a;
-                const double align =
-                    gl > 0.0 && nl > 0.0 ? (g[0] * nx + g[1] * ny + g[2] * nz) / (gl * nl) : -1.0;
+                const double align = gl > 0.0 && a > 0.0
+                                         ? (g[0] * nx + g[1] * ny + g[2] * nz) / (gl * 2.0 * a)
+                                         : -1.0;
                 if (best == kNone || align > best_align) {
                     best = b;
                     best_align = align;
                 }
-            }
+            };
+            for (const std::uint32_t b : candidates) consider(b);
+            if (best == kNone)
+                cells.for_each_near(p[0], [&](std::uint32_t b) {
+                    if (b != candidates[0] && b != candidates[1] && b != candidates[2]) consider(b);
+                });
             if (best != kNone) {
                 acc[best] += a;
                 patches += a;
