@@ -106,6 +106,7 @@ def main():
     ap.add_argument("--spacings", default="0.5")
     ap.add_argument("--buried", default="", help="chain groups G1:G2, separated by ';'")
     ap.add_argument("--fdmsurf", default=os.path.join(ROOT, "build", "fdmsurf"))
+    ap.add_argument("--extra", default="", help="more fdmsurf options for the surfaces, e.g. '--refine 1'")
     ap.add_argument("--json", help="write every figure to this file")
     args = ap.parse_args()
     results = []
@@ -119,6 +120,7 @@ def main():
                     csv_path = os.path.join(tmp, "a.csv")
                     cmd = [args.fdmsurf, path, "--surface", surface, "--spacing", h, "-o",
                            os.path.join(tmp, "m.ply"), "--areas", csv_path, "--stats", "json"]
+                    cmd += args.extra.split()
                     t0 = time.time()
                     run = subprocess.run(cmd, check=True, capture_output=True, text=True)
                     wall = time.time() - t0
@@ -136,6 +138,7 @@ def main():
                     rid = np.array([index.setdefault(k, len(index)) for k in keys])
                     res = lambda v: np.bincount(rid, v, len(index))
                     row = {"structure": name, "surface": surface, "spacing": float(h),
+                           "extra": args.extra,
                            "atoms": len(atoms), "residues": len(index), "fdmsurf_s": wall,
                            "freesasa_s": fs_time, "mesh_area": summary["area"]}
                     for label, v in (("exact", exact), ("mesh", mesh)):
@@ -145,9 +148,10 @@ def main():
                     results.append(row)
                     for label in ("exact", "mesh"):
                         s = row[label]
-                        print("%-5s %s %s Å %-5s total %11.1f vs %11.1f (%+.3f%%)  residue MAD %.3f "
+                        print("%-5s %s %s Å%s %-5s total %11.1f vs %11.1f (%+.3f%%)  residue MAD %.3f "
                               "p99 %.3f max %.2f  atom MAD %.3f p99 %.3f Å²"
-                              % (name, surface, h, label, s["total"], s["reference"],
+                              % (name, surface, h, (" " + args.extra) if args.extra else "",
+                                 label, s["total"], s["reference"],
                                  100 * s["dA"], s["residue_mad"], s["residue_p99"],
                                  s["residue_max"], s["atom_mad"], s["atom_p99"]), flush=True)
             if args.buried:

@@ -91,7 +91,9 @@ std::vector<double> mesh_patch_areas(const Mesh& mesh, const Atoms& atoms,
                 if (b == best || !fits(b)) return;
                 // Along a crease (on two balls): the ball whose outward normal at the centroid
                 // is closest to the triangle's.
-                const double* c = &atoms.xyz[3 * std::size_t(b)];
+                const double c[3] = {atoms.xyz[3 * std::size_t(b)],
+                                     atoms.xyz[3 * std::size_t(b) + 1],
+                                     atoms.xyz[3 * std::size_t(b) + 2]};
                 const double g[3] = {(p[0][0] + p[1][0] + p[2][0]) / 3.0 - c[0],
                                      (p[0][1] + p[1][1] + p[2][1]) / 3.0 - c[1],
                                      (p[0][2] + p[1][2] + p[2][2]) / 3.0 - c[2]};
