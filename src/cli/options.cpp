@@ -817,7 +817,9 @@ Output:
 Exit codes:
   0  success
   1  unexpected failure (a bug in fdmsurf)
-  2  invalid command line or option value, unknown output extension
+  2  invalid command line or option value, unknown output extension (or
+     --areas extension), --buried groups that name a missing chain, select
+     no atom or overlap, --relative or --buried on input without residues
   3  input or output error: unreadable or malformed structure, no atoms
      selected, output file or folder not writable, standard output closed
      (a broken pipe)
