@@ -772,25 +772,6 @@ Mesh size and order (docs/mesh.md, "Simplification"):
   --optimize             reorder triangles and vertices for the GPU's vertex
                          cache and fetch (the same triangles); after --simplify
 
-Areas (docs/areas.md):
-  --areas FILE           write the area of the surface per atom, per residue
-                         (chain, number, insertion code, name) and in total to
-                         FILE, as .csv or .json by its extension. vdw and sas:
-                         the exact area of each atom's sphere patch (sas: the
-                         SASA), beside the written mesh's own area split by
-                         sphere patch; ses: the mesh's area split by the atom
-                         of each vertex. Without -o: no mesh, no device (vdw
-                         and sas only)
-  --relative TABLE       add each residue's area relative to its maximum in a
-                         published table: tien2013 (Tien et al. 2013,
-                         theoretical), miller1987 or sander1994 (with --areas)
-  --buried G1:G2         the buried interface area between two groups of atoms,
-                         each a list of chain ids (A:B, A,C:B,D) or a gemmi
-                         selection ('A/1-50:B'): each group's surface alone
-                         against their complex, whose surface is the one
-                         written (atoms in neither group are left out); per
-                         atom, per residue and in total (with --areas)
-
 Device:
   --device INDEX|NAME    Vulkan device: an index from --list-devices or part of
                          its name (default: the first usable one, discrete first)
@@ -813,6 +794,25 @@ Output:
                          json still prints its JSON)
   -h, --help             print this help and exit
   --version              print the version and exit
+
+Areas (docs/areas.md):
+  --areas FILE           write the area of the surface per atom, per residue
+                         (chain, number, insertion code, name) and in total to
+                         FILE, as .csv or .json by its extension. vdw and sas:
+                         the exact area of each atom's sphere patch (sas: the
+                         SASA), beside the written mesh's own area split by
+                         sphere patch; ses: the mesh's area split by the atom
+                         of each vertex. Without -o: no mesh, no device (vdw
+                         and sas only)
+  --relative TABLE       add each residue's area relative to its maximum in a
+                         published table: tien2013 (Tien et al. 2013,
+                         theoretical), miller1987 or sander1994 (with --areas)
+  --buried G1:G2         the buried interface area between two groups of atoms,
+                         each a list of chain ids (A:B, A,C:B,D) or a gemmi
+                         selection ('A/1-50:B'): each group's surface alone
+                         against their complex, whose surface is the one
+                         written (atoms in neither group are left out); per
+                         atom, per residue and in total (with --areas)
 
 Exit codes:
   0  success
