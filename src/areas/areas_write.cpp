@@ -8,11 +8,10 @@
 
 #include "fdmsurf/areas.hpp"
 #include "fdmsurf/error.hpp"
+#include "fdmsurf/fdmsurf.hpp"
 #include "mesh/atomic_file.hpp"
 
 namespace fdmsurf {
-
-const char* version() noexcept;
 
 namespace {
 

@@ -15,8 +15,6 @@
 
 namespace fdmsurf {
 
-class Engine;
-
 // The solvent-accessible area of every atom (Å², in the order of `atoms`): the part of its
 // sphere of radius r + probe that no other atom's such sphere covers, by Shrake & Rupley's test
 // points (1973): `points` points per atom on a golden-section spiral, each exposed point
