@@ -9,6 +9,8 @@
 #include <cstring>
 #include <exception>
 #include <filesystem>
+#include <future>
+#include <optional>
 #include <iostream>
 #include <new>
 #include <ostream>
@@ -163,9 +165,11 @@ std::size_t report_validation(Engine& engine) {
 // One structure through an engine that stays up for every input of the run.
 // `read`: the structure when it was read already, with its parse time (< 0: report no parse
 // stage, for the second and later models of a file read once), else null.
+// `before_ms` >= 0: the wall time before this call when parse and init overlapped (the total
+// then counts it instead of their sum).
 int run_one(const CliOptions& options, Engine& engine, Progress& progress, double init_ms,
             const std::string& input, const std::string& output,
-            const Structure* read = nullptr, double parse_ms = 0.0) {
+            const Structure* read = nullptr, double parse_ms = 0.0, double before_ms = -1.0) {
     const auto start = Clock::now();
     RunReport report;
     auto warn = [&report, &progress](const std::string& message) {
@@ -253,6 +257,12 @@ int run_one(const CliOptions& options, Engine& engine, Progress& progress, doubl
         report.optimized = true;
     }
 
+    // The statistics read the mesh while it is written: on a thread of their own, overlapped.
+    auto stats_job = std::async(std::launch::async, [&mesh = result.mesh] {
+        const auto t0 = Clock::now();
+        MeshStats stats = compute_stats(mesh);
+        return std::make_pair(stats, ms_since(t0));
+    });
     t = Clock::now();
     if (to_stdout) {
         StdoutBuffer buffer;
@@ -265,9 +275,9 @@ int run_one(const CliOptions& options, Engine& engine, Progress& progress, doubl
     report.times.push_back({"write", ms_since(t), false});
     progress.stage("write");
 
-    t = Clock::now();
-    report.stats = compute_stats(result.mesh);
-    report.times.push_back({"mesh-stats", ms_since(t), false});
+    const auto [stats, stats_ms] = stats_job.get();
+    report.stats = stats;
+    report.times.push_back({"mesh-stats", stats_ms, false});
     report.closed_manifold = report.stats.is_closed_manifold();
     report.patch = options.patch;
     report.color = options.surface.properties.color;
@@ -285,7 +295,8 @@ int run_one(const CliOptions& options, Engine& engine, Progress& progress, doubl
     report.grid = result.grid;
     report.device = engine.device().name;
     // A structure read before this call: its parse time counts in the total all the same.
-    report.total_ms = ms_since(start) + init_ms + (read && parse_ms > 0 ? parse_ms : 0.0);
+    report.total_ms = ms_since(start) + (before_ms >= 0.0 ? before_ms
+                                                          : init_ms + (read && parse_ms > 0 ? parse_ms : 0.0));
 
     progress.end();
     // With the mesh on standard output, the summary goes to stderr.
@@ -335,14 +346,28 @@ int run(const CliOptions& options) {
     EngineOptions engine_options = options.engine;
     engine_options.progress = [&progress](std::string_view stage) { progress.stage(stage); };
     if (options.inputs.size() == 1 && !options.all_models) {
-        // Read before the device starts, so that bad input fails fast.
-        auto t = Clock::now();
-        const Structure structure = std::move(read_input(options, options.inputs.front()).front());
-        const double parse_ms = ms_since(t);
-        t = Clock::now();
-        Engine engine(engine_options);
-        return run_one(options, engine, progress, ms_since(t), options.inputs.front(),
-                       output_of(options, options.inputs.front(), 1), &structure, parse_ms);
+        // The structure is read while the device starts; a bad input is reported before any
+        // device error, as if it had been read first.
+        const auto t = Clock::now();
+        auto read_job = std::async(std::launch::async, [&options] {
+            const auto t0 = Clock::now();
+            Structure s = std::move(read_input(options, options.inputs.front()).front());
+            return std::make_pair(std::move(s), ms_since(t0));
+        });
+        std::optional<Engine> engine;
+        std::exception_ptr engine_error;
+        const auto t_init = Clock::now();
+        try {
+            engine.emplace(engine_options);
+        } catch (...) {
+            engine_error = std::current_exception();
+        }
+        const double init_ms = ms_since(t_init);
+        const auto [structure, parse_ms] = read_job.get();
+        if (engine_error) std::rethrow_exception(engine_error);
+        return run_one(options, *engine, progress, init_ms, options.inputs.front(),
+                       output_of(options, options.inputs.front(), 1), &structure, parse_ms,
+                       ms_since(t));
     }
 
     // Several inputs or models: one engine for all, so that its pipelines and FFT plans are

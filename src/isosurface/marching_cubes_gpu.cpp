@@ -6,6 +6,7 @@
 #include <cstring>
 #include <string>
 
+#include "core/parallel.hpp"
 #include "core/shaders.hpp"
 #include "fdmsurf_generated/mc_tables.hpp"
 #include "fdmsurf/error.hpp"
@@ -152,13 +153,25 @@ Mesh MarchingCubesPass::read_back(Commands& cmds, const GpuMesh& gpu) {
     Mesh mesh;
     mesh.positions.resize(std::size_t(gpu.vertex_count) * 3);
     mesh.normals.resize(std::size_t(gpu.vertex_count) * 3);
-    const float* src = static_cast<const float*>(v.mapped());
-    for (std::size_t k = 0; k < gpu.vertex_count; ++k) {
-        std::memcpy(&mesh.positions[3 * k], src + 6 * k, 12);
-        std::memcpy(&mesh.normals[3 * k], src + 6 * k + 3, 12);
-    }
     mesh.indices.resize(std::size_t(gpu.triangle_count) * 3);
-    if (ibytes) std::memcpy(mesh.indices.data(), i.mapped(), ibytes);
+    // Split the interleaved vertices and copy the indices on all threads, in blocks.
+    const float* src = static_cast<const float*>(v.mapped());
+    constexpr std::size_t block = std::size_t{1} << 16;
+    const std::size_t vertex_blocks = (gpu.vertex_count + block - 1) / block;
+    const std::size_t index_blocks = (ibytes / 4 + block - 1) / block;
+    parallel_chunks(vertex_blocks + index_blocks, thread_count(), [&](std::size_t b) {
+        if (b < vertex_blocks) {
+            for (std::size_t k = b * block; k < std::min<std::size_t>(gpu.vertex_count, (b + 1) * block); ++k) {
+                std::memcpy(&mesh.positions[3 * k], src + 6 * k, 12);
+                std::memcpy(&mesh.normals[3 * k], src + 6 * k + 3, 12);
+            }
+        } else {
+            const std::size_t first = (b - vertex_blocks) * block;
+            const std::size_t count = std::min(block, ibytes / 4 - first);
+            std::memcpy(mesh.indices.data() + first, static_cast<const std::uint32_t*>(i.mapped()) + first,
+                        count * 4);
+        }
+    });
     unpack_ms_ = now_ms() - t0;
     return mesh;
 }
