@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "cli/compare_command.hpp"
+#include "core/trace.hpp"
 #include "cli/messages.hpp"
 #include "cli/msms_command.hpp"
 #include "cli/options.hpp"
@@ -275,7 +276,9 @@ int run_one(const CliOptions& options, Engine& engine, Progress& progress, doubl
     report.times.push_back({"write", ms_since(t), false});
     progress.stage("write");
 
+    detail::trace("cli: mesh written");
     const auto [stats, stats_ms] = stats_job.get();
+    detail::trace("cli: statistics");
     report.stats = stats;
     report.times.push_back({"mesh-stats", stats_ms, false});
     report.closed_manifold = report.stats.is_closed_manifold();
@@ -334,6 +337,7 @@ void make_output_folder(const std::string& output) {
 }
 
 int run(const CliOptions& options) {
+    detail::trace("cli: start");
     // Option checks that need neither the structure nor the device come first. The warning
     // for a spacing too coarse for the filter comes from the engine, with result.warnings.
     make_output_folder(options.output);
@@ -364,6 +368,7 @@ int run(const CliOptions& options) {
         }
         const double init_ms = ms_since(t_init);
         const auto [structure, parse_ms] = read_job.get();
+        detail::trace("cli: structure read, engine up");
         if (engine_error) std::rethrow_exception(engine_error);
         return run_one(options, *engine, progress, init_ms, options.inputs.front(),
                        output_of(options, options.inputs.front(), 1), &structure, parse_ms,

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/engine_impl.hpp"
+#include "core/trace.hpp"
 #include "fdmsurf/fdmsurf.hpp"
 #include "filter/spectral_filter.hpp"
 #include "grid/atom_bins.hpp"
@@ -80,8 +81,10 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
     SurfaceResult result;
     double t0 = now_ms();
     check_refine_levels(options.refine);
+    trace("engine: run");
     GridPlan plan = plan_grid(atoms, options);
     result.grid = plan.info;
+    trace("engine: grid planned");
     if (plan.filtered && options.spacing > 1.0f / (2.0f * plan.info.cutoff)) {
         char buf[200];
         std::snprintf(buf, sizeof buf,
@@ -109,10 +112,13 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
         result.times.push_back({"bin-atoms", now_ms() - t0, false});
     }
     report(plan.exact_ses ? "ses-features" : "bin-atoms");
+    trace(plan.exact_ses ? "engine: ses features" : "engine: atoms binned");
     StagingArena arena;
     Buffer field(context, static_cast<VkDeviceSize>(field_bytes), MemoryUse::Device, "field");
+    trace("engine: field allocated");
     commands.begin();
     record_field(arena, plan, &bins, &features, options.filter, field);
+    trace("engine: field recorded (staging, FFT plan)");
     McParams mc;
     for (int a = 0; a < 3; ++a) mc.origin[a] = plan.info.origin[a];
     mc.spacing = plan.info.spacing;
@@ -121,12 +127,14 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
     mc.z_end = d[2] - 1;
     set_interpolation(mc, plan);
     GpuMesh gpu = marching_cubes.run(commands, arena, field, d[0], d[1], d[2], plan.pitch, mc);
+    trace("engine: field and marching cubes done");
     add_times(result.times, marching_cubes.stage_times());
     if (on_device && options.refine == 0) {
         *on_device = std::move(gpu);
         return result;
     }
     result.mesh = marching_cubes.read_back(commands, gpu);
+    trace("engine: mesh read back");
     add_times(result.times, commands.stage_times());
     add_times(result.times, {{"unpack-mesh", marching_cubes.unpack_ms(), false}});
     report(plan.exact_ses ? "ses-distance, marching cubes" : "density, filter, marching cubes");
@@ -429,10 +437,12 @@ SurfaceResult Engine::make_surface(const Atoms& atoms, const SurfaceOptions& opt
     // (By default the exact SES, vdw and sas keep every cavity.)
     result.times.push_back({"cavities", detail::now_ms() - t0, false});
     impl_->report("cavities");
+    detail::trace("engine: cavities");
     // On the final mesh: the atom of each vertex, colours and scalars.
     detail::add_vertex_properties(impl_->vertex_properties, impl_->commands, atoms, options,
                                   result);
     impl_->report("vertex properties");
+    detail::trace("engine: vertex properties");
     return result;
 }
 

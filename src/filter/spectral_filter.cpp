@@ -1,6 +1,7 @@
 // Spectral filter (Giard & Macq 2010; ALGORITHM.md §3) on VkFFT; VkFFT's C result codes become
 // fdmsurf::Error here and nowhere else.
 #include "filter/spectral_filter.hpp"
+#include "core/trace.hpp"
 
 #include <mutex>
 #include <optional>
@@ -164,6 +165,7 @@ void SpectralFilter::record(Commands& cmds, const Buffer& field, const GridPlan&
                             FilterShape shape) {
     const auto& d = plan.info.dims;
     FftPlan& fft = plan_for({d[0], d[1], d[2]}, field);
+    trace("filter: FFT plan ready");
     VkCommandBuffer cmd = cmds.handle();
     VkFFTLaunchParams launch{};
     launch.commandBuffer = &cmd;

@@ -1,6 +1,7 @@
 // Marching-cubes dispatches (shaders/mc_*.comp): sizes come from a counting pass and a prefix
 // sum, so no fixed cap can drop triangles.
 #include "isosurface/marching_cubes_gpu.hpp"
+#include "core/trace.hpp"
 
 #include <algorithm>
 #include <cstring>
@@ -102,7 +103,9 @@ GpuMesh MarchingCubesPass::run(Commands& cmds, StagingArena& arena, const Buffer
     cmds.barrier_compute();
     const Buffer& totals_host = readback_buffer(ctx_, cmds, arena, totals, 8, "mc_totals_readback");
     cmds.barrier_to_host();
+    trace("marching cubes: recorded");
     cmds.submit_and_wait();
+    trace("marching cubes: field, occupancy, count, scan waited for");
     std::vector<StageTime> first = cmds.stage_times();
 
     totals_host.invalidate();
@@ -116,6 +119,7 @@ GpuMesh MarchingCubesPass::run(Commands& cmds, StagingArena& arena, const Buffer
     mesh.vertices = Buffer(ctx_, std::uint64_t(total[0]) * 24, MemoryUse::Device, "mesh_vertices");
     mesh.indices = Buffer(ctx_, std::uint64_t(total[1]) * 12, MemoryUse::Device, "mesh_indices");
 
+    trace("marching cubes: mesh buffers allocated");
     cmds.begin();
     if (total[0] > 0) {
         dispatch(
@@ -133,6 +137,7 @@ GpuMesh MarchingCubesPass::run(Commands& cmds, StagingArena& arena, const Buffer
     cmds.mark("mc-triangles");
     cmds.barrier_compute();
     cmds.submit_and_wait();
+    trace("marching cubes: vertices and triangles waited for");
     first.insert(first.end(), cmds.stage_times().begin(), cmds.stage_times().end());
     times_ = std::move(first);
     return mesh;
@@ -146,7 +151,9 @@ Mesh MarchingCubesPass::read_back(Commands& cmds, const GpuMesh& gpu) {
     const Buffer& i = readback_buffer(ctx_, cmds, arena, gpu.indices, ibytes, "indices_readback");
     cmds.barrier_to_host();
     cmds.mark("read-back");
+    trace("read-back: staging allocated, recorded");
     cmds.submit_and_wait();
+    trace("read-back: waited for");
     const double t0 = now_ms();
     v.invalidate();
     i.invalidate();

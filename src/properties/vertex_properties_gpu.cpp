@@ -1,6 +1,7 @@
 // Dispatch of the vertex-property passes: the atoms binned into cells on the host, vertices in
 // chunks that fit one storage-buffer binding.
 #include "properties/vertex_properties_gpu.hpp"
+#include "core/trace.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -198,6 +199,7 @@ std::vector<std::uint32_t> VertexPropertiesPass::vertex_atoms(
     const std::vector<std::uint32_t> order =
         sort_into_cells(cells.grid, mesh.positions.data(), nv, 3).order;
     const std::vector<float> sorted = gather(mesh.positions.data(), order, 3);
+    trace("vertex atoms: atoms binned, vertices sorted");
 
     StagingArena arena;
     cmds.begin();
@@ -238,9 +240,12 @@ std::vector<std::uint32_t> VertexPropertiesPass::vertex_atoms(
     }
     cmds.mark("vertex-atoms");
     cmds.barrier_to_host();
+    trace("vertex atoms: uploaded, recorded");
     cmds.submit_and_wait();
+    trace("vertex atoms: waited for");
     for (std::size_t k = 0, first = 0; k < hosts.size(); ++k, first += chunk)
         scatter(*hosts[k], order, first, std::min(chunk, nv - first), stride, out);
+    trace("vertex atoms: scattered");
     return out;
 }
 
