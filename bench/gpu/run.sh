@@ -7,7 +7,8 @@
 #   3. compares the GPU meshes of 1CRN and 4HHB with lavapipe's (fdmsurf compare);
 #   4. runs the whole GoogleTest suite on the GPU with the validation layer (sharded).
 # Results go to $OUT (or ./gpu-out): info.txt, bench.jsonl, compare.jsonl, tests.log,
-# and a table from summarize.py at the end. Steps can be chosen: run.sh [bench] [tests].
+# and a table from summarize.py at the end. Steps can be chosen: run.sh [bench] [ab] [tests]
+# (ab: before/after against the bundle's baseline CLI, interleaved, and FDMSURF_TRACE runs).
 set -u
 root=$(cd "$(dirname "$0")/../.." && pwd)
 out=${OUT:-$root/gpu-out}; mkdir -p "$out"
@@ -102,6 +103,35 @@ if [[ " $steps " == *" bench "* ]]; then
         done
     done
     rm -f /tmp/m.ply
+fi
+
+if [[ " $steps " == *" ab "* ]] && [ -x "$B/bin/fdmsurf-base" ]; then
+    # Before/after, interleaved: the baseline CLI (bundle.sh's .gpu/fdmsurf-base) and this one.
+    echo "== A/B: base against new, interleaved"
+    new=$F
+    for job in "1crn.pdb fdm" "4hhb.pdb fdm" "4hhb.pdb edt" "4yvs.cif.gz fdm" "4yvs.cif.gz edt" \
+               "1aon.pdb.gz fdm" "1aon.pdb.gz edt" "4yvs.cif.gz fdm --assembly 1"; do
+        set -- $job; s=$1; m=$2; shift 2; n=${s%%.*}${1:+-asm}
+        for v in base new; do
+            F=$new; [ $v = base ] && F=$B/bin/fdmsurf-base
+            run $n-$m-0.5@$v warmup "$D/$s" --method $m -o /tmp/m.ply "$@"
+        done
+        for i in $(seq ${AB_REPS:-3}); do
+            for v in base new; do
+                F=$new; [ $v = base ] && F=$B/bin/fdmsurf-base
+                run $n-$m-0.5@$v warm "$D/$s" --method $m -o /tmp/m.ply "$@"
+            done
+        done
+    done
+    F=$new
+    for s in 1crn.pdb 1aon.pdb.gz; do
+        for m in fdm edt; do
+            echo "-- trace: $s $m" >> "$out/trace.txt"
+            FDMSURF_TRACE=1 "$F" "$D/$s" --method $m -o /tmp/m.ply --quiet 2>> "$out/trace.txt"
+        done
+    done
+    rm -f /tmp/m.ply
+    cat "$out/trace.txt"
 fi
 
 if [[ " $steps " == *" tests "* ]]; then
