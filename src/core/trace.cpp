@@ -21,6 +21,8 @@ bool trace_enabled() {
 
 }  // namespace
 
+bool trace_on() { return trace_enabled(); }
+
 void trace(const char* what) {
     if (!trace_enabled()) return;
     using Clock = std::chrono::steady_clock;

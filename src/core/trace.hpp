@@ -5,6 +5,9 @@
 
 namespace fdmsurf::detail {
 
+// Whether FDMSURF_TRACE=1 (to skip building a trace message otherwise).
+bool trace_on();
+
 // Prints `what` with the time since the process's first trace call and since the last one.
 void trace(const char* what);
 

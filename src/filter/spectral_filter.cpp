@@ -4,6 +4,7 @@
 #include "core/trace.hpp"
 
 #include <mutex>
+#include <cstdio>
 #include <optional>
 #include <vector>
 #include <string>
@@ -134,6 +135,7 @@ FftPlan& SpectralFilter::plan_for(const std::array<std::uint32_t, 3>& dims, cons
                             std::to_string(dims[1]) + "x" + std::to_string(dims[2]) + " device " +
                             dev.name + " driver " + dev.driver + " api " + dev.api_version;
     std::optional<std::vector<std::uint32_t>> cached = cache_.load(key);
+    trace(cached ? "filter: FFT plan read from the plan cache" : "filter: FFT plan not in the plan cache");
     VkFFTResult r = VKFFT_ERROR_FAILED_TO_INITIALIZE;
     if (cached) {
         plan->config.loadApplicationFromString = 1;
@@ -156,6 +158,17 @@ FftPlan& SpectralFilter::plan_for(const std::array<std::uint32_t, 3>& dims, cons
             cache_.store(key, plan->app.saveApplicationString, plan->app.applicationStringSize);
     }
     plan->initialised = true;
+    if (trace_on()) {
+        char what[200];
+        std::snprintf(what, sizeof what,
+                      "filter: VkFFT initialised (%s; kernel passes per axis %u %u %u; temp buffer %s)",
+                      plan->from_cache ? "from the cache" : "compiled",
+                      unsigned(plan->app.localFFTPlan ? plan->app.localFFTPlan->numAxisUploads[0] : 0),
+                      unsigned(plan->app.localFFTPlan ? plan->app.localFFTPlan->numAxisUploads[1] : 0),
+                      unsigned(plan->app.localFFTPlan ? plan->app.localFFTPlan->numAxisUploads[2] : 0),
+                      plan->app.configuration.allocateTempBuffer ? "allocated" : "none");
+        trace(what);
+    }
     FftPlan& ref = *plan;
     plans_.emplace(dims, std::move(plan));
     return ref;
