@@ -110,8 +110,9 @@ if [[ " $steps " == *" ab "* ]] && [ -x "$B/bin/fdmsurf-base" ]; then
     # Before/after, interleaved: the baseline CLI (bundle.sh's .gpu/fdmsurf-base) and this one.
     echo "== A/B: base against new, interleaved"
     new=$F
-    for job in "1crn.pdb fdm" "4hhb.pdb fdm" "4hhb.pdb edt" "4yvs.cif.gz fdm" "4yvs.cif.gz edt" \
-               "1aon.pdb.gz fdm" "1aon.pdb.gz edt" "4yvs.cif.gz fdm --assembly 1"; do
+    jobs_=${AB_JOBS:-1crn.pdb fdm;4hhb.pdb fdm;4hhb.pdb edt;4yvs.cif.gz fdm;4yvs.cif.gz edt;1aon.pdb.gz fdm;1aon.pdb.gz edt;4yvs.cif.gz fdm --assembly 1}
+    IFS=';' read -ra ab_jobs <<< "$jobs_"
+    for job in "${ab_jobs[@]}"; do
         set -- $job; s=$1; m=$2; shift 2; n=${s%%.*}${1:+-asm}
         for v in base new; do
             F=$new; [ $v = base ] && F=$B/bin/fdmsurf-base
@@ -125,7 +126,7 @@ if [[ " $steps " == *" ab "* ]] && [ -x "$B/bin/fdmsurf-base" ]; then
         done
     done
     F=$new
-    for s in 1crn.pdb 1aon.pdb.gz; do
+    for s in ${AB_TRACE-1crn.pdb 1aon.pdb.gz}; do
         for m in fdm edt; do
             echo "-- trace: $s $m" >> "$out/trace.txt"
             FDMSURF_TRACE=1 "$F" "$D/$s" --method $m -o /tmp/m.ply --quiet 2>> "$out/trace.txt"
