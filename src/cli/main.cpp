@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "cli/compare_command.hpp"
+#include "cli/interrupts.hpp"
 #include "core/trace.hpp"
 #include "cli/messages.hpp"
 #include "cli/msms_command.hpp"
@@ -490,5 +491,7 @@ int run_command(int argc, char** argv) {
 int main(int argc, char** argv) {
     // A closed pipe on stdout is an error to report (EPIPE), not a signal that kills silently.
     std::signal(SIGPIPE, SIG_IGN);
+    // Ctrl-C and SIGTERM: stop at once, remove the output being written (cli/interrupts.hpp).
+    install_interrupt_handlers();
     return check_stdout(run_command(argc, argv));
 }
