@@ -7,6 +7,8 @@
 #include <string>
 
 #include "core/engine_impl.hpp"
+
+#include <unistd.h>
 #include "core/trace.hpp"
 #include "fdmsurf/fdmsurf.hpp"
 #include "filter/spectral_filter.hpp"
@@ -233,7 +235,23 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
                         std::to_string(d[2]) + " points is too wide to be processed in z-slabs " +
                         "within this device's maxStorageBufferRange (" +
                         std::to_string(limit >> 20) + " MiB); a spacing of " +
-                        spacing_hint(need, double(limit), options.spacing) + " Å would fit");
+                        spacing_hint(need, double(limit), options.spacing) + " Å would fit" +
+                        isolated_atoms_note(atoms));
+    }
+    // The slabs' field is assembled on the host (marching cubes then reads it in parts): it
+    // must fit the machine's memory, with room for the mesh.
+    const double host_field = double(d[0]) * d[1] * d[2] * sizeof(float);
+    const double host_memory = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
+    if (host_memory > 0 && host_field > 0.5 * host_memory) {
+        char figures[160];
+        std::snprintf(figures, sizeof figures, "%.1f GiB of host memory, more than half of this machine's %.1f GiB",
+                      host_field / (1 << 30), host_memory / (1 << 30));
+        throw Error(ErrorCode::DeviceLimit,
+                    "the grid of " + std::to_string(d[0]) + " x " + std::to_string(d[1]) + " x " +
+                        std::to_string(d[2]) + " points is processed in slabs whose field needs " +
+                        figures + "; a spacing of " +
+                        spacing_hint(host_field, 0.5 * host_memory, options.spacing) +
+                        " Å would fit" + isolated_atoms_note(atoms));
     }
     const std::uint32_t core = slab_planes - 2 * overlap;
     const std::uint32_t slabs = (d[2] + core - 1) / core;
