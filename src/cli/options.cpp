@@ -54,6 +54,8 @@ enum class Opt {
     NoCavities,
     MinCavity,
     Refine,
+    NoSnap,
+    ChordTolerance,
     Method,
     Simplify,
     MaxTriangles,
@@ -68,7 +70,7 @@ struct OptionSpec {
     bool numeric;  // a value that may start with '-' (a negative number, rejected later)
 };
 
-constexpr std::array<OptionSpec, 38> kOptions{{
+constexpr std::array<OptionSpec, 40> kOptions{{
     {"--output", "-o", Opt::Output, true, false},
     {"--output-format", "", Opt::OutputFormat, true, false},
     {"--surface", "", Opt::Surface, true, false},
@@ -99,6 +101,8 @@ constexpr std::array<OptionSpec, 38> kOptions{{
     {"--no-cavities", "", Opt::NoCavities, false, false},
     {"--min-cavity-volume", "", Opt::MinCavity, true, true},
     {"--refine", "", Opt::Refine, true, true},
+    {"--no-snap", "", Opt::NoSnap, false, false},
+    {"--chord-tolerance", "", Opt::ChordTolerance, true, true},
     {"--method", "", Opt::Method, true, false},
     {"--color", "", Opt::Color, true, false},
     {"--colour", "", Opt::Color, true, false},
@@ -386,6 +390,10 @@ void apply_value(CliOptions& o, const OptionSpec& spec, std::string_view name,
                         " (each multiplies the triangles by 4)",
                     text);
             break;
+        case Opt::ChordTolerance:
+            s.chord_tolerance = parse_float(name, text);
+            require(s.chord_tolerance >= 0.0f, name, ">= 0 Å", text);
+            break;
         case Opt::Padding:
             s.padding = parse_float(name, text);
             require(s.padding >= 0.0f, name, ">= 0 Å", text);
@@ -481,6 +489,9 @@ void apply_flag(CliOptions& o, const OptionSpec& spec) {
             break;
         case Opt::Optimize:
             o.optimize = true;
+            break;
+        case Opt::NoSnap:
+            o.surface.snap = false;
             break;
         case Opt::NoCavities:
             o.surface.min_cavity_volume = std::numeric_limits<float>::infinity();
@@ -643,6 +654,13 @@ Surface:
                          moves the new vertices onto the surface (the filtered
                          density for fdm, the exact SES for edt, the atoms'
                          spheres for vdw and sas)
+  --no-snap              keep marching cubes' vertices where they are (default: on
+                         the exact surface: for vdw and sas on the balls, with
+                         vertices on the creases where spheres meet and chords
+                         split to the chord tolerance; for edt projected onto the
+                         exact SES)
+  --chord-tolerance T    vdw and sas: split edges whose arc lies more than T Å
+                         from them (>= 0; 0: none; default spacing / 50)
 
 Input:
   --format pdb|cif|pqr|xyzr|xyzrn  input format (default: from the extension,

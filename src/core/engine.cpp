@@ -131,7 +131,7 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
     GpuMesh gpu = marching_cubes.run(commands, arena, field, d[0], d[1], d[2], plan.pitch, mc);
     trace("engine: field and marching cubes done");
     add_times(result.times, marching_cubes.stage_times());
-    if (on_device && options.refine == 0) {
+    if (on_device && options.refine == 0 && !snaps(options, plan)) {
         *on_device = std::move(gpu);
         return result;
     }
@@ -140,12 +140,30 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
     add_times(result.times, commands.stage_times());
     add_times(result.times, {{"unpack-mesh", marching_cubes.unpack_ms(), false}});
     report(plan.exact_ses ? "ses-distance, marching cubes" : "density, filter, marching cubes");
-    if (options.refine > 0) {
-        refine(result, atoms, options, plan, &features, &field, nullptr);
-        report("refine");
-        if (on_device) *on_device = upload_mesh(result.mesh);
-    }
+    host_stages(result, atoms, options, plan, &features, &field, nullptr);
+    if (on_device) *on_device = upload_mesh(result.mesh);
     return result;
+}
+
+void EngineImpl::host_stages(SurfaceResult& result, const Atoms& atoms,
+                             const SurfaceOptions& options, const GridPlan& plan,
+                             const SesFeatures* features, const Buffer* device_field,
+                             const FieldView* host_field) {
+    // The exact SES is snapped first, so that refinement starts from vertices on the surface;
+    // vdw and sas after refinement, whose butterfly stencils would smooth the creases away.
+    const bool snap_now = snaps(options, plan);
+    if (snap_now && plan.exact_ses) {
+        snap(result, atoms, options, plan, features);
+        report("snap");
+    }
+    if (options.refine > 0) {
+        refine(result, atoms, options, plan, features, device_field, host_field);
+        report("refine");
+    }
+    if (snap_now && !plan.exact_ses) {
+        snap(result, atoms, options, plan, features);
+        report("snap");
+    }
 }
 
 void EngineImpl::record_field(StagingArena& arena, const GridPlan& plan, const AtomBins* bins,
@@ -355,8 +373,7 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
     result.mesh = stitch_slabs(parts, view, plan.iso, starts);
     result.times.push_back({"stitch", now_ms() - t1, false});
     report("stitch");
-    refine(result, atoms, options, plan, &features, nullptr, &view);
-    if (options.refine > 0) report("refine");
+    host_stages(result, atoms, options, plan, &features, nullptr, &view);
     return result;
 }
 

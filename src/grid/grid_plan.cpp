@@ -53,6 +53,8 @@ float effective_cutoff(const SurfaceOptions& o) {
             std::to_string(o.level) + ")");
     if (std::isnan(o.padding)) bad("padding must be a number of Å");
     if (!(o.density_cut > 0.0f && o.density_cut < 1.0f)) bad("density cut must lie in (0, 1)");
+    if (std::isnan(o.chord_tolerance) || std::isinf(o.chord_tolerance))
+        bad("chord tolerance must be a number of Å (< 0 for the default)");
     if (o.surface != SurfaceKind::Ses) return 0.0f;
     if (o.method == SesMethod::Edt) {
         if (o.probe <= 0.0f)

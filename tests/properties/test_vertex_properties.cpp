@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <map>
 
 #include "fdmsurf/fdmsurf.hpp"
@@ -53,6 +54,27 @@ SurfaceResult surface(Engine& e, const Atoms& atoms, SurfaceKind kind, SesMethod
 
 }  // namespace
 
+// Vertices with two atoms at the least power distance within kTie: on the vdw and sas surfaces
+// snapped by default (issue 13), every vertex on a crease lies on two spheres, a tie by
+// construction.
+std::size_t exact_ties(const Mesh& mesh, const Atoms& atoms, float radius_add) {
+    std::size_t ties = 0;
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+        double best = 1e300, second = 1e300;
+        for (std::size_t i = 0; i < atoms.size(); ++i) {
+            const double p = detail::power_distance(mesh, v, atoms, i, radius_add);
+            if (p < best) {
+                second = best;
+                best = p;
+            } else if (p < second) {
+                second = p;
+            }
+        }
+        ties += second - best < kTie;
+    }
+    return ties;
+}
+
 TEST_F(VertexProperties, AtomOfEveryVertexEqualsReferenceOnCrambin) {
     const Atoms atoms = read_structure(data_path("1crn.pdb")).atoms;
     for (SurfaceKind kind : {SurfaceKind::Ses, SurfaceKind::Vdw, SurfaceKind::Sas}) {
@@ -60,8 +82,13 @@ TEST_F(VertexProperties, AtomOfEveryVertexEqualsReferenceOnCrambin) {
         o.surface = kind;
         const SurfaceResult r = engine().make_surface(atoms, o);
         ASSERT_GT(r.mesh.vertex_count(), 1000u);
-        const std::size_t ties = expect_atoms_match(r.mesh, atoms, kind == SurfaceKind::Sas ? 1.4f : 0.0f);
-        EXPECT_LT(ties, r.mesh.vertex_count() / 1000 + 1) << to_string(kind);
+        const float add = kind == SurfaceKind::Sas ? 1.4f : 0.0f;
+        const std::size_t ties = expect_atoms_match(r.mesh, atoms, add);
+        // Mismatches only at ties (checked above), and no more of them than there are vertices
+        // with two atoms at the same power distance (crease vertices), plus 0.1% for rounding.
+        const std::size_t allowed = kind == SurfaceKind::Ses ? 0 : exact_ties(r.mesh, atoms, add);
+        std::printf("  %s: %zu vertices with an exact tie\n", to_string(kind), allowed);
+        EXPECT_LT(ties, allowed + r.mesh.vertex_count() / 1000 + 1) << to_string(kind);
     }
 }
 
