@@ -178,7 +178,9 @@ TEST_F(RandomAtoms, EveryKindGivesClosedDeterministicSurfaces) {
             // cannot resolve, so that area is printed, not checked (its volume is).
             EXPECT_NEAR(s.volume, volume, 0.01 * volume);
             const bool voids = set.what == "dense cluster" && kind.surface == SurfaceKind::Vdw;
-            if (!voids) EXPECT_NEAR(s.area, area, 0.01 * area);
+            if (!voids) {
+                EXPECT_NEAR(s.area, area, 0.01 * area);
+            }
             std::printf("  %s, %s: volume %+.2f%%, area %+.2f%%\n", set.what.c_str(), kind.name,
                         100.0 * (s.volume / volume - 1.0), 100.0 * (s.area / area - 1.0));
         }
