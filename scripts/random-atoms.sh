@@ -9,7 +9,12 @@ set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 seeds=${1:-5}
 cases=${2:-25}
+failed=0
 for seed in $(seq 1 "$seeds"); do
     FDMSURF_REQUIRE_DEVICE=1 FDMSURF_TEST_SEED=$seed FDMSURF_TEST_CASES=$cases \
-        build/tests/fdmsurf_tests --gtest_filter='RandomAtoms.*' | grep -E "random sets|Failure|OK|FAILED"
+        build/tests/fdmsurf_tests --gtest_filter='RandomAtoms.*' >"${TMPDIR:-/tmp}/random-atoms-$seed.log" 2>&1 ||
+        failed=$((failed + 1))
+    grep -E "random sets|Failure|trace:|evaluates|OK \]|FAILED  \] R" "${TMPDIR:-/tmp}/random-atoms-$seed.log" || true
 done
+echo "random-atoms.sh: $seeds seeds x $cases sets, $failed seed(s) with failures"
+((failed == 0))
