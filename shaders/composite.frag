@@ -1,79 +1,90 @@
-// The compositing pass: the lit scene and its depth in, the picture out. Per sample: the
-// background where nothing was drawn; else the lit colour darkened by screen-space ambient
-// occlusion (the share of kAoSamples depth samples within ao_radius that lie nearer the viewer
-// than the local tangent plane: crevices and pockets darken, open faces do not), by
-// the depth cue (the far side of the framed sphere darker), and an outline where a neighbour
-// at outline distance is background or lies more than outline_step Å away in depth.
-// Premultiplied alpha (the host straightens it after the downsampling blit).
+// The compositing pass: the lit scene, its normals and depth in (at `samples` x `samples`
+// samples per pixel), the picture out, each pixel the mean of its samples (in linear light;
+// the sRGB attachment encodes it). Per sample: the background where nothing was drawn; else the
+// lit colour darkened by screen-space ambient occlusion (the share of kAoSamples depth samples
+// within ao_radius that lie nearer the viewer than the tangent plane of the pixel's normal:
+// crevices and pockets darken, open faces and slopes do not; once per pixel, from its first
+// covered sample), by the depth cue (the far side of the framed sphere darker), and an outline
+// where a neighbour at outline distance is background or lies more than outline_step Å away in
+// depth. Premultiplied alpha (the host straightens it).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "shader_interface.h"
 
 layout(push_constant) uniform Push { CompositePush pc; };
-layout(binding = 0) uniform sampler2D scene;  // sRGB attachment: linear when fetched
-layout(binding = 1) uniform sampler2D depth;  // 0 nearest .. 1 farthest (and the clear value)
+layout(binding = 0) uniform sampler2D scene;    // sRGB attachment: linear when fetched
+layout(binding = 1) uniform sampler2D depth;    // 0 nearest .. 1 farthest (and the clear value)
+layout(binding = 2) uniform sampler2D normals;  // view space, n * 0.5 + 0.5
 layout(location = 0) out vec4 out_color;
 
 const float kGoldenAngle = 2.39996323;
 
-float depth_at(ivec2 p, ivec2 size) {
-    return texelFetch(depth, clamp(p, ivec2(0), size - 1), 0).r;
+ivec2 size;
+
+float depth_at(ivec2 q) {
+    return texelFetch(depth, clamp(q, ivec2(0), size - 1), 0).r;
+}
+
+// The ambient light left at sample q of depth d (z Å behind the near plane).
+float ambient(ivec2 q, float d) {
+    float z = d * pc.depth_range;
+    // The tangent plane from the scene's normal: the depth it predicts a sample offset
+    // (ox, oy) samples away (image y points down, view y up), its slope bounded near the
+    // silhouette, where the normal turns away from the viewer.
+    vec3 n = texelFetch(normals, q, 0).xyz * 2.0 - 1.0;
+    vec2 slope = vec2(n.x, -n.y) / max(n.z, 0.25) * pc.pixel_size;  // Å of depth per sample
+    // A spiral of samples turned by interleaved gradient noise per pixel.
+    float turn = 6.2831853 * fract(52.9829189 * fract(dot(vec2(q), vec2(0.06711056, 0.00583715))));
+    float radius = pc.ao_radius / pc.pixel_size;
+    float occluded = 0.0;
+    for (uint i = 0; i < kAoSamples; ++i) {
+        float t = (float(i) + 0.5) / float(kAoSamples);
+        float a = turn + kGoldenAngle * float(i);
+        ivec2 offset = ivec2(round(vec2(cos(a), sin(a)) * (radius * sqrt(t))));
+        float dq = depth_at(q + offset);
+        if (dq >= 1.0) continue;
+        float plane = z + dot(slope, vec2(offset));
+        float rise = plane - dq * pc.depth_range;  // > 0: the sample is nearer the viewer
+        float reach = length(vec2(offset)) * pc.pixel_size + 0.05;
+        occluded += smoothstep(0.05 * reach, 0.4 * reach, rise) *
+                    (1.0 - smoothstep(2.0 * pc.ao_radius, 3.0 * pc.ao_radius, rise));
+    }
+    return 1.0 - pc.ao_strength * occluded / float(kAoSamples);
 }
 
 void main() {
-    ivec2 size = textureSize(depth, 0);
-    ivec2 p = ivec2(gl_FragCoord.xy);
-    float d = texelFetch(depth, p, 0).r;
+    size = textureSize(depth, 0);
+    int s = int(pc.samples);
+    ivec2 base = ivec2(gl_FragCoord.xy) * s;
     vec4 background = vec4(pc.background_r, pc.background_g, pc.background_b, pc.background_a);
-    if (d >= 1.0) {
-        out_color = background;
-        return;
-    }
-    vec3 c = texelFetch(scene, p, 0).rgb;
-    float z = d * pc.depth_range;  // Å behind the nearest point of the framed sphere
-
-    if (pc.ao_strength > 0.0) {
-        // The local tangent plane from the flatter of the one-sided depth differences along x
-        // and y (background neighbours ignored): a sample occludes when it lies nearer the
-        // viewer than that plane by more than about a third of its lateral distance, so that
-        // slopes and convex faces stay bright and crevices darken.
-        vec2 slope = vec2(0.0);
-        for (int a = 0; a < 2; ++a) {
-            ivec2 e = a == 0 ? ivec2(1, 0) : ivec2(0, 1);
-            float f = depth_at(p + e, size), b = depth_at(p - e, size);
-            float df = f < 1.0 ? f - d : 1e9, db = b < 1.0 ? d - b : 1e9;
-            float s = abs(df) < abs(db) ? df : db;
-            slope[a] = abs(s) < 1e8 ? s * pc.depth_range : 0.0;  // Å per sample
+    int w = int(pc.outline);
+    ivec2 steps[4] = ivec2[](ivec2(w, 0), ivec2(-w, 0), ivec2(0, w), ivec2(0, -w));
+    vec4 sum = vec4(0.0);
+    float ao = -1.0;  // not computed yet
+    for (int j = 0; j < s; ++j) {
+        for (int i = 0; i < s; ++i) {
+            ivec2 q = base + ivec2(i, j);
+            float d = texelFetch(depth, q, 0).r;
+            if (d >= 1.0) {
+                sum += background;
+                continue;
+            }
+            vec3 c = texelFetch(scene, q, 0).rgb;
+            if (pc.ao_strength > 0.0) {
+                if (ao < 0.0) ao = ambient(q, d);
+                c *= ao;
+            }
+            c *= 1.0 - pc.depth_cue * clamp(d, 0.0, 1.0);
+            if (w > 0) {
+                float edge = 0.0;
+                for (int k = 0; k < 4; ++k) {
+                    float dn = depth_at(q + steps[k]);
+                    if (dn >= 1.0 || abs(dn - d) * pc.depth_range > pc.outline_step) edge = 1.0;
+                }
+                c = mix(c, vec3(0.02), edge);
+            }
+            sum += vec4(c, 1.0);
         }
-        // A spiral of samples turned by interleaved gradient noise per pixel.
-        float turn = 6.2831853 * fract(52.9829189 * fract(dot(vec2(p), vec2(0.06711056, 0.00583715))));
-        float radius_px = pc.ao_radius / pc.pixel_size;
-        float occluded = 0.0;
-        for (uint i = 0; i < kAoSamples; ++i) {
-            float t = (float(i) + 0.5) / float(kAoSamples);
-            float a = turn + kGoldenAngle * float(i);
-            ivec2 offset = ivec2(round(vec2(cos(a), sin(a)) * (radius_px * sqrt(t))));
-            float dq = depth_at(p + offset, size);
-            if (dq >= 1.0) continue;
-            float plane = z + dot(slope, vec2(offset));
-            float rise = plane - dq * pc.depth_range;  // > 0: the sample is nearer the viewer
-            float reach = length(vec2(offset)) * pc.pixel_size + 0.05;
-            occluded += smoothstep(0.15 * reach, 0.5 * reach, rise) *
-                        (1.0 - smoothstep(2.0 * pc.ao_radius, 3.0 * pc.ao_radius, rise));
-        }
-        c *= 1.0 - pc.ao_strength * occluded / float(kAoSamples);
     }
-    c *= 1.0 - pc.depth_cue * clamp(d, 0.0, 1.0);
-
-    if (pc.outline > 0.0) {
-        int w = int(pc.outline);
-        float edge = 0.0;
-        ivec2 steps[4] = ivec2[](ivec2(w, 0), ivec2(-w, 0), ivec2(0, w), ivec2(0, -w));
-        for (int k = 0; k < 4; ++k) {
-            float dn = depth_at(p + steps[k], size);
-            if (dn >= 1.0 || abs(dn - d) * pc.depth_range > pc.outline_step) edge = 1.0;
-        }
-        c = mix(c, vec3(0.02), edge);
-    }
-    out_color = vec4(c, 1.0);
+    out_color = sum / float(s * s);
 }

@@ -1,7 +1,9 @@
 // The scene pass, vertex stage: a device mesh's interleaved vertices (position, normal; 24
 // bytes) and its attribute words (atom, packed sRGB colour) through the orthographic camera of
-// RenderPush (shader_interface.h). With no attribute buffer the renderer binds one word of the
-// uniform colour with stride 0.
+// RenderPush (shader_interface.h). With no attribute buffer the renderer binds one word pair
+// holding the uniform colour, per instance. The colour is flat: on lavapipe every interpolated
+// output costs plane equations in each triangle's setup, and a triangle of a surface mesh is
+// rarely larger than a few pixels, nor are its vertices' colours often different.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "shader_interface.h"
@@ -13,7 +15,7 @@ layout(location = 1) in vec3 in_normal;    // outward, unit
 layout(location = 2) in vec4 in_color;     // sRGB, R8G8B8A8_UNORM
 
 layout(location = 0) out vec3 out_normal;  // view space: x right, y up, z towards the viewer
-layout(location = 1) out vec3 out_color;   // linear
+layout(location = 1) flat out vec3 out_color;  // linear; one per triangle (its first vertex's)
 
 void main() {
     vec3 p = in_position - vec3(pc.center_x, pc.center_y, pc.center_z);

@@ -165,13 +165,13 @@ struct RenderPush {
 struct CompositePush {
     float background_r, background_g, background_b, background_a;  // linear, premultiplied
     float depth_range;  // Å between depth 0 and depth 1
-    float pixel_size;   // Å per sample (pixel of the supersampled scene)
+    float pixel_size;   // Å per sample of the scene (a pixel over `samples`)
     float ao_strength;  // 0: no ambient occlusion
     float ao_radius;    // Å
     float depth_cue;    // 0: none; else the far side is darkened by this fraction
     float outline;      // 0: no outline; else its width in samples
     float outline_step; // Å: a depth step larger than this between neighbours is outlined
-    float pad0;
+    uint samples;       // scene samples per pixel along x and y (1 or 2): the supersampling
 };
 
 #ifdef __cplusplus

@@ -60,12 +60,12 @@ struct PipelineState {
         VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
     VkPipelineMultisampleStateCreateInfo multisample{
         VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-    VkPipelineColorBlendAttachmentState blend_attachment{};
+    VkPipelineColorBlendAttachmentState blend_attachments[2]{};
     VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
     VkDynamicState dynamic_states[2] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
     VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
 
-    explicit PipelineState(const Modules& m) {
+    PipelineState(const Modules& m, std::uint32_t color_attachments) {
         for (int i = 0; i < 2; ++i) {
             stages[i].sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
             stages[i].pName = "main";
@@ -78,17 +78,17 @@ struct PipelineState {
         viewport.viewportCount = 1;
         viewport.scissorCount = 1;
         raster.polygonMode = VK_POLYGON_MODE_FILL;
-        // Both sides are drawn (an open patch shows its inside); the fragment shader lights the
-        // side it sees. Counter-clockwise from outside stays counter-clockwise on screen once
-        // the vertex shader flips y for Vulkan's downward framebuffer y.
+        // Counter-clockwise from outside stays counter-clockwise on screen once the vertex
+        // shader flips y for Vulkan's downward framebuffer y. Culling is set per pipeline.
         raster.cullMode = VK_CULL_MODE_NONE;
         raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
         raster.lineWidth = 1.0f;
         multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
-        blend_attachment.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
-                                          VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
-        blend.attachmentCount = 1;
-        blend.pAttachments = &blend_attachment;
+        for (VkPipelineColorBlendAttachmentState& b : blend_attachments)
+            b.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
+                               VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
+        blend.attachmentCount = color_attachments;
+        blend.pAttachments = blend_attachments;
         dynamic.dynamicStateCount = 2;
         dynamic.pDynamicStates = dynamic_states;
     }
@@ -115,15 +115,12 @@ RenderPipelines::RenderPipelines(const Context& ctx) : ctx_(ctx), device_(ctx.de
     const VkPhysicalDevice physical = ctx.physical_device();
     if (!has_features(physical, kColorFormat,
                       VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT | VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT |
-                          VK_FORMAT_FEATURE_TRANSFER_SRC_BIT))
+                          VK_FORMAT_FEATURE_TRANSFER_SRC_BIT) ||
+        !has_features(physical, kNormalFormat,
+                      VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT | VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT))
         throw Error(ErrorCode::DeviceLimit,
                     "rendering: the device cannot draw into, sample and copy "
-                    "VK_FORMAT_R8G8B8A8_SRGB images");
-    can_downsample_ = has_features(physical, kColorFormat,
-                                   VK_FORMAT_FEATURE_BLIT_SRC_BIT | VK_FORMAT_FEATURE_BLIT_DST_BIT |
-                                       VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT |
-                                       VK_FORMAT_FEATURE_TRANSFER_SRC_BIT |
-                                       VK_FORMAT_FEATURE_TRANSFER_DST_BIT);
+                    "VK_FORMAT_R8G8B8A8_SRGB and VK_FORMAT_R8G8B8A8_UNORM images");
     for (VkFormat f : {VK_FORMAT_D32_SFLOAT, VK_FORMAT_X8_D24_UNORM_PACK32, VK_FORMAT_D16_UNORM}) {
         if (has_features(physical, f,
                          VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT |
@@ -137,10 +134,10 @@ RenderPipelines::RenderPipelines(const Context& ctx) : ctx_(ctx), device_(ctx.de
                     "rendering: the device has no depth format that can also be sampled "
                     "(D32_SFLOAT, X8_D24_UNORM_PACK32 or D16_UNORM)");
     try {
-        // The scene: colour (linear light, sRGB-encoded) and depth, both read by the
+        // The scene: colour (linear light, sRGB-encoded), normal and depth, all read by the
         // compositing pass afterwards.
         {
-            VkAttachmentDescription att[2]{};
+            VkAttachmentDescription att[3]{};
             att[0].format = kColorFormat;
             att[0].samples = VK_SAMPLE_COUNT_1_BIT;
             att[0].loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
@@ -150,14 +147,17 @@ RenderPipelines::RenderPipelines(const Context& ctx) : ctx_(ctx), device_(ctx.de
             att[0].initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
             att[0].finalLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
             att[1] = att[0];
-            att[1].format = depth_format_;
-            att[1].finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL;
-            VkAttachmentReference color{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
-            VkAttachmentReference depth{1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
+            att[1].format = kNormalFormat;
+            att[2] = att[0];
+            att[2].format = depth_format_;
+            att[2].finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL;
+            VkAttachmentReference color[2] = {{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL},
+                                              {1, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL}};
+            VkAttachmentReference depth{2, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
             VkSubpassDescription sub{};
             sub.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
-            sub.colorAttachmentCount = 1;
-            sub.pColorAttachments = &color;
+            sub.colorAttachmentCount = 2;
+            sub.pColorAttachments = color;
             sub.pDepthStencilAttachment = &depth;
             VkSubpassDependency dep[2]{};
             // The previous render's compositing pass read these images (write after read).
@@ -181,7 +181,7 @@ RenderPipelines::RenderPipelines(const Context& ctx) : ctx_(ctx), device_(ctx.de
             dep[1].dstStageMask = VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT;
             dep[1].dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
             VkRenderPassCreateInfo info{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
-            info.attachmentCount = 2;
+            info.attachmentCount = 3;
             info.pAttachments = att;
             info.subpassCount = 1;
             info.pSubpasses = &sub;
@@ -189,7 +189,7 @@ RenderPipelines::RenderPipelines(const Context& ctx) : ctx_(ctx), device_(ctx.de
             info.pDependencies = dep;
             FDM_VK_CHECK(vkCreateRenderPass(device_, &info, nullptr, &scene_pass_));
         }
-        // The composited picture, then copied (or blitted) to the host buffer.
+        // The composited picture, then copied to the host buffer.
         {
             VkAttachmentDescription att{};
             att.format = kColorFormat;
@@ -206,7 +206,7 @@ RenderPipelines::RenderPipelines(const Context& ctx) : ctx_(ctx), device_(ctx.de
             sub.colorAttachmentCount = 1;
             sub.pColorAttachments = &color;
             VkSubpassDependency dep[2]{};
-            // The previous render's copy or blit read this image (write after read).
+            // The previous render's copy read this image (write after read).
             dep[0].srcSubpass = VK_SUBPASS_EXTERNAL;
             dep[0].dstSubpass = 0;
             dep[0].srcStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
@@ -246,8 +246,8 @@ RenderPipelines::RenderPipelines(const Context& ctx) : ctx_(ctx), device_(ctx.de
             FDM_VK_CHECK(vkCreateSampler(device_, &info, nullptr, &sampler_));
         }
         {
-            VkDescriptorSetLayoutBinding b[2]{};
-            for (std::uint32_t i = 0; i < 2; ++i) {
+            VkDescriptorSetLayoutBinding b[3]{};
+            for (std::uint32_t i = 0; i < 3; ++i) {
                 b[i].binding = i;
                 b[i].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
                 b[i].descriptorCount = 1;
@@ -255,10 +255,10 @@ RenderPipelines::RenderPipelines(const Context& ctx) : ctx_(ctx), device_(ctx.de
                 b[i].pImmutableSamplers = &sampler_;
             }
             VkDescriptorSetLayoutCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-            info.bindingCount = 2;
+            info.bindingCount = 3;
             info.pBindings = b;
             FDM_VK_CHECK(vkCreateDescriptorSetLayout(device_, &info, nullptr, &composite_set_layout_));
-            VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2};
+            VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 3};
             VkDescriptorPoolCreateInfo pool{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
             pool.maxSets = 1;
             pool.poolSizeCount = 1;
@@ -280,7 +280,7 @@ RenderPipelines::RenderPipelines(const Context& ctx) : ctx_(ctx), device_(ctx.de
         }
         {
             const Modules modules(device_, Shader::CompositeVert, Shader::CompositeFrag);
-            const PipelineState state(modules);
+            const PipelineState state(modules, 1);
             VkPipelineVertexInputStateCreateInfo input{
                 VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
             VkGraphicsPipelineCreateInfo info = state.info(composite_layout_, composite_pass_);
@@ -322,11 +322,15 @@ void RenderPipelines::release() {
     scene_pass_ = VK_NULL_HANDLE;
 }
 
-VkPipeline RenderPipelines::scene_pipeline(bool per_vertex_color) {
-    VkPipeline& pipeline = scene_pipelines_[per_vertex_color ? 1 : 0];
+VkPipeline RenderPipelines::scene_pipeline(bool per_vertex_color, bool double_sided) {
+    VkPipeline& pipeline = scene_pipelines_[(per_vertex_color ? 1 : 0) + (double_sided ? 2 : 0)];
     if (pipeline) return pipeline;
     const Modules modules(device_, Shader::RenderVert, Shader::RenderFrag);
-    const PipelineState state(modules);
+    PipelineState state(modules, 2);
+    // A closed surface shows its outside only: its back faces are culled (half the triangles
+    // past setup on lavapipe). An open one (a patch) shows both sides; the fragment shader
+    // lights the side it sees.
+    state.raster.cullMode = double_sided ? VK_CULL_MODE_NONE : VK_CULL_MODE_BACK_BIT;
     // Binding 0: the mesh's vertices (position, normal); binding 1: its attribute words (atom,
     // colour), or one word pair for every vertex of the draw.
     VkVertexInputBindingDescription bindings[2] = {
@@ -357,12 +361,14 @@ VkPipeline RenderPipelines::scene_pipeline(bool per_vertex_color) {
     return pipeline;
 }
 
-void RenderPipelines::bind_inputs(VkImageView color, VkImageView depth) const {
-    VkDescriptorImageInfo images[2] = {
+void RenderPipelines::bind_inputs(VkImageView color, VkImageView depth,
+                                  VkImageView normal) const {
+    VkDescriptorImageInfo images[3] = {
         {VK_NULL_HANDLE, color, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
-        {VK_NULL_HANDLE, depth, VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL}};
-    VkWriteDescriptorSet writes[2]{};
-    for (std::uint32_t i = 0; i < 2; ++i) {
+        {VK_NULL_HANDLE, depth, VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL},
+        {VK_NULL_HANDLE, normal, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL}};
+    VkWriteDescriptorSet writes[3]{};
+    for (std::uint32_t i = 0; i < 3; ++i) {
         writes[i].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
         writes[i].dstSet = composite_set_;
         writes[i].dstBinding = i;
@@ -370,7 +376,7 @@ void RenderPipelines::bind_inputs(VkImageView color, VkImageView depth) const {
         writes[i].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
         writes[i].pImageInfo = &images[i];
     }
-    vkUpdateDescriptorSets(device_, 2, writes, 0, nullptr);
+    vkUpdateDescriptorSets(device_, 3, writes, 0, nullptr);
 }
 
 RenderTargets::RenderTargets(const Context& ctx, const RenderPipelines& pipelines,
@@ -381,30 +387,32 @@ RenderTargets::RenderTargets(const Context& ctx, const RenderPipelines& pipeline
         scene_color = DeviceImage(ctx, kColorFormat, w, h,
                                   VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
                                   VK_IMAGE_ASPECT_COLOR_BIT, "scene_color");
+        scene_normal = DeviceImage(ctx, kNormalFormat, w, h,
+                                   VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+                                   VK_IMAGE_ASPECT_COLOR_BIT, "scene_normal");
         scene_depth = DeviceImage(ctx, pipelines.depth_format(), w, h,
                                   VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
                                       VK_IMAGE_USAGE_SAMPLED_BIT,
                                   VK_IMAGE_ASPECT_DEPTH_BIT, "scene_depth");
-        shaded = DeviceImage(ctx, kColorFormat, w, h,
-                             VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                             VK_IMAGE_ASPECT_COLOR_BIT, "shaded");
-        if (samples > 1)
-            picture = DeviceImage(ctx, kColorFormat, width, height,
-                                  VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                                  VK_IMAGE_ASPECT_COLOR_BIT, "picture");
-        VkImageView scene_views[2] = {scene_color.view(), scene_depth.view()};
+        picture = DeviceImage(ctx, kColorFormat, width, height,
+                              VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                              VK_IMAGE_ASPECT_COLOR_BIT, "picture");
+        VkImageView scene_views[3] = {scene_color.view(), scene_normal.view(),
+                                      scene_depth.view()};
         VkFramebufferCreateInfo fb{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
         fb.renderPass = pipelines.scene_pass();
-        fb.attachmentCount = 2;
+        fb.attachmentCount = 3;
         fb.pAttachments = scene_views;
         fb.width = w;
         fb.height = h;
         fb.layers = 1;
         FDM_VK_CHECK(vkCreateFramebuffer(device_, &fb, nullptr, &scene_framebuffer));
-        VkImageView shaded_view = shaded.view();
+        VkImageView picture_view = picture.view();
         fb.renderPass = pipelines.composite_pass();
         fb.attachmentCount = 1;
-        fb.pAttachments = &shaded_view;
+        fb.pAttachments = &picture_view;
+        fb.width = width;
+        fb.height = height;
         FDM_VK_CHECK(vkCreateFramebuffer(device_, &fb, nullptr, &composite_framebuffer));
         readback = Buffer(ctx, std::size_t(width) * height * 4, MemoryUse::Readback,
                           "picture_readback");

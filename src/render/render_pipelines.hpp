@@ -16,6 +16,8 @@ class Context;
 // Colour targets are sRGB: the scene pass writes linear light and the hardware encodes it; the
 // compositing pass reads it back linear.
 inline constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_SRGB;
+// The scene's view-space normals, n * 0.5 + 0.5, for the ambient occlusion.
+inline constexpr VkFormat kNormalFormat = VK_FORMAT_R8G8B8A8_UNORM;
 
 // Everything that does not depend on the image size. Owns its objects; destroys them in
 // reverse order.
@@ -31,27 +33,26 @@ public:
     VkRenderPass scene_pass() const { return scene_pass_; }
     VkRenderPass composite_pass() const { return composite_pass_; }
     // The scene pipeline for meshes with per-vertex colours (binding 1 per vertex, stride 8)
-    // or without (binding 1 per instance: one colour for the whole draw). Made on first use.
-    VkPipeline scene_pipeline(bool per_vertex_color);
+    // or without (binding 1 per instance: one colour for the whole draw), with back faces
+    // culled or drawn (double_sided: open meshes). Made on first use.
+    VkPipeline scene_pipeline(bool per_vertex_color, bool double_sided);
     VkPipelineLayout scene_layout() const { return scene_layout_; }
     VkPipeline composite_pipeline() const { return composite_pipeline_; }
     VkPipelineLayout composite_layout() const { return composite_layout_; }
     VkDescriptorSet composite_set() const { return composite_set_; }
-    // Points the compositing pass's samplers at a scene's colour and depth views.
-    void bind_inputs(VkImageView color, VkImageView depth) const;
-    // Whether a blit with a linear filter from and to kColorFormat is supported (supersampling).
-    bool can_downsample() const { return can_downsample_; }
+    // Points the compositing pass's samplers at a scene's colour, depth and normal views.
+    void bind_inputs(VkImageView color, VkImageView depth, VkImageView normal) const;
 
 private:
     void release();
     const Context& ctx_;
     VkDevice device_ = VK_NULL_HANDLE;
     VkFormat depth_format_ = VK_FORMAT_UNDEFINED;
-    bool can_downsample_ = false;
     VkRenderPass scene_pass_ = VK_NULL_HANDLE;
     VkRenderPass composite_pass_ = VK_NULL_HANDLE;
     VkPipelineLayout scene_layout_ = VK_NULL_HANDLE;
-    VkPipeline scene_pipelines_[2] = {VK_NULL_HANDLE, VK_NULL_HANDLE};
+    VkPipeline scene_pipelines_[4] = {VK_NULL_HANDLE, VK_NULL_HANDLE, VK_NULL_HANDLE,
+                                      VK_NULL_HANDLE};
     VkSampler sampler_ = VK_NULL_HANDLE;
     VkDescriptorSetLayout composite_set_layout_ = VK_NULL_HANDLE;
     VkDescriptorPool descriptor_pool_ = VK_NULL_HANDLE;
@@ -60,9 +61,8 @@ private:
     VkPipeline composite_pipeline_ = VK_NULL_HANDLE;
 };
 
-// The images and framebuffers of one image size: the scene's colour and depth and the
-// composited picture at `samples` times the size, the downsampled picture (supersampling only)
-// and the host buffer the picture is copied to.
+// The images and framebuffers of one image size: the scene's colour, normal and depth at
+// `samples` times the size, the composited picture and the host buffer it is copied to.
 class RenderTargets {
 public:
     RenderTargets() = default;
@@ -79,7 +79,7 @@ public:
     std::uint32_t height() const { return height_; }
     std::uint32_t samples() const { return samples_; }
 
-    DeviceImage scene_color, scene_depth, shaded, picture;
+    DeviceImage scene_color, scene_normal, scene_depth, picture;
     VkFramebuffer scene_framebuffer = VK_NULL_HANDLE;
     VkFramebuffer composite_framebuffer = VK_NULL_HANDLE;
     Buffer readback;

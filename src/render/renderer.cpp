@@ -1,6 +1,7 @@
 // Drawing a DeviceMesh offscreen: the framing sphere on the device (render_bounds.comp), the
 // scene pass on the mesh's own buffers (render.vert/frag), the compositing pass (occlusion,
-// depth cue, outline, background: composite.frag), the downsampling blit, one read-back.
+// depth cue, outline, background, the mean of each pixel's samples: composite.frag), one
+// read-back.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -34,8 +35,8 @@ std::uint8_t linear_to_srgb8(float c) {
     return static_cast<std::uint8_t>(std::lround(s * 255.0f));
 }
 
-// Pixels of a transparent picture carry premultiplied colour (the blit averages it correctly);
-// PNG wants it straight.
+// Pixels of a transparent picture carry premultiplied colour (the mean of a pixel's samples
+// is right so); PNG wants it straight.
 void straighten_alpha(std::vector<std::uint8_t>& rgba) {
     std::array<float, 256> decode{};
     for (int i = 0; i < 256; ++i) decode[i] = srgb_to_linear(float(i) / 255.0f);
@@ -77,7 +78,7 @@ struct RendererImpl {
 
     std::uint32_t samples_for(const RenderOptions& o) const {
         const std::uint32_t max = context.limits().max_image_dimension_2d;
-        if (o.supersample < 2 || !pipelines.can_downsample()) return 1;
+        if (o.supersample < 2) return 1;
         return (o.width * 2 <= max && o.height * 2 <= max) ? 2 : 1;
     }
 
@@ -203,7 +204,7 @@ RenderResult RendererImpl::render(const DeviceMesh& mesh, const GpuMesh& gpu,
         targets = std::make_unique<RenderTargets>(context, pipelines, o.width, o.height, s);
     }
     RenderTargets& t = *targets;
-    pipelines.bind_inputs(t.scene_color.view(), t.scene_depth.view());
+    pipelines.bind_inputs(t.scene_color.view(), t.scene_depth.view(), t.scene_normal.view());
     const std::uint32_t w = o.width * s, h = o.height * s;
 
     const std::array<float, 9> rot = view_rotation(o.view, o.rotate);
@@ -231,8 +232,9 @@ RenderResult RendererImpl::render(const DeviceMesh& mesh, const GpuMesh& gpu,
     cp.ao_strength = o.ambient_occlusion;
     cp.ao_radius = o.ambient_occlusion_radius > 0.0f
                        ? o.ambient_occlusion_radius
-                       : std::max(3.0f, 0.04f * f.sphere.radius);
+                       : std::max(4.0f, 0.05f * f.sphere.radius);
     cp.depth_cue = o.depth_cue;
+    cp.samples = s;
     if (o.outline) {
         const std::uint32_t width_px = std::max<std::uint32_t>(1, (o.width + 256) / 512);
         cp.outline = float(width_px * s);
@@ -249,8 +251,9 @@ RenderResult RendererImpl::render(const DeviceMesh& mesh, const GpuMesh& gpu,
         std::memcpy(uniform_color.mapped(), words, sizeof words);
         uniform_color.flush();
     }
-    const VkPipeline scene = mesh.triangle_count() > 0 ? pipelines.scene_pipeline(colored)
-                                                       : VK_NULL_HANDLE;
+    const VkPipeline scene = mesh.triangle_count() > 0
+                                 ? pipelines.scene_pipeline(colored, o.double_sided)
+                                 : VK_NULL_HANDLE;
 
     commands.begin();
     VkCommandBuffer cmd = commands.handle();
@@ -267,14 +270,15 @@ RenderResult RendererImpl::render(const DeviceMesh& mesh, const GpuMesh& gpu,
     const VkViewport viewport{0.0f, 0.0f, float(w), float(h), 0.0f, 1.0f};
     const VkRect2D area{{0, 0}, {w, h}};
     {
-        VkClearValue clear[2]{};
+        VkClearValue clear[3]{};
         clear[0].color = {{0.0f, 0.0f, 0.0f, 0.0f}};
-        clear[1].depthStencil = {1.0f, 0};
+        clear[1].color = {{0.5f, 0.5f, 1.0f, 0.0f}};
+        clear[2].depthStencil = {1.0f, 0};
         VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
         begin.renderPass = pipelines.scene_pass();
         begin.framebuffer = t.scene_framebuffer;
         begin.renderArea = area;
-        begin.clearValueCount = 2;
+        begin.clearValueCount = 3;
         begin.pClearValues = clear;
         vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
         if (scene) {
@@ -294,14 +298,17 @@ RenderResult RendererImpl::render(const DeviceMesh& mesh, const GpuMesh& gpu,
     }
     commands.mark("render-scene");
     {
+        // One fragment per pixel of the picture, averaging its samples.
+        const VkViewport out_viewport{0.0f, 0.0f, float(o.width), float(o.height), 0.0f, 1.0f};
+        const VkRect2D out_area{{0, 0}, {o.width, o.height}};
         VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
         begin.renderPass = pipelines.composite_pass();
         begin.framebuffer = t.composite_framebuffer;
-        begin.renderArea = area;
+        begin.renderArea = out_area;
         vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines.composite_pipeline());
-        vkCmdSetViewport(cmd, 0, 1, &viewport);
-        vkCmdSetScissor(cmd, 0, 1, &area);
+        vkCmdSetViewport(cmd, 0, 1, &out_viewport);
+        vkCmdSetScissor(cmd, 0, 1, &out_area);
         const VkDescriptorSet set = pipelines.composite_set();
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines.composite_layout(),
                                 0, 1, &set, 0, nullptr);
@@ -311,43 +318,11 @@ RenderResult RendererImpl::render(const DeviceMesh& mesh, const GpuMesh& gpu,
         vkCmdEndRenderPass(cmd);
     }
     commands.mark("render-shade");
-    VkImage source = t.shaded.handle();
     const VkImageSubresourceLayers layers{VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-    if (s > 1) {
-        // A linear-filtered blit to half the size samples each 2 x 2 block at its centre: their
-        // mean (in linear light: the format is sRGB).
-        VkImageMemoryBarrier to_dst{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
-        to_dst.srcAccessMask = 0;
-        to_dst.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-        to_dst.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-        to_dst.newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
-        to_dst.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-        to_dst.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-        to_dst.image = t.picture.handle();
-        to_dst.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                             0, 0, nullptr, 0, nullptr, 1, &to_dst);
-        VkImageBlit blit{};
-        blit.srcSubresource = layers;
-        blit.srcOffsets[1] = {std::int32_t(w), std::int32_t(h), 1};
-        blit.dstSubresource = layers;
-        blit.dstOffsets[1] = {std::int32_t(o.width), std::int32_t(o.height), 1};
-        vkCmdBlitImage(cmd, t.shaded.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                       t.picture.handle(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &blit,
-                       VK_FILTER_LINEAR);
-        VkImageMemoryBarrier to_src = to_dst;
-        to_src.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-        to_src.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
-        to_src.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
-        to_src.newLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
-        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                             0, 0, nullptr, 0, nullptr, 1, &to_src);
-        source = t.picture.handle();
-    }
     VkBufferImageCopy copy{};
     copy.imageSubresource = layers;
     copy.imageExtent = {o.width, o.height, 1};
-    vkCmdCopyImageToBuffer(cmd, source, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+    vkCmdCopyImageToBuffer(cmd, t.picture.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                            t.readback.handle(), 1, &copy);
     commands.barrier_to_host();
     commands.mark("render-read");

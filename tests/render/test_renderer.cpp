@@ -279,6 +279,28 @@ TEST_F(Render, UploadedMeshDrawsLikeTheDeviceSurface) {
     EXPECT_GT(cyan, 1000u);
 }
 
+TEST_F(Render, BackFacesAreCulledUnlessDoubleSided) {
+    // One triangle, counter-clockwise seen from -z: its back faces a front view.
+    fdmsurf::Mesh m;
+    m.positions = {-5, -5, 0, 5, -5, 0, -5, 5, 0};
+    m.indices = {0, 2, 1};
+    const DeviceMesh tri = engine().upload_mesh(m);  // normals from the triangle: -z
+    RenderOptions o = plain(64, 64);
+    o.frame = {{0, 0, 0}, 8.0f};
+    const double culled = coverage(renderer().render(tri, o).image);
+    o.double_sided = true;
+    const RenderResult both = renderer().render(tri, o);
+    EXPECT_EQ(culled, 0.0);
+    EXPECT_NEAR(coverage(both.image), 50.0 / (both.pixel_size * both.pixel_size), 40.0);
+    // Seen from the back, the back side is lit as the side in view.
+    const std::uint8_t* p = pixel(both.image, 20, 40);
+    EXPECT_EQ(p[3], 255);
+    EXPECT_GT(p[1], 120);
+    o.double_sided = false;
+    o.view = fdmsurf::View::Back;
+    EXPECT_NEAR(coverage(renderer().render(tri, o).image) / coverage(both.image), 1.0, 0.04);
+}
+
 TEST_F(Render, EmptyMeshGivesTheBackground) {
     RenderOptions o = plain(64, 48);
     o.background = {10, 20, 30, 255};

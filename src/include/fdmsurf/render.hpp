@@ -45,8 +45,8 @@ struct RenderOptions {
     // sRGB colour of a mesh without an attribute buffer (no colour scheme).
     std::array<std::uint8_t, 3> color{200, 200, 200};
     // Screen-space ambient occlusion from the depth buffer: 0 (off) to 1, and its radius in Å
-    // (0: the larger of 3 Å and 4% of the framed radius).
-    float ambient_occlusion = 0.7f;
+    // (0: the larger of 4 Å and 5% of the framed radius).
+    float ambient_occlusion = 0.8f;
     float ambient_occlusion_radius = 0.0f;
     // Depth cue: the far side of the framed sphere is darkened by this fraction (0 to 1).
     float depth_cue = 0.35f;
@@ -56,6 +56,10 @@ struct RenderOptions {
     // edges; silhouette areas within a fraction of a pixel). 2 falls back to 1 when twice the
     // size exceeds maxImageDimension2D.
     std::uint32_t supersample = 2;
+    // Draw back faces too: for open meshes (a patch), whose inside shows. Closed surfaces
+    // (every make_device_surface mesh) show their outside only, and culling the back faces
+    // halves the triangles rasterised.
+    bool double_sided = false;
     // What to frame; radius <= 0: the mesh's own bounding sphere (Renderer::bounds). Give one
     // sphere to several renders to keep their centre and scale the same.
     BoundingSphere frame;
@@ -75,9 +79,10 @@ struct RenderResult {
     BoundingSphere frame;    // the sphere that was framed
     float pixel_size = 0.0f;  // Å per pixel of the image (orthographic: the same everywhere)
     std::uint32_t supersample = 1;  // the factor used
-    // "render-scene" (drawing), "render-shade" (occlusion, depth cue, outline, background),
-    // "render-read" (downsampling and the copy to the host), GPU timestamps where the queue
-    // has them; "render-host" the rest of the call on the host clock.
+    // "render-bounds" (the bounding sphere, when not given), "render-scene" (drawing),
+    // "render-shade" (occlusion, depth cue, outline, background, downsampling), "render-read"
+    // (the copy to the host), GPU timestamps where the queue has them; "render-host" the rest
+    // of the call on the host clock.
     std::vector<StageTime> times;
 };
 
