@@ -116,7 +116,7 @@ constexpr std::array<OptionSpec, 47> kOptions{{
     {"--max-triangles", "", Opt::MaxTriangles, true, true},
     {"--optimize", "", Opt::Optimize, false, false},
     {"--image", "", Opt::Image, true, false},
-    {"--image-size", "", Opt::ImageSize, true, false},
+    {"--image-size", "", Opt::ImageSize, true, true},
     {"--view", "", Opt::View, true, false},
     {"--views", "", Opt::View, true, false},
     {"--rotate", "", Opt::Rotate, true, true},
