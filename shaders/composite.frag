@@ -2,9 +2,9 @@
 // samples per pixel), the picture out, each pixel the mean of its samples (in linear light;
 // the sRGB attachment encodes it). Per sample: the background where nothing was drawn; else the
 // lit colour darkened by screen-space ambient occlusion (the share of kAoSamples depth samples
-// within ao_radius that lie nearer the viewer than the tangent plane of the pixel's normal:
-// crevices and pockets darken, open faces and slopes do not; once per pixel, from its first
-// covered sample), by the depth cue (the far side of the framed sphere darker), and an outline
+// within ao_radius that lie nearer the viewer than the tangent plane of the sample's normal:
+// crevices and pockets darken, open faces and slopes do not; each of a pixel's samples takes
+// its share of them), by the depth cue (the far side of the framed sphere darker), and an outline
 // where a neighbour at outline distance is background or lies more than outline_step Å away in
 // depth. Premultiplied alpha (the host straightens it).
 #version 450
@@ -25,22 +25,23 @@ float depth_at(ivec2 q) {
     return texelFetch(depth, clamp(q, ivec2(0), size - 1), 0).r;
 }
 
-// The ambient light left at sample q of depth d (z Å behind the near plane).
-float ambient(ivec2 q, float d) {
+// The ambient light left at sample q of depth d (z Å behind the near plane), from the spiral's
+// samples first, first + stride, ...: the samples of a pixel share the spiral between them, so
+// that their mean sees all kAoSamples directions and no noise is needed to hide a pattern.
+float ambient(ivec2 q, float d, uint first, uint stride) {
     float z = d * pc.depth_range;
     // The tangent plane from the scene's normal: the depth it predicts a sample offset
     // (ox, oy) samples away (image y points down, view y up), its slope bounded near the
     // silhouette, where the normal turns away from the viewer.
     vec3 n = texelFetch(normals, q, 0).xyz * 2.0 - 1.0;
     vec2 slope = vec2(n.x, -n.y) / max(n.z, 0.25) * pc.pixel_size;  // Å of depth per sample
-    // A spiral of samples turned by interleaved gradient noise per pixel.
-    float turn = 6.2831853 * fract(52.9829189 * fract(dot(vec2(q), vec2(0.06711056, 0.00583715))));
     float radius = pc.ao_radius / pc.pixel_size;
-    float occluded = 0.0;
-    for (uint i = 0; i < kAoSamples; ++i) {
+    float occluded = 0.0, count = 0.0;
+    for (uint i = first; i < kAoSamples; i += stride) {
         float t = (float(i) + 0.5) / float(kAoSamples);
-        float a = turn + kGoldenAngle * float(i);
+        float a = kGoldenAngle * float(i);
         ivec2 offset = ivec2(round(vec2(cos(a), sin(a)) * (radius * sqrt(t))));
+        count += 1.0;
         float dq = depth_at(q + offset);
         if (dq >= 1.0) continue;
         float plane = z + dot(slope, vec2(offset));
@@ -49,7 +50,7 @@ float ambient(ivec2 q, float d) {
         occluded += smoothstep(0.05 * reach, 0.4 * reach, rise) *
                     (1.0 - smoothstep(2.0 * pc.ao_radius, 3.0 * pc.ao_radius, rise));
     }
-    return 1.0 - pc.ao_strength * occluded / float(kAoSamples);
+    return 1.0 - pc.ao_strength * occluded / max(count, 1.0);
 }
 
 void main() {
@@ -60,7 +61,6 @@ void main() {
     int w = int(pc.outline);
     ivec2 steps[4] = ivec2[](ivec2(w, 0), ivec2(-w, 0), ivec2(0, w), ivec2(0, -w));
     vec4 sum = vec4(0.0);
-    float ao = -1.0;  // not computed yet
     for (int j = 0; j < s; ++j) {
         for (int i = 0; i < s; ++i) {
             ivec2 q = base + ivec2(i, j);
@@ -70,10 +70,7 @@ void main() {
                 continue;
             }
             vec3 c = texelFetch(scene, q, 0).rgb;
-            if (pc.ao_strength > 0.0) {
-                if (ao < 0.0) ao = ambient(q, d);
-                c *= ao;
-            }
+            if (pc.ao_strength > 0.0) c *= ambient(q, d, uint(j * s + i), uint(s * s));
             c *= 1.0 - pc.depth_cue * clamp(d, 0.0, 1.0);
             if (w > 0) {
                 float edge = 0.0;

@@ -6,7 +6,7 @@
 #version 450
 
 layout(location = 0) in vec3 in_normal;
-layout(location = 1) flat in vec3 in_color;
+layout(location = 1) in vec3 in_color;
 layout(location = 0) out vec4 out_color;
 layout(location = 1) out vec4 out_normal;  // the lit side's view-space normal, n * 0.5 + 0.5
 

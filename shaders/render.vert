@@ -1,9 +1,8 @@
 // The scene pass, vertex stage: a device mesh's interleaved vertices (position, normal; 24
 // bytes) and its attribute words (atom, packed sRGB colour) through the orthographic camera of
 // RenderPush (shader_interface.h). With no attribute buffer the renderer binds one word pair
-// holding the uniform colour, per instance. The colour is flat: on lavapipe every interpolated
-// output costs plane equations in each triangle's setup, and a triangle of a surface mesh is
-// rarely larger than a few pixels, nor are its vertices' colours often different.
+// holding the uniform colour, per instance. Colours are interpolated: flat ones draw the
+// boundaries between atoms as staircases along the triangles' edges when zoomed in.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "shader_interface.h"
@@ -15,7 +14,7 @@ layout(location = 1) in vec3 in_normal;    // outward, unit
 layout(location = 2) in vec4 in_color;     // sRGB, R8G8B8A8_UNORM
 
 layout(location = 0) out vec3 out_normal;  // view space: x right, y up, z towards the viewer
-layout(location = 1) flat out vec3 out_color;  // linear; one per triangle (its first vertex's)
+layout(location = 1) out vec3 out_color;   // linear
 
 void main() {
     vec3 p = in_position - vec3(pc.center_x, pc.center_y, pc.center_z);

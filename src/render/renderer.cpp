@@ -292,7 +292,20 @@ RenderResult RendererImpl::render(const DeviceMesh& mesh, const GpuMesh& gpu,
             vkCmdBindIndexBuffer(cmd, gpu.indices.handle(), 0, VK_INDEX_TYPE_UINT32);
             vkCmdPushConstants(cmd, pipelines.scene_layout(), VK_SHADER_STAGE_VERTEX_BIT, 0,
                                sizeof rp, &rp);
-            vkCmdDrawIndexed(cmd, 3 * mesh.triangle_count(), 1, 0, 0, 0);
+            // Marching cubes writes triangles plane by plane along z: drawn in slices from
+            // the viewer's side of z first, most hidden fragments fail the early depth test
+            // instead of being shaded and then covered (lavapipe shades in that order).
+            const std::uint32_t tris = mesh.triangle_count();
+            const std::uint32_t slices = std::clamp<std::uint32_t>(tris / 16384, 1, 64);
+            const std::uint32_t per = (tris + slices - 1) / slices;
+            const bool near_last = rot[8] > 0.0f;  // the viewer on the +z side
+            for (std::uint32_t k = 0; k < slices; ++k) {
+                const std::uint32_t slice = near_last ? slices - 1 - k : k;
+                const std::uint32_t first = slice * per;
+                if (first >= tris) continue;
+                const std::uint32_t count = std::min(per, tris - first);
+                vkCmdDrawIndexed(cmd, 3 * count, 1, 3 * first, 0, 0);
+            }
         }
         vkCmdEndRenderPass(cmd);
     }
