@@ -174,6 +174,10 @@ GpuMesh EngineImpl::upload_mesh(const Mesh& mesh) {
                                 mesh.indices.size() * sizeof(std::uint32_t), "mesh_indices");
     gpu.vertex_count = static_cast<std::uint32_t>(mesh.vertex_count());
     gpu.triangle_count = static_cast<std::uint32_t>(mesh.triangle_count());
+    // On a discrete GPU the uploads are copies (transfer writes): made available here, so that
+    // the barrier a renderer records for a DeviceMesh (compute-shader writes to vertex input,
+    // fdmsurf/vulkan_interop.hpp) chains on and covers them as well.
+    commands.barrier_compute();
     commands.mark("upload-mesh");
     commands.submit_and_wait();
     return gpu;
@@ -192,6 +196,7 @@ Buffer EngineImpl::upload_attributes(const Mesh& mesh) {
     commands.begin();
     Buffer out = upload_buffer(context, commands, arena, words.data(),
                                words.size() * sizeof(std::uint32_t), "mesh_attributes");
+    commands.barrier_compute();  // as in upload_mesh
     commands.submit_and_wait();
     return out;
 }
