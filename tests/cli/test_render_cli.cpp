@@ -11,6 +11,7 @@
 #include "cli/json_check.hpp"
 #include "cli/options.hpp"
 #include "cli/parse_check.hpp"
+#include "cli/summary.hpp"
 #include "fdmsurf/fdmsurf.hpp"
 
 namespace {
@@ -148,6 +149,55 @@ TEST(CliRenderOptions, FileNamesOfViewsAndFolders) {
     EXPECT_EQ(fdmsurf::cli::image_for(m, "a.pdb", 1), "pics/a.png");
     EXPECT_TRUE(fdmsurf::cli::is_png_path("X.PnG"));
     EXPECT_FALSE(fdmsurf::cli::is_png_path("x.png.gz"));
+}
+
+TEST(CliRenderSummary, PicturesAndTheDeviceMeshInTextAndJson) {
+    fdmsurf::cli::RunReport r;
+    r.version = "0.1.0";
+    r.input = "in.pdb";
+    r.output = "out.png";
+    r.output_format = "png";
+    r.mesh_on_host = false;
+    r.stats.vertices = 1234;
+    r.stats.triangles = 2460;
+    fdmsurf::cli::ImageReport im;
+    im.path = "out.png";
+    im.view = "left";
+    im.rotate = {0.0f, 30.0f, 0.0f};
+    im.width = 640;
+    im.height = 480;
+    im.pixel_size = 0.125f;
+    im.supersample = 2;
+    r.images.push_back(im);
+    r.times = {{"render-scene", 12.5, true}, {"png", 3.0, false}};
+    const std::string text = fdmsurf::cli::text_summary(r);
+    EXPECT_TRUE(contains(text, "1,234 vertices, 2,460 triangles, left on the device")) << text;
+    EXPECT_FALSE(contains(text, "\n  area ")) << text;
+    EXPECT_TRUE(contains(text, "image        out.png (640 x 480, left view turned 0,30,0°, "
+                               "0.125 Å/pixel)"))
+        << text;
+    EXPECT_TRUE(contains(text, "render-scene 12.5 (gpu)")) << text;
+    const auto json = parse_json(fdmsurf::cli::json_summary(r));
+    ASSERT_TRUE(json);
+    EXPECT_FALSE(json->find("mesh_on_host")->boolean);
+    for (const char* key : {"area", "volume", "pieces", "closed_manifold", "boundary_edges"})
+        EXPECT_EQ(json->find(key)->type, fdmsurf_cli_test::JsonValue::Type::Null) << key;
+    EXPECT_EQ(json->find("vertices")->number, 1234);
+    const auto& images = json->find("images")->array;
+    ASSERT_EQ(images.size(), 1u);
+    EXPECT_EQ(images[0].find("view")->string, "left");
+    EXPECT_EQ(images[0].find("rotate")->array.at(1).number, 30.0);
+    EXPECT_EQ(images[0].find("height")->number, 480);
+    EXPECT_EQ(images[0].find("pixel_size")->number, 0.125);
+    EXPECT_EQ(images[0].find("supersample")->number, 2);
+    // A mesh run has no images and its statistics.
+    fdmsurf::cli::RunReport m;
+    m.stats.area = 12.5;
+    const auto mesh = parse_json(fdmsurf::cli::json_summary(m));
+    ASSERT_TRUE(mesh);
+    EXPECT_TRUE(mesh->find("mesh_on_host")->boolean);
+    EXPECT_EQ(mesh->find("area")->number, 12.5);
+    EXPECT_TRUE(mesh->find("images")->array.empty());
 }
 
 // -o FILE.png: the surface drawn on the device; the PNG, the summary without area, the times.
