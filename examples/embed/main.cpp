@@ -14,12 +14,11 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <fdmsurf/fdmsurf.hpp>
 #include <set>
 #include <stdexcept>
 #include <string>
 #include <vector>
-
-#include <fdmsurf/fdmsurf.hpp>
 
 #include "embed_frag.spv.h"
 #include "embed_vert.spv.h"
@@ -31,7 +30,8 @@ constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;
 
 void check(VkResult r, const char* what) {
     if (r != VK_SUCCESS)
-        throw std::runtime_error(std::string(what) + " failed (VkResult " + std::to_string(r) + ")");
+        throw std::runtime_error(std::string(what) + " failed (VkResult " + std::to_string(r) +
+                                 ")");
 }
 
 std::vector<std::string> g_messages;  // validation messages
@@ -71,7 +71,8 @@ struct App {
         info.ppEnabledExtensionNames = extensions.data();
         check(vkCreateInstance(&info, nullptr, &instance), "vkCreateInstance");
         if (validation) {
-            VkDebugUtilsMessengerCreateInfoEXT m{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
+            VkDebugUtilsMessengerCreateInfoEXT m{
+                VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
             m.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT |
                                 VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
             m.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT |
@@ -101,7 +102,8 @@ struct App {
                 }
             if (physical) break;
         }
-        if (!physical) throw std::runtime_error("no Vulkan device with a graphics and compute queue");
+        if (!physical)
+            throw std::runtime_error("no Vulkan device with a graphics and compute queue");
         vkGetPhysicalDeviceMemoryProperties(physical, &memory);
         VkPhysicalDeviceFeatures supported{}, enabled{};
         vkGetPhysicalDeviceFeatures(physical, &supported);
@@ -190,8 +192,9 @@ struct HostBuffer {
         vkGetBufferMemoryRequirements(device, buffer, &req);
         VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
         alloc.allocationSize = req.size;
-        alloc.memoryTypeIndex = app.memory_type(
-            req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+        alloc.memoryTypeIndex =
+            app.memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
+                                                    VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
         check(vkAllocateMemory(device, &alloc, nullptr, &memory), "vkAllocateMemory");
         vkBindBufferMemory(device, buffer, memory, 0);
         check(vkMapMemory(device, memory, 0, VK_WHOLE_SIZE, 0, &mapped), "vkMapMemory");
@@ -292,16 +295,17 @@ fdmsurf::Image draw(const App& app, const fdmsurf::DeviceSurfaceResult& surface)
     stages[1].module = frag;
     VkVertexInputBindingDescription bindings[2] = {{0, 24, VK_VERTEX_INPUT_RATE_VERTEX},
                                                    {1, 8, VK_VERTEX_INPUT_RATE_VERTEX}};
-    VkVertexInputAttributeDescription attributes[3] = {
-        {0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
-        {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12},
-        {2, 1, VK_FORMAT_R8G8B8A8_UNORM, 4}};
-    VkPipelineVertexInputStateCreateInfo input{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+    VkVertexInputAttributeDescription attributes[3] = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
+                                                       {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12},
+                                                       {2, 1, VK_FORMAT_R8G8B8A8_UNORM, 4}};
+    VkPipelineVertexInputStateCreateInfo input{
+        VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
     input.vertexBindingDescriptionCount = 2;
     input.pVertexBindingDescriptions = bindings;
     input.vertexAttributeDescriptionCount = 3;
     input.pVertexAttributeDescriptions = attributes;
-    VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+    VkPipelineInputAssemblyStateCreateInfo assembly{
+        VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
     assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
     VkViewport viewport{0, 0, float(kWidth), float(kHeight), 0, 1};
     VkRect2D scissor{{0, 0}, {kWidth, kHeight}};
@@ -310,20 +314,25 @@ fdmsurf::Image draw(const App& app, const fdmsurf::DeviceSurfaceResult& surface)
     vp.pViewports = &viewport;
     vp.scissorCount = 1;
     vp.pScissors = &scissor;
-    VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+    VkPipelineRasterizationStateCreateInfo raster{
+        VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
     raster.polygonMode = VK_POLYGON_MODE_FILL;
     raster.cullMode = VK_CULL_MODE_BACK_BIT;  // a closed surface: its outside only
-    raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;  // counter-clockwise from outside, y flipped
+    raster.frontFace =
+        VK_FRONT_FACE_COUNTER_CLOCKWISE;  // counter-clockwise from outside, y flipped
     raster.lineWidth = 1.0f;
-    VkPipelineMultisampleStateCreateInfo ms{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+    VkPipelineMultisampleStateCreateInfo ms{
+        VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
     ms.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
-    VkPipelineDepthStencilStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+    VkPipelineDepthStencilStateCreateInfo ds{
+        VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
     ds.depthTestEnable = VK_TRUE;
     ds.depthWriteEnable = VK_TRUE;
     ds.depthCompareOp = VK_COMPARE_OP_LESS;
     VkPipelineColorBlendAttachmentState blend_att{};
     blend_att.colorWriteMask = 0xf;
-    VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+    VkPipelineColorBlendStateCreateInfo blend{
+        VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
     blend.attachmentCount = 1;
     blend.pAttachments = &blend_att;
     VkGraphicsPipelineCreateInfo gp{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
@@ -379,8 +388,9 @@ fdmsurf::Image draw(const App& app, const fdmsurf::DeviceSurfaceResult& surface)
     VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
     barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
     barrier.dstAccessMask = VK_ACCESS_VERTEX_ATTRIBUTE_READ_BIT | VK_ACCESS_INDEX_READ_BIT;
-    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_VERTEX_INPUT_BIT,
-                         0, 1, &barrier, 0, nullptr, 0, nullptr);
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                         VK_PIPELINE_STAGE_VERTEX_INPUT_BIT, 0, 1, &barrier, 0, nullptr, 0,
+                         nullptr);
     VkClearValue clear[2]{};
     clear[0].color = {{1.0f, 1.0f, 1.0f, 1.0f}};  // white
     clear[1].depthStencil = {1.0f, 0};
@@ -452,7 +462,7 @@ int main(int argc, char** argv) {
             const fdmsurf::ExternalDevice external{app.instance, app.physical, app.device,
                                                    app.queue, app.family};
             fdmsurf::Engine engine(fdmsurf::EngineOptions{.external = &external});
-            fdmsurf::SurfaceOptions options;  // ses, 0.5 Å, probe 1.4 Å
+            fdmsurf::SurfaceOptions options;                         // ses, 0.5 Å, probe 1.4 Å
             options.properties.color = fdmsurf::ColorScheme::Chain;  // found on the device
             const fdmsurf::DeviceSurfaceResult surface =
                 engine.make_device_surface(structure.atoms, options);
@@ -477,12 +487,13 @@ int main(int argc, char** argv) {
         std::set<std::string> chains;
         for (const fdmsurf::AtomMeta& m : structure.atoms.meta) chains.insert(m.chain);
         const double share = double(drawn) / (double(kWidth) * kHeight);
-        std::printf("fdmsurf %s: %zu triangles drawn by the application into %s: %.1f%% of the "
-                    "pixels, %zu hue(s) for %zu chain(s), %zu validation message(s)\n",
-                    fdmsurf::version(), triangles, argv[2], 100.0 * share, hues.size(),
-                    chains.size(), g_messages.size());
-        const bool ok = share > 0.05 && (chains.size() < 2 || hues.size() >= 2) &&
-                        g_messages.empty();
+        std::printf(
+            "fdmsurf %s: %zu triangles drawn by the application into %s: %.1f%% of the "
+            "pixels, %zu hue(s) for %zu chain(s), %zu validation message(s)\n",
+            fdmsurf::version(), triangles, argv[2], 100.0 * share, hues.size(), chains.size(),
+            g_messages.size());
+        const bool ok =
+            share > 0.05 && (chains.size() < 2 || hues.size() >= 2) && g_messages.empty();
         return ok ? 0 : 1;
     } catch (const fdmsurf::Error& e) {
         std::fprintf(stderr, "fdmsurf error (%s): %s\n", fdmsurf::to_string(e.code()), e.what());

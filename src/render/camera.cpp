@@ -8,12 +8,18 @@ namespace fdmsurf {
 
 const char* to_string(View view) noexcept {
     switch (view) {
-        case View::Front: return "front";
-        case View::Back: return "back";
-        case View::Left: return "left";
-        case View::Right: return "right";
-        case View::Top: return "top";
-        case View::Bottom: return "bottom";
+        case View::Front:
+            return "front";
+        case View::Back:
+            return "back";
+        case View::Left:
+            return "left";
+        case View::Right:
+            return "right";
+        case View::Top:
+            return "top";
+        case View::Bottom:
+            return "bottom";
     }
     return "unknown";
 }
@@ -23,12 +29,24 @@ std::array<float, 9> view_rotation(View view, const std::array<float, 3>& rotate
     // (right x up = towards: a proper rotation).
     std::array<double, 9> m{};
     switch (view) {
-        case View::Front: m = {1, 0, 0, 0, 1, 0, 0, 0, 1}; break;
-        case View::Back: m = {-1, 0, 0, 0, 1, 0, 0, 0, -1}; break;
-        case View::Left: m = {0, 0, 1, 0, 1, 0, -1, 0, 0}; break;
-        case View::Right: m = {0, 0, -1, 0, 1, 0, 1, 0, 0}; break;
-        case View::Top: m = {1, 0, 0, 0, 0, -1, 0, 1, 0}; break;
-        case View::Bottom: m = {1, 0, 0, 0, 0, 1, 0, -1, 0}; break;
+        case View::Front:
+            m = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+            break;
+        case View::Back:
+            m = {-1, 0, 0, 0, 1, 0, 0, 0, -1};
+            break;
+        case View::Left:
+            m = {0, 0, 1, 0, 1, 0, -1, 0, 0};
+            break;
+        case View::Right:
+            m = {0, 0, -1, 0, 1, 0, 1, 0, 0};
+            break;
+        case View::Top:
+            m = {1, 0, 0, 0, 0, -1, 0, 1, 0};
+            break;
+        case View::Bottom:
+            m = {1, 0, 0, 0, 0, 1, 0, -1, 0};
+            break;
     }
     // Turns about the screen's axes, x first: M = Rz Ry Rx M.
     for (int axis = 0; axis < 3; ++axis) {

@@ -11,10 +11,10 @@ namespace fdmsurf::detail {
 inline constexpr float kFrameMargin = 0.03f;
 
 struct Framing {
-    BoundingSphere sphere;   // radius > 0
-    float pixel_size = 0.0f;  // Å per pixel
+    BoundingSphere sphere;                        // radius > 0
+    float pixel_size = 0.0f;                      // Å per pixel
     float half_width = 0.0f, half_height = 0.0f;  // Å from the centre to the image's edges
-    float half_depth = 0.0f;  // Å from the centre to the near and far planes
+    float half_depth = 0.0f;                      // Å from the centre to the near and far planes
 };
 
 Framing frame_sphere(const BoundingSphere& sphere, std::uint32_t width, std::uint32_t height);

@@ -55,13 +55,15 @@ struct PipelineState {
     VkPipelineShaderStageCreateInfo stages[2]{};
     VkPipelineInputAssemblyStateCreateInfo assembly{
         VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
-    VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+    VkPipelineViewportStateCreateInfo viewport{
+        VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
     VkPipelineRasterizationStateCreateInfo raster{
         VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
     VkPipelineMultisampleStateCreateInfo multisample{
         VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
     VkPipelineColorBlendAttachmentState blend_attachments[2]{};
-    VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+    VkPipelineColorBlendStateCreateInfo blend{
+        VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
     VkDynamicState dynamic_states[2] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
     VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
 
@@ -176,8 +178,8 @@ RenderPipelines::RenderPipelines(const Context& ctx) : ctx_(ctx), device_(ctx.de
             dep[1].srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT |
                                   VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT |
                                   VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
-            dep[1].srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT |
-                                   VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+            dep[1].srcAccessMask =
+                VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
             dep[1].dstStageMask = VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT;
             dep[1].dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
             VkRenderPassCreateInfo info{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
@@ -254,10 +256,12 @@ RenderPipelines::RenderPipelines(const Context& ctx) : ctx_(ctx), device_(ctx.de
                 b[i].stageFlags = VK_SHADER_STAGE_FRAGMENT_BIT;
                 b[i].pImmutableSamplers = &sampler_;
             }
-            VkDescriptorSetLayoutCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+            VkDescriptorSetLayoutCreateInfo info{
+                VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
             info.bindingCount = 3;
             info.pBindings = b;
-            FDM_VK_CHECK(vkCreateDescriptorSetLayout(device_, &info, nullptr, &composite_set_layout_));
+            FDM_VK_CHECK(
+                vkCreateDescriptorSetLayout(device_, &info, nullptr, &composite_set_layout_));
             VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 3};
             VkDescriptorPoolCreateInfo pool{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
             pool.maxSets = 1;
@@ -361,8 +365,7 @@ VkPipeline RenderPipelines::scene_pipeline(bool per_vertex_color, bool double_si
     return pipeline;
 }
 
-void RenderPipelines::bind_inputs(VkImageView color, VkImageView depth,
-                                  VkImageView normal) const {
+void RenderPipelines::bind_inputs(VkImageView color, VkImageView depth, VkImageView normal) const {
     VkDescriptorImageInfo images[3] = {
         {VK_NULL_HANDLE, color, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
         {VK_NULL_HANDLE, depth, VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL},
@@ -390,15 +393,14 @@ RenderTargets::RenderTargets(const Context& ctx, const RenderPipelines& pipeline
         scene_normal = DeviceImage(ctx, kNormalFormat, w, h,
                                    VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
                                    VK_IMAGE_ASPECT_COLOR_BIT, "scene_normal");
-        scene_depth = DeviceImage(ctx, pipelines.depth_format(), w, h,
-                                  VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
-                                      VK_IMAGE_USAGE_SAMPLED_BIT,
-                                  VK_IMAGE_ASPECT_DEPTH_BIT, "scene_depth");
+        scene_depth =
+            DeviceImage(ctx, pipelines.depth_format(), w, h,
+                        VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+                        VK_IMAGE_ASPECT_DEPTH_BIT, "scene_depth");
         picture = DeviceImage(ctx, kColorFormat, width, height,
                               VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                               VK_IMAGE_ASPECT_COLOR_BIT, "picture");
-        VkImageView scene_views[3] = {scene_color.view(), scene_normal.view(),
-                                      scene_depth.view()};
+        VkImageView scene_views[3] = {scene_color.view(), scene_normal.view(), scene_depth.view()};
         VkFramebufferCreateInfo fb{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
         fb.renderPass = pipelines.scene_pass();
         fb.attachmentCount = 3;
@@ -414,8 +416,8 @@ RenderTargets::RenderTargets(const Context& ctx, const RenderPipelines& pipeline
         fb.width = width;
         fb.height = height;
         FDM_VK_CHECK(vkCreateFramebuffer(device_, &fb, nullptr, &composite_framebuffer));
-        readback = Buffer(ctx, std::size_t(width) * height * 4, MemoryUse::Readback,
-                          "picture_readback");
+        readback =
+            Buffer(ctx, std::size_t(width) * height * 4, MemoryUse::Readback, "picture_readback");
     } catch (...) {
         release();
         throw;

@@ -64,16 +64,16 @@ struct RendererImpl {
         ShaderCode b = shader_code(Shader::RenderBounds);
         bounds_pipeline = ComputePipeline(context, b.words, b.bytes, 2, sizeof(shader::BoundsPush),
                                           "render_bounds");
-        bounds_words = Buffer(context, 8 * sizeof(std::uint32_t), MemoryUse::Upload,
-                              "render_bounds");
-        uniform_color = Buffer(context, 2 * sizeof(std::uint32_t), MemoryUse::Upload,
-                               "render_uniform_color");
+        bounds_words =
+            Buffer(context, 8 * sizeof(std::uint32_t), MemoryUse::Upload, "render_bounds");
+        uniform_color =
+            Buffer(context, 2 * sizeof(std::uint32_t), MemoryUse::Upload, "render_uniform_color");
         VkPhysicalDeviceFeatures features;
         vkGetPhysicalDeviceFeatures(context.physical_device(), &features);
         VkPhysicalDeviceProperties props;
         vkGetPhysicalDeviceProperties(context.physical_device(), &props);
-        max_index = features.fullDrawIndexUint32 ? 0xfffffffeu
-                                                 : props.limits.maxDrawIndexedIndexValue;
+        max_index =
+            features.fullDrawIndexUint32 ? 0xfffffffeu : props.limits.maxDrawIndexedIndexValue;
     }
 
     std::uint32_t samples_for(const RenderOptions& o) const {
@@ -118,8 +118,7 @@ void RendererImpl::check(const RenderOptions& o) const {
         fail("the ambient occlusion strength must be within [0, 1]");
     if (!(o.ambient_occlusion_radius >= 0.0f) || !std::isfinite(o.ambient_occlusion_radius))
         fail("the ambient occlusion radius must be a finite number of Å >= 0");
-    if (!(o.depth_cue >= 0.0f && o.depth_cue <= 1.0f))
-        fail("the depth cue must be within [0, 1]");
+    if (!(o.depth_cue >= 0.0f && o.depth_cue <= 1.0f)) fail("the depth cue must be within [0, 1]");
     for (float c : o.frame.center)
         if (!std::isfinite(c)) fail("the framed sphere's centre must be finite");
     if (!std::isfinite(o.frame.radius)) fail("the framed sphere's radius must be finite");
@@ -136,8 +135,8 @@ BoundingSphere RendererImpl::bounds(const DeviceMesh& mesh, const GpuMesh& gpu) 
     // Chunks of whole workgroups that fit one binding; their offsets (multiples of 64
     // vertices, 1,536 bytes) meet any minStorageBufferOffsetAlignment (at most 256).
     const std::uint64_t range = context.limits().max_storage_buffer_range;
-    const std::size_t chunk = std::max<std::size_t>(1, range / 24 / shader::kBoundsGroup) *
-                              shader::kBoundsGroup;
+    const std::size_t chunk =
+        std::max<std::size_t>(1, range / 24 / shader::kBoundsGroup) * shader::kBoundsGroup;
     commands.begin();
     // The mesh was written by an earlier submission's compute shaders (or uploaded).
     commands.barrier_compute();
@@ -230,9 +229,8 @@ RenderResult RendererImpl::render(const DeviceMesh& mesh, const GpuMesh& gpu,
     cp.depth_range = 2.0f * f.half_depth;
     cp.pixel_size = f.pixel_size / float(s);
     cp.ao_strength = o.ambient_occlusion;
-    cp.ao_radius = o.ambient_occlusion_radius > 0.0f
-                       ? o.ambient_occlusion_radius
-                       : std::max(4.0f, 0.05f * f.sphere.radius);
+    cp.ao_radius = o.ambient_occlusion_radius > 0.0f ? o.ambient_occlusion_radius
+                                                     : std::max(4.0f, 0.05f * f.sphere.radius);
     cp.depth_cue = o.depth_cue;
     cp.samples = s;
     if (o.outline) {
@@ -357,8 +355,7 @@ RenderResult RendererImpl::render(const DeviceMesh& mesh, const GpuMesh& gpu,
 
 }  // namespace detail
 
-Renderer::Renderer(Engine& engine)
-    : impl_(std::make_unique<detail::RendererImpl>(engine.impl())) {}
+Renderer::Renderer(Engine& engine) : impl_(std::make_unique<detail::RendererImpl>(engine.impl())) {}
 Renderer::~Renderer() = default;
 Renderer::Renderer(Renderer&&) noexcept = default;
 Renderer& Renderer::operator=(Renderer&&) noexcept = default;

@@ -51,9 +51,9 @@ DeviceImage::DeviceImage(const Context& ctx, VkFormat format, std::uint32_t widt
         FDM_VK_CHECK(r);
         FDM_VK_CHECK(vkBindImageMemory(device_, image_, memory_, 0));
         // A view only for images that shaders or framebuffers use (not for copies alone).
-        if (usage & (VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT |
-                     VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT |
-                     VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT)) {
+        if (usage &
+            (VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT |
+             VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT)) {
             VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
             view.image = image_;
             view.viewType = VK_IMAGE_VIEW_TYPE_2D;

@@ -63,7 +63,8 @@ std::size_t hues(const fdmsurf::Image& im) {
         if (p[3] != 255) continue;
         const int top = std::max({p[0], p[1], p[2]});
         if (top < 80) continue;
-        const int key = (p[0] * 3 > top * 2) * 1 + (p[1] * 3 > top * 2) * 2 + (p[2] * 3 > top * 2) * 4;
+        const int key =
+            (p[0] * 3 > top * 2) * 1 + (p[1] * 3 > top * 2) * 2 + (p[2] * 3 > top * 2) * 4;
         if (std::find(seen.begin(), seen.end(), key) == seen.end()) seen.push_back(key);
     }
     return seen.size();
@@ -110,8 +111,8 @@ TEST(CliRenderOptions, PictureOptionsParse) {
 }
 
 TEST(CliRenderOptions, BadPictureOptionsAreClearErrors) {
-    for (const char* size : {"0x10", "10x0", "abc", "640", "640x", "x480", "-1x5", "1.5x2",
-                             "99999999999x1"})
+    for (const char* size :
+         {"0x10", "10x0", "abc", "640", "640x", "x480", "-1x5", "1.5x2", "99999999999x1"})
         EXPECT_TRUE(contains(png_error({"--image-size", size}), "WIDTHxHEIGHT"))
             << size << ": " << png_error({"--image-size", size});
     EXPECT_TRUE(contains(png_error({"--view", "diagonal"}), "front, back, left, right"));
@@ -173,8 +174,9 @@ TEST(CliRenderSummary, PicturesAndTheDeviceMeshInTextAndJson) {
     const std::string text = fdmsurf::cli::text_summary(r);
     EXPECT_TRUE(contains(text, "1,234 vertices, 2,460 triangles, left on the device")) << text;
     EXPECT_FALSE(contains(text, "\n  area ")) << text;
-    EXPECT_TRUE(contains(text, "image        out.png (640 x 480, left view turned 0,30,0°, "
-                               "0.125 Å/pixel)"))
+    EXPECT_TRUE(contains(text,
+                         "image        out.png (640 x 480, left view turned 0,30,0°, "
+                         "0.125 Å/pixel)"))
         << text;
     EXPECT_TRUE(contains(text, "render-scene 12.5 (gpu)")) << text;
     const auto json = parse_json(fdmsurf::cli::json_summary(r));
@@ -262,8 +264,8 @@ TEST_F(CliRender, ImageBesideTheMeshWithViews) {
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_GE(hues(fdmsurf::read_png(path("dev.png"))), 2u);
     // With --patch, --simplify or coulombic colours, the mesh is made on the host, then drawn.
-    r = run({input, "-o", path("patch.png"), "--patch", "A", "--image-size", "100x100",
-             "--stats", "json"});
+    r = run({input, "-o", path("patch.png"), "--patch", "A", "--image-size", "100x100", "--stats",
+             "json"});
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const auto patch = parse_json(lines_of(r.out).at(0));
     ASSERT_TRUE(patch) << r.out;
@@ -289,13 +291,14 @@ TEST_F(CliRender, BadSizesAndPathsFailBeforeAnythingIsWritten) {
                    {"--image-size", "WIDTHxHEIGHT", "0x10"});
     expect_failure(run({input, "-o", path("a.png"), "--image-size", "640by480"}), 2,
                    {"WIDTHxHEIGHT"});
-    expect_failure(run({input, "-o", path("missing") + "/a.png"}), 3, {"missing", "does not exist"});
+    expect_failure(run({input, "-o", path("missing") + "/a.png"}), 3,
+                   {"missing", "does not exist"});
     expect_failure(run({input, "-o", path("m.ply"), "--image", path("missing") + "/a.png"}), 3,
                    {"missing"});
     REQUIRE_DEVICE();
     expect_failure(run({input, "-o", path("a.png"), "--image-size", "100000x10"}), 2,
                    {"100000 x 10", "maxImageDimension2D"});
     expect_failure(
-        run({input, "-o", path("m.ply"), "--image", path("a.png"), "--image-size", "10x100000"}),
-        2, {"maxImageDimension2D"});
+        run({input, "-o", path("m.ply"), "--image", path("a.png"), "--image-size", "10x100000"}), 2,
+        {"maxImageDimension2D"});
 }

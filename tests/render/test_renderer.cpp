@@ -215,7 +215,8 @@ TEST_F(Render, ViewsAndTurnsPutTheStructureWhereExpected) {
     EXPECT_LT(covered_x(fdmsurf::View::Back, {0, 0, 0}), -20.0);
     EXPECT_LT(covered_x(fdmsurf::View::Front, {0, 180, 0}), -20.0);
     EXPECT_NEAR(covered_x(fdmsurf::View::Front, {0, 90, 0}), 0.0, 1.0);
-    EXPECT_NEAR(covered_x(fdmsurf::View::Front, {90, 0, 0}), covered_x(fdmsurf::View::Front, {0, 0, 0}), 1.0);
+    EXPECT_NEAR(covered_x(fdmsurf::View::Front, {90, 0, 0}),
+                covered_x(fdmsurf::View::Front, {0, 0, 0}), 1.0);
 }
 
 TEST_F(Render, OcclusionDepthCueAndOutlineOnlyDarken) {
@@ -353,8 +354,8 @@ TEST(RenderCamera, ViewsAreProperRotations) {
         // Orthonormal rows, determinant +1.
         for (int i = 0; i < 3; ++i)
             for (int j = 0; j < 3; ++j) {
-                const float d = m[3 * i] * m[3 * j] + m[3 * i + 1] * m[3 * j + 1] +
-                                m[3 * i + 2] * m[3 * j + 2];
+                const float d =
+                    m[3 * i] * m[3 * j] + m[3 * i + 1] * m[3 * j + 1] + m[3 * i + 2] * m[3 * j + 2];
                 EXPECT_NEAR(d, i == j ? 1.0f : 0.0f, 1e-5f);
             }
         const float det = m[0] * (m[4] * m[8] - m[5] * m[7]) - m[1] * (m[3] * m[8] - m[5] * m[6]) +

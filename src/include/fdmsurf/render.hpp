@@ -76,8 +76,8 @@ struct Image {
 
 struct RenderResult {
     Image image;
-    BoundingSphere frame;    // the sphere that was framed
-    float pixel_size = 0.0f;  // Å per pixel of the image (orthographic: the same everywhere)
+    BoundingSphere frame;           // the sphere that was framed
+    float pixel_size = 0.0f;        // Å per pixel of the image (orthographic: the same everywhere)
     std::uint32_t supersample = 1;  // the factor used
     // "render-bounds" (the bounding sphere, when not given), "render-scene" (drawing),
     // "render-shade" (occlusion, depth cue, outline, background, downsampling), "render-read"
@@ -86,7 +86,9 @@ struct RenderResult {
     std::vector<StageTime> times;
 };
 
-namespace detail { struct RendererImpl; }
+namespace detail {
+struct RendererImpl;
+}
 
 // Draws DeviceMeshes made by (or uploaded to) one Engine, on that engine's device and queue,
 // which must support graphics (an ExternalDevice's queue family too). The same draw an
