@@ -59,7 +59,6 @@ void main() {
     ivec2 base = ivec2(gl_FragCoord.xy) * s;
     vec4 background = vec4(pc.background_r, pc.background_g, pc.background_b, pc.background_a);
     int w = int(pc.outline);
-    ivec2 steps[4] = ivec2[](ivec2(w, 0), ivec2(-w, 0), ivec2(0, w), ivec2(0, -w));
     vec4 sum = vec4(0.0);
     for (int j = 0; j < s; ++j) {
         for (int i = 0; i < s; ++i) {
@@ -73,12 +72,13 @@ void main() {
             if (pc.ao_strength > 0.0) c *= ambient(q, d, uint(j * s + i), uint(s * s));
             c *= 1.0 - pc.depth_cue * clamp(d, 0.0, 1.0);
             if (w > 0) {
-                float edge = 0.0;
-                for (int k = 0; k < 4; ++k) {
-                    float dn = depth_at(q + steps[k]);
-                    if (dn >= 1.0 || abs(dn - d) * pc.depth_range > pc.outline_step) edge = 1.0;
-                }
-                c = mix(c, vec3(0.02), edge);
+                // The four neighbours at the outline's width: background, or a step in depth.
+                vec4 dn = vec4(depth_at(q + ivec2(w, 0)), depth_at(q - ivec2(w, 0)),
+                               depth_at(q + ivec2(0, w)), depth_at(q - ivec2(0, w)));
+                bvec4 edge = greaterThanEqual(dn, vec4(1.0));
+                edge = bvec4(uvec4(edge) |
+                             uvec4(greaterThan(abs(dn - d) * pc.depth_range, vec4(pc.outline_step))));
+                if (any(edge)) c = vec3(0.02);
             }
             sum += vec4(c, 1.0);
         }
