@@ -884,6 +884,30 @@ Mesh size and order (docs/mesh.md, "Simplification"):
   --optimize             reorder triangles and vertices for the GPU's vertex
                          cache and fetch (the same triangles); after --simplify
 
+Device:
+  --device INDEX|NAME    Vulkan device: an index from --list-devices or part of
+                         its name (default: the first usable one, discrete first)
+  --list-devices         list the Vulkan devices, whether each is usable and why
+                         not, then exit (no INPUT needed)
+  --validation           enable the Vulkan validation layer; any message it
+                         reports makes the run fail (exit code 5, no output)
+
+Output:
+  -o, --output OUTPUT    the mesh file to write: .ply (binary), .obj, .glb
+                         (glTF 2.0 binary: positions, normals, COLOR_0, _ATOM and
+                         one _NAME per property), .stl (binary; positions only)
+                         or .off (COFF when coloured), or a picture, .png (below);
+                         - writes the mesh to standard output, and the summary
+                         goes to stderr
+  --output-format ply|obj|glb|stl|off|png  the format of OUTPUT, whatever its
+                         extension (default: the extension; ply for -o -)
+  --stats json|text      summary on stdout (stderr with -o -) as one JSON object
+                         or as text (default text)
+  --quiet                no text summary (warnings still go to stderr; --stats
+                         json still prints its JSON)
+  -h, --help             print this help and exit
+  --version              print the version and exit
+
 Pictures (docs/rendering.md):
   -o FILE.png            the picture alone: the mesh stays on the device and is
                          drawn there by a Vulkan graphics pipeline (also
@@ -906,30 +930,6 @@ Pictures (docs/rendering.md):
   --depth-cue S          darkening of the far side, 0 (off) to 1 (default 0.35)
   The camera is orthographic, fitted to the mesh's bounding sphere; colours come
   from --color (uniform light grey without it).
-
-Device:
-  --device INDEX|NAME    Vulkan device: an index from --list-devices or part of
-                         its name (default: the first usable one, discrete first)
-  --list-devices         list the Vulkan devices, whether each is usable and why
-                         not, then exit (no INPUT needed)
-  --validation           enable the Vulkan validation layer; any message it
-                         reports makes the run fail (exit code 5, no output)
-
-Output:
-  -o, --output OUTPUT    the mesh file to write: .ply (binary), .obj, .glb
-                         (glTF 2.0 binary: positions, normals, COLOR_0, _ATOM and
-                         one _NAME per property), .stl (binary; positions only)
-                         or .off (COFF when coloured), or a picture, .png (above);
-                         - writes the mesh to standard output, and the summary
-                         goes to stderr
-  --output-format ply|obj|glb|stl|off|png  the format of OUTPUT, whatever its
-                         extension (default: the extension; ply for -o -)
-  --stats json|text      summary on stdout (stderr with -o -) as one JSON object
-                         or as text (default text)
-  --quiet                no text summary (warnings still go to stderr; --stats
-                         json still prints its JSON)
-  -h, --help             print this help and exit
-  --version              print the version and exit
 
 Exit codes:
   0  success
