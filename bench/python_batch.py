@@ -87,7 +87,8 @@ def make_set(folder, rng):
     hb = fdmsurf.read_structure(data / "4hhb.pdb.gz")
     for k in range(1, 5):
         for pick in itertools.combinations("ABCD", k):
-            write_pdb(hb.subset(np.isin(hb.chain, list(pick))), folder / f"4hhb-{''.join(pick)}.pdb")
+            part = hb.subset(np.isin(hb.chain, list(pick)))
+            write_pdb(part, folder / f"4hhb-{''.join(pick)}.pdb")
     if SHARED.is_dir():
         for name in ("1crn.pdb", "1ubq.pdb", "1aki.pdb", "1rna.cif", "3al1.pdb", "3ebz.cif",
                      "4hhb.cif"):

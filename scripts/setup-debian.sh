@@ -39,6 +39,9 @@ packages=(
     pybind11-dev python3-dev python3-distributed python3-pytest
     # gzip; GNU time (/usr/bin/time -v) for the peak memory column of scripts/all-structures.sh
     gzip time
+    # FreeSASA (Lee-Richards areas): the reference of the vdw and sas area tests and of
+    # scripts/crease-accuracy.py
+    freesasa
 )
 # node and npm for the Khronos glTF validator (scripts/test.sh installs npm's gltf-validator),
 # unless something else provides them already (NodeSource's nodejs bundles npm and conflicts

@@ -7,6 +7,7 @@
 # of the benchmark (from ../shared/data) and lavapipe meshes of 1CRN and 4HHB to compare with.
 #
 #   bench/gpu/bundle.sh          # after: cmake --build build
+#   (optional: a baseline build/fdmsurf copied to .gpu/fdmsurf-base, for run.sh ab)
 # then, on the GPU machine, from the repository root: bench/gpu/run.sh (see docs/gpu.md).
 set -eu
 root=$(cd "$(dirname "$0")/../.." && pwd)
@@ -19,6 +20,8 @@ rm -rf "$stage/bin" "$stage/lib" "$stage/layers" "$stage/data" "$stage/debs"
 mkdir -p "$stage/bin" "$stage/lib" "$stage/layers" "$stage/data" "$stage/debs" "$stage/ref"
 cp "$root/build/fdmsurf" "$root/build/tests/fdmsurf_tests" "$stage/bin/"
 strip "$stage/bin/fdmsurf" "$stage/bin/fdmsurf_tests" 2>/dev/null || true
+# A baseline CLI for before/after runs (run.sh ab), when one was put at .gpu/fdmsurf-base.
+[ -x "$root/.gpu/fdmsurf-base" ] && cp "$root/.gpu/fdmsurf-base" "$stage/bin/fdmsurf-base"
 libdir=/usr/lib/x86_64-linux-gnu
 for lib in libtinygltf.so.2d libstb.so.0 libmeshoptimizer.so.2d libfftw3.so.3 libvulkan.so.1 \
            libVkLayer_khronos_validation.so; do

@@ -7,7 +7,8 @@
 #   3. compares the GPU meshes of 1CRN and 4HHB with lavapipe's (fdmsurf compare);
 #   4. runs the whole GoogleTest suite on the GPU with the validation layer (sharded).
 # Results go to $OUT (or ./gpu-out): info.txt, bench.jsonl, compare.jsonl, tests.log,
-# and a table from summarize.py at the end. Steps can be chosen: run.sh [bench] [tests].
+# and a table from summarize.py at the end. Steps can be chosen: run.sh [bench] [ab] [trace] [tests]
+# (ab: before/after against the bundle's baseline CLI, interleaved, and FDMSURF_TRACE runs).
 set -u
 root=$(cd "$(dirname "$0")/../.." && pwd)
 out=${OUT:-$root/gpu-out}; mkdir -p "$out"
@@ -49,6 +50,7 @@ run() {  # label cold|warm args...
     local label=$1 phase=$2; shift 2
     local mem=/tmp/mem.$$; nvidia-smi --query-gpu=memory.used --format=csv,noheader,nounits -lms 20 > $mem 2>/dev/null &
     local smi=$!; sleep 0.1
+    rm -f /tmp/m.ply  # replacing a large earlier output would be timed as part of the write
     local t0=$(date +%s%N)
     local js; js=$(timeout ${RUN_TIMEOUT:-120} "$F" "$@" --stats json --quiet 2>/tmp/err.$$); local rc=$?
     local t1=$(date +%s%N)
@@ -102,6 +104,58 @@ if [[ " $steps " == *" bench "* ]]; then
         done
     done
     rm -f /tmp/m.ply
+fi
+
+if [[ " $steps " == *" ab "* ]] && [ -x "$B/bin/fdmsurf-base" ]; then
+    # Before/after, interleaved: the baseline CLI (bundle.sh's .gpu/fdmsurf-base) and this one.
+    echo "== A/B: base against new, interleaved"
+    new=$F
+    jobs_=${AB_JOBS:-1crn.pdb fdm;4hhb.pdb fdm;4hhb.pdb edt;4yvs.cif.gz fdm;4yvs.cif.gz edt;1aon.pdb.gz fdm;1aon.pdb.gz edt;4yvs.cif.gz fdm --assembly 1}
+    IFS=';' read -ra ab_jobs <<< "$jobs_"
+    for job in "${ab_jobs[@]}"; do
+        set -- $job; s=$1; m=$2; shift 2; n=${s%%.*}${1:+-asm}
+        for v in base new; do
+            F=$new; [ $v = base ] && F=$B/bin/fdmsurf-base
+            run $n-$m-0.5@$v warmup "$D/$s" --method $m -o /tmp/m.ply "$@"
+        done
+        for i in $(seq ${AB_REPS:-3}); do
+            for v in base new; do
+                F=$new; [ $v = base ] && F=$B/bin/fdmsurf-base
+                run $n-$m-0.5@$v warm "$D/$s" --method $m -o /tmp/m.ply "$@"
+            done
+        done
+    done
+    F=$new
+    for s in ${AB_TRACE-1crn.pdb 1aon.pdb.gz}; do
+        for m in fdm edt; do
+            echo "-- trace: $s $m" >> "$out/trace.txt"
+            FDMSURF_TRACE=1 "$F" "$D/$s" --method $m -o /tmp/m.ply --quiet 2>> "$out/trace.txt"
+        done
+    done
+    rm -f /tmp/m.ply
+    cat "$out/trace.txt"
+fi
+
+if [[ " $steps " == *" trace "* ]]; then
+    # Where the host time goes (FDMSURF_TRACE=1), and whether the driver's shader cache is used.
+    echo "== traces" | tee -a "$out/trace.txt"
+    for s in 1aon.pdb.gz 4yvs.cif.gz 1crn.pdb; do
+        for i in 1 2; do
+            rm -f /tmp/m.ply
+            echo "-- trace: $s fdm, run $i" >> "$out/trace.txt"
+            FDMSURF_TRACE=1 "$F" "$D/$s" -o /tmp/m.ply --quiet 2>> "$out/trace.txt"
+        done
+    done
+    echo "-- shader caches: HOME=$HOME" >> "$out/trace.txt"
+    du -s "$HOME"/.cache/* 2>&1 >> "$out/trace.txt"; ls -la "$HOME/.cache/nvidia" "$HOME/.cache/nvidia"/* 2>&1 | head -20 >> "$out/trace.txt"
+    for i in 1 2 3; do
+        rm -f /tmp/m.ply
+        echo "-- trace: 1aon fdm, __GL_SHADER_DISK_CACHE_SIZE=10 GB, run $i" >> "$out/trace.txt"
+        __GL_SHADER_DISK_CACHE_SIZE=10000000000 __GL_SHADER_DISK_CACHE_SKIP_CLEANUP=1 FDMSURF_TRACE=1 \
+            "$F" "$D/1aon.pdb.gz" -o /tmp/m.ply --quiet 2>> "$out/trace.txt"
+    done
+    rm -f /tmp/m.ply
+    grep -E -- "^--|filter|structure read|read back|cavities|mesh written|statistics|vertex properties" "$out/trace.txt"
 fi
 
 if [[ " $steps " == *" tests "* ]]; then

@@ -70,6 +70,30 @@ def main():
     print("Per-stage medians, warm runs (ms):")
     for label, st in stage_rows:
         print(f"- {label}: " + ", ".join(f"{k} {v:.2f}" for k, v in st.items()))
+    ab = defaultdict(dict)
+    for (label, phase), rs in by.items():
+        ok = [r for r in rs if r.get("rc") == 0]
+        if phase == "warm" and "@" in label and ok:
+            base, variant = label.rsplit("@", 1)
+            ab[base][variant] = ok
+    if ab:
+        print()
+        print("Before/after (median warm wall ms; host = stages other than device, transfers, init):")
+        print("| run | base wall | new wall | new/base | base host | new host | base mesh-stats | new mesh-stats |")
+        print("|---|---|---|---|---|---|---|---|")
+        for base, v in ab.items():
+            if "base" not in v or "new" not in v:
+                continue
+            def wall(rs):
+                return median([r["wall_ms"] for r in rs])
+            def host(rs):
+                return median([sum(x for k, x in r["times"].items()
+                                   if k not in GPU and k not in TRANSFER and k != "init") for r in rs])
+            def st(rs, name):
+                return median([r["times"].get(name, 0.0) for r in rs])
+            b, n = v["base"], v["new"]
+            print(f"| {base} | {wall(b):.0f} | {wall(n):.0f} | {wall(n) / wall(b):.2f} | {host(b):.0f} | "
+                  f"{host(n):.0f} | {st(b, 'mesh-stats'):.0f} | {st(n, 'mesh-stats'):.0f} |")
     comp = folder / "compare.jsonl"
     if comp.exists():
         print()

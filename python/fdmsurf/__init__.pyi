@@ -99,7 +99,8 @@ class Mesh:
     def closed_manifold(self) -> bool: ...
     @property
     def stats(self) -> dict[str, Any]: ...
-    def write(self, path: PathLike, format: Optional[Literal["ply", "obj"]] = None) -> None: ...
+    def write(self, path: PathLike,
+              format: Optional[Literal["ply", "obj", "glb", "stl", "off"]] = None) -> None: ...
     def __len__(self) -> int: ...
 
 class SurfaceResult(Mesh):
@@ -120,6 +121,10 @@ class SurfaceResult(Mesh):
     @property
     def specks_removed(self) -> int: ...
     @property
+    def simplify(self) -> Optional[dict[str, Any]]: ...
+    @property
+    def optimized(self) -> bool: ...
+    @property
     def total_ms(self) -> float: ...
     def atom_areas(self) -> npt.NDArray[np.float64]: ...
 
@@ -131,8 +136,11 @@ class Engine:
                 level: Optional[float] = None, filter: Filter = "gaussian",
                 paper: bool = False, no_cavities: bool = False,
                 min_cavity_volume: Optional[float] = None, padding: Optional[float] = None,
-                refine: int = 0, color: Color = None, properties: Names = None,
-                patch: Optional[str] = None, density_cut: float = 0.01,
+                refine: int = 0, snap: bool = True, chord_tolerance: Optional[float] = None,
+                color: Color = None, properties: Names = None,
+                patch: Optional[str] = None, simplify: Optional[float] = None,
+                max_triangles: Optional[int] = None, optimize: bool = False,
+                density_cut: float = 0.01,
                 min_grid: Optional[Tuple[int, int, int]] = None,
                 format: InputFormat = None, model: int = 1, assembly: int = 0,
                 chains: Names = None, select: Optional[str] = None, waters: bool = False,
@@ -143,8 +151,11 @@ class Engine:
                        sigma: float = 3.0, level: Optional[float] = None,
                        filter: Filter = "gaussian", paper: bool = False,
                        no_cavities: bool = False, min_cavity_volume: Optional[float] = None,
-                       padding: Optional[float] = None, refine: int = 0, color: Color = None,
+                       padding: Optional[float] = None, refine: int = 0, snap: bool = True,
+                       chord_tolerance: Optional[float] = None, color: Color = None,
                        properties: Names = None, patch: Optional[str] = None,
+                       simplify: Optional[float] = None,
+                       max_triangles: Optional[int] = None, optimize: bool = False,
                        density_cut: float = 0.01,
                        min_grid: Optional[Tuple[int, int, int]] = None,
                        format: InputFormat = None, assembly: int = 0, chains: Names = None,
@@ -165,8 +176,11 @@ def surface(source: Source, radii: Optional[ArrayLike] = None, *,
             probe: float = 1.4, cutoff: float = 0.0, sigma: float = 3.0,
             level: Optional[float] = None, filter: Filter = "gaussian", paper: bool = False,
             no_cavities: bool = False, min_cavity_volume: Optional[float] = None,
-            padding: Optional[float] = None, refine: int = 0, color: Color = None,
-            properties: Names = None, patch: Optional[str] = None, density_cut: float = 0.01,
+            padding: Optional[float] = None, refine: int = 0, snap: bool = True,
+            chord_tolerance: Optional[float] = None, color: Color = None,
+            properties: Names = None, patch: Optional[str] = None,
+            simplify: Optional[float] = None, max_triangles: Optional[int] = None,
+            optimize: bool = False, density_cut: float = 0.01,
             min_grid: Optional[Tuple[int, int, int]] = None, format: InputFormat = None,
             model: int = 1, assembly: int = 0, chains: Names = None,
             select: Optional[str] = None, waters: bool = False, hydrogens: bool = False,

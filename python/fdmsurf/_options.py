@@ -55,6 +55,14 @@ SURFACE = (
     Keyword("refine", 0, "int", "--refine",
             "refinement levels, 0 to 4: each splits every triangle into four (modified "
             "butterfly) and moves the new vertices onto the surface"),
+    Keyword("snap", True, "negflag", "--no-snap",
+            "place the mesh on the exact surface after marching cubes: for vdw and sas every "
+            "vertex on its ball, with vertices on the creases where spheres meet and chords "
+            "split to chord_tolerance; for edt every vertex projected onto the exact SES; fdm "
+            "is not snapped (False: the CLI's --no-snap, marching cubes' vertices as they are)"),
+    Keyword("chord_tolerance", None, "float", "--chord-tolerance",
+            "vdw and sas with snap: split edges whose arc lies more than this from them, Å (>= "
+            "0; 0: creases only; None: spacing / 50)"),
     Keyword("color", None, "color", "--color",
             "vertex colours: 'chain', 'element', 'residue', 'hydrophobicity', 'bfactor', "
             "'coulombic', '#RRGGBB' or an (r, g, b) tuple of 0-255; None: uncoloured"),
@@ -65,6 +73,17 @@ SURFACE = (
     Keyword("patch", None, "str", "--patch",
             "compute the surface of every atom, then keep only the triangles whose three "
             "vertices belong to atoms this gemmi selection matches: an open patch"),
+    Keyword("simplify", None, "float", "--simplify",
+            "keep about this fraction of the triangles, in (0, 1], by meshoptimizer's edge "
+            "collapses, after patch; the mesh stays closed (where a collapse would break it, the "
+            "surface around is kept as it was) and every vertex keeps its atom, colour and "
+            "properties; SurfaceResult.simplify reports the result (None: no simplification)"),
+    Keyword("max_triangles", None, "int", "--max-triangles",
+            "simplify to at most about this many triangles (>= 1); with simplify too, the "
+            "smaller of the two targets (None: no cap)"),
+    Keyword("optimize", False, "flag", "--optimize",
+            "reorder triangles and vertices for the GPU's vertex cache and fetch (the same "
+            "triangles), after simplification"),
     Keyword("density_cut", 0.01, "fraction", None,
             "(library only) an atom's Gaussian is taken as 0 below this fraction of T, in (0, 1)"),
     Keyword("min_grid", None, "grid", None,
@@ -89,6 +108,12 @@ READ = (
     Keyword("ligands", True, "negflag", "--no-ligands",
             "keep HETATM residues other than water (False: the CLI's --no-ligands)"),
 )
+
+# What the CLI's negated flags do (--no-ligands is ligands=False): fdmsurf.batch's help.
+NEGATED_HELP = {
+    "snap": "keep marching cubes' vertices where they are (snap=False)",
+    "ligands": "leave out HETATM residues other than water (ligands=False)",
+}
 
 KEYWORDS = {k.name: k for k in SURFACE + READ}
 READ_NAMES = frozenset(k.name for k in READ)
@@ -193,7 +218,7 @@ def _python_words(message):
         k = _BY_OPTION.get(match.group(2))
         if k is None:
             return match.group(0)
-        return "ligands=False" if k.name == "ligands" else k.name
+        return f"{k.name}=False" if k.kind == "negflag" else k.name
     return re.sub(r"(option )?(--[a-z][a-z-]*)", keyword, message)
 
 

@@ -94,6 +94,10 @@ def stem_of(path):
     return os.path.splitext(_strip_gz(os.path.basename(path)))[0]
 
 
+# The formats of SurfaceResult.write (fdmsurf's --output-format).
+MESH_FORMATS = ("ply", "obj", "glb", "stl", "off")
+
+
 def options_hash(keywords, mesh_format, all_models):
     """A hash of every setting that changes the meshes: the options as the library resolves
     them (so spacing=0.5 and no spacing hash alike), the mesh format and --models all."""
@@ -327,12 +331,16 @@ def run(inputs, outdir, *, scheduler=None, workers=None, client=None, device=Non
     """Computes the surfaces of INPUTS into OUTDIR on a Dask cluster (see the module's help);
     returns a summary dict: inputs, skipped (done before), computed, failed, failed_before
     (skipped because they failed before), seconds, startup_seconds (cluster start and engine
-    creation), workers, manifest, rows (the rows written by this run). client: an existing distributed.Client to use (its cluster
-    is left running); else scheduler: an address to join; else a LocalCluster of `workers`
-    processes (default_workers()). keywords: those of fdmsurf.Engine.surface."""
+    creation), workers, manifest, rows (the rows written by this run). client: an existing
+    distributed.Client to use (its cluster is left running); else scheduler: an address to
+    join; else a LocalCluster of `workers` processes (default_workers()). keywords: those of
+    fdmsurf.Engine.surface. From a script, call it under `if __name__ == "__main__":` (Dask
+    spawns the worker processes, which import the script)."""
     _options.check_names("run", keywords, list(_options.KEYWORDS))
-    if mesh_format not in ("ply", "obj"):
-        raise fdmsurf.InvalidArgumentError(f"mesh format must be ply or obj, not {mesh_format!r}")
+    if mesh_format not in MESH_FORMATS:
+        raise fdmsurf.InvalidArgumentError(
+            f"mesh format must be {', '.join(MESH_FORMATS[:-1])} or {MESH_FORMATS[-1]}, "
+            f"not {mesh_format!r}")
     digest = options_hash(keywords, mesh_format, all_models)  # bad options fail here, early
     paths = find_inputs(inputs)
     by_stem = {}
@@ -462,8 +470,9 @@ def _argument_parser():
     run_group.add_argument("--device", help="Vulkan device of every worker (index or name)")
     run_group.add_argument("--validation", action="store_true",
                            help="Vulkan validation layer (its messages go to the warnings)")
-    run_group.add_argument("--mesh-format", choices=("ply", "obj"), default="ply",
-                           help="mesh files: binary PLY (default) or OBJ")
+    run_group.add_argument("--mesh-format", choices=MESH_FORMATS, default="ply",
+                           help="mesh files: binary PLY (default), OBJ, GLB, binary STL or "
+                                "OFF (as fdmsurf --output-format)")
     run_group.add_argument("--models", choices=("all",),
                            help="every model of each file, one mesh each (NAME-mK.ply), in "
                                 "one task")
@@ -482,7 +491,7 @@ def _argument_parser():
                                  help=k.doc)
         elif k.kind == "negflag":
             surface.add_argument(k.cli, dest=k.name, action="store_false", default=None,
-                                 help="leave out HETATM residues other than water")
+                                 help=_options.NEGATED_HELP[k.name])
         else:
             names = [k.cli, "--colour"] if k.name == "color" else [k.cli]
             surface.add_argument(*names, dest=k.name, type=types.get(k.kind, str),

@@ -46,42 +46,41 @@ void bind_errors(py::module_& m) {
         "A structure or mesh that cannot be read (missing, malformed, nothing selected) or an "
         "output that cannot be written: the CLI's exit code 3.",
         tuple({error}), nullptr);
-    PyObject* device = new_class(
-        m, "DeviceError",
-        "No usable Vulkan device, a job too large for the device, or a Vulkan or VkFFT "
-        "failure: the CLI's exit code 4. On a machine without a GPU install "
-        "mesa-vulkan-drivers (lavapipe).",
-        tuple({error}), nullptr);
+    PyObject* device =
+        new_class(m, "DeviceError",
+                  "No usable Vulkan device, a job too large for the device, or a Vulkan or VkFFT "
+                  "failure: the CLI's exit code 4. On a machine without a GPU install "
+                  "mesa-vulkan-drivers (lavapipe).",
+                  tuple({error}), nullptr);
     using C = ErrorCode;
     by_code[static_cast<int>(C::InvalidArgument)] = new_class(
         m, "InvalidArgumentError",
         "An option or argument out of range or malformed (also a ValueError): the CLI's exit "
         "code 2.",
         tuple({error, PyExc_ValueError}), "invalid-argument");
-    by_code[static_cast<int>(C::Io)] =
-        new_class(m, "FileError", "A file that cannot be opened, read or written (also an OSError).",
-                  tuple({input, PyExc_OSError}), "io");
-    by_code[static_cast<int>(C::Format)] =
-        new_class(m, "FormatError",
-                  "Malformed, truncated or unrecognised input (also a ValueError).",
-                  tuple({input, PyExc_ValueError}), "format");
-    by_code[static_cast<int>(C::EmptySelection)] = new_class(
-        m, "EmptySelectionError", "No atoms left after selection (also a ValueError).",
-        tuple({input, PyExc_ValueError}), "empty-selection");
+    by_code[static_cast<int>(C::Io)] = new_class(
+        m, "FileError", "A file that cannot be opened, read or written (also an OSError).",
+        tuple({input, PyExc_OSError}), "io");
+    by_code[static_cast<int>(C::Format)] = new_class(
+        m, "FormatError", "Malformed, truncated or unrecognised input (also a ValueError).",
+        tuple({input, PyExc_ValueError}), "format");
+    by_code[static_cast<int>(C::EmptySelection)] =
+        new_class(m, "EmptySelectionError", "No atoms left after selection (also a ValueError).",
+                  tuple({input, PyExc_ValueError}), "empty-selection");
     by_code[static_cast<int>(C::NoDevice)] = new_class(
         m, "NoDeviceError", "No usable Vulkan device (the message says why for each one).",
         tuple({device}), "no-device");
     by_code[static_cast<int>(C::DeviceLimit)] =
         new_class(m, "DeviceLimitError", "The job does not fit the device's limits.",
                   tuple({device}), "device-limit");
-    by_code[static_cast<int>(C::Vulkan)] = new_class(
-        m, "VulkanError", "A Vulkan call failed (vk_result holds the VkResult).", tuple({device}),
-        "vulkan");
+    by_code[static_cast<int>(C::Vulkan)] =
+        new_class(m, "VulkanError", "A Vulkan call failed (vk_result holds the VkResult).",
+                  tuple({device}), "vulkan");
     by_code[static_cast<int>(C::Fft)] = new_class(
         m, "FftError", "VkFFT failed (vk_result holds the VkFFTResult).", tuple({device}), "fft");
-    by_code[static_cast<int>(C::Internal)] = new_class(
-        m, "InternalError", "A broken invariant: a bug in fdmsurf (please report it).",
-        tuple({error}), "internal");
+    by_code[static_cast<int>(C::Internal)] =
+        new_class(m, "InternalError", "A broken invariant: a bug in fdmsurf (please report it).",
+                  tuple({error}), "internal");
 
     py::register_exception_translator([](std::exception_ptr thrown) {
         try {

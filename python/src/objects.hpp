@@ -10,6 +10,7 @@
 
 #include "common.hpp"
 #include "fdmsurf/mesh.hpp"
+#include "fdmsurf/simplify.hpp"
 #include "fdmsurf/structure.hpp"
 #include "fdmsurf/surface.hpp"
 
@@ -38,17 +39,25 @@ struct PySurface : PyMesh {
     std::vector<std::string> warnings;
     std::size_t cavities_removed = 0;
     std::size_t specks_removed = 0;
+    // simplify or max_triangles: what simplify_mesh did (the CLI's summary reports the same).
+    std::optional<SimplifyOptions> simplify_options;
+    SimplifyReport simplify;
+    bool optimized = false;
     std::string device;
     double total_ms = 0.0;
     PyStructure structure;
 };
 
 // The keywords of Engine.surface and read_structure after the CLI's parser has read them
-// (python/src/options.cpp): the library's option structs and the CLI-only --patch.
+// (python/src/options.cpp): the library's option structs and the CLI-only --patch, --simplify,
+// --max-triangles and --optimize, which act on the mesh after make_surface as in the CLI.
 struct PyOptions {
     ReadOptions read;
     SurfaceOptions surface;
     std::string patch;
+    SimplifyOptions simplify;         // simplify (ratio) and max_triangles
+    bool simplify_requested = false;  // either was given
+    bool optimize = false;
 };
 
 }  // namespace fdmsurf::python

@@ -5,10 +5,11 @@
 // applies the CLI's defaults, ranges, interplay (--paper against explicit --filter/--level,
 // --method edt against the FDM options) and messages: one parser for both, so that the API
 // cannot drift from the command line.
+#include "cli/options.hpp"
+
 #include <cmath>
 #include <cstdio>
 
-#include "cli/options.hpp"
 #include "objects.hpp"
 
 namespace fdmsurf::python {
@@ -24,7 +25,14 @@ PyOptions parse(const std::vector<std::string>& args) {
         throw Error(ErrorCode::Internal, "keywords parsed into something other than options");
     effective_cutoff(cli.surface);  // the checks the CLI makes before any work
     if (!cli.patch.empty()) check_selection(cli.patch, "--patch");
-    return PyOptions{cli.read, cli.surface, cli.patch};
+    PyOptions out;
+    out.read = cli.read;
+    out.surface = cli.surface;
+    out.patch = cli.patch;
+    out.simplify = cli.simplify;
+    out.simplify_requested = cli.simplify_requested;
+    out.optimize = cli.optimize;
+    return out;
 }
 
 const char* filter_name(FilterShape shape) {
@@ -56,12 +64,23 @@ py::dict describe(const PyOptions& o) {
     d["min_cavity_volume"] = s.min_cavity_volume < 0 ? py::object(py::none())
                                                      : py::object(py::float_(s.min_cavity_volume));
     d["refine"] = s.refine;
+    d["snap"] = s.snap;
+    // None: the library's spacing / 50
+    d["chord_tolerance"] =
+        s.chord_tolerance < 0 ? py::object(py::none()) : py::object(py::float_(s.chord_tolerance));
     d["min_grid"] = py::make_tuple(s.min_grid[0], s.min_grid[1], s.min_grid[2]);
     d["color"] = color_name(s.properties);
     py::list properties;
     for (VertexProperty p : s.properties.scalars) properties.append(to_string(p));
     d["properties"] = properties;
     d["patch"] = o.patch;
+    // None: no simplification (1.0 with max_triangles alone: the CLI's ratio, no cap of its own)
+    d["simplify"] =
+        o.simplify_requested ? py::object(py::float_(o.simplify.ratio)) : py::object(py::none());
+    d["max_triangles"] = o.simplify.max_triangles == 0
+                             ? py::object(py::none())
+                             : py::object(py::int_(o.simplify.max_triangles));
+    d["optimize"] = o.optimize;
     d["format"] = to_string(o.read.format);
     d["model"] = o.read.model == kAllModels ? py::object(py::str("all"))
                                             : py::object(py::int_(o.read.model));

@@ -13,8 +13,8 @@ using namespace pybind11::literals;
 py::array string_array(const std::vector<std::string>& values) {
     py::list items(values.size());
     for (std::size_t i = 0; i < values.size(); ++i) {
-        items[i] = py::reinterpret_steal<py::object>(PyUnicode_DecodeUTF8(
-            values[i].data(), py::ssize_t(values[i].size()), "replace"));
+        items[i] = py::reinterpret_steal<py::object>(
+            PyUnicode_DecodeUTF8(values[i].data(), py::ssize_t(values[i].size()), "replace"));
     }
     return py::module_::import("numpy").attr("array")(items, "dtype"_a = "U");
 }
@@ -23,7 +23,7 @@ namespace {
 
 // An array of real numbers as float32, C order; wrong kinds are a TypeError naming `what`.
 py::array_t<float, py::array::c_style | py::array::forcecast> floats(py::handle object,
-                                                                      const char* what) {
+                                                                     const char* what) {
     py::array array = py::array::ensure(object);
     if (!array) throw py::type_error(std::string(what) + " must be an array of numbers");
     const char kind = array.dtype().kind();
@@ -50,8 +50,7 @@ Atoms atoms_from_arrays(py::handle xyz_object, py::handle radii_object, py::hand
     const auto radii = floats(radii_object, "radii");
     if (xyz.ndim() != 2 || xyz.shape(1) != 3)
         invalid("xyz must have shape (N, 3), not " + shape_of(xyz));
-    if (radii.ndim() != 1)
-        invalid("radii must have shape (N,), not " + shape_of(radii));
+    if (radii.ndim() != 1) invalid("radii must have shape (N,), not " + shape_of(radii));
     if (radii.shape(0) != xyz.shape(0))
         invalid("xyz has " + std::to_string(xyz.shape(0)) + " atoms but radii " +
                 std::to_string(radii.shape(0)));
@@ -178,8 +177,8 @@ std::string repr(const PyStructure& s) {
     std::string text = "<fdmsurf.Structure: " + std::to_string(d.atoms.size()) + " atoms";
     if (!d.atoms.meta.empty()) text += ", " + std::to_string(chains_of(s).size()) + " chain(s)";
     if (d.info.format != StructureFormat::Auto)
-        text += ", " + std::string(to_string(d.info.format)) + " model " +
-                std::to_string(d.info.model);
+        text +=
+            ", " + std::string(to_string(d.info.format)) + " model " + std::to_string(d.info.model);
     return text + ">";
 }
 
@@ -230,7 +229,10 @@ are numpy arrays in atom order, or None for atoms without metadata (XYZR input, 
             },
             "Upper-case element symbols, (N,) str, or None (XYZR, or arrays without element=).")
         .def_property_readonly(
-            "name", [](PyStructure& s) { return meta_strings(s, "name", [](const AtomMeta& a) { return a.name; }); },
+            "name",
+            [](PyStructure& s) {
+                return meta_strings(s, "name", [](const AtomMeta& a) { return a.name; });
+            },
             "Atom names ('CA'), (N,) str, or None.")
         .def_property_readonly(
             "residue_name",
@@ -242,25 +244,30 @@ are numpy arrays in atom order, or None for atoms without metadata (XYZR input, 
         .def_property_readonly(
             "residue_number",
             [](PyStructure& s) {
-                return meta_numbers<std::int32_t>(s, "residue_number",
-                                                  [](const AtomMeta& a) { return a.residue_number; });
+                return meta_numbers<std::int32_t>(
+                    s, "residue_number", [](const AtomMeta& a) { return a.residue_number; });
             },
             "Author residue numbers, (N,) int32, or None.")
         .def_property_readonly(
             "insertion_code",
             [](PyStructure& s) {
                 return meta_strings(s, "insertion_code", [](const AtomMeta& a) {
-                    return a.insertion_code == ' ' ? std::string() : std::string(1, a.insertion_code);
+                    return a.insertion_code == ' ' ? std::string()
+                                                   : std::string(1, a.insertion_code);
                 });
             },
             "Insertion codes ('' when none), (N,) str, or None.")
         .def_property_readonly(
-            "chain", [](PyStructure& s) { return meta_strings(s, "chain", [](const AtomMeta& a) { return a.chain; }); },
+            "chain",
+            [](PyStructure& s) {
+                return meta_strings(s, "chain", [](const AtomMeta& a) { return a.chain; });
+            },
             "Author chain ids (in an assembly, the copies' names), (N,) str, or None.")
         .def_property_readonly(
             "serial",
             [](PyStructure& s) {
-                return meta_numbers<std::int32_t>(s, "serial", [](const AtomMeta& a) { return a.serial; });
+                return meta_numbers<std::int32_t>(s, "serial",
+                                                  [](const AtomMeta& a) { return a.serial; });
             },
             "Atom serial numbers, (N,) int32, or None.")
         .def_property_readonly(
@@ -272,13 +279,15 @@ are numpy arrays in atom order, or None for atoms without metadata (XYZR input, 
         .def_property_readonly(
             "b_factor",
             [](PyStructure& s) {
-                return meta_numbers<float>(s, "b_factor", [](const AtomMeta& a) { return a.b_factor; });
+                return meta_numbers<float>(s, "b_factor",
+                                           [](const AtomMeta& a) { return a.b_factor; });
             },
             "B-factors, (N,) float32, Å², or None.")
         .def_property_readonly(
             "occupancy",
             [](PyStructure& s) {
-                return meta_numbers<float>(s, "occupancy", [](const AtomMeta& a) { return a.occupancy; });
+                return meta_numbers<float>(s, "occupancy",
+                                           [](const AtomMeta& a) { return a.occupancy; });
             },
             "Occupancies, (N,) float32, or None.")
         .def_property_readonly(
@@ -290,11 +299,13 @@ are numpy arrays in atom order, or None for atoms without metadata (XYZR input, 
         .def_property_readonly(
             "xyzrn_name",
             [](PyStructure& s) {
-                return meta_strings(s, "xyzrn_name", [](const AtomMeta& a) { return a.xyzrn_name; });
+                return meta_strings(s, "xyzrn_name",
+                                    [](const AtomMeta& a) { return a.xyzrn_name; });
             },
             "XYZRN input: the name field as read, (N,) str, or None.")
         .def_property_readonly(
-            "chains", &chains_of, "Distinct chain ids in order of appearance (empty without metadata).")
+            "chains", &chains_of,
+            "Distinct chain ids in order of appearance (empty without metadata).")
         .def_property_readonly(
             "info", [](const PyStructure& s) { return info_dict(s.data->info); },
             "What the reader did: format, atoms_in_file, waters/hydrogens/ligands/altlocs_skipped, "

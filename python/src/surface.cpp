@@ -4,8 +4,10 @@
 #include <chrono>
 #include <mutex>
 
+#include "cli/summary.hpp"
 #include "fdmsurf/compare.hpp"
 #include "fdmsurf/fdmsurf.hpp"
+#include "fdmsurf/simplify.hpp"
 #include "objects.hpp"
 
 namespace fdmsurf::python {
@@ -76,13 +78,39 @@ py::dict times_dict(const std::vector<StageTime>& times) {
     return d;
 }
 
+// write()'s format=: the names of the CLI's --output-format.
 MeshFormat format_named(const py::object& format, const std::string& path) {
     if (format.is_none()) return mesh_format_for_path(path);
     const std::string name = format.cast<std::string>();
-    if (name == "ply") return MeshFormat::Ply;
-    if (name == "obj") return MeshFormat::Obj;
-    throw Error(ErrorCode::InvalidArgument,
-                "unknown mesh format '" + name + "' (expected 'ply' or 'obj')");
+    for (MeshFormat f :
+         {MeshFormat::Ply, MeshFormat::Obj, MeshFormat::Glb, MeshFormat::Stl, MeshFormat::Off})
+        if (name == mesh_format_extension(f) + 1) return f;  // ".ply" without its dot
+    throw Error(ErrorCode::InvalidArgument, "unknown mesh format '" + name +
+                                                "' (expected 'ply', 'obj', 'glb', 'stl' or 'off')");
+}
+
+// SurfaceResult.simplify: the CLI's `--stats json` "simplify" object.
+py::object simplify_dict(const PySurface& s) {
+    if (!s.simplify_options) return py::none();
+    const SimplifyReport& q = s.simplify;
+    py::dict d;
+    d["ratio"] = s.simplify_options->ratio;
+    d["max_triangles"] = s.simplify_options->max_triangles;
+    d["target_triangles"] = q.target_triangles;
+    d["triangles_in"] = q.triangles_in;
+    d["vertices_in"] = q.vertices_in;
+    d["triangles_out"] = q.triangles_out;
+    d["vertices_out"] = q.vertices_out;
+    d["welded_vertices"] = q.welded;
+    d["topology_kept"] = q.topology_kept;
+    d["frozen_triangles"] = q.frozen_triangles;
+    d["regions"] = q.regions;
+    d["regions_kept_whole"] = q.regions_kept_whole;
+    d["attempts"] = q.attempts;
+    d["error"] = q.error;
+    d["hausdorff"] = q.hausdorff;
+    d["rmsd"] = q.rmsd;
+    return d;
 }
 
 std::string fspath(py::handle path) {
@@ -158,6 +186,24 @@ public:
                         "patch '" + options.patch + "': its " + std::to_string(patch_atoms) +
                         " atoms own no whole triangle of the surface (buried, or too few): "
                         "the patch is empty");
+            }
+            // Simplification and reordering come last, on the mesh as it will be written: the
+            // CLI's order and calls (src/cli/main.cpp), its warning when topology was lost.
+            if (options.simplify_requested) {
+                result.mesh = simplify_mesh(result.mesh, options.simplify, &out.simplify);
+                result.times.insert(result.times.end(), out.simplify.times.begin(),
+                                    out.simplify.times.end());
+                out.simplify_options = options.simplify;
+                if (!out.simplify.topology_kept)
+                    result.warnings.push_back(cli::simplify_breakage(out.simplify));
+            }
+            if (options.optimize) {
+                const auto t = Clock::now();
+                optimize_mesh(result.mesh);
+                result.times.push_back(
+                    {"optimize",
+                     std::chrono::duration<double, std::milli>(Clock::now() - t).count(), false});
+                out.optimized = true;
             }
             stats = compute_stats(result.mesh);
         }
@@ -286,10 +332,10 @@ area, volume, pieces, closed_manifold and stats describe the mesh as it was made
                 return d;
             },
             "Per-vertex scalars asked for with `properties`, {name: (V,) float32}.")
-        .def_property_readonly(
-            "vertex_count", [](const PyMesh& s) { return s.mesh->vertex_count(); })
-        .def_property_readonly(
-            "triangle_count", [](const PyMesh& s) { return s.mesh->triangle_count(); })
+        .def_property_readonly("vertex_count",
+                               [](const PyMesh& s) { return s.mesh->vertex_count(); })
+        .def_property_readonly("triangle_count",
+                               [](const PyMesh& s) { return s.mesh->triangle_count(); })
         .def_property_readonly(
             "area", [](PyMesh& s) { return s.get_stats().area; }, "Surface area, Å².")
         .def_property_readonly(
@@ -316,16 +362,21 @@ area, volume, pieces, closed_manifold and stats describe the mesh as it was made
             },
             py::arg("path"), py::arg("format") = py::none(),
             R"(Writes the mesh to `path` as the CLI does: binary PLY (positions, normals, `uint
-atom`, colours, one float per property) or OBJ (v x y z [r g b], vn, f), by the extension
-(.ply, .obj) unless format='ply' or 'obj'. Written under a temporary name and renamed: a
-failure leaves no file at `path`. Raises InvalidArgumentError for an unknown extension,
-FileError when the file cannot be written.)")
+atom`, colours, one float per property), OBJ (v x y z [r g b], vn, f), GLB (glTF 2.0 binary:
+POSITION, NORMAL, COLOR_0, _ATOM, one _NAME per property), binary STL (positions only) or OFF
+(COFF when coloured), by the extension (.ply, .obj, .glb, .stl, .off) unless format= names one
+('ply', 'obj', 'glb', 'stl', 'off': the CLI's --output-format). Written under a temporary name
+and renamed: a failure leaves no file at `path`. Raises InvalidArgumentError for an unknown
+extension or format, or a mesh the format cannot hold; FileError when the file cannot be
+written.)")
         .def("__len__", [](const PyMesh& s) { return s.mesh->triangle_count(); })
         .def("__repr__", [](PyMesh& s) { return mesh_repr(s, "Mesh"); });
 
-    py::class_<PySurface, PyMesh>(m, "SurfaceResult", R"(The surface Engine.surface made: a Mesh, and
+    py::class_<PySurface, PyMesh>(m, "SurfaceResult",
+                                  R"(The surface Engine.surface made: a Mesh, and
 what the engine says of it: grid, times, warnings, device, structure (the atoms it was made
-from; `atoms` indexes them), cavities_removed, specks_removed, total_ms.)")
+from; `atoms` indexes them), cavities_removed, specks_removed, simplify (what simplify= and
+max_triangles= did), optimized, total_ms.)")
         .def_property_readonly(
             "grid", [](const PySurface& s) { return grid_dict(s.grid); },
             "The grid: dims (points along x, y, z), spacing (Å), origin (Å), cutoff (1/Å, 0 for "
@@ -346,10 +397,11 @@ from; `atoms` indexes them), cavities_removed, specks_removed, total_ms.)")
             "warnings", [](const PySurface& s) { return s.warnings; },
             "The engine's warnings (the CLI prints them as `fdmsurf: warning:` lines), and the "
             "validation layer's messages with Engine(validation=True).")
-        .def_property_readonly("device", [](const PySurface& s) { return s.device; },
-                               "The Vulkan device's name.")
-        .def_property_readonly("structure", [](const PySurface& s) { return s.structure; },
-                               "The Structure the surface was made from.")
+        .def_property_readonly(
+            "device", [](const PySurface& s) { return s.device; }, "The Vulkan device's name.")
+        .def_property_readonly(
+            "structure", [](const PySurface& s) { return s.structure; },
+            "The Structure the surface was made from.")
         .def(
             "atom_areas",
             [](PySurface& s) {
@@ -363,11 +415,23 @@ from; `atoms` indexes them), cavities_removed, specks_removed, total_ms.)")
             R"(The surface's area shared out to the structure's atoms, (N,) float64, Å²: each
 triangle gives a third of its area to the atom of each of its vertices (docs/areas.md); the sum
 is the area. Atoms that own no vertex get 0.)")
+        .def_property_readonly(
+            "simplify", &simplify_dict,
+            "With simplify or max_triangles, what the simplification did, as the CLI's `--stats "
+            "json` reports it (ratio, max_triangles, target_triangles, triangles_in, "
+            "vertices_in, triangles_out, vertices_out, welded_vertices, topology_kept, "
+            "frozen_triangles, regions, regions_kept_whole, attempts, error, hausdorff and rmsd "
+            "to the full mesh, Å); None without.")
+        .def_property_readonly(
+            "optimized", [](const PySurface& s) { return s.optimized; },
+            "True when the mesh was reordered for the vertex cache and fetch (optimize=True).")
         .def_property_readonly("cavities_removed",
                                [](const PySurface& s) { return s.cavities_removed; })
-        .def_property_readonly("specks_removed", [](const PySurface& s) { return s.specks_removed; })
-        .def_property_readonly("total_ms", [](const PySurface& s) { return s.total_ms; },
-                               "Wall time of the call, milliseconds.")
+        .def_property_readonly("specks_removed",
+                               [](const PySurface& s) { return s.specks_removed; })
+        .def_property_readonly(
+            "total_ms", [](const PySurface& s) { return s.total_ms; },
+            "Wall time of the call, milliseconds.")
         .def("__repr__", [](PySurface& s) { return mesh_repr(s, "SurfaceResult"); });
 
     py::class_<PyEngine>(m, "_Engine")
@@ -430,9 +494,9 @@ the host with every thread (docs/areas.md).)");
             return out;
         },
         py::arg("path"),
-        R"(Reads a mesh: PLY (ASCII or binary) and OBJ, OFF (NanoShaper's too) and MSMS
-.vert/.face, each optionally gzipped, as `fdmsurf compare` reads them. Raises FileError or
-FormatError.)");
+        R"(Reads a mesh: PLY (ASCII or binary), OBJ, GLB, STL (binary or ASCII), OFF
+(NanoShaper's too) and MSMS .vert/.face, each optionally gzipped, as `fdmsurf compare` reads
+them. Raises FileError or FormatError.)");
 
     m.def(
         "compare",

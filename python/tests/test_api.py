@@ -31,6 +31,14 @@ CASES = [
      ["--method", "edt", "--refine", "1", "--spacing", "1.0"]),
     ("4hhb.pdb.gz", {"surface": "sas", "probe": 1.2, "spacing": 1.0, "ligands": False},
      ["--surface", "sas", "--probe", "1.2", "--spacing", "1.0", "--no-ligands"]),
+    ("1crn.pdb", {"surface": "vdw", "snap": False, "spacing": 0.7},
+     ["--surface", "vdw", "--no-snap", "--spacing", "0.7"]),
+    ("1crn.pdb", {"surface": "sas", "chord_tolerance": 0.05},
+     ["--surface", "sas", "--chord-tolerance", "0.05"]),
+    ("3al1.pdb", {"simplify": 0.3, "max_triangles": 20000, "optimize": True, "color": "chain",
+                  "properties": ["bfactor"]},
+     ["--simplify", "0.3", "--max-triangles", "20000", "--optimize", "--color", "chain",
+      "--properties", "bfactor"]),
 ]
 
 
@@ -62,6 +70,63 @@ def test_obj_is_the_cli_obj(engine, cli, data, tmp_path):
     assert (tmp_path / "api.obj").read_text() == (tmp_path / "cli.obj").read_text()
     engine.surface(data / "1crn.pdb", color="element").write(tmp_path / "api.txt", format="obj")
     assert (tmp_path / "api.txt").read_text() == (tmp_path / "cli.obj").read_text()
+
+
+@pytest.mark.parametrize("extension", ["glb", "stl", "off"])
+def test_other_formats_are_the_cli_files(engine, cli, data, tmp_path, extension):
+    cli(data / "1crn.pdb", "-o", tmp_path / f"cli.{extension}", "--quiet", "--spacing", "1.0",
+        "--color", "element")
+    result = engine.surface(data / "1crn.pdb", spacing=1.0, color="element")
+    result.write(tmp_path / f"api.{extension}")
+    expected = (tmp_path / f"cli.{extension}").read_bytes()
+    assert (tmp_path / f"api.{extension}").read_bytes() == expected
+    result.write(tmp_path / "api.mesh", format=extension)  # the CLI's --output-format names
+    assert (tmp_path / "api.mesh").read_bytes() == expected
+    back = fdmsurf.read_mesh(tmp_path / f"api.{extension}")
+    assert back.triangle_count == result.triangle_count
+    assert back.area == pytest.approx(result.area, rel=1e-5)
+
+
+def test_simplify_and_optimize_change_the_mesh(engine, data):
+    full = engine.surface(data / "1crn.pdb")
+    assert full.simplify is None and not full.optimized
+    half = engine.surface(data / "1crn.pdb", simplify=0.5)
+    report = half.simplify
+    assert report["triangles_in"] == full.triangle_count and report["ratio"] == 0.5
+    assert report["target_triangles"] == round(full.triangle_count / 2)
+    assert half.triangle_count == report["triangles_out"]
+    # About half (the closedness guard may keep a few more), still closed, same pieces.
+    assert 0.5 <= half.triangle_count / full.triangle_count < 0.55
+    assert half.closed_manifold and half.pieces == full.pieces and report["topology_kept"]
+    assert half.area == pytest.approx(full.area, rel=0.01)
+    assert half.volume == pytest.approx(full.volume, rel=0.01)
+    assert 0 < report["rmsd"] < report["hausdorff"] < 0.5
+    assert "simplify" in half.times and not half.warnings
+    # Vertices are a subset of the full mesh's, each with its atom.
+    full_atoms = {tuple(v): a for v, a in zip(full.vertices.tolist(), full.atoms.tolist())}
+    assert all(full_atoms[tuple(v)] == a
+               for v, a in zip(half.vertices.tolist(), half.atoms.tolist()))
+
+    capped = engine.surface(data / "1crn.pdb", max_triangles=4000)
+    assert capped.simplify["target_triangles"] == 4000 and capped.simplify["ratio"] == 1.0
+    assert 4000 <= capped.triangle_count < 4400 and capped.closed_manifold
+    both = engine.surface(data / "1crn.pdb", simplify=0.5, max_triangles=4000)
+    assert both.simplify["target_triangles"] == 4000  # the smaller target
+
+    # optimize: the same triangles (each corner order kept up to rotation), in another order.
+    ordered = engine.surface(data / "1crn.pdb", optimize=True)
+    assert ordered.optimized and ordered.simplify is None and "optimize" in ordered.times
+    assert ordered.triangle_count == full.triangle_count
+    assert not np.array_equal(ordered.faces, full.faces)
+
+    def triangles(mesh):
+        corners = mesh.vertices[mesh.faces].tolist()
+        out = []
+        for t in corners:
+            first = min(range(3), key=lambda i: t[i])
+            out.append(tuple(tuple(t[(first + i) % 3]) for i in range(3)))
+        return sorted(out)
+    assert triangles(ordered) == triangles(full)
 
 
 def test_summary_matches_the_cli_json(engine, cli, data, tmp_path):
@@ -148,6 +213,35 @@ def test_one_atom_is_a_sphere(engine):
     radius = np.linalg.norm(result.vertices, axis=1)
     assert np.all(np.abs(radius - 2.0) < 0.05)
     assert np.all(result.atoms == 0)
+
+
+def test_snap_and_chord_tolerance_change_the_mesh(engine):
+    # Two balls of 1.5 Å, 2 Å apart: a union whose area is known (two spheres less two caps of
+    # height 0.5 Å) and whose crease is the circle where the spheres meet.
+    xyz = np.array([[0.0, 0.0, 0.0], [2.0, 0.0, 0.0]])
+    radii = [1.5, 1.5]
+    exact = 2 * (4 * math.pi * 1.5**2 - 2 * math.pi * 1.5 * 0.5)
+    snapped = engine.surface(xyz, radii=radii, surface="vdw")
+    plain = engine.surface(xyz, radii=radii, surface="vdw", snap=False)
+    creases = engine.surface(xyz, radii=radii, surface="vdw", chord_tolerance=0)
+    for mesh in (snapped, plain, creases):
+        assert mesh.closed_manifold and mesh.pieces == 1
+    assert "snap" in snapped.times and "snap" not in plain.times
+
+    def distances(mesh):  # of each vertex to each sphere, Å
+        return np.abs(np.linalg.norm(mesh.vertices[:, None, :] - xyz[None], axis=2) - 1.5)
+
+    def on_the_crease(mesh):  # vertices on both spheres
+        return int(np.sum(np.all(distances(mesh) < 1e-5, axis=1)))
+    for mesh in (snapped, creases):
+        assert distances(mesh).min(axis=1).max() < 1e-5  # every vertex on its ball
+    # Crease vertices placed on the circle (marching cubes hits it only by chance: 4 here).
+    assert on_the_crease(snapped) >= 20 and on_the_crease(creases) >= 20
+    assert on_the_crease(plain) < on_the_crease(creases)
+    # Chords split to spacing / 50: 0.25% short of the union's area, marching cubes 2.8%.
+    assert snapped.area == pytest.approx(exact, rel=0.005)
+    assert plain.area < 0.98 * exact and creases.area < 0.98 * exact
+    assert snapped.triangle_count > creases.triangle_count > plain.triangle_count
 
 
 def test_result_describes_the_run(engine, data):
@@ -243,7 +337,9 @@ def test_areas_per_atom(engine, data):
     assert fdmsurf.sas_areas(one, probe=1.4)[0] == pytest.approx(4 * math.pi * 9.0, rel=1e-9)
     sas = fdmsurf.sas_areas(result.structure, probe=1.4)
     vs_mesh = engine.surface(data / "1crn.pdb", surface="sas", spacing=0.5)
-    assert sas.sum() == pytest.approx(vs_mesh.area, rel=0.05)  # 3.3 % apart at 0.5 Å
+    # 0.02 % apart at 0.5 Å with the snapped mesh (3.2 % with snap=False: the chords and the
+    # creases that marching cubes cuts across).
+    assert sas.sum() == pytest.approx(vs_mesh.area, rel=0.005)
 
 
 def test_keywords_are_the_cli_options_with_their_defaults(cli):
@@ -253,10 +349,13 @@ def test_keywords_are_the_cli_options_with_their_defaults(cli):
     sections = help_text.split("\nDevice:")[0]
     options = set(re.findall(r"^  (--[a-z-]+)", sections, flags=re.M))
     not_keywords = {"--models"}  # Engine.surface_models
+    negated = {"--no-ligands": "ligands", "--no-snap": "snap"}  # the keyword's default is True
     parameters = inspect.signature(fdmsurf.Engine.surface).parameters
     for option in options - not_keywords:
-        name = "ligands" if option == "--no-ligands" else option[2:].replace("-", "_")
+        name = negated.get(option, option[2:].replace("-", "_"))
         assert name in parameters, f"{option} has no keyword"
+    for option, name in negated.items():
+        assert option in options and parameters[name].default is True, option
     from fdmsurf import _options
     resolved = _options.parse({}).describe()
     for name, parameter in parameters.items():

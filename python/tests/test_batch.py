@@ -1,5 +1,6 @@
-"""fdmsurf.batch on Dask's distributed scheduler: a LocalCluster of two workers, failed structures as
-rows, re-runs that compute nothing, and a worker killed mid-run with every output written once."""
+"""fdmsurf.batch on Dask's distributed scheduler: a LocalCluster of two workers, failed structures
+as rows, re-runs that compute nothing, and a worker killed mid-run with every output written
+once."""
 
 import json
 import os
@@ -46,8 +47,24 @@ def test_inputs_outputs_and_hash(data, tmp_path):
     assert h != batch.options_hash({"spacing": 1.0}, "ply", False)
     assert h != batch.options_hash({}, "obj", False)
     assert h != batch.options_hash({"color": "chain"}, "ply", False)
+    assert h != batch.options_hash({"simplify": 0.5}, "ply", False)
+    assert h != batch.options_hash({"max_triangles": 1000}, "ply", False)
+    assert h != batch.options_hash({"optimize": True}, "ply", False)
+    assert h == batch.options_hash({"optimize": False, "simplify": None}, "ply", False)
+    assert h == batch.options_hash({"snap": True, "chord_tolerance": None}, "ply", False)
+    assert h != batch.options_hash({"snap": False}, "ply", False)
+    assert h != batch.options_hash({"chord_tolerance": 0.0}, "ply", False)
     with pytest.raises(fdmsurf.InvalidArgumentError, match="spacing must be > 0"):
         batch.options_hash({"spacing": 0}, "ply", False)
+    with pytest.raises(fdmsurf.InvalidArgumentError, match="mesh format must be ply, obj, glb, "
+                                                           "stl or off, not 'xyz'"):
+        batch.run([data / "1crn.pdb"], tmp_path / "out", mesh_format="xyz")
+    args = batch._argument_parser().parse_args(["x.pdb", "-o", "out", "--simplify", "0.5",
+                                                "--max-triangles", "100", "--optimize",
+                                                "--mesh-format", "glb", "--no-snap"])
+    assert (args.simplify, args.max_triangles, args.optimize) == (0.5, 100, True)
+    assert args.snap is False
+    assert args.mesh_format == "glb"
 
 
 def test_local_cluster_of_two_workers_then_a_rerun_that_computes_nothing(cli, data, tmp_path):

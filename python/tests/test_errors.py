@@ -88,6 +88,15 @@ def test_unknown_keywords_name_the_nearest(engine, data):
     ({"no_cavities": "yes"}, TypeError, "no_cavities must be True or False"),
     ({"density_cut": 2.0}, fdmsurf.InvalidArgumentError, r"density_cut must be in \(0, 1\)"),
     ({"min_grid": (1, 2)}, TypeError, "min_grid must be three whole numbers"),
+    ({"simplify": 0}, fdmsurf.InvalidArgumentError,
+     r"simplify must be the fraction of the triangles to keep, in \(0, 1\]"),
+    ({"simplify": 1.5}, fdmsurf.InvalidArgumentError, "simplify must be"),
+    ({"max_triangles": 0}, fdmsurf.InvalidArgumentError, "max_triangles must be a whole number"),
+    ({"max_triangles": 10.5}, TypeError, "max_triangles must be a whole number, not float"),
+    ({"optimize": "yes"}, TypeError, "optimize must be True or False"),
+    ({"snap": "no"}, TypeError, "snap must be True or False"),
+    ({"chord_tolerance": -0.1}, fdmsurf.InvalidArgumentError,
+     r"chord_tolerance must be >= 0 Å \(got -0.1\)"),
 ])
 def test_bad_options(engine, data, keywords, error, message):
     with pytest.raises(error, match=message):
@@ -130,10 +139,12 @@ def test_file_errors_carry_the_cli_messages(engine, cli, data, tmp_path):
 
 def test_write_errors(engine, data, tmp_path):
     result = engine.surface(data / "1crn.pdb", spacing=1.0)
-    with pytest.raises(fdmsurf.InvalidArgumentError, match=r"unknown output format '.stl'"):
-        result.write(tmp_path / "mesh.stl")
-    with pytest.raises(fdmsurf.InvalidArgumentError, match="unknown mesh format 'stl'"):
-        result.write(tmp_path / "mesh.ply", format="stl")
+    # .stl, .off and .glb are formats too (test_api.py writes them); .xyz is none.
+    with pytest.raises(fdmsurf.InvalidArgumentError, match=r"unknown output format '.xyz'"):
+        result.write(tmp_path / "mesh.xyz")
+    with pytest.raises(fdmsurf.InvalidArgumentError, match="unknown mesh format 'xyz' "
+                                                           r"\(expected 'ply', 'obj', 'glb'"):
+        result.write(tmp_path / "mesh.ply", format="xyz")
     with pytest.raises(fdmsurf.FileError, match="cannot write"):
         result.write(tmp_path / "no" / "such" / "folder.ply")
     assert list(tmp_path.iterdir()) == []

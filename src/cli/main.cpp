@@ -9,6 +9,7 @@
 #include <cstring>
 #include <exception>
 #include <filesystem>
+#include <future>
 #include <iostream>
 #include <new>
 #include <optional>
@@ -19,11 +20,13 @@
 #include <vector>
 
 #include "cli/compare_command.hpp"
+#include "cli/interrupts.hpp"
 #include "cli/messages.hpp"
 #include "cli/msms_command.hpp"
 #include "cli/options.hpp"
 #include "cli/progress.hpp"
 #include "cli/summary.hpp"
+#include "core/trace.hpp"
 #include "fdmsurf/fdmsurf.hpp"
 
 namespace {
@@ -247,10 +250,13 @@ std::size_t report_validation(Engine& engine) {
 // One structure through an engine that stays up for every input of the run.
 // `read`: the structure when it was read already, with its parse time (< 0: report no parse
 // stage, for the second and later models of a file read once), else null.
+// `before_ms` >= 0: the wall time before this call when parse and init overlapped (the total
+// then counts it instead of their sum).
 // `renderer`: set when the run writes pictures (`image`: --image's path for this input).
 int run_one(const CliOptions& options, Engine& engine, Renderer* renderer, Progress& progress,
             double init_ms, const std::string& input, const std::string& output,
-            const std::string& image, const Structure* read = nullptr, double parse_ms = 0.0) {
+            const std::string& image, const Structure* read = nullptr, double parse_ms = 0.0,
+            double before_ms = -1.0) {
     const auto start = Clock::now();
     RunReport report;
     auto warn = [&report, &progress](const std::string& message) {
@@ -310,7 +316,9 @@ int run_one(const CliOptions& options, Engine& engine, Renderer* renderer, Progr
     };
     auto print_summary = [&]() {
         // A structure read before this call: its parse time counts in the total all the same.
-        report.total_ms = ms_since(start) + init_ms + (read && parse_ms > 0 ? parse_ms : 0.0);
+        report.total_ms =
+            ms_since(start) +
+            (before_ms >= 0.0 ? before_ms : init_ms + (read && parse_ms > 0 ? parse_ms : 0.0));
         progress.end();
         // With the mesh or picture on standard output, the summary goes to stderr.
         std::FILE* const summary = to_stdout ? stderr : stdout;
@@ -429,6 +437,12 @@ int run_one(const CliOptions& options, Engine& engine, Renderer* renderer, Progr
         if (validation_failed()) return kExitValidation;
     }
 
+    // The statistics read the mesh while it is written: on a thread of their own, overlapped.
+    auto stats_job = std::async(std::launch::async, [&mesh = result.mesh] {
+        const auto t0 = Clock::now();
+        MeshStats stats = compute_stats(mesh);
+        return std::make_pair(stats, ms_since(t0));
+    });
     if (!options.image_output) {
         t = Clock::now();
         if (to_stdout) {
@@ -441,12 +455,14 @@ int run_one(const CliOptions& options, Engine& engine, Renderer* renderer, Progr
         }
         report.times.push_back({"write", ms_since(t), false});
         progress.stage("write");
+        detail::trace("cli: mesh written");
     }
     write_pictures(pictures, report, progress);
 
-    t = Clock::now();
-    report.stats = compute_stats(result.mesh);
-    report.times.push_back({"mesh-stats", ms_since(t), false});
+    const auto [stats, stats_ms] = stats_job.get();
+    detail::trace("cli: statistics");
+    report.stats = stats;
+    report.times.push_back({"mesh-stats", stats_ms, false});
     report.closed_manifold = report.stats.is_closed_manifold();
     fill_report(result.grid);
     print_summary();
@@ -486,6 +502,7 @@ std::optional<Renderer> make_renderer(const CliOptions& options, Engine& engine)
 }
 
 int run(const CliOptions& options) {
+    detail::trace("cli: start");
     // Option checks that need neither the structure nor the device come first. The warning
     // for a spacing too coarse for the filter comes from the engine, with result.warnings.
     make_output_folder(options.output);
@@ -499,16 +516,38 @@ int run(const CliOptions& options) {
     EngineOptions engine_options = options.engine;
     engine_options.progress = [&progress](std::string_view stage) { progress.stage(stage); };
     if (options.inputs.size() == 1 && !options.all_models) {
-        // Read before the device starts, so that bad input fails fast.
-        auto t = Clock::now();
-        const Structure structure = std::move(read_input(options, options.inputs.front()).front());
-        const double parse_ms = ms_since(t);
-        t = Clock::now();
-        Engine engine(engine_options);
-        std::optional<Renderer> renderer = make_renderer(options, engine);
-        return run_one(options, engine, renderer ? &*renderer : nullptr, progress, ms_since(t),
-                       options.inputs.front(), output_of(options, options.inputs.front(), 1),
-                       image_for(options, options.inputs.front(), 1), &structure, parse_ms);
+        // The structure is read while the device starts; a bad input is reported before any
+        // device error, as if it had been read first.
+        const auto t = Clock::now();
+        auto read_job = std::async(std::launch::async, [&options] {
+            const auto t0 = Clock::now();
+            Structure s = std::move(read_input(options, options.inputs.front()).front());
+            return std::make_pair(std::move(s), ms_since(t0));
+        });
+        std::optional<Engine> engine;
+        std::optional<Renderer> renderer;
+        std::exception_ptr engine_error;
+        const auto t_init = Clock::now();
+        try {
+            engine.emplace(engine_options);
+            renderer = make_renderer(options, *engine);
+        } catch (...) {
+            engine_error = std::current_exception();
+        }
+        const double init_ms = ms_since(t_init);
+        const auto [structure, parse_ms] = read_job.get();
+        detail::trace("cli: structure read, engine up");
+        if (engine_error) {
+            renderer.reset();  // before the engine
+            std::rethrow_exception(engine_error);
+        }
+        const int code = run_one(options, *engine, renderer ? &*renderer : nullptr, progress,
+                                 init_ms, options.inputs.front(),
+                                 output_of(options, options.inputs.front(), 1),
+                                 image_for(options, options.inputs.front(), 1), &structure,
+                                 parse_ms, ms_since(t));
+        renderer.reset();  // before the engine
+        return code;
     }
 
     // Several inputs or models: one engine for all, so that its pipelines and FFT plans are
@@ -628,5 +667,7 @@ int run_command(int argc, char** argv) {
 int main(int argc, char** argv) {
     // A closed pipe on stdout is an error to report (EPIPE), not a signal that kills silently.
     std::signal(SIGPIPE, SIG_IGN);
+    // Ctrl-C and SIGTERM: stop at once, remove the output being written (cli/interrupts.hpp).
+    install_interrupt_handlers();
     return check_stdout(run_command(argc, argv));
 }

@@ -54,6 +54,8 @@ enum class Opt {
     NoCavities,
     MinCavity,
     Refine,
+    NoSnap,
+    ChordTolerance,
     Method,
     Simplify,
     MaxTriangles,
@@ -76,7 +78,7 @@ struct OptionSpec {
     bool numeric;  // a value that may start with '-' (a negative number, rejected later)
 };
 
-constexpr std::array<OptionSpec, 47> kOptions{{
+constexpr std::array<OptionSpec, 49> kOptions{{
     {"--output", "-o", Opt::Output, true, false},
     {"--output-format", "", Opt::OutputFormat, true, false},
     {"--surface", "", Opt::Surface, true, false},
@@ -107,6 +109,8 @@ constexpr std::array<OptionSpec, 47> kOptions{{
     {"--no-cavities", "", Opt::NoCavities, false, false},
     {"--min-cavity-volume", "", Opt::MinCavity, true, true},
     {"--refine", "", Opt::Refine, true, true},
+    {"--no-snap", "", Opt::NoSnap, false, false},
+    {"--chord-tolerance", "", Opt::ChordTolerance, true, true},
     {"--method", "", Opt::Method, true, false},
     {"--color", "", Opt::Color, true, false},
     {"--colour", "", Opt::Color, true, false},
@@ -549,6 +553,10 @@ void apply_value(CliOptions& o, const OptionSpec& spec, std::string_view name,
                         " (each multiplies the triangles by 4)",
                     text);
             break;
+        case Opt::ChordTolerance:
+            s.chord_tolerance = parse_float(name, text);
+            require(s.chord_tolerance >= 0.0f, name, ">= 0 Å", text);
+            break;
         case Opt::Padding:
             s.padding = parse_float(name, text);
             require(s.padding >= 0.0f, name, ">= 0 Å", text);
@@ -648,6 +656,9 @@ void apply_flag(CliOptions& o, const OptionSpec& spec) {
         case Opt::Outline:
             o.render.outline = true;
             o.render_options_given = "--outline";
+            break;
+        case Opt::NoSnap:
+            o.surface.snap = false;
             break;
         case Opt::NoCavities:
             o.surface.min_cavity_volume = std::numeric_limits<float>::infinity();
@@ -832,6 +843,13 @@ Surface:
                          moves the new vertices onto the surface (the filtered
                          density for fdm, the exact SES for edt, the atoms'
                          spheres for vdw and sas)
+  --no-snap              keep marching cubes' vertices where they are (default: on
+                         the exact surface: for vdw and sas on the balls, with
+                         vertices on the creases where spheres meet and chords
+                         split to the chord tolerance; for edt projected onto the
+                         exact SES)
+  --chord-tolerance T    vdw and sas: split edges whose arc lies more than T Å
+                         from them (>= 0; 0: none; default spacing / 50)
 
 Input:
   --format pdb|cif|pqr|xyzr|xyzrn  input format (default: from the extension,

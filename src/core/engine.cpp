@@ -7,6 +7,9 @@
 #include <string>
 
 #include "core/engine_impl.hpp"
+
+#include <unistd.h>
+#include "core/trace.hpp"
 #include "fdmsurf/fdmsurf.hpp"
 #include "filter/spectral_filter.hpp"
 #include "grid/atom_bins.hpp"
@@ -80,8 +83,10 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
     SurfaceResult result;
     double t0 = now_ms();
     check_refine_levels(options.refine);
+    trace("engine: run");
     GridPlan plan = plan_grid(atoms, options);
     result.grid = plan.info;
+    trace("engine: grid planned");
     if (plan.filtered && options.spacing > 1.0f / (2.0f * plan.info.cutoff)) {
         char buf[200];
         std::snprintf(buf, sizeof buf,
@@ -109,10 +114,13 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
         result.times.push_back({"bin-atoms", now_ms() - t0, false});
     }
     report(plan.exact_ses ? "ses-features" : "bin-atoms");
+    trace(plan.exact_ses ? "engine: ses features" : "engine: atoms binned");
     StagingArena arena;
     Buffer field(context, static_cast<VkDeviceSize>(field_bytes), MemoryUse::Device, "field");
+    trace("engine: field allocated");
     commands.begin();
     record_field(arena, plan, &bins, &features, options.filter, field);
+    trace("engine: field recorded (staging, FFT plan)");
     McParams mc;
     for (int a = 0; a < 3; ++a) mc.origin[a] = plan.info.origin[a];
     mc.spacing = plan.info.spacing;
@@ -121,21 +129,41 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
     mc.z_end = d[2] - 1;
     set_interpolation(mc, plan);
     GpuMesh gpu = marching_cubes.run(commands, arena, field, d[0], d[1], d[2], plan.pitch, mc);
+    trace("engine: field and marching cubes done");
     add_times(result.times, marching_cubes.stage_times());
-    if (on_device && options.refine == 0) {
+    if (on_device && options.refine == 0 && !snaps(options, plan)) {
         *on_device = std::move(gpu);
         return result;
     }
     result.mesh = marching_cubes.read_back(commands, gpu);
+    trace("engine: mesh read back");
     add_times(result.times, commands.stage_times());
     add_times(result.times, {{"unpack-mesh", marching_cubes.unpack_ms(), false}});
     report(plan.exact_ses ? "ses-distance, marching cubes" : "density, filter, marching cubes");
-    if (options.refine > 0) {
-        refine(result, atoms, options, plan, &features, &field, nullptr);
-        report("refine");
-        if (on_device) *on_device = upload_mesh(result.mesh);
-    }
+    host_stages(result, atoms, options, plan, &features, &field, nullptr);
+    if (on_device) *on_device = upload_mesh(result.mesh);
     return result;
+}
+
+void EngineImpl::host_stages(SurfaceResult& result, const Atoms& atoms,
+                             const SurfaceOptions& options, const GridPlan& plan,
+                             const SesFeatures* features, const Buffer* device_field,
+                             const FieldView* host_field) {
+    // The exact SES is snapped first, so that refinement starts from vertices on the surface;
+    // vdw and sas after refinement, whose butterfly stencils would smooth the creases away.
+    const bool snap_now = snaps(options, plan);
+    if (snap_now && plan.exact_ses) {
+        snap(result, atoms, options, plan, features);
+        report("snap");
+    }
+    if (options.refine > 0) {
+        refine(result, atoms, options, plan, features, device_field, host_field);
+        report("refine");
+    }
+    if (snap_now && !plan.exact_ses) {
+        snap(result, atoms, options, plan, features);
+        report("snap");
+    }
 }
 
 void EngineImpl::record_field(StagingArena& arena, const GridPlan& plan, const AtomBins* bins,
@@ -247,7 +275,23 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
                         std::to_string(d[2]) + " points is too wide to be processed in z-slabs " +
                         "within this device's maxStorageBufferRange (" +
                         std::to_string(limit >> 20) + " MiB); a spacing of " +
-                        spacing_hint(need, double(limit), options.spacing) + " Å would fit");
+                        spacing_hint(need, double(limit), options.spacing) + " Å would fit" +
+                        isolated_atoms_note(atoms));
+    }
+    // The slabs' field is assembled on the host (marching cubes then reads it in parts): it
+    // must fit the machine's memory, with room for the mesh.
+    const double host_field = double(d[0]) * d[1] * d[2] * sizeof(float);
+    const double host_memory = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
+    if (host_memory > 0 && host_field > 0.5 * host_memory) {
+        char figures[160];
+        std::snprintf(figures, sizeof figures, "%.1f GiB of host memory, more than half of this machine's %.1f GiB",
+                      host_field / (1 << 30), host_memory / (1 << 30));
+        throw Error(ErrorCode::DeviceLimit,
+                    "the grid of " + std::to_string(d[0]) + " x " + std::to_string(d[1]) + " x " +
+                        std::to_string(d[2]) + " points is processed in slabs whose field needs " +
+                        figures + "; a spacing of " +
+                        spacing_hint(host_field, 0.5 * host_memory, options.spacing) +
+                        " Å would fit" + isolated_atoms_note(atoms));
     }
     const std::uint32_t core = slab_planes - 2 * overlap;
     const std::uint32_t slabs = (d[2] + core - 1) / core;
@@ -351,8 +395,7 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
     result.mesh = stitch_slabs(parts, view, plan.iso, starts);
     result.times.push_back({"stitch", now_ms() - t1, false});
     report("stitch");
-    refine(result, atoms, options, plan, &features, nullptr, &view);
-    if (options.refine > 0) report("refine");
+    host_stages(result, atoms, options, plan, &features, nullptr, &view);
     return result;
 }
 
@@ -451,10 +494,12 @@ SurfaceResult Engine::make_surface(const Atoms& atoms, const SurfaceOptions& opt
     // (By default the exact SES, vdw and sas keep every cavity.)
     result.times.push_back({"cavities", detail::now_ms() - t0, false});
     impl_->report("cavities");
+    detail::trace("engine: cavities");
     // On the final mesh: the atom of each vertex, colours and scalars.
     detail::add_vertex_properties(impl_->vertex_properties, impl_->commands, atoms, options,
                                   result);
     impl_->report("vertex properties");
+    detail::trace("engine: vertex properties");
     return result;
 }
 

@@ -26,6 +26,11 @@ struct DeviceMeshBuffers {
     Buffer attributes;  // per vertex: atom, packed colour; empty when uncoloured
 };
 
+// Whether the snap stage changes the mesh of `options` (snap on, a field with an exact
+// surface: vdw, sas, edt), and the chord tolerance it uses for vdw and sas (Å).
+bool snaps(const SurfaceOptions& options, const GridPlan& plan);
+double chord_tolerance_for(const SurfaceOptions& options);
+
 struct EngineImpl {
     explicit EngineImpl(const EngineOptions& options)
         : glslang(), context(options), commands(context), density(context),
@@ -68,6 +73,15 @@ struct EngineImpl {
     void refine(SurfaceResult& result, const Atoms& atoms, const SurfaceOptions& options,
                 const GridPlan& plan, const SesFeatures* features, const Buffer* device_field,
                 const FieldView* host_field);
+    // The host stages after marching cubes, in order: snap (edt), refine, snap (vdw, sas).
+    void host_stages(SurfaceResult& result, const Atoms& atoms, const SurfaceOptions& options,
+                     const GridPlan& plan, const SesFeatures* features, const Buffer* device_field,
+                     const FieldView* host_field);
+    // The snap stage (snap_stage.cpp): result.mesh placed on the exact surface (vdw, sas:
+    // crease recovery on the balls; edt: projection onto the distance of `features`). Nothing
+    // when options.snap is off or for the FDM method.
+    void snap(SurfaceResult& result, const Atoms& atoms, const SurfaceOptions& options,
+              const GridPlan& plan, const SesFeatures* features);
     // Records the field of `plan` into `field`: the exact SES distance of `features` (edt), or
     // the density of `bins`, filtered for fdm.
     void record_field(StagingArena& arena, const GridPlan& plan, const AtomBins* bins,

@@ -5,35 +5,11 @@
 #include <memory>
 
 #include "core/engine_impl.hpp"
-#include "grid/ses_distance_cpu.hpp"
+#include "core/surface_fields.hpp"
 #include "mesh/refine.hpp"
 #include "vulkan/transfer.hpp"
 
 namespace fdmsurf::detail {
-
-namespace {
-
-// The exact SES distance d (grid/ses_distance_cpu.hpp) as a field for the projection: it grows
-// inwards, the surface is d = probe; defined where it is not clamped.
-class SesDistanceField final : public SurfaceField {
-public:
-    SesDistanceField(const SesFeatures& features, double iso, double d_max)
-        : features_(features), iso_(iso), d_max_(d_max) {}
-    bool sample(const Vec3& p, double& value, Vec3& gradient) const override {
-        double g[3];
-        value = ses_distance(features_, p.data(), d_max_, g);
-        gradient = {g[0], g[1], g[2]};
-        return std::abs(value) < d_max_ && (g[0] != 0.0 || g[1] != 0.0 || g[2] != 0.0);
-    }
-    double iso() const override { return iso_; }
-    double outward() const override { return -1.0; }
-
-private:
-    const SesFeatures& features_;
-    double iso_, d_max_;
-};
-
-}  // namespace
 
 void EngineImpl::refine(SurfaceResult& result, const Atoms& atoms, const SurfaceOptions& options,
                         const GridPlan& plan, const SesFeatures* features,

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "fdmsurf/error.hpp"
+#include "mesh/half_edges.hpp"
 #include "mesh/mesh_attributes.hpp"
 #include "mesh/mesh_validate.hpp"
 #include "core/parallel.hpp"
@@ -18,82 +19,12 @@
 namespace fdmsurf::detail {
 namespace {
 
-using Index = std::uint32_t;
-constexpr Index kNone = ~Index{0};
+using Index = HalfEdgeIndex;
+constexpr Index kNone = kNoHalfEdge;
 // Fans longer than this are treated as open (marching-cubes valences stay far below it).
 constexpr int kMaxValence = 64;
 
 double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-
-// Half-edge h = 3 t + k runs from corner k of triangle t to corner k + 1.
-Index next_he(Index h) { return h % 3 == 2 ? h - 2 : h + 1; }
-Index prev_he(Index h) { return h % 3 == 0 ? h + 2 : h - 1; }
-
-enum class EdgeKind : std::uint8_t {
-    Interior,  // two triangles, opposite directions: twins
-    Boundary,  // one triangle
-    Singular,  // more than two triangles, two in the same direction, or a degenerate triangle
-};
-
-struct HalfEdges {
-    std::vector<Index> twin;     // per half-edge: the other half of an Interior edge, else kNone
-    std::vector<Index> edge;     // per half-edge: its undirected edge, shared by all its uses
-    std::vector<Index> first;    // per edge: one of its half-edges (the lowest)
-    std::vector<EdgeKind> kind;  // per edge
-};
-
-bool degenerate_triangle(const std::vector<Index>& idx, Index h) {
-    const Index* t = &idx[h - h % 3];
-    return t[0] == t[1] || t[1] == t[2] || t[2] == t[0];
-}
-
-// Half-edges grouped by undirected edge without a hash map: bucketed by their smaller vertex (a
-// counting sort), each bucket (a handful) sorted by the larger one. Edge numbers follow (lo, hi).
-HalfEdges build_half_edges(const Mesh& mesh) {
-    const std::vector<Index>& idx = mesh.indices;
-    const std::size_t nv = mesh.vertex_count(), nh = idx.size();
-    auto lo = [&](Index h) { return std::min(idx[h], idx[next_he(h)]); };
-    auto hi = [&](Index h) { return std::max(idx[h], idx[next_he(h)]); };
-    std::vector<Index> start(nv + 1, 0);
-    for (Index h = 0; h < nh; ++h) ++start[lo(h) + 1];
-    for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
-    std::vector<Index> order(nh);
-    {
-        std::vector<Index> fill(start.begin(), start.end() - 1);
-        for (Index h = 0; h < nh; ++h) order[fill[lo(h)]++] = h;
-    }
-    HalfEdges he;
-    he.twin.assign(nh, kNone);
-    he.edge.assign(nh, kNone);
-    he.first.reserve(nh / 2 + 16);
-    he.kind.reserve(nh / 2 + 16);
-    for (std::size_t v = 0; v < nv; ++v) {
-        const auto b = order.begin() + start[v], e = order.begin() + start[v + 1];
-        std::sort(b, e, [&](Index x, Index y) { return hi(x) != hi(y) ? hi(x) < hi(y) : x < y; });
-        for (auto g = b; g != e;) {
-            auto g_end = g + 1;
-            while (g_end != e && hi(*g_end) == hi(*g)) ++g_end;
-            const Index id = Index(he.first.size());
-            bool degenerate = false;
-            for (auto x = g; x != g_end; ++x) {
-                he.edge[*x] = id;
-                degenerate = degenerate || degenerate_triangle(idx, *x);
-            }
-            EdgeKind kind = EdgeKind::Singular;
-            if (!degenerate && g_end - g == 1) {
-                kind = EdgeKind::Boundary;
-            } else if (!degenerate && g_end - g == 2 && idx[g[0]] != idx[g[1]]) {
-                kind = EdgeKind::Interior;
-                he.twin[g[0]] = g[1];
-                he.twin[g[1]] = g[0];
-            }
-            he.first.push_back(*g);
-            he.kind.push_back(kind);
-            g = g_end;
-        }
-    }
-    return he;
-}
 
 // The neighbours of the start vertex of h in fan order, from the end of h on; closed when the
 // fan comes back to h, open when it reaches an edge without a twin (or passes kMaxValence).
@@ -574,8 +505,9 @@ namespace {
 
 enum class Outcome { Converged, NotConverged, Outside };
 
-Outcome newton(const SurfaceField& field, const Vec3& start, const ProjectOptions& o, Vec3& out) {
-    Vec3 x = start, g;
+Outcome newton(const SurfaceField& field, const Vec3& start, const ProjectOptions& o, Vec3& out,
+               Vec3& g) {
+    Vec3 x = start;
     double value = 0.0;
     for (int it = 0;; ++it) {
         if (!field.sample(x, value, g)) return Outcome::Outside;
@@ -600,9 +532,8 @@ Outcome newton(const SurfaceField& field, const Vec3& start, const ProjectOption
 // Off: the line meets the level set at a grazing angle (over 78 degrees from the gradient).
 enum class LineOutcome { Converged, NotConverged, Outside, Grazing };
 LineOutcome newton_on_line(const SurfaceField& field, const Vec3& start, const Vec3& dir,
-                           const ProjectOptions& o, Vec3& out) {
+                           const ProjectOptions& o, Vec3& out, Vec3& g) {
     double s = 0.0, value = 0.0;
-    Vec3 g;
     for (int it = 0;; ++it) {
         const Vec3 x{start[0] + s * dir[0], start[1] + s * dir[1], start[2] + s * dir[2]};
         if (!field.sample(x, value, g)) return LineOutcome::Outside;
@@ -639,6 +570,14 @@ ProjectStats project_onto_field(Mesh& mesh, std::size_t first, const SurfaceFiel
     parallel_chunks(chunks, thread_count(), [&](std::size_t c) {
         ProjectStats& stats = per_chunk[c];
         const std::size_t end = std::min(nv, first + (c + 1) * kChunk);
+        Vec3 g{};
+        auto set_normal = [&](std::size_t v) {
+            if (!options.set_normals || mesh.normals.size() != 3 * nv) return;
+            const double len = std::sqrt(dot(g, g));
+            if (!(len > 0.0) || !std::isfinite(len)) return;
+            for (int a = 0; a < 3; ++a)
+                mesh.normals[3 * v + a] = float(field.outward() * g[a] / len);
+        };
         for (std::size_t v = first + c * kChunk; v < end; ++v) {
             Vec3 out;
             if (along) {
@@ -648,9 +587,10 @@ ProjectStats project_onto_field(Mesh& mesh, std::size_t first, const SurfaceFiel
                 if (len > 0.5) {
                     const Vec3 unit{dir[0] / len, dir[1] / len, dir[2] / len};
                     const LineOutcome o =
-                        newton_on_line(field, vertex(mesh, v), unit, options, out);
+                        newton_on_line(field, vertex(mesh, v), unit, options, out, g);
                     if (o == LineOutcome::Converged) {
                         for (int a = 0; a < 3; ++a) mesh.positions[3 * v + a] = float(out[a]);
+                        set_normal(v);
                         ++stats.projected;
                         continue;
                     }
@@ -661,9 +601,10 @@ ProjectStats project_onto_field(Mesh& mesh, std::size_t first, const SurfaceFiel
                     ++stats.off_normal;  // grazing or not converged on the line: along the gradient
                 }
             }
-            switch (newton(field, vertex(mesh, v), options, out)) {
+            switch (newton(field, vertex(mesh, v), options, out, g)) {
                 case Outcome::Converged:
                     for (int a = 0; a < 3; ++a) mesh.positions[3 * v + a] = float(out[a]);
+                    set_normal(v);
                     ++stats.projected;
                     break;
                 case Outcome::NotConverged:

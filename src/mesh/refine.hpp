@@ -140,6 +140,10 @@ struct ProjectOptions {
     // edge's normal), so that the vertex stays over its edge's midpoint; the gradient is
     // followed where that line meets the level set at a grazing angle or not within reach.
     bool along_normals = true;
+    // Also set each projected vertex's normal to outward() grad f / |grad f| at the last point
+    // where the field was evaluated (within `tolerance` of the final one), which saves
+    // normals_from_field its evaluation per vertex.
+    bool set_normals = false;
 };
 
 ProjectOptions project_options_for_spacing(double spacing);

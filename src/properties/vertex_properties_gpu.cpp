@@ -1,6 +1,7 @@
 // Dispatch of the vertex-property passes: the atoms binned into cells on the host, vertices in
 // chunks that fit one storage-buffer binding.
 #include "properties/vertex_properties_gpu.hpp"
+#include "core/trace.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -189,6 +190,10 @@ void scatter(const Buffer& host, const std::vector<std::uint32_t>& order, std::s
              std::size_t n, std::uint32_t stride, std::vector<std::uint32_t>& out) {
     host.invalidate();
     const auto* words = static_cast<const std::uint32_t*>(host.mapped());
+    if (order.empty()) {  // mesh order
+        std::memcpy(&out[first * stride], words, n * stride * sizeof(std::uint32_t));
+        return;
+    }
     for (std::size_t i = 0; i < n; ++i)
         std::memcpy(&out[std::size_t(order[first + i]) * stride], &words[i * stride],
                     stride * sizeof(std::uint32_t));
@@ -204,7 +209,8 @@ Buffer upload_vector(Context& ctx, Commands& cmds, StagingArena& arena, const st
 
 }  // namespace
 
-VertexPropertiesPass::VertexPropertiesPass(Context& ctx) : ctx_(ctx) {
+VertexPropertiesPass::VertexPropertiesPass(Context& ctx)
+    : ctx_(ctx), sort_vertices_(ctx.info().type == "CPU") {
     ShaderCode a = shader_code(Shader::VertexAtoms);
     atoms_pipeline_ = ComputePipeline(ctx, a.words, a.bytes, 7, sizeof(shader::VertexAtomsPush),
                                       "vertex_atoms");
@@ -226,9 +232,15 @@ std::vector<std::uint32_t> VertexPropertiesPass::vertex_atoms(
     const std::size_t chunk = chunk_vertices(ctx_, stride * sizeof(std::uint32_t) + 12);
     // Vertices in cell order: neighbours in a dispatch then search the same cells, so the
     // lanes of a SIMD group run alike (on 1AON the pass took 0.6 of the time of mesh order).
-    const std::vector<std::uint32_t> order =
-        sort_into_cells(cells.grid, mesh.positions.data(), nv, 3).order;
-    const std::vector<float> sorted = gather(mesh.positions.data(), order, 3);
+    // (set_sort_vertices: on CPU devices only; `order` stays empty for mesh order.)
+    std::vector<std::uint32_t> order;
+    std::vector<float> sorted;
+    if (sort_vertices_) {
+        order = sort_into_cells(cells.grid, mesh.positions.data(), nv, 3).order;
+        sorted = gather(mesh.positions.data(), order, 3);
+    }
+    const float* positions = sort_vertices_ ? sorted.data() : mesh.positions.data();
+    trace("vertex atoms: atoms binned, vertices sorted");
 
     StagingArena arena;
     cmds.begin();
@@ -241,7 +253,7 @@ std::vector<std::uint32_t> VertexPropertiesPass::vertex_atoms(
     std::vector<const Buffer*> hosts;
     for (std::size_t first = 0; first < nv; first += chunk) {
         const std::size_t n = std::min(chunk, nv - first);
-        Buffer pos = upload_buffer(ctx_, cmds, arena, &sorted[3 * first], 3 * n * sizeof(float),
+        Buffer pos = upload_buffer(ctx_, cmds, arena, positions + 3 * first, 3 * n * sizeof(float),
                                    "vertex_positions");
         outputs.emplace_back(ctx_, n * stride * sizeof(std::uint32_t), MemoryUse::Device,
                              "vertex_atoms");
@@ -258,9 +270,12 @@ std::vector<std::uint32_t> VertexPropertiesPass::vertex_atoms(
     }
     cmds.mark("vertex-atoms");
     cmds.barrier_to_host();
+    trace("vertex atoms: uploaded, recorded");
     cmds.submit_and_wait();
+    trace("vertex atoms: waited for");
     for (std::size_t k = 0, first = 0; k < hosts.size(); ++k, first += chunk)
         scatter(*hosts[k], order, first, std::min(chunk, nv - first), stride, out);
+    trace("vertex atoms: scattered");
     return out;
 }
 

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <map>
 
 #include "fdmsurf/fdmsurf.hpp"
@@ -53,6 +54,27 @@ SurfaceResult surface(Engine& e, const Atoms& atoms, SurfaceKind kind, SesMethod
 
 }  // namespace
 
+// Vertices with two atoms at the least power distance within kTie: on the vdw and sas surfaces
+// snapped by default (issue 13), every vertex on a crease lies on two spheres, a tie by
+// construction.
+std::size_t exact_ties(const Mesh& mesh, const Atoms& atoms, float radius_add) {
+    std::size_t ties = 0;
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+        double best = 1e300, second = 1e300;
+        for (std::size_t i = 0; i < atoms.size(); ++i) {
+            const double p = detail::power_distance(mesh, v, atoms, i, radius_add);
+            if (p < best) {
+                second = best;
+                best = p;
+            } else if (p < second) {
+                second = p;
+            }
+        }
+        ties += second - best < kTie;
+    }
+    return ties;
+}
+
 TEST_F(VertexProperties, AtomOfEveryVertexEqualsReferenceOnCrambin) {
     const Atoms atoms = read_structure(data_path("1crn.pdb")).atoms;
     for (SurfaceKind kind : {SurfaceKind::Ses, SurfaceKind::Vdw, SurfaceKind::Sas}) {
@@ -60,8 +82,13 @@ TEST_F(VertexProperties, AtomOfEveryVertexEqualsReferenceOnCrambin) {
         o.surface = kind;
         const SurfaceResult r = engine().make_surface(atoms, o);
         ASSERT_GT(r.mesh.vertex_count(), 1000u);
-        const std::size_t ties = expect_atoms_match(r.mesh, atoms, kind == SurfaceKind::Sas ? 1.4f : 0.0f);
-        EXPECT_LT(ties, r.mesh.vertex_count() / 1000 + 1) << to_string(kind);
+        const float add = kind == SurfaceKind::Sas ? 1.4f : 0.0f;
+        const std::size_t ties = expect_atoms_match(r.mesh, atoms, add);
+        // Mismatches only at ties (checked above), and no more of them than there are vertices
+        // with two atoms at the same power distance (crease vertices), plus 0.1% for rounding.
+        const std::size_t allowed = kind == SurfaceKind::Ses ? 0 : exact_ties(r.mesh, atoms, add);
+        std::printf("  %s: %zu vertices with an exact tie\n", to_string(kind), allowed);
+        EXPECT_LT(ties, allowed + r.mesh.vertex_count() / 1000 + 1) << to_string(kind);
     }
 }
 
@@ -252,6 +279,20 @@ TEST_F(VertexProperties, ChunkedDispatchesAndRepeatedRunsGiveIdenticalWords) {
     Engine small(EngineOptions{.validation = true, .max_buffer_range = 1u << 20});
     detail::EngineImpl& many = small.impl();
     EXPECT_EQ(atoms_one, many.vertex_properties.vertex_atoms(many.commands, mesh, atoms, 0.0f, {}, 0));
+    // Vertices in mesh order (a GPU's default) and sorted by cell (a CPU device's), one chunk
+    // and several: the same words, with attributes.
+    const std::vector<std::uint32_t> attributes(atoms.size(), 7u);
+    for (detail::EngineImpl* e : {&one, &many}) {
+        std::vector<std::vector<std::uint32_t>> words;
+        for (bool sort : {true, false}) {
+            e->vertex_properties.set_sort_vertices(sort);
+            words.push_back(e->vertex_properties.vertex_atoms(e->commands, mesh, atoms, 0.0f, attributes, 1));
+        }
+        e->vertex_properties.set_sort_vertices(e->context.info().type == "CPU");
+        EXPECT_EQ(words[0], words[1]);
+        ASSERT_EQ(words[0].size(), 2 * mesh.vertex_count());
+        for (std::size_t v = 0; v < mesh.vertex_count(); ++v) ASSERT_EQ(words[0][2 * v], atoms_one[v]);
+    }
     EXPECT_EQ(phi_one, many.vertex_properties.coulombic(many.commands, mesh, atoms, q, 1.4f, true));
     const std::vector<std::string> messages = small.take_validation_messages();
     EXPECT_TRUE(messages.empty()) << fdmsurf_test::join_messages(messages);

@@ -64,6 +64,17 @@ struct SurfaceOptions {
     // butterfly subdivision (Zorin et al. 1996) and moves the new vertices onto the iso-surface
     // of the field (ses) or onto the atoms' balls (vdw, sas); on the host, before cavity removal.
     int refine = 0;
+    // Place the mesh on the exact surface after marching cubes (docs/mesh.md, "Snapping"); on
+    // the host, after refinement for vdw and sas, before it for edt. vdw and sas: every vertex on
+    // its ball, edges split where they cross the circles on which two spheres meet (the creases)
+    // and triangles at the points where three meet, and chords split until each lies within
+    // chord_tolerance of its arc. ses with SesMethod::Edt: every vertex projected onto the exact
+    // SES distance (Newton along its normal, else its gradient). Ignored by the FDM method, whose
+    // field has no exact surface to snap to.
+    bool snap = true;
+    // vdw and sas with snap: the most an edge's arc may lie from the edge (sagitta), Å; longer
+    // edges are split. < 0: spacing / 50 (0.01 Å at 0.5 Å); 0: no chord splits.
+    float chord_tolerance = -1.0f;
     // Grid points per axis at least (0: as many as the atoms need). A batch of similar
     // structures (the models of an NMR ensemble) given the largest grid of the batch shares one
     // FFT plan and one set of compiled kernels (plan_surface_grid gives each one's grid).
