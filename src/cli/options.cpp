@@ -800,6 +800,7 @@ CliOptions parse_args(const std::vector<std::string>& args) {
 std::string usage_text() {
     return R"(Usage: fdmsurf INPUT -o OUTPUT [options]
        fdmsurf INPUT... -o FOLDER/ [options]
+       fdmsurf INPUT -o PICTURE.png [picture options]
        fdmsurf INPUT... --models all -o FOLDER/ [options]
        fdmsurf compare REFERENCE TESTED --spacing H [--stats json] [--outer]
        fdmsurf --list-devices | --help | --version
