@@ -52,8 +52,9 @@ def main():
     engine = fdmsurf.Engine()
     print(f"device: {engine.device['name']}; {args.surfaces} {args.surface} surfaces, spacing {args.spacing} Å",
           flush=True)
-    samples = []  # (surfaces done, rss MiB, ms per surface over the last block)
+    samples = []  # (surfaces done, rss MiB, wall ms and process CPU ms per surface, last block)
     t_block = time.perf_counter()
+    c_block = time.process_time()
     for k in range(args.surfaces):
         xyz, radii = structure(k)
         r = engine.surface(xyz, radii=radii, spacing=args.spacing, surface=args.surface)
@@ -61,26 +62,30 @@ def main():
             print(f"structure {k}: not a closed manifold", file=sys.stderr)
             return 1
         if (k + 1) % args.every == 0:
-            now = time.perf_counter()
-            samples.append((k + 1, rss_mib(), 1000.0 * (now - t_block) / args.every))
-            t_block = now
+            now, cpu = time.perf_counter(), time.process_time()
+            samples.append((k + 1, rss_mib(), 1000.0 * (now - t_block) / args.every,
+                            1000.0 * (cpu - c_block) / args.every))
+            t_block, c_block = now, cpu
             if len(samples) % 10 == 0:
-                print(f"  {k + 1:6d} surfaces: RSS {samples[-1][1]:.1f} MiB, {samples[-1][2]:.1f} ms/surface", flush=True)
+                print(f"  {k + 1:6d} surfaces: RSS {samples[-1][1]:.1f} MiB, {samples[-1][2]:.1f} ms/surface "
+                      f"(CPU {samples[-1][3]:.1f} ms)", flush=True)
     if args.csv:
         with open(args.csv, "w") as f:
-            f.write("surfaces,rss_mib,ms_per_surface\n")
+            f.write("surfaces,rss_mib,wall_ms_per_surface,cpu_ms_per_surface\n")
             for s in samples:
-                f.write(f"{s[0]},{s[1]:.2f},{s[2]:.3f}\n")
+                f.write(f"{s[0]},{s[1]:.2f},{s[2]:.3f},{s[3]:.3f}\n")
     warm = [s for s in samples if s[0] > 100]
     tenth = max(1, len(warm) // 10)
     first, last = warm[:tenth], warm[-tenth:]
     rss0, rss1 = np.mean([s[1] for s in first]), np.mean([s[1] for s in last])
     t0, t1 = np.mean([s[2] for s in first]), np.mean([s[2] for s in last])
+    c0, c1 = np.mean([s[3] for s in first]), np.mean([s[3] for s in last])
     print()
     print("| | first 10% after warm-up | last 10% | change |")
     print("|---|---|---|---|")
     print(f"| RSS (MiB) | {rss0:.1f} | {rss1:.1f} | {100 * (rss1 / rss0 - 1):+.1f}% |")
-    print(f"| time per surface (ms) | {t0:.1f} | {t1:.1f} | {100 * (t1 / t0 - 1):+.1f}% |")
+    print(f"| wall time per surface (ms) | {t0:.1f} | {t1:.1f} | {100 * (t1 / t0 - 1):+.1f}% |")
+    print(f"| process CPU time per surface (ms) | {c0:.1f} | {c1:.1f} | {100 * (c1 / c0 - 1):+.1f}% |")
     flat = abs(rss1 / rss0 - 1) <= 0.05
 
     # One engine per thread, two threads: the same meshes as one thread.
