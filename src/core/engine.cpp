@@ -202,9 +202,31 @@ GpuMesh EngineImpl::upload_mesh(const Mesh& mesh) {
                                 mesh.indices.size() * sizeof(std::uint32_t), "mesh_indices");
     gpu.vertex_count = static_cast<std::uint32_t>(mesh.vertex_count());
     gpu.triangle_count = static_cast<std::uint32_t>(mesh.triangle_count());
+    // On a discrete GPU the uploads are copies (transfer writes): made available here, so that
+    // the barrier a renderer records for a DeviceMesh (compute-shader writes to vertex input,
+    // fdmsurf/vulkan_interop.hpp) chains on and covers them as well.
+    commands.barrier_compute();
     commands.mark("upload-mesh");
     commands.submit_and_wait();
     return gpu;
+}
+
+Buffer EngineImpl::upload_attributes(const Mesh& mesh) {
+    const std::size_t nv = mesh.vertex_count();
+    if (mesh.colors.size() != 3 * nv || nv == 0) return {};
+    std::vector<std::uint32_t> words(2 * nv);
+    for (std::size_t v = 0; v < nv; ++v) {
+        words[2 * v] = mesh.atoms.size() == nv ? mesh.atoms[v] : 0xffffffffu;
+        words[2 * v + 1] =
+            pack_rgba({mesh.colors[3 * v], mesh.colors[3 * v + 1], mesh.colors[3 * v + 2]});
+    }
+    StagingArena arena;
+    commands.begin();
+    Buffer out = upload_buffer(context, commands, arena, words.data(),
+                               words.size() * sizeof(std::uint32_t), "mesh_attributes");
+    commands.barrier_compute();  // as in upload_mesh
+    commands.submit_and_wait();
+    return out;
 }
 
 // A grid larger than one storage-buffer binding: the density and the filter run on overlapping
@@ -482,18 +504,76 @@ SurfaceResult Engine::make_surface(const Atoms& atoms, const SurfaceOptions& opt
 }
 
 DeviceSurfaceResult Engine::make_device_surface(const Atoms& atoms, const SurfaceOptions& options) {
-    if (options.properties.color != ColorScheme::None || !options.properties.scalars.empty())
+    const PropertyOptions& po = options.properties;
+    if (!po.scalars.empty())
         throw Error(ErrorCode::InvalidArgument,
-                    "make_device_surface: colours and per-vertex properties are computed on the "
-                    "host mesh only (make_surface); ask for none here");
+                    "make_device_surface: per-vertex properties are computed on the host mesh "
+                    "only (make_surface); ask for none here");
+    if (po.color == ColorScheme::Coulombic)
+        throw Error(ErrorCode::InvalidArgument,
+                    "make_device_surface: the coulombic colours are computed on the host mesh "
+                    "only (make_surface, then Engine::upload_mesh)");
+    std::vector<std::string> property_warnings = detail::check_property_inputs(atoms, po);
     detail::GpuMesh gpu;
     SurfaceResult host = impl_->run(atoms, options, &gpu);
     DeviceSurfaceResult out;
     out.mesh.buffers_ = std::make_unique<detail::DeviceMeshBuffers>();
+    if (po.color != ColorScheme::None) {
+        out.mesh.buffers_->attributes =
+            detail::device_mesh_attributes(impl_->vertex_properties, impl_->commands, atoms,
+                                           options, gpu, host.grid, host.times);
+        impl_->report("vertex colours");
+    }
     out.mesh.buffers_->mesh = std::move(gpu);
     out.grid = host.grid;
     out.times = std::move(host.times);
     out.warnings = std::move(host.warnings);
+    out.warnings.insert(out.warnings.end(), property_warnings.begin(), property_warnings.end());
+    return out;
+}
+
+DeviceMesh Engine::upload_mesh(const Mesh& mesh) {
+    if (mesh.positions.size() % 3 != 0 || mesh.indices.size() % 3 != 0 ||
+        (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size()) ||
+        (!mesh.colors.empty() && mesh.colors.size() != mesh.positions.size()))
+        throw Error(ErrorCode::InvalidArgument,
+                    "upload_mesh: positions, normals, colours and indices disagree in size");
+    const std::size_t nv = mesh.vertex_count();
+    for (std::uint32_t i : mesh.indices)
+        if (i >= nv)
+            throw Error(ErrorCode::InvalidArgument,
+                        "upload_mesh: an index refers to vertex " + std::to_string(i) + " of " +
+                            std::to_string(nv));
+    DeviceMesh out;
+    out.buffers_ = std::make_unique<detail::DeviceMeshBuffers>();
+    if (mesh.normals.empty() && nv > 0) {
+        // A renderer lights by the normals: without them, each vertex gets the area-weighted
+        // mean of its triangles' normals.
+        Mesh with_normals = mesh;
+        with_normals.normals.assign(3 * nv, 0.0f);
+        for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
+            const std::uint32_t* f = &mesh.indices[3 * t];
+            const float* a = &mesh.positions[3 * f[0]];
+            const float* b = &mesh.positions[3 * f[1]];
+            const float* c = &mesh.positions[3 * f[2]];
+            const float u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+            const float w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+            const float n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
+                                u[0] * w[1] - u[1] * w[0]};
+            for (int k = 0; k < 3; ++k)
+                for (int j = 0; j < 3; ++j) with_normals.normals[3 * f[k] + j] += n[j];
+        }
+        for (std::size_t v = 0; v < nv; ++v) {
+            float* n = &with_normals.normals[3 * v];
+            const float len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+            if (len > 0.0f)
+                for (int j = 0; j < 3; ++j) n[j] /= len;
+        }
+        out.buffers_->mesh = impl_->upload_mesh(with_normals);
+    } else {
+        out.buffers_->mesh = impl_->upload_mesh(mesh);
+    }
+    out.buffers_->attributes = impl_->upload_attributes(mesh);
     return out;
 }
 
@@ -506,6 +586,9 @@ VkBuffer DeviceMesh::vertex_buffer() const {
 }
 VkBuffer DeviceMesh::index_buffer() const {
     return buffers_ ? buffers_->mesh.indices.handle() : VK_NULL_HANDLE;
+}
+VkBuffer DeviceMesh::attribute_buffer() const {
+    return buffers_ ? buffers_->attributes.handle() : VK_NULL_HANDLE;
 }
 std::uint32_t DeviceMesh::vertex_count() const {
     return buffers_ ? buffers_->mesh.vertex_count : 0;

@@ -106,15 +106,16 @@ struct AtomCells {
     std::vector<float> cell_r2;        // the largest (r + radius_add)² in each cell (0: empty)
 };
 
-AtomCells bin_for_vertices(const Atoms& atoms, const Mesh& mesh, float radius_add) {
+// Cells over the box [lo, hi] (which holds every vertex) and the atoms.
+AtomCells bin_for_vertices(const Atoms& atoms, const float box_lo[3], const float box_hi[3],
+                           float radius_add) {
     AtomCells c;
     float lo[3], hi[3];
     for (int a = 0; a < 3; ++a) {
-        lo[a] = std::numeric_limits<float>::max();
-        hi[a] = -lo[a];
+        lo[a] = box_lo[a];
+        hi[a] = box_hi[a];
     }
     extend_box(atoms.xyz.data(), atoms.size(), 3, lo, hi);
-    extend_box(mesh.positions.data(), mesh.vertex_count(), 3, lo, hi);
     float r_max = 0.0f;
     for (float r : atoms.radius) r_max = std::max(r_max, r + radius_add);
     c.r2_max = r_max * r_max;
@@ -136,6 +137,36 @@ AtomCells bin_for_vertices(const Atoms& atoms, const Mesh& mesh, float radius_ad
         cell_r2 = std::max(cell_r2, r * r);
     }
     return c;
+}
+
+AtomCells bin_for_vertices(const Atoms& atoms, const Mesh& mesh, float radius_add) {
+    float lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = std::numeric_limits<float>::max();
+        hi[a] = -lo[a];
+    }
+    extend_box(mesh.positions.data(), mesh.vertex_count(), 3, lo, hi);
+    return bin_for_vertices(atoms, lo, hi, radius_add);
+}
+
+// The push constants of vertex_atoms.comp for `n` vertices over `cells`.
+shader::VertexAtomsPush vertex_atoms_push(const AtomCells& cells, std::size_t n,
+                                          std::uint32_t per_atom, std::uint32_t stride,
+                                          std::uint32_t groups_x) {
+    shader::VertexAtomsPush p{};
+    p.bin_origin_x = cells.grid.origin[0];
+    p.bin_origin_y = cells.grid.origin[1];
+    p.bin_origin_z = cells.grid.origin[2];
+    p.bin_size = cells.grid.size;
+    p.bin_nx = cells.grid.dims[0];
+    p.bin_ny = cells.grid.dims[1];
+    p.bin_nz = cells.grid.dims[2];
+    p.vertex_count = static_cast<std::uint32_t>(n);
+    p.r2_max = cells.r2_max;
+    p.attributes = per_atom;
+    p.position_stride = stride;
+    p.groups_x = groups_x;
+    return p;
 }
 
 // Vertices per dispatch: every buffer of the chunk within one binding.
@@ -227,19 +258,8 @@ std::vector<std::uint32_t> VertexPropertiesPass::vertex_atoms(
         outputs.emplace_back(ctx_, n * stride * sizeof(std::uint32_t), MemoryUse::Device,
                              "vertex_atoms");
         cmds.barrier_compute();
-        shader::VertexAtomsPush p{};
-        p.bin_origin_x = cells.grid.origin[0];
-        p.bin_origin_y = cells.grid.origin[1];
-        p.bin_origin_z = cells.grid.origin[2];
-        p.bin_size = cells.grid.size;
-        p.bin_nx = cells.grid.dims[0];
-        p.bin_ny = cells.grid.dims[1];
-        p.bin_nz = cells.grid.dims[2];
-        p.vertex_count = static_cast<std::uint32_t>(n);
-        p.r2_max = cells.r2_max;
-        p.attributes = per_atom;
         const auto [gx, gy] = cmds.fold_groups((n + shader::kVertexGroup - 1) / shader::kVertexGroup);
-        p.groups_x = gx;
+        const shader::VertexAtomsPush p = vertex_atoms_push(cells, n, per_atom, 3, gx);
         cmds.dispatch(atoms_pipeline_,
                       {whole(pos), whole(bin_atoms), whole(bin_index), whole(bin_start),
                        whole(attr), whole(outputs.back()), whole(cell_r2)},
@@ -256,6 +276,50 @@ std::vector<std::uint32_t> VertexPropertiesPass::vertex_atoms(
     for (std::size_t k = 0, first = 0; k < hosts.size(); ++k, first += chunk)
         scatter(*hosts[k], order, first, std::min(chunk, nv - first), stride, out);
     trace("vertex atoms: scattered");
+    return out;
+}
+
+Buffer VertexPropertiesPass::device_vertex_atoms(Commands& cmds, const Buffer& vertices,
+                                                 std::uint32_t vertex_count, const float lo[3],
+                                                 const float hi[3], const Atoms& atoms,
+                                                 float radius_add,
+                                                 const std::vector<std::uint32_t>& colors) {
+    constexpr std::uint32_t kStride = 2;  // atom, colour
+    Buffer out(ctx_, std::size_t(vertex_count) * kStride * sizeof(std::uint32_t),
+               MemoryUse::Device, "mesh_attributes");
+    if (vertex_count == 0 || atoms.empty()) return out;
+    const AtomCells cells = bin_for_vertices(atoms, lo, hi, radius_add);
+    check_fits(ctx_, cells.atoms.size() * sizeof(float), "binned atoms");
+    check_fits(ctx_, colors.size() * sizeof(std::uint32_t), "atom colours");
+    // Chunks of whole workgroups whose 24-byte vertices fit one binding; a chunk's offsets
+    // (a multiple of 64 vertices: 1,536 and 512 bytes) meet every device's
+    // minStorageBufferOffsetAlignment (at most 256).
+    const std::size_t chunk = chunk_vertices(ctx_, 6 * sizeof(float));
+    StagingArena arena;
+    cmds.begin();
+    // The mesh's vertices were written by an earlier submission's compute shaders (or by the
+    // host): make them visible to this one's.
+    cmds.barrier_compute();
+    Buffer bin_atoms = upload_vector(ctx_, cmds, arena, cells.atoms, "vertex_bin_atoms");
+    Buffer bin_index = upload_vector(ctx_, cmds, arena, cells.index, "vertex_bin_index");
+    Buffer bin_start = upload_vector(ctx_, cmds, arena, cells.start, "vertex_bin_start");
+    Buffer attr = upload_vector(ctx_, cmds, arena, colors, "atom_colors");
+    Buffer cell_r2 = upload_vector(ctx_, cmds, arena, cells.cell_r2, "vertex_bin_r2");
+    cmds.barrier_compute();
+    for (std::size_t first = 0; first < vertex_count; first += chunk) {
+        const std::size_t n = std::min<std::size_t>(chunk, vertex_count - first);
+        const auto [gx, gy] = cmds.fold_groups((n + shader::kVertexGroup - 1) / shader::kVertexGroup);
+        const shader::VertexAtomsPush p = vertex_atoms_push(cells, n, 1, 6, gx);
+        const BufferRange in{vertices.handle(), first * 6 * sizeof(float), n * 6 * sizeof(float)};
+        const BufferRange words{out.handle(), first * kStride * sizeof(std::uint32_t),
+                                n * kStride * sizeof(std::uint32_t)};
+        cmds.dispatch(atoms_pipeline_,
+                      {in, whole(bin_atoms), whole(bin_index), whole(bin_start), whole(attr),
+                       words, whole(cell_r2)},
+                      &p, gx, gy);
+    }
+    cmds.mark("vertex-atoms");
+    cmds.submit_and_wait();
     return out;
 }
 

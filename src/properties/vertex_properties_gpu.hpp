@@ -37,6 +37,14 @@ public:
                                             const std::vector<std::uint32_t>& attributes,
                                             std::uint32_t per_atom);
 
+    // The same for a mesh left on the device: `vertices` holds `vertex_count` vertices of 6
+    // floats (position, normal), all inside the box [lo, hi]. Returns a new device buffer of 2
+    // words per vertex, its atom and that atom's word of `colors` (one per atom): a DeviceMesh's
+    // attribute buffer. Nothing is read back. Records, submits and waits; "vertex-atoms".
+    Buffer device_vertex_atoms(Commands& cmds, const Buffer& vertices, std::uint32_t vertex_count,
+                               const float lo[3], const float hi[3], const Atoms& atoms,
+                               float radius_add, const std::vector<std::uint32_t>& colors);
+
     // Per vertex: the potential (float bits) at `offset` Å out along its normal from every atom
     // of non-zero charge (near ones exactly, far ones through a Taylor expansion per cell),
     // followed, when `color` is set, by its packed red-white-blue colour. Marked "coulombic".
