@@ -28,6 +28,8 @@ packages=(
     libtinygltf-dev
     # mesh simplification and vertex-cache/fetch reordering (--simplify, --optimize)
     libmeshoptimizer-dev
+    # PNG pictures of the surface (-o FILE.png, --image; src/render/)
+    libpng-dev
     # GoogleTest, FFTW (CPU reference of the filter), glm (tests)
     libglm-dev libgtest-dev libfftw3-dev
     # ../shared/tools/meshstat.py; python3 also parses --stats json in scripts/all-structures.sh

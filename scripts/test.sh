@@ -7,6 +7,8 @@
 # this script also fails if ctest reports any skipped test: a green run means every test ran and
 # passed (one exception: GltfValidator when npm's gltf-validator cannot be installed, e.g. with no
 # route to the npm registry; a warning says so). Extra arguments go to ctest (e.g. -R Density, or -j4 to override -j2).
+# After ctest, scripts/embed-example.sh installs the build into a temporary prefix and builds and
+# runs examples/embed against it.
 set -euo pipefail
 
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -49,14 +51,22 @@ if [[ -n $skipped ]]; then
     echo "$skipped" >&2
     ((status != 0)) || status=1
 fi
+# The embedding example built against the installed package (cmake --install into a
+# temporary prefix, examples/embed configured with find_package(fdmsurf), run with the
+# validation layer): what an application that embeds fdmsurf sees.
+if ! ./scripts/embed-example.sh; then
+    echo "test.sh: the embedding example (scripts/embed-example.sh) failed" >&2
+    ((status != 0)) || status=1
+fi
+
 if ((status != 0)); then
-    echo "test.sh: FAILED (ctest exit status or skipped tests above)" >&2
+    echo "test.sh: FAILED (ctest exit status, skipped tests or the embedding example above)" >&2
 else
     if ((validator_missing)); then
         echo "test.sh: every test ran and passed, but GltfValidator, skipped: npm's" \
              "gltf-validator could not be installed (see $validator_dir/npm.log)"
     else
-        echo "test.sh: every test ran and passed"
+        echo "test.sh: every test ran and passed, and the embedding example too"
     fi
 fi
 exit "$status"

@@ -1,5 +1,6 @@
-// Shared by C++ and GLSL: workgroup sizes and push-constant layouts of every compute stage, so
-// that the host computes dispatch counts from the same constants the shaders declare.
+// Shared by C++ and GLSL: workgroup sizes and push-constant layouts of every compute stage and
+// of the renderer's shaders, so that the host computes dispatch counts from the same constants
+// the shaders declare.
 #ifndef FDMSURF_SHADER_INTERFACE_H
 #define FDMSURF_SHADER_INTERFACE_H
 
@@ -115,7 +116,8 @@ struct VertexAtomsPush {
     float r2_max;      // largest r² of the atoms (power distance |p - c|² - r²)
     uint groups_x;     // workgroups along x of the 2D dispatch
     uint attributes;   // uints per atom in `atom_attributes`, copied to the vertex's output
-    uint pad0;
+    uint position_stride;  // floats from one vertex's position to the next: 3 for the host's
+                           // positions, 6 for a device mesh's interleaved vertex buffer
 };
 
 struct CoulombPush {
@@ -132,6 +134,44 @@ struct CoulombPush {
 
 struct ScanPush {
     uint count;  // number of uvec2 run sums
+};
+
+// Rendering (src/render/): the bounding-sphere pass, the scene's vertex shader and the
+// compositing pass. render_bounds.comp: flat workgroups of kBoundsGroup, each invocation
+// reducing every (groups * kBoundsGroup)-th vertex of its chunk.
+FDM_CONST kBoundsGroup = 64;
+// Screen-space ambient occlusion: depth samples per pixel (composite.frag).
+FDM_CONST kAoSamples = 12;
+
+struct BoundsPush {
+    uint vertex_count;  // vertices in this chunk (6 floats each: position, normal)
+    uint groups_x;      // workgroups along x of the 2D dispatch
+    uint pass;          // 0: the box (ordered-uint min and max), 1: the largest squared
+                        // distance from the box's centre
+    uint pad0;
+};
+
+// The orthographic camera: view = R (p - centre) with R's rows below; clip x = view.x * scale_x,
+// clip y = -view.y * scale_y (Vulkan's y points down), depth = 0.5 - view.z * depth_scale
+// (0 nearest, 1 farthest over the framed sphere).
+struct RenderPush {
+    float row0_x, row0_y, row0_z, center_x;
+    float row1_x, row1_y, row1_z, center_y;
+    float row2_x, row2_y, row2_z, center_z;
+    float scale_x, scale_y, depth_scale, pad0;
+};
+
+// The compositing pass: the scene's colour and depth in, the lit, shaded picture out.
+struct CompositePush {
+    float background_r, background_g, background_b, background_a;  // linear, premultiplied
+    float depth_range;  // Å between depth 0 and depth 1
+    float pixel_size;   // Å per sample of the scene (a pixel over `samples`)
+    float ao_strength;  // 0: no ambient occlusion
+    float ao_radius;    // Å
+    float depth_cue;    // 0: none; else the far side is darkened by this fraction
+    float outline;      // 0: no outline; else its width in samples
+    float outline_step; // Å: a depth step larger than this between neighbours is outlined
+    uint samples;       // scene samples per pixel along x and y (1 or 2): the supersampling
 };
 
 #ifdef __cplusplus

@@ -46,7 +46,8 @@ void main() {
     uint v = (gl_WorkGroupID.y * pc.groups_x + gl_WorkGroupID.x) * kVertexGroup +
              gl_LocalInvocationID.x;
     if (v >= pc.vertex_count) return;
-    vec3 p = vec3(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]);
+    uint at = pc.position_stride * v;
+    vec3 p = vec3(positions[at], positions[at + 1], positions[at + 2]);
     ivec3 dims = ivec3(pc.bin_nx, pc.bin_ny, pc.bin_nz);
     vec3 origin = vec3(pc.bin_origin_x, pc.bin_origin_y, pc.bin_origin_z);
     ivec3 home = clamp(ivec3(floor((p - origin) / pc.bin_size)), ivec3(0), dims - 1);

@@ -10,8 +10,10 @@
 #include <cstring>
 #include <exception>
 #include <filesystem>
+#include <future>
 #include <iostream>
 #include <new>
+#include <optional>
 #include <ostream>
 #include <streambuf>
 #include <string>
@@ -19,11 +21,13 @@
 #include <vector>
 
 #include "cli/compare_command.hpp"
+#include "cli/interrupts.hpp"
 #include "cli/messages.hpp"
 #include "cli/msms_command.hpp"
 #include "cli/options.hpp"
 #include "cli/progress.hpp"
 #include "cli/summary.hpp"
+#include "core/trace.hpp"
 #include "fdmsurf/fdmsurf.hpp"
 
 namespace {
@@ -126,6 +130,21 @@ std::vector<Structure> read_input(const CliOptions& options, const std::string& 
     return one;
 }
 
+// That a file can be created at `output`: its folder exists and it is not a folder itself.
+void check_path(const std::string& output) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::path parent = fs::path(output).parent_path();
+    if (!parent.empty() && !fs::is_directory(parent, ec)) {
+        const bool exists = fs::exists(parent, ec);
+        throw Error(ErrorCode::Io, "cannot write '" + output + "': '" + parent.string() +
+                                       (exists ? "' is not a folder" : "' does not exist"));
+    }
+    if (fs::is_directory(output, ec)) {
+        throw Error(ErrorCode::Io, "cannot write '" + output + "': it is a folder");
+    }
+}
+
 // Everything about OUTPUT that can be known before any work: its format, and that its folder
 // exists, so that a typo costs no GPU time.
 MeshFormat check_output(const std::string& output, MeshFormat format) {
@@ -138,17 +157,7 @@ MeshFormat check_output(const std::string& output, MeshFormat format) {
                         naming(output, e.what()) + "; or name the format with --output-format");
         }
     }
-    namespace fs = std::filesystem;
-    std::error_code ec;
-    const fs::path parent = fs::path(output).parent_path();
-    if (!parent.empty() && !fs::is_directory(parent, ec)) {
-        const bool exists = fs::exists(parent, ec);
-        throw Error(ErrorCode::Io, "cannot write '" + output + "': '" + parent.string() +
-                                       (exists ? "' is not a folder" : "' does not exist"));
-    }
-    if (fs::is_directory(output, ec)) {
-        throw Error(ErrorCode::Io, "cannot write '" + output + "': it is a folder");
-    }
+    check_path(output);
     return format;
 }
 
@@ -286,6 +295,89 @@ int areas_only(const CliOptions& options, const Structure& structure, double par
     std::fflush(stdout);
     return kExitOk;
 }
+// The PNG files of one input: OUTPUT's views with -o FILE.png, else --image's (none without).
+std::vector<std::string> picture_paths(const CliOptions& options, const std::string& output,
+                                       const std::string& image) {
+    if (options.image_output) return view_paths(output, options.views);
+    if (image.empty()) return {};
+    return view_paths(image, options.views);
+}
+
+// Checks every file a run for `input` will write, before any work.
+void check_outputs(const CliOptions& options, const std::string& output,
+                   const std::string& image) {
+    if (!options.image_output) check_output(output, options.output_format);
+    for (const std::string& path : picture_paths(options, output, image))
+        if (path != kStdio) check_path(path);
+}
+
+// Whether -o FILE.png can draw the surface where it was computed (make_device_surface), or
+// needs the mesh on the host first: for what only the host does to it. --areas with vdw or
+// sas keeps the mesh on the device (the exact areas need none; no mesh is written to split);
+// the ses areas come from the mesh, and --buried computes its three surfaces on the host.
+bool needs_host_mesh(const CliOptions& options) {
+    const PropertyOptions& p = options.surface.properties;
+    const bool areas_need_mesh =
+        !options.areas.empty() &&
+        (options.surface.surface == SurfaceKind::Ses || !options.buried.empty());
+    return !options.image_output || options.simplify_requested || options.optimize ||
+           !options.patch.empty() || !p.scalars.empty() || p.color == ColorScheme::Coulombic ||
+           areas_need_mesh;
+}
+
+// A picture rendered and not yet written.
+struct Picture {
+    std::string path;
+    Image image;
+};
+
+// Every view of `mesh`, framed alike (the first view finds the mesh's bounding sphere, the
+// others reuse it), into `report`; nothing is written here.
+std::vector<Picture> render_views(const CliOptions& options, Renderer& renderer,
+                                  const DeviceMesh& mesh, const std::vector<std::string>& paths,
+                                  RunReport& report, Progress& progress) {
+    RenderOptions ro = options.render;
+    ro.double_sided = !options.patch.empty();  // a patch is open: its inside shows
+    std::vector<Picture> pictures;
+    for (std::size_t k = 0; k < options.views.size(); ++k) {
+        ro.view = options.views[k];
+        RenderResult r = renderer.render(mesh, ro);
+        ro.frame = r.frame;
+        report.times.insert(report.times.end(), r.times.begin(), r.times.end());
+        ImageReport im;
+        im.path = paths[k];
+        im.view = to_string(ro.view);
+        im.rotate = ro.rotate;
+        im.width = r.image.width;
+        im.height = r.image.height;
+        im.pixel_size = r.pixel_size;
+        im.supersample = r.supersample;
+        report.images.push_back(im);
+        pictures.push_back({paths[k], std::move(r.image)});
+        progress.stage("render");
+    }
+    return pictures;
+}
+
+// Writes the pictures (each PNG atomically), timed as "png".
+void write_pictures(const std::vector<Picture>& pictures, RunReport& report, Progress& progress) {
+    const auto t = Clock::now();
+    for (const Picture& p : pictures) {
+        if (p.path == kStdio) {
+            StdoutBuffer buffer;
+            std::ostream out(&buffer);
+            out.exceptions(std::ios::badbit);
+            write_png(p.image, out, kStdoutName);
+        } else {
+            write_png(p.image, p.path);
+        }
+    }
+    if (!pictures.empty()) {
+        report.times.push_back({"png", ms_since(t), false});
+        progress.stage("png");
+    }
+}
+
 
 // Prints the validation layer's messages; returns how many there were.
 std::size_t report_validation(Engine& engine) {
@@ -299,9 +391,14 @@ std::size_t report_validation(Engine& engine) {
 // One structure through an engine that stays up for every input of the run.
 // `read`: the structure when it was read already, with its parse time (< 0: report no parse
 // stage, for the second and later models of a file read once), else null.
-int run_one(const CliOptions& options, Engine& engine, Progress& progress, double init_ms,
-            const std::string& input, const std::string& output, const Structure* read = nullptr,
-            double parse_ms = 0.0, const AreasPlan* areas_plan = nullptr) {
+// `before_ms` >= 0: the wall time before this call when parse and init overlapped (the total
+// then counts it instead of their sum).
+// `renderer`: set when the run writes pictures (`image`: --image's path for this input).
+// `areas_plan`: --areas, --relative and --buried as checked against the structure (null: none).
+int run_one(const CliOptions& options, Engine& engine, Renderer* renderer, Progress& progress,
+            double init_ms, const std::string& input, const std::string& output,
+            const std::string& image, const Structure* read = nullptr, double parse_ms = 0.0,
+            double before_ms = -1.0, const AreasPlan* areas_plan = nullptr) {
     const auto start = Clock::now();
     RunReport report;
     auto warn = [&report, &progress](const std::string& message) {
@@ -310,9 +407,12 @@ int run_one(const CliOptions& options, Engine& engine, Progress& progress, doubl
         report.warnings.push_back(message);
     };
     progress.begin(input);
-    const MeshFormat format = check_output(output, options.output_format);
+    check_outputs(options, output, image);
+    const std::vector<std::string> picture_files = picture_paths(options, output, image);
+    const MeshFormat format =
+        options.image_output ? MeshFormat::Auto : check_output(output, options.output_format);
     const bool to_stdout = output == kStdio;
-    if (format != MeshFormat::Ply && format != MeshFormat::Glb &&
+    if (!options.image_output && format != MeshFormat::Ply && format != MeshFormat::Glb &&
         !options.surface.properties.scalars.empty())
         warn(std::string(format == MeshFormat::Obj ? "OBJ" : format == MeshFormat::Stl ? "STL" : "OFF") +
              " has no place for per-vertex atoms or --properties values: '" + output +
@@ -349,6 +449,90 @@ int run_one(const CliOptions& options, Engine& engine, Progress& progress, doubl
     if (buried && areas_plan->outside != 0)
         warn("--buried " + options.buried + ": the " + format_count(areas_plan->outside) +
              " atoms in neither group are left out of the surface and the areas");
+
+    // The report's fields that do not depend on the path taken.
+    auto fill_report = [&](const GridInfo& grid) {
+        report.patch = options.patch;
+        report.color = options.surface.properties.color;
+        for (VertexProperty p : options.surface.properties.scalars)
+            report.properties.push_back(to_string(p));
+        report.version = version();
+        report.input = input;
+        report.output = output;
+        report.output_format = options.image_output ? "png" : mesh_format_extension(format) + 1;
+        report.surface = options.surface.surface;
+        report.method = options.surface.method;
+        report.model = structure.info.model;
+        report.info = structure.info;
+        report.atoms_used = structure.atoms.size();
+        report.grid = grid;
+        report.device = engine.device().name;
+    };
+    auto print_summary = [&]() {
+        // A structure read before this call: its parse time counts in the total all the same.
+        report.total_ms =
+            ms_since(start) +
+            (before_ms >= 0.0 ? before_ms : init_ms + (read && parse_ms > 0 ? parse_ms : 0.0));
+        progress.end();
+        // With the mesh or picture on standard output, the summary goes to stderr.
+        std::FILE* const summary = to_stdout ? stderr : stdout;
+        if (options.json) {
+            std::fprintf(summary, "%s\n", json_summary(report).c_str());
+        } else if (!options.quiet) {
+            std::fputs(text_summary(report).c_str(), summary);
+        }
+        std::fflush(summary);
+    };
+    // Validation messages, shown before a failure they may explain.
+    auto show_validation = [&]() {
+        if (options.engine.validation) {
+            try {
+                report_validation(engine);
+            } catch (...) {
+            }
+        }
+    };
+    // A run the validation layer complained about writes nothing: its output is suspect.
+    auto validation_failed = [&]() {
+        if (!options.engine.validation) return false;
+        const std::size_t count = report_validation(engine);
+        if (count == 0) return false;
+        print_error("the Vulkan validation layer reported " + std::to_string(count) +
+                    " message(s); no output written");
+        return true;
+    };
+
+    if (!needs_host_mesh(options)) {
+        // -o FILE.png: the surface stays on the device where it is drawn.
+        DeviceSurfaceResult dev;
+        std::vector<Picture> pictures;
+        try {
+            dev = engine.make_device_surface(structure.atoms, options.surface);
+            for (const std::string& message : dev.warnings) warn(message);
+            report.times.insert(report.times.end(), dev.times.begin(), dev.times.end());
+            pictures = render_views(options, *renderer, dev.mesh, picture_files, report, progress);
+        } catch (...) {
+            show_validation();
+            throw;
+        }
+        if (validation_failed()) return kExitValidation;
+        write_pictures(pictures, report, progress);
+        report.mesh_on_host = false;
+        report.stats.vertices = dev.mesh.vertex_count();
+        report.stats.triangles = dev.mesh.triangle_count();
+        if (areas_plan != nullptr && areas_plan->wanted) {
+            // vdw or sas (needs_host_mesh): the exact areas; no mesh was written to split.
+            t = Clock::now();
+            const AtomAreas areas = surface_atom_areas(structure.atoms, options.surface, nullptr);
+            report.times.push_back({"areas", ms_since(t), false});
+            write_areas_file(options, input, output, structure.atoms, areas, nullptr, 0.0, false,
+                             report);
+            progress.stage("write-areas");
+        }
+        fill_report(dev.grid);
+        print_summary();
+        return kExitOk;
+    }
 
     SurfaceResult result;
     try {
@@ -422,21 +606,48 @@ int run_one(const CliOptions& options, Engine& engine, Progress& progress, doubl
         progress.stage("areas");
     }
 
-    t = Clock::now();
-    if (to_stdout) {
-        StdoutBuffer buffer;
-        std::ostream out(&buffer);
-        out.exceptions(std::ios::badbit);
-        write_mesh(result.mesh, out, format, kStdoutName);
-    } else {
-        write_mesh(result.mesh, output, format);
+    // The pictures of the mesh as written: uploaded, drawn, kept until the mesh is written.
+    std::vector<Picture> pictures;
+    if (!picture_files.empty()) {
+        try {
+            t = Clock::now();
+            const DeviceMesh uploaded = engine.upload_mesh(result.mesh);
+            report.times.push_back({"upload-mesh", ms_since(t), false});
+            pictures = render_views(options, *renderer, uploaded, picture_files, report, progress);
+        } catch (...) {
+            show_validation();
+            throw;
+        }
+        if (validation_failed()) return kExitValidation;
     }
-    report.times.push_back({"write", ms_since(t), false});
-    progress.stage("write");
 
-    t = Clock::now();
-    report.stats = compute_stats(result.mesh);
-    report.times.push_back({"mesh-stats", ms_since(t), false});
+    // The statistics read the mesh while it is written: on a thread of their own, overlapped.
+    auto stats_job = std::async(std::launch::async, [&mesh = result.mesh] {
+        const auto t0 = Clock::now();
+        MeshStats stats = compute_stats(mesh);
+        return std::make_pair(stats, ms_since(t0));
+    });
+    if (!options.image_output) {
+        t = Clock::now();
+        if (to_stdout) {
+            StdoutBuffer buffer;
+            std::ostream out(&buffer);
+            out.exceptions(std::ios::badbit);
+            write_mesh(result.mesh, out, format, kStdoutName);
+        } else {
+            write_mesh(result.mesh, output, format);
+        }
+        report.times.push_back({"write", ms_since(t), false});
+        progress.stage("write");
+        detail::trace("cli: mesh written");
+    }
+    write_pictures(pictures, report, progress);
+
+    const auto [stats, stats_ms] = stats_job.get();
+    detail::trace("cli: statistics");
+    report.stats = stats;
+    report.times.push_back({"mesh-stats", stats_ms, false});
+    report.closed_manifold = report.stats.is_closed_manifold();
     if (areas_plan != nullptr && areas_plan->wanted) {
         if (buried)
             write_areas_file(options, input, output, buried_result.complex,
@@ -448,40 +659,14 @@ int run_one(const CliOptions& options, Engine& engine, Progress& progress, doubl
         report.atoms_outside_groups = buried ? areas_plan->outside : 0;
         progress.stage("write-areas");
     }
-    report.closed_manifold = report.stats.is_closed_manifold();
-    report.patch = options.patch;
-    report.color = options.surface.properties.color;
-    for (VertexProperty p : options.surface.properties.scalars)
-        report.properties.push_back(to_string(p));
-    report.version = version();
-    report.input = input;
-    report.output = output;
-    report.output_format = mesh_format_extension(format) + 1;  // without the dot
-    report.surface = options.surface.surface;
-    report.method = options.surface.method;
-    report.model = structure.info.model;
-    report.info = structure.info;
-    report.atoms_used = buried ? buried_result.complex.size() : structure.atoms.size();
-    report.grid = result.grid;
-    report.device = engine.device().name;
-    // A structure read before this call: its parse time counts in the total all the same.
-    report.total_ms = ms_since(start) + init_ms + (read && parse_ms > 0 ? parse_ms : 0.0);
-
-    progress.end();
-    // With the mesh on standard output, the summary goes to stderr.
-    std::FILE* const summary = to_stdout ? stderr : stdout;
-    if (options.json) {
-        std::fprintf(summary, "%s\n", json_summary(report).c_str());
-    } else if (!options.quiet) {
-        std::fputs(text_summary(report).c_str(), summary);
-    }
-    std::fflush(summary);
+    fill_report(result.grid);
+    if (buried) report.atoms_used = buried_result.complex.size();
+    print_summary();
     return kExitOk;
 }
 
 std::string output_of(const CliOptions& options, const std::string& input, int model) {
-    return options.all_models ? output_for(input, options.output, model, options.output_format)
-                              : output_for(input, options.output, options.output_format);
+    return primary_output(options, input, model);
 }
 
 // `-o FOLDER/` that does not exist yet is created (not its parents: a typo in a parent folder
@@ -502,13 +687,25 @@ void make_output_folder(const std::string& output) {
     }
 }
 
+// The renderer of a run that writes pictures, its options checked against the device (a size
+// above maxImageDimension2D fails here, before any surface is computed).
+std::optional<Renderer> make_renderer(const CliOptions& options, Engine& engine) {
+    std::optional<Renderer> renderer;
+    if (!options.wants_images()) return renderer;
+    renderer.emplace(engine);
+    renderer->check(options.render);
+    return renderer;
+}
+
 int run(const CliOptions& options) {
+    detail::trace("cli: start");
     // Option checks that need neither the structure nor the device come first. The warning
     // for a spacing too coarse for the filter comes from the engine, with result.warnings.
-    if (!options.output.empty()) {
+    if (!options.output.empty()) {  // --areas without -o writes no mesh
         make_output_folder(options.output);
+        if (!options.image.empty()) make_output_folder(options.image);
         for (const std::string& input : options.inputs)
-            check_output(output_of(options, input, 1), options.output_format);
+            check_outputs(options, output_of(options, input, 1), image_for(options, input, 1));
     }
     effective_cutoff(options.surface);
     if (!options.patch.empty()) check_selection(options.patch, "--patch");
@@ -518,18 +715,50 @@ int run(const CliOptions& options) {
     EngineOptions engine_options = options.engine;
     engine_options.progress = [&progress](std::string_view stage) { progress.stage(stage); };
     if (options.inputs.size() == 1 && !options.all_models) {
-        // Read before the device starts, so that bad input fails fast.
-        auto t = Clock::now();
-        const Structure structure = std::move(read_input(options, options.inputs.front()).front());
-        const double parse_ms = ms_since(t);
-        // --areas, --relative and --buried are checked against the atoms before any device work.
+        // --areas without -o: no mesh and no device; the structure alone.
+        if (options.output.empty()) {
+            const auto t0 = Clock::now();
+            const Structure structure =
+                std::move(read_input(options, options.inputs.front()).front());
+            const double parse_ms = ms_since(t0);
+            const AreasPlan areas_plan = plan_areas(options, structure, options.inputs.front());
+            return areas_only(options, structure, parse_ms, areas_plan);
+        }
+        // The structure is read while the device starts; a bad input is reported before any
+        // device error, as if it had been read first.
+        const auto t = Clock::now();
+        auto read_job = std::async(std::launch::async, [&options] {
+            const auto t0 = Clock::now();
+            Structure s = std::move(read_input(options, options.inputs.front()).front());
+            return std::make_pair(std::move(s), ms_since(t0));
+        });
+        std::optional<Engine> engine;
+        std::optional<Renderer> renderer;
+        std::exception_ptr engine_error;
+        const auto t_init = Clock::now();
+        try {
+            engine.emplace(engine_options);
+            renderer = make_renderer(options, *engine);
+        } catch (...) {
+            engine_error = std::current_exception();
+        }
+        const double init_ms = ms_since(t_init);
+        const auto [structure, parse_ms] = read_job.get();
+        detail::trace("cli: structure read, engine up");
+        // --areas, --relative and --buried are checked against the atoms before any surface is
+        // computed, and reported before a device error as a bad input is.
         const AreasPlan areas_plan = plan_areas(options, structure, options.inputs.front());
-        if (options.output.empty()) return areas_only(options, structure, parse_ms, areas_plan);
-        t = Clock::now();
-        Engine engine(engine_options);
-        return run_one(options, engine, progress, ms_since(t), options.inputs.front(),
-                       output_of(options, options.inputs.front(), 1), &structure, parse_ms,
-                       &areas_plan);
+        if (engine_error) {
+            renderer.reset();  // before the engine
+            std::rethrow_exception(engine_error);
+        }
+        const int code = run_one(options, *engine, renderer ? &*renderer : nullptr, progress,
+                                 init_ms, options.inputs.front(),
+                                 output_of(options, options.inputs.front(), 1),
+                                 image_for(options, options.inputs.front(), 1), &structure,
+                                 parse_ms, ms_since(t), &areas_plan);
+        renderer.reset();  // before the engine
+        return code;
     }
 
     // Several inputs or models: one engine for all, so that its pipelines and FFT plans are
@@ -541,6 +770,7 @@ int run(const CliOptions& options) {
     const double first_parse_ms = ms_since(t);
     t = Clock::now();
     Engine engine(engine_options);
+    std::optional<Renderer> renderer = make_renderer(options, engine);
     double init_ms = ms_since(t);
     // Each input, and each model, is reported on its own; a failed one does not stop the
     // others, and the exit code is that of the first failure.
@@ -581,8 +811,9 @@ int run(const CliOptions& options) {
             int code = kExitOk;
             const int model = structures[k].info.model;
             try {
-                code = run_one(batch, engine, progress, init_ms, input,
-                               output_of(options, input, model), &structures[k],
+                code = run_one(batch, engine, renderer ? &*renderer : nullptr, progress,
+                               init_ms, input, output_of(options, input, model),
+                               image_for(options, input, model), &structures[k],
                                k == 0 ? parse_ms : -1.0);
             } catch (const Error& e) {
                 progress.end();
@@ -647,5 +878,7 @@ int run_command(int argc, char** argv) {
 int main(int argc, char** argv) {
     // A closed pipe on stdout is an error to report (EPIPE), not a signal that kills silently.
     std::signal(SIGPIPE, SIG_IGN);
+    // Ctrl-C and SIGTERM: stop at once, remove the output being written (cli/interrupts.hpp).
+    install_interrupt_handlers();
     return check_stdout(run_command(argc, argv));
 }

@@ -63,6 +63,14 @@ enum class Opt {
     Areas,
     Relative,
     Buried,
+    Image,
+    ImageSize,
+    View,
+    Rotate,
+    Background,
+    Outline,
+    Occlusion,
+    DepthCue,
 };
 
 struct OptionSpec {
@@ -73,7 +81,7 @@ struct OptionSpec {
     bool numeric;  // a value that may start with '-' (a negative number, rejected later)
 };
 
-constexpr std::array<OptionSpec, 43> kOptions{{
+constexpr std::array<OptionSpec, 52> kOptions{{
     {"--output", "-o", Opt::Output, true, false},
     {"--output-format", "", Opt::OutputFormat, true, false},
     {"--surface", "", Opt::Surface, true, false},
@@ -117,6 +125,15 @@ constexpr std::array<OptionSpec, 43> kOptions{{
     {"--areas", "", Opt::Areas, true, false},
     {"--relative", "", Opt::Relative, true, false},
     {"--buried", "", Opt::Buried, true, false},
+    {"--image", "", Opt::Image, true, false},
+    {"--image-size", "", Opt::ImageSize, true, true},
+    {"--view", "", Opt::View, true, false},
+    {"--views", "", Opt::View, true, false},
+    {"--rotate", "", Opt::Rotate, true, true},
+    {"--background", "", Opt::Background, true, false},
+    {"--outline", "", Opt::Outline, false, false},
+    {"--occlusion", "", Opt::Occlusion, true, true},
+    {"--depth-cue", "", Opt::DepthCue, true, true},
 }};
 
 [[noreturn]] void fail(const std::string& message);
@@ -129,22 +146,71 @@ bool output_is_folder(const std::string& output) {
            (output.back() == '/' || std::filesystem::is_directory(output, ec));
 }
 
-std::string output_for(const std::string& input, const std::string& output, MeshFormat format) {
+namespace {
+
+// OUTPUT itself, or OUTPUT/<input name><extension> for a folder.
+std::string output_with_extension(const std::string& input, const std::string& output,
+                                  const char* extension) {
     if (!output_is_folder(output)) return output;
     std::filesystem::path name =
         input == kStdio ? std::filesystem::path("stdin") : std::filesystem::path(input).filename();
     // 1crn.pdb.gz -> 1crn.ply
     if (name.extension() == ".gz") name = name.stem();
-    name.replace_extension(format == MeshFormat::Auto ? ".ply" : mesh_format_extension(format));
+    name.replace_extension(extension);
     return (std::filesystem::path(output) / name).string();
+}
+
+std::string with_model(const std::string& file, int model) {
+    std::filesystem::path path = file;
+    path.replace_filename(path.stem().string() + "-m" + std::to_string(model) +
+                          path.extension().string());
+    return path.string();
+}
+
+}  // namespace
+
+std::string output_for(const std::string& input, const std::string& output, MeshFormat format) {
+    return output_with_extension(
+        input, output, format == MeshFormat::Auto ? ".ply" : mesh_format_extension(format));
 }
 
 std::string output_for(const std::string& input, const std::string& output, int model,
                        MeshFormat format) {
-    std::filesystem::path path = output_for(input, output, format);
-    path.replace_filename(path.stem().string() + "-m" + std::to_string(model) +
-                          path.extension().string());
-    return path.string();
+    return with_model(output_for(input, output, format), model);
+}
+
+std::string primary_output(const CliOptions& options, const std::string& input, int model) {
+    const std::string file =
+        options.image_output ? output_with_extension(input, options.output, ".png")
+                             : output_for(input, options.output, options.output_format);
+    return options.all_models ? with_model(file, model) : file;
+}
+
+std::string image_for(const CliOptions& options, const std::string& input, int model) {
+    if (options.image.empty()) return "";
+    const std::string file = output_with_extension(input, options.image, ".png");
+    return options.all_models ? with_model(file, model) : file;
+}
+
+std::vector<std::string> view_paths(const std::string& base,
+                                    const std::vector<fdmsurf::View>& views) {
+    if (views.size() <= 1 || base == kStdio) return {base};
+    std::vector<std::string> out;
+    for (fdmsurf::View v : views) {
+        std::filesystem::path path = base;
+        std::string ext = path.extension().string();
+        if (ext.empty()) ext = ".png";
+        path.replace_filename(path.stem().string() + "-" + fdmsurf::to_string(v) + ext);
+        out.push_back(path.string());
+    }
+    return out;
+}
+
+bool is_png_path(const std::string& path) {
+    if (path.size() < 4) return false;
+    std::string ext = path.substr(path.size() - 4);
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return ext == ".png";
 }
 
 namespace {
@@ -320,12 +386,63 @@ std::vector<VertexProperty> parse_properties(std::string_view option, const std:
     return out;
 }
 
-constexpr std::array<std::pair<std::string_view, MeshFormat>, 5> kOutputFormats{
+// Auto stands for png: a picture, not a mesh format.
+constexpr std::array<std::pair<std::string_view, MeshFormat>, 6> kOutputFormats{
     {{"ply", MeshFormat::Ply},
      {"obj", MeshFormat::Obj},
      {"glb", MeshFormat::Glb},
      {"stl", MeshFormat::Stl},
-     {"off", MeshFormat::Off}}};
+     {"off", MeshFormat::Off},
+     {"png", MeshFormat::Auto}}};
+
+constexpr std::array<std::pair<std::string_view, fdmsurf::View>, 6> kViews{
+    {{"front", fdmsurf::View::Front},
+     {"back", fdmsurf::View::Back},
+     {"left", fdmsurf::View::Left},
+     {"right", fdmsurf::View::Right},
+     {"top", fdmsurf::View::Top},
+     {"bottom", fdmsurf::View::Bottom}}};
+
+// --image-size WxH: two whole numbers >= 1 (the device's maxImageDimension2D is checked once
+// the device is up).
+void parse_image_size(std::string_view option, const std::string& text, RenderOptions& r) {
+    const std::string what = "option " + std::string(option) +
+                             " must be WIDTHxHEIGHT in pixels, each a whole number >= 1 (got " +
+                             text + ")";
+    const std::size_t x = lower(text).find('x');
+    if (x == std::string::npos) fail(what);
+    std::uint32_t size[2] = {0, 0};
+    const std::string parts[2] = {text.substr(0, x), text.substr(x + 1)};
+    for (int k = 0; k < 2; ++k) {
+        const std::string& p = parts[k];
+        const auto [end, ec] = std::from_chars(p.data(), p.data() + p.size(), size[k]);
+        if (p.empty() || ec != std::errc() || end != p.data() + p.size() || size[k] == 0)
+            fail(what);
+    }
+    r.width = size[0];
+    r.height = size[1];
+}
+
+// --background #RRGGBB, white, black or transparent.
+void parse_background(std::string_view option, const std::string& text, RenderOptions& r) {
+    const std::string key = lower(text);
+    if (key == "transparent") {
+        r.background = {0, 0, 0, 0};
+    } else if (key == "white") {
+        r.background = {255, 255, 255, 255};
+    } else if (key == "black") {
+        r.background = {0, 0, 0, 255};
+    } else if (text.size() == 7 && text[0] == '#' &&
+               text.find_first_not_of("0123456789abcdefABCDEF", 1) == std::string::npos) {
+        for (int k = 0; k < 3; ++k)
+            r.background[k] =
+                static_cast<std::uint8_t>(std::stoi(text.substr(1 + 2 * k, 2), nullptr, 16));
+        r.background[3] = 255;
+    } else {
+        fail("unknown background '" + text + "' for " + std::string(option) +
+             " (expected #RRGGBB, white, black or transparent)");
+    }
+}
 
 constexpr std::array<std::pair<std::string_view, RelativeTable>, 3> kRelativeTables{
     {{"tien2013", RelativeTable::Tien2013},
@@ -357,7 +474,53 @@ void apply_value(CliOptions& o, const OptionSpec& spec, std::string_view name,
             break;
         case Opt::OutputFormat:
             o.output_format = parse_choice(name, text, kOutputFormats, "output format",
-                                           "ply, obj, glb, stl or off");
+                                           "ply, obj, glb, stl, off or png");
+            o.image_output = lower(text) == "png";
+            break;
+        case Opt::Image:
+            o.image = text;
+            break;
+        case Opt::ImageSize:
+            parse_image_size(name, text, o.render);
+            o.render_options_given = std::string(name);
+            break;
+        case Opt::View: {
+            o.views.clear();
+            for (const std::string& item : split_commas(text)) {
+                const fdmsurf::View v = parse_choice(
+                    name, item, kViews, "view",
+                    "front, back, left, right, top or bottom, or a comma-separated list");
+                if (std::find(o.views.begin(), o.views.end(), v) != o.views.end())
+                    fail("option " + std::string(name) + ": '" + item + "' is listed twice");
+                o.views.push_back(v);
+            }
+            o.render_options_given = std::string(name);
+            break;
+        }
+        case Opt::Rotate: {
+            const std::vector<std::string> items = split_commas(text);
+            if (items.size() != 3)
+                fail("option " + std::string(name) +
+                     " must be three angles in degrees, X,Y,Z (got " + text + ")");
+            for (int k = 0; k < 3; ++k) o.render.rotate[k] = parse_float(name, items[k]);
+            o.render_options_given = std::string(name);
+            break;
+        }
+        case Opt::Background:
+            parse_background(name, text, o.render);
+            o.render_options_given = std::string(name);
+            break;
+        case Opt::Occlusion:
+            o.render.ambient_occlusion = parse_float(name, text);
+            require(o.render.ambient_occlusion >= 0.0f && o.render.ambient_occlusion <= 1.0f,
+                    name, "within [0, 1]", text);
+            o.render_options_given = std::string(name);
+            break;
+        case Opt::DepthCue:
+            o.render.depth_cue = parse_float(name, text);
+            require(o.render.depth_cue >= 0.0f && o.render.depth_cue <= 1.0f, name,
+                    "within [0, 1]", text);
+            o.render_options_given = std::string(name);
             break;
         case Opt::Surface:
             s.surface = parse_choice(name, text, kSurfaces, "surface kind", "ses, vdw or sas");
@@ -517,6 +680,10 @@ void apply_flag(CliOptions& o, const OptionSpec& spec) {
         case Opt::Optimize:
             o.optimize = true;
             break;
+        case Opt::Outline:
+            o.render.outline = true;
+            o.render_options_given = "--outline";
+            break;
         case Opt::NoSnap:
             o.surface.snap = false;
             break;
@@ -640,12 +807,39 @@ CliOptions parse_args(const std::vector<std::string>& args) {
             fail(
                 "--simplify, --max-triangles, --optimize, --patch and --refine act on the mesh; "
                 "without -o none is computed");
+        if (!o.image.empty() || !o.render_options_given.empty())
+            fail((o.image.empty() ? o.render_options_given : std::string("--image")) +
+                 " draws the mesh; --areas without -o computes none: give -o FILE.png or "
+                 "-o OUTPUT --image FILE.png");
         return o;
     }
     if (o.output.empty())
         fail(
             "missing -o OUTPUT, the mesh file to write (.ply, .obj, .glb, .stl or .off; - for "
-            "standard output)");
+            "standard output) or the picture (.png)");
+    // A .png OUTPUT is a picture, whatever else; --output-format png names one too.
+    if (o.output_format == MeshFormat::Auto && is_png_path(o.output)) o.image_output = true;
+    if (o.image_output) {
+        if (!o.image.empty())
+            fail("-o '" + o.output + "' already writes the picture; --image adds one beside a "
+                 "mesh output (.ply, .obj, .glb, .stl or .off)");
+        if (o.output == kStdio && o.views.size() > 1)
+            fail("-o - writes one picture to standard output: give one --view");
+    }
+    if (!o.image.empty()) {
+        if (o.image == kStdio)
+            fail("--image writes files; for a picture on standard output use -o - "
+                 "--output-format png");
+        if (!is_png_path(o.image) && !output_is_folder(o.image))
+            fail("--image must name a .png file or a folder (ending in '/'), got '" + o.image +
+                 "'");
+        if ((o.inputs.size() > 1 || o.all_models) && !output_is_folder(o.image))
+            fail("several INPUTs or models need --image to name a folder (ending in '/'), got '" +
+                 o.image + "'");
+    }
+    if (!o.wants_images() && !o.render_options_given.empty())
+        fail(o.render_options_given +
+             " sets up a picture: write one with -o FILE.png or --image FILE.png");
     if (std::count(o.inputs.begin(), o.inputs.end(), kStdio) > 1)
         fail("'-' (standard input) is given more than once");
     if (o.output == kStdio && o.inputs.size() > 1)
@@ -659,10 +853,9 @@ CliOptions parse_args(const std::vector<std::string>& args) {
             o.output + "'");
     for (std::size_t i = 0; i < o.inputs.size(); ++i)
         for (std::size_t j = 0; j < i; ++j)
-            if (output_for(o.inputs[i], o.output, o.output_format) ==
-                output_for(o.inputs[j], o.output, o.output_format))
+            if (primary_output(o, o.inputs[i], 1) == primary_output(o, o.inputs[j], 1))
                 fail("inputs '" + o.inputs[j] + "' and '" + o.inputs[i] + "' would both write '" +
-                     output_for(o.inputs[i], o.output, o.output_format) + "'");
+                     primary_output(o, o.inputs[i], 1) + "'");
     return o;
 }
 
@@ -670,6 +863,7 @@ std::string usage_text() {
     return R"(Usage: fdmsurf INPUT -o OUTPUT [options]
        fdmsurf INPUT [-o OUTPUT] --areas FILE.csv|FILE.json [options]
        fdmsurf INPUT... -o FOLDER/ [options]
+       fdmsurf INPUT -o PICTURE.png [picture options]
        fdmsurf INPUT... --models all -o FOLDER/ [options]
        fdmsurf compare REFERENCE TESTED --spacing H [--stats json] [--outer]
        fdmsurf --list-devices | --help | --version
@@ -678,7 +872,7 @@ Writes the molecular surface of INPUT (PDB, mmCIF, PQR, XYZR or XYZRN; .gz
 accepted; - reads standard input) as a triangle mesh to OUTPUT (binary .ply,
 .obj, .glb, binary .stl or .off, by its extension; - writes standard output),
 computed on a Vulkan device with the Filtered Density Map method (Giard & Macq
-2010). With several inputs, -o names a folder that gets one NAME.ply per input,
+2010), or as a picture (.png) drawn on that device. With several inputs, -o names a folder that gets one NAME.ply per input,
 all computed in one process on one device. `fdmsurf compare` measures a mesh
 against a reference mesh (weighted RMSD of Giard & Macq; see docs/compare.md).
 Options take their value as `--name value` or `--name=value`.
@@ -784,9 +978,10 @@ Output:
   -o, --output OUTPUT    the mesh file to write: .ply (binary), .obj, .glb
                          (glTF 2.0 binary: positions, normals, COLOR_0, _ATOM and
                          one _NAME per property), .stl (binary; positions only)
-                         or .off (COFF when coloured); - writes the mesh to
-                         standard output, and the summary goes to stderr
-  --output-format ply|obj|glb|stl|off  the format of OUTPUT, whatever its
+                         or .off (COFF when coloured), or a picture, .png (below);
+                         - writes the mesh to standard output, and the summary
+                         goes to stderr
+  --output-format ply|obj|glb|stl|off|png  the format of OUTPUT, whatever its
                          extension (default: the extension; ply for -o -)
   --stats json|text      summary on stdout (stderr with -o -) as one JSON object
                          or as text (default text)
@@ -813,12 +1008,35 @@ Areas (docs/areas.md):
                          against their complex, whose surface is the one
                          written (atoms in neither group are left out); per
                          atom, per residue and in total (with --areas)
+Pictures (docs/rendering.md):
+  -o FILE.png            the picture alone: the mesh stays on the device and is
+                         drawn there by a Vulkan graphics pipeline (also
+                         --output-format png; -o - writes the PNG to standard
+                         output); with --simplify, --patch, --optimize,
+                         --properties or --color coulombic the mesh is made on the
+                         host first, then drawn
+  --image FILE.png       a picture of the mesh written by -o, beside it (a folder,
+                         ending in '/', with several inputs: NAME.png)
+  --image-size WxH       picture size in pixels (default 1024x768; at most the
+                         device's maxImageDimension2D)
+  --view V[,V...]        front (from +z, the default), back, left (from -x),
+                         right, top (from +y) or bottom; several: one PNG each,
+                         NAME-VIEW.png (also --views)
+  --rotate X,Y,Z         turn the molecule by these degrees about the screen's x
+                         (right), y (up) and z axes, in that order, after the view
+  --background C         #RRGGBB, white (the default), black or transparent
+  --outline              dark lines along silhouettes and depth steps
+  --occlusion S          ambient occlusion strength, 0 (off) to 1 (default 0.8)
+  --depth-cue S          darkening of the far side, 0 (off) to 1 (default 0.35)
+  The camera is orthographic, fitted to the mesh's bounding sphere; colours come
+  from --color (uniform light grey without it).
 
 Exit codes:
   0  success
   1  unexpected failure (a bug in fdmsurf)
   2  invalid command line or option value, unknown output extension (or
-     --areas extension), --buried groups that name a missing chain, select
+     --areas extension), a picture size above the device's
+     maxImageDimension2D, --buried groups that name a missing chain, select
      no atom or overlap, --relative or --buried on input without residues
   3  input or output error: unreadable or malformed structure, no atoms
      selected, output file or folder not writable, standard output closed

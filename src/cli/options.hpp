@@ -7,6 +7,7 @@
 #include "fdmsurf/areas.hpp"
 #include "fdmsurf/error.hpp"
 #include "fdmsurf/mesh.hpp"
+#include "fdmsurf/render.hpp"
 #include "fdmsurf/simplify.hpp"
 #include "fdmsurf/structure.hpp"
 #include "fdmsurf/surface.hpp"
@@ -41,6 +42,16 @@ struct CliOptions {
     std::string areas;
     fdmsurf::RelativeTable relative = fdmsurf::RelativeTable::None;  // --relative TABLE
     std::string buried;  // --buried GROUP1:GROUP2: the buried interface area
+    // Pictures (src/render/, docs/rendering.md). `image_output`: OUTPUT is a PNG (its
+    // extension, or --output-format png), the picture alone; `image`: --image FILE.png or
+    // FOLDER/, a picture beside the mesh. `render` holds --image-size, --rotate,
+    // --background, --outline, --occlusion, --depth-cue; `views` --view/--views (one PNG each).
+    bool image_output = false;
+    std::string image;
+    fdmsurf::RenderOptions render;
+    std::vector<fdmsurf::View> views{fdmsurf::View::Front};
+    std::string render_options_given;  // the last picture option given (for its error)
+    bool wants_images() const { return image_output || !image.empty(); }
 };
 
 // Parses the arguments after the program name. `--name value` and `--name=value` are both
@@ -62,6 +73,19 @@ std::string output_for(const std::string& input, const std::string& output,
 // With --models all: OUTPUT/<input name>-m<model>.ply (OUTPUT must be a folder).
 std::string output_for(const std::string& input, const std::string& output, int model,
                        fdmsurf::MeshFormat format = fdmsurf::MeshFormat::Auto);
+
+// What the run writes for `input` (model `model` with --models all): the mesh, or the PNG of
+// an image output, as output_for names it.
+std::string primary_output(const CliOptions& options, const std::string& input, int model);
+// The PNG beside the mesh for `input` with --image: the path given, or FOLDER/NAME.png
+// (NAME-mN.png with --models all); empty without --image.
+std::string image_for(const CliOptions& options, const std::string& input, int model);
+// The PNG files for the views of `options` from one base path: the base itself for one view,
+// else BASE-VIEW.png for each (1crn.png -> 1crn-front.png, 1crn-left.png).
+std::vector<std::string> view_paths(const std::string& base,
+                                    const std::vector<fdmsurf::View>& views);
+// True when `path` ends in .png (any case).
+bool is_png_path(const std::string& path);
 
 // The --help text: usage, every option with its unit and default, the exit codes.
 std::string usage_text();

@@ -52,7 +52,15 @@ double Progress::fraction_after(std::string_view name) {
     return 0.0;
 }
 
-Progress::Progress(bool enabled) : enabled_(enabled) {
+double progress_delay() {
+    const char* env = std::getenv("FDMSURF_PROGRESS_AFTER");
+    if (!env || !*env) return 1.0;
+    char* end = nullptr;
+    const double seconds = std::strtod(env, &end);
+    return end != env && *end == '\0' && seconds >= 0.0 ? seconds : 1.0;
+}
+
+Progress::Progress(bool enabled) : enabled_(enabled), after_(progress_delay()) {
     if (enabled_) thread_ = std::thread([this] { tick(); });
 }
 
@@ -82,6 +90,7 @@ void Progress::stage(std::string_view name) {
     std::lock_guard<std::mutex> lock(mutex_);
     last_ = std::string(name);
     done_ = std::max(done_, fraction_after(name));
+    if (running_) draw_locked();  // each stage's end shows at once (after the delay)
 }
 
 void Progress::clear_locked() {
@@ -107,7 +116,7 @@ void Progress::end() {
 void Progress::draw_locked() {
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-    if (seconds < 1.0) return;
+    if (seconds < after_) return;
     constexpr int kWidth = 24;
     const int filled = static_cast<int>(done_ * kWidth + 0.5);
     std::string bar(std::size_t(filled), '#');

@@ -1,4 +1,4 @@
-// A progress line on stderr for runs longer than a second: a bar, the elapsed time and the stage
+// A progress line on stderr for runs longer than a second (FDMSURF_PROGRESS_AFTER): a bar, the elapsed time and the stage
 // that last ended, redrawn in place, cleared before the summary is printed.
 #pragma once
 
@@ -14,6 +14,10 @@ namespace fdmsurf::cli {
 // Whether a run shows progress: not with --quiet or FDMSURF_PROGRESS=never; always with
 // FDMSURF_PROGRESS=always (tests); else when stderr is a terminal.
 bool progress_wanted(bool quiet);
+
+// Seconds a run lasts before its line appears: FDMSURF_PROGRESS_AFTER (>= 0; tests set 0 so
+// that a fast device still shows it), else 1.
+double progress_delay();
 
 class Progress {
 public:
@@ -41,6 +45,7 @@ private:
     void tick();
 
     bool enabled_;
+    double after_;  // progress_delay()
     std::mutex mutex_;
     std::condition_variable wake_;
     bool running_ = false;  // a run between begin() and end()

@@ -17,6 +17,16 @@
 
 namespace fdmsurf::cli {
 
+// One picture written (src/render/).
+struct ImageReport {
+    std::string path;  // "-": standard output
+    std::string view;  // "front", ...
+    std::array<float, 3> rotate{0.0f, 0.0f, 0.0f};
+    std::uint32_t width = 0, height = 0;
+    float pixel_size = 0.0f;  // Å per pixel
+    std::uint32_t supersample = 1;
+};
+
 // Everything the summary shows, gathered by main; plain data so that it is testable without a
 // device.
 struct RunReport {
@@ -57,6 +67,10 @@ struct RunReport {
     double buried_area = 0.0;
     double buried_mesh_area = -1.0;  // < 0: no mesh
     std::size_t atoms_outside_groups = 0;
+    // False when the mesh stayed on the device (-o FILE.png): only its vertex and triangle
+    // counts are known (stats.vertices, stats.triangles); no pieces, area or volume.
+    bool mesh_on_host = true;
+    std::vector<ImageReport> images;
 };
 
 // Sums the times of stages that share a name (one per slab, say), keeping the first order.
@@ -217,6 +231,12 @@ inline std::string text_summary(const RunReport& r) {
     s += "\n";
 
     const MeshStats& m = r.stats;
+    if (!r.mesh_on_host) {
+        s += "  mesh         " + format_count(m.vertices) + " vertices, " +
+             format_count(m.triangles) +
+             " triangles, left on the device for the picture (pieces, area and volume are not "
+             "computed: write a mesh with --image for them)\n";
+    } else {
     s += "  mesh         " + format_count(m.vertices) + " vertices, " + format_count(m.triangles) +
          " triangles, " + format_count(m.pieces) + " piece(s)";
     if (m.closed_pieces != m.pieces) s += " (" + format_count(m.closed_pieces) + " closed)";
@@ -240,6 +260,7 @@ inline std::string text_summary(const RunReport& r) {
     s += "\n";
     s += "  area         " + format_grouped(m.area, 1) + " Å²\n";
     s += "  volume       " + format_grouped(m.volume, 1) + " Å³\n";
+    }
     if (r.simplified) {
         const SimplifyReport& q = r.simplify;
         const double kept = q.triangles_in ? 100.0 * q.triangles_out / q.triangles_in : 0.0;
@@ -274,6 +295,14 @@ inline std::string text_summary(const RunReport& r) {
     }
     s += "total " + format_grouped(r.total_ms, 1) + "\n";
     s += "  output       " + r.output + "\n";
+    for (const ImageReport& im : r.images) {
+        s += "  image        " + im.path + " (" + std::to_string(im.width) + " x " +
+             std::to_string(im.height) + ", " + im.view + " view";
+        if (im.rotate[0] != 0.0f || im.rotate[1] != 0.0f || im.rotate[2] != 0.0f)
+            s += " turned " + format_general(im.rotate[0]) + "," + format_general(im.rotate[1]) +
+                 "," + format_general(im.rotate[2]) + "°";
+        s += ", " + format_general(im.pixel_size) + " Å/pixel)\n";
+    }
     return s;
 }
 
@@ -316,19 +345,31 @@ inline std::string json_summary(const RunReport& r) {
     const MeshStats& m = r.stats;
     w.member("vertices", m.vertices);
     w.member("triangles", m.triangles);
-    w.member("pieces", m.pieces);
-    w.member("closed_pieces", m.closed_pieces);
-    w.member("boundary_edges", m.boundary_edges);
-    w.member("nonmanifold_edges", m.nonmanifold_edges);
-    w.member("closed_manifold", r.closed_manifold);
+    w.member("mesh_on_host", r.mesh_on_host);
+    if (r.mesh_on_host) {
+        w.member("pieces", m.pieces);
+        w.member("closed_pieces", m.closed_pieces);
+        w.member("boundary_edges", m.boundary_edges);
+        w.member("nonmanifold_edges", m.nonmanifold_edges);
+        w.member("closed_manifold", r.closed_manifold);
+    } else {
+        for (const char* key :
+             {"pieces", "closed_pieces", "boundary_edges", "nonmanifold_edges", "closed_manifold"})
+            w.member(key, nullptr);
+    }
     w.member("patch", r.patch);
     w.member("patch_atoms", r.patch_atoms);
     w.member("color", to_string(r.color));
     w.key("properties").begin_array();
     for (const std::string& p : r.properties) w.value(p);
     w.end_array();
-    w.member("area", m.area);
-    w.member("volume", m.volume);
+    if (r.mesh_on_host) {
+        w.member("area", m.area);
+        w.member("volume", m.volume);
+    } else {
+        w.member("area", nullptr);
+        w.member("volume", nullptr);
+    }
     if (r.simplified) {
         const SimplifyReport& q = r.simplify;
         w.key("simplify").begin_object();
@@ -355,6 +396,21 @@ inline std::string json_summary(const RunReport& r) {
     w.member("optimized", r.optimized);
     areas_json(w, r);
     w.member("device", r.device);
+    w.key("images").begin_array();
+    for (const ImageReport& im : r.images) {
+        w.begin_object();
+        w.member("path", im.path);
+        w.member("view", im.view);
+        w.key("rotate").begin_array();
+        for (float a : im.rotate) w.value(a);
+        w.end_array();
+        w.member("width", im.width);
+        w.member("height", im.height);
+        w.member("pixel_size", im.pixel_size);
+        w.member("supersample", im.supersample);
+        w.end_object();
+    }
+    w.end_array();
 
     w.key("times").begin_object();
     for (const StageTime& t : merge_times(r.times)) w.member(t.name, t.ms);

@@ -7,6 +7,9 @@
 #include <string>
 
 #include "core/engine_impl.hpp"
+
+#include <unistd.h>
+#include "core/trace.hpp"
 #include "fdmsurf/fdmsurf.hpp"
 #include "filter/spectral_filter.hpp"
 #include "grid/atom_bins.hpp"
@@ -80,8 +83,10 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
     SurfaceResult result;
     double t0 = now_ms();
     check_refine_levels(options.refine);
+    trace("engine: run");
     GridPlan plan = plan_grid(atoms, options);
     result.grid = plan.info;
+    trace("engine: grid planned");
     if (plan.filtered && options.spacing > 1.0f / (2.0f * plan.info.cutoff)) {
         char buf[200];
         std::snprintf(buf, sizeof buf,
@@ -109,10 +114,13 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
         result.times.push_back({"bin-atoms", now_ms() - t0, false});
     }
     report(plan.exact_ses ? "ses-features" : "bin-atoms");
+    trace(plan.exact_ses ? "engine: ses features" : "engine: atoms binned");
     StagingArena arena;
     Buffer field(context, static_cast<VkDeviceSize>(field_bytes), MemoryUse::Device, "field");
+    trace("engine: field allocated");
     commands.begin();
     record_field(arena, plan, &bins, &features, options.filter, field);
+    trace("engine: field recorded (staging, FFT plan)");
     McParams mc;
     for (int a = 0; a < 3; ++a) mc.origin[a] = plan.info.origin[a];
     mc.spacing = plan.info.spacing;
@@ -121,12 +129,14 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
     mc.z_end = d[2] - 1;
     set_interpolation(mc, plan);
     GpuMesh gpu = marching_cubes.run(commands, arena, field, d[0], d[1], d[2], plan.pitch, mc);
+    trace("engine: field and marching cubes done");
     add_times(result.times, marching_cubes.stage_times());
     if (on_device && options.refine == 0 && !snaps(options, plan)) {
         *on_device = std::move(gpu);
         return result;
     }
     result.mesh = marching_cubes.read_back(commands, gpu);
+    trace("engine: mesh read back");
     add_times(result.times, commands.stage_times());
     add_times(result.times, {{"unpack-mesh", marching_cubes.unpack_ms(), false}});
     report(plan.exact_ses ? "ses-distance, marching cubes" : "density, filter, marching cubes");
@@ -192,9 +202,31 @@ GpuMesh EngineImpl::upload_mesh(const Mesh& mesh) {
                                 mesh.indices.size() * sizeof(std::uint32_t), "mesh_indices");
     gpu.vertex_count = static_cast<std::uint32_t>(mesh.vertex_count());
     gpu.triangle_count = static_cast<std::uint32_t>(mesh.triangle_count());
+    // On a discrete GPU the uploads are copies (transfer writes): made available here, so that
+    // the barrier a renderer records for a DeviceMesh (compute-shader writes to vertex input,
+    // fdmsurf/vulkan_interop.hpp) chains on and covers them as well.
+    commands.barrier_compute();
     commands.mark("upload-mesh");
     commands.submit_and_wait();
     return gpu;
+}
+
+Buffer EngineImpl::upload_attributes(const Mesh& mesh) {
+    const std::size_t nv = mesh.vertex_count();
+    if (mesh.colors.size() != 3 * nv || nv == 0) return {};
+    std::vector<std::uint32_t> words(2 * nv);
+    for (std::size_t v = 0; v < nv; ++v) {
+        words[2 * v] = mesh.atoms.size() == nv ? mesh.atoms[v] : 0xffffffffu;
+        words[2 * v + 1] =
+            pack_rgba({mesh.colors[3 * v], mesh.colors[3 * v + 1], mesh.colors[3 * v + 2]});
+    }
+    StagingArena arena;
+    commands.begin();
+    Buffer out = upload_buffer(context, commands, arena, words.data(),
+                               words.size() * sizeof(std::uint32_t), "mesh_attributes");
+    commands.barrier_compute();  // as in upload_mesh
+    commands.submit_and_wait();
+    return out;
 }
 
 // A grid larger than one storage-buffer binding: the density and the filter run on overlapping
@@ -243,7 +275,23 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
                         std::to_string(d[2]) + " points is too wide to be processed in z-slabs " +
                         "within this device's maxStorageBufferRange (" +
                         std::to_string(limit >> 20) + " MiB); a spacing of " +
-                        spacing_hint(need, double(limit), options.spacing) + " Å would fit");
+                        spacing_hint(need, double(limit), options.spacing) + " Å would fit" +
+                        isolated_atoms_note(atoms));
+    }
+    // The slabs' field is assembled on the host (marching cubes then reads it in parts): it
+    // must fit the machine's memory, with room for the mesh.
+    const double host_field = double(d[0]) * d[1] * d[2] * sizeof(float);
+    const double host_memory = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
+    if (host_memory > 0 && host_field > 0.5 * host_memory) {
+        char figures[160];
+        std::snprintf(figures, sizeof figures, "%.1f GiB of host memory, more than half of this machine's %.1f GiB",
+                      host_field / (1 << 30), host_memory / (1 << 30));
+        throw Error(ErrorCode::DeviceLimit,
+                    "the grid of " + std::to_string(d[0]) + " x " + std::to_string(d[1]) + " x " +
+                        std::to_string(d[2]) + " points is processed in slabs whose field needs " +
+                        figures + "; a spacing of " +
+                        spacing_hint(host_field, 0.5 * host_memory, options.spacing) +
+                        " Å would fit" + isolated_atoms_note(atoms));
     }
     const std::uint32_t core = slab_planes - 2 * overlap;
     const std::uint32_t slabs = (d[2] + core - 1) / core;
@@ -446,26 +494,86 @@ SurfaceResult Engine::make_surface(const Atoms& atoms, const SurfaceOptions& opt
     // (By default the exact SES, vdw and sas keep every cavity.)
     result.times.push_back({"cavities", detail::now_ms() - t0, false});
     impl_->report("cavities");
+    detail::trace("engine: cavities");
     // On the final mesh: the atom of each vertex, colours and scalars.
     detail::add_vertex_properties(impl_->vertex_properties, impl_->commands, atoms, options,
                                   result);
     impl_->report("vertex properties");
+    detail::trace("engine: vertex properties");
     return result;
 }
 
 DeviceSurfaceResult Engine::make_device_surface(const Atoms& atoms, const SurfaceOptions& options) {
-    if (options.properties.color != ColorScheme::None || !options.properties.scalars.empty())
+    const PropertyOptions& po = options.properties;
+    if (!po.scalars.empty())
         throw Error(ErrorCode::InvalidArgument,
-                    "make_device_surface: colours and per-vertex properties are computed on the "
-                    "host mesh only (make_surface); ask for none here");
+                    "make_device_surface: per-vertex properties are computed on the host mesh "
+                    "only (make_surface); ask for none here");
+    if (po.color == ColorScheme::Coulombic)
+        throw Error(ErrorCode::InvalidArgument,
+                    "make_device_surface: the coulombic colours are computed on the host mesh "
+                    "only (make_surface, then Engine::upload_mesh)");
+    std::vector<std::string> property_warnings = detail::check_property_inputs(atoms, po);
     detail::GpuMesh gpu;
     SurfaceResult host = impl_->run(atoms, options, &gpu);
     DeviceSurfaceResult out;
     out.mesh.buffers_ = std::make_unique<detail::DeviceMeshBuffers>();
+    if (po.color != ColorScheme::None) {
+        out.mesh.buffers_->attributes =
+            detail::device_mesh_attributes(impl_->vertex_properties, impl_->commands, atoms,
+                                           options, gpu, host.grid, host.times);
+        impl_->report("vertex colours");
+    }
     out.mesh.buffers_->mesh = std::move(gpu);
     out.grid = host.grid;
     out.times = std::move(host.times);
     out.warnings = std::move(host.warnings);
+    out.warnings.insert(out.warnings.end(), property_warnings.begin(), property_warnings.end());
+    return out;
+}
+
+DeviceMesh Engine::upload_mesh(const Mesh& mesh) {
+    if (mesh.positions.size() % 3 != 0 || mesh.indices.size() % 3 != 0 ||
+        (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size()) ||
+        (!mesh.colors.empty() && mesh.colors.size() != mesh.positions.size()))
+        throw Error(ErrorCode::InvalidArgument,
+                    "upload_mesh: positions, normals, colours and indices disagree in size");
+    const std::size_t nv = mesh.vertex_count();
+    for (std::uint32_t i : mesh.indices)
+        if (i >= nv)
+            throw Error(ErrorCode::InvalidArgument,
+                        "upload_mesh: an index refers to vertex " + std::to_string(i) + " of " +
+                            std::to_string(nv));
+    DeviceMesh out;
+    out.buffers_ = std::make_unique<detail::DeviceMeshBuffers>();
+    if (mesh.normals.empty() && nv > 0) {
+        // A renderer lights by the normals: without them, each vertex gets the area-weighted
+        // mean of its triangles' normals.
+        Mesh with_normals = mesh;
+        with_normals.normals.assign(3 * nv, 0.0f);
+        for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
+            const std::uint32_t* f = &mesh.indices[3 * t];
+            const float* a = &mesh.positions[3 * f[0]];
+            const float* b = &mesh.positions[3 * f[1]];
+            const float* c = &mesh.positions[3 * f[2]];
+            const float u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+            const float w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+            const float n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
+                                u[0] * w[1] - u[1] * w[0]};
+            for (int k = 0; k < 3; ++k)
+                for (int j = 0; j < 3; ++j) with_normals.normals[3 * f[k] + j] += n[j];
+        }
+        for (std::size_t v = 0; v < nv; ++v) {
+            float* n = &with_normals.normals[3 * v];
+            const float len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+            if (len > 0.0f)
+                for (int j = 0; j < 3; ++j) n[j] /= len;
+        }
+        out.buffers_->mesh = impl_->upload_mesh(with_normals);
+    } else {
+        out.buffers_->mesh = impl_->upload_mesh(mesh);
+    }
+    out.buffers_->attributes = impl_->upload_attributes(mesh);
     return out;
 }
 
@@ -478,6 +586,9 @@ VkBuffer DeviceMesh::vertex_buffer() const {
 }
 VkBuffer DeviceMesh::index_buffer() const {
     return buffers_ ? buffers_->mesh.indices.handle() : VK_NULL_HANDLE;
+}
+VkBuffer DeviceMesh::attribute_buffer() const {
+    return buffers_ ? buffers_->attributes.handle() : VK_NULL_HANDLE;
 }
 std::uint32_t DeviceMesh::vertex_count() const {
     return buffers_ ? buffers_->mesh.vertex_count : 0;

@@ -23,6 +23,7 @@ namespace fdmsurf::detail {
 // What a DeviceMesh owns.
 struct DeviceMeshBuffers {
     GpuMesh mesh;
+    Buffer attributes;  // per vertex: atom, packed colour; empty when uncoloured
 };
 
 // Whether the snap stage changes the mesh of `options` (snap on, a field with an exact
@@ -59,6 +60,9 @@ struct EngineImpl {
     SurfaceResult run(const Atoms& atoms, const SurfaceOptions& options,
                       GpuMesh* on_device = nullptr);
     GpuMesh upload_mesh(const Mesh& mesh);
+    // The attribute buffer of a mesh with per-vertex atoms and colours (Mesh::atoms, colors);
+    // empty when it has no colours.
+    Buffer upload_attributes(const Mesh& mesh);
     // Bytes one field buffer may take: maxStorageBufferRange, and a quarter of device memory.
     std::uint64_t field_budget() const;
     SurfaceResult run_in_slabs(const Atoms& atoms, const SurfaceOptions& options, GridPlan plan,

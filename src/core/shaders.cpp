@@ -2,6 +2,8 @@
 #include "core/shaders.hpp"
 
 #include "fdmsurf/error.hpp"
+#include "fdmsurf_generated/shaders/composite_frag.spv.h"
+#include "fdmsurf_generated/shaders/composite_vert.spv.h"
 #include "fdmsurf_generated/shaders/coulombic.spv.h"
 #include "fdmsurf_generated/shaders/density.spv.h"
 #include "fdmsurf_generated/shaders/density_tiles.spv.h"
@@ -10,6 +12,9 @@
 #include "fdmsurf_generated/shaders/mc_scan.spv.h"
 #include "fdmsurf_generated/shaders/mc_triangles.spv.h"
 #include "fdmsurf_generated/shaders/mc_vertices.spv.h"
+#include "fdmsurf_generated/shaders/render_bounds.spv.h"
+#include "fdmsurf_generated/shaders/render_frag.spv.h"
+#include "fdmsurf_generated/shaders/render_vert.spv.h"
 #include "fdmsurf_generated/shaders/ses_distance.spv.h"
 #include "fdmsurf_generated/shaders/spectral_mask.spv.h"
 #include "fdmsurf_generated/shaders/vertex_atoms.spv.h"
@@ -30,6 +35,11 @@ ShaderCode shader_code(Shader shader) {
         case Shader::McTriangles: return {mc_triangles_spv, sizeof(mc_triangles_spv)};
         case Shader::VertexAtoms: return {vertex_atoms_spv, sizeof(vertex_atoms_spv)};
         case Shader::Coulombic: return {coulombic_spv, sizeof(coulombic_spv)};
+        case Shader::RenderBounds: return {render_bounds_spv, sizeof(render_bounds_spv)};
+        case Shader::RenderVert: return {render_vert_spv, sizeof(render_vert_spv)};
+        case Shader::RenderFrag: return {render_frag_spv, sizeof(render_frag_spv)};
+        case Shader::CompositeVert: return {composite_vert_spv, sizeof(composite_vert_spv)};
+        case Shader::CompositeFrag: return {composite_frag_spv, sizeof(composite_frag_spv)};
     }
     throw Error(ErrorCode::Internal, "unknown shader");
 }

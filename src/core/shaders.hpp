@@ -1,4 +1,5 @@
-// The SPIR-V of every compute stage, compiled from shaders/ at build time and embedded here.
+// The SPIR-V of every shader (compute stages and the renderer's), compiled from shaders/ at
+// build time and embedded here.
 #pragma once
 
 #include <cstddef>
@@ -22,7 +23,12 @@ enum class Shader {
     McVertices,
     McTriangles,
     VertexAtoms,
-    Coulombic
+    Coulombic,
+    RenderBounds,   // render_bounds.comp
+    RenderVert,     // render.vert: the scene pass
+    RenderFrag,     // render.frag
+    CompositeVert,  // composite.vert: the compositing pass
+    CompositeFrag,  // composite.frag
 };
 
 ShaderCode shader_code(Shader shader);

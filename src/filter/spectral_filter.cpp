@@ -1,8 +1,10 @@
 // Spectral filter (Giard & Macq 2010; ALGORITHM.md §3) on VkFFT; VkFFT's C result codes become
 // fdmsurf::Error here and nowhere else.
 #include "filter/spectral_filter.hpp"
+#include "core/trace.hpp"
 
 #include <mutex>
+#include <cstdio>
 #include <optional>
 #include <vector>
 #include <string>
@@ -133,6 +135,7 @@ FftPlan& SpectralFilter::plan_for(const std::array<std::uint32_t, 3>& dims, cons
                             std::to_string(dims[1]) + "x" + std::to_string(dims[2]) + " device " +
                             dev.name + " driver " + dev.driver + " api " + dev.api_version;
     std::optional<std::vector<std::uint32_t>> cached = cache_.load(key);
+    trace(cached ? "filter: FFT plan read from the plan cache" : "filter: FFT plan not in the plan cache");
     VkFFTResult r = VKFFT_ERROR_FAILED_TO_INITIALIZE;
     if (cached) {
         plan->config.loadApplicationFromString = 1;
@@ -155,6 +158,17 @@ FftPlan& SpectralFilter::plan_for(const std::array<std::uint32_t, 3>& dims, cons
             cache_.store(key, plan->app.saveApplicationString, plan->app.applicationStringSize);
     }
     plan->initialised = true;
+    if (trace_on()) {
+        char what[200];
+        std::snprintf(what, sizeof what,
+                      "filter: VkFFT initialised (%s; kernel passes per axis %u %u %u; temp buffer %s)",
+                      plan->from_cache ? "from the cache" : "compiled",
+                      unsigned(plan->app.localFFTPlan ? plan->app.localFFTPlan->numAxisUploads[0] : 0),
+                      unsigned(plan->app.localFFTPlan ? plan->app.localFFTPlan->numAxisUploads[1] : 0),
+                      unsigned(plan->app.localFFTPlan ? plan->app.localFFTPlan->numAxisUploads[2] : 0),
+                      plan->app.configuration.allocateTempBuffer ? "allocated" : "none");
+        trace(what);
+    }
     FftPlan& ref = *plan;
     plans_.emplace(dims, std::move(plan));
     return ref;
@@ -164,6 +178,7 @@ void SpectralFilter::record(Commands& cmds, const Buffer& field, const GridPlan&
                             FilterShape shape) {
     const auto& d = plan.info.dims;
     FftPlan& fft = plan_for({d[0], d[1], d[2]}, field);
+    trace("filter: FFT plan ready");
     VkCommandBuffer cmd = cmds.handle();
     VkFFTLaunchParams launch{};
     launch.commandBuffer = &cmd;

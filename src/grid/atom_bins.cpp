@@ -1,6 +1,10 @@
 // Counting sort of atoms into bins, and a breadth-first Chebyshev distance to non-empty bins.
 #include "grid/atom_bins.hpp"
 
+#include <atomic>
+
+#include "core/parallel.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <deque>
@@ -89,12 +93,20 @@ std::vector<std::uint32_t> reached_boxes(const AtomBins& bins, const GridPlan& p
     const std::size_t box_count = std::size_t{n[0]} * n[1] * n[2];
     std::vector<std::uint8_t> reached(box_count, 0);
     const double h = g.spacing;
-    // Box k along axis a spans the points [k G, min(k G + G - 1, dims - 1)]; its distance to c.
+    // Box k along axis a spans the points [k G, min(k G + G - 1, dims - 1)]: its ends, once.
+    std::vector<double> box_lo[3], box_hi[3];
+    for (int a = 0; a < 3; ++a) {
+        box_lo[a].resize(n[a]);
+        box_hi[a].resize(n[a]);
+        for (std::uint32_t k = 0; k < n[a]; ++k) {
+            box_lo[a][k] = g.origin[a] + h * (double(k) * group[a]);
+            box_hi[a][k] = g.origin[a] + h * std::min<double>(double(k) * group[a] + group[a] - 1,
+                                                             g.dims[a] - 1);
+        }
+    }
+    // Distance from c to box k along axis a.
     auto gap = [&](int a, std::uint32_t k, double c) {
-        double lo = g.origin[a] + h * (double(k) * group[a]);
-        double hi =
-            g.origin[a] + h * std::min<double>(double(k) * group[a] + group[a] - 1, g.dims[a] - 1);
-        return std::max({lo - c, c - hi, 0.0});
+        return std::max(std::max(box_lo[a][k] - c, c - box_hi[a][k]), 0.0);
     };
     // Boxes along axis a within `s` of c (an over-estimate by a point's width each way).
     auto range = [&](int a, double c, double s, std::uint32_t& first, std::uint32_t& last) {
@@ -105,31 +117,37 @@ std::vector<std::uint32_t> reached_boxes(const AtomBins& bins, const GridPlan& p
         first = std::uint32_t(lo);
         last = std::uint32_t(hi);
     };
+    // Atoms in chunks on all threads; a box reached twice is marked twice with the same value.
     const std::size_t count = bins.atoms.size() / 4;
-    for (std::size_t i = 0; i < count; ++i) {
-        const double c[3] = {bins.atoms[4 * i], bins.atoms[4 * i + 1], bins.atoms[4 * i + 2]};
-        // Slack so that float rounding on the GPU never turns a skipped box into a reached one.
-        const double reach2 =
-            (double(plan.density.pi_cut) + bins.atoms[4 * i + 3]) * (1.0 + 1e-4) + 1e-4;
-        const double reach = std::sqrt(reach2);
-        std::uint32_t z0, z1, y0, y1, x0, x1;
-        range(2, c[2], reach, z0, z1);
-        range(1, c[1], reach, y0, y1);
-        for (std::uint32_t z = z0; z <= z1; ++z) {
-            const double dz = gap(2, z, c[2]);
-            const double rz = reach2 - dz * dz;
-            if (rz < 0.0) continue;
-            for (std::uint32_t y = y0; y <= y1; ++y) {
-                const double dy = gap(1, y, c[1]);
-                const double ry = rz - dy * dy;
-                if (ry < 0.0) continue;
-                range(0, c[0], std::sqrt(ry), x0, x1);
-                std::uint8_t* row = &reached[(std::size_t(z) * n[1] + y) * n[0]];
-                for (std::uint32_t x = x0; x <= x1; ++x)
-                    if (gap(0, x, c[0]) <= std::sqrt(ry)) row[x] = 1;
+    constexpr std::size_t kChunk = 1024;
+    parallel_chunks((count + kChunk - 1) / kChunk, thread_count(), [&](std::size_t chunk) {
+        for (std::size_t i = chunk * kChunk; i < std::min(count, (chunk + 1) * kChunk); ++i) {
+            const double c[3] = {bins.atoms[4 * i], bins.atoms[4 * i + 1], bins.atoms[4 * i + 2]};
+            // Slack so that float rounding on the GPU never turns a skipped box into a reached one.
+            const double reach2 =
+                (double(plan.density.pi_cut) + bins.atoms[4 * i + 3]) * (1.0 + 1e-4) + 1e-4;
+            const double reach = std::sqrt(reach2);
+            std::uint32_t z0, z1, y0, y1, x0, x1;
+            range(2, c[2], reach, z0, z1);
+            range(1, c[1], reach, y0, y1);
+            for (std::uint32_t z = z0; z <= z1; ++z) {
+                const double dz = gap(2, z, c[2]);
+                const double rz = reach2 - dz * dz;
+                if (rz < 0.0) continue;
+                for (std::uint32_t y = y0; y <= y1; ++y) {
+                    const double dy = gap(1, y, c[1]);
+                    const double ry = rz - dy * dy;
+                    if (ry < 0.0) continue;
+                    const double rx = std::sqrt(ry);
+                    range(0, c[0], rx, x0, x1);
+                    std::uint8_t* row = &reached[(std::size_t(z) * n[1] + y) * n[0]];
+                    for (std::uint32_t x = x0; x <= x1; ++x)
+                        if (gap(0, x, c[0]) <= rx)
+                            std::atomic_ref<std::uint8_t>(row[x]).store(1, std::memory_order_relaxed);
+                }
             }
         }
-    }
+    });
     std::vector<std::uint32_t> boxes;
     for (std::size_t b = 0; b < reached.size(); ++b)
         if (reached[b]) boxes.push_back(static_cast<std::uint32_t>(b));

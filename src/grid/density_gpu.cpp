@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "core/shaders.hpp"
+#include "core/trace.hpp"
 #include "shader_interface.h"
 #include "vulkan/commands.hpp"
 #include "vulkan/context.hpp"
@@ -40,7 +41,9 @@ void DensityPass::record(Commands& cmds, StagingArena& arena, const AtomBins& bi
                          const GridPlan& plan, const Buffer& field) {
     const std::uint32_t group[3] = {shader::kDensityGroupX, shader::kDensityGroupY,
                                     shader::kDensityGroupZ};
+    trace("density: recording");
     const std::vector<std::uint32_t> tiles = reached_boxes(bins, plan, group);
+    trace("density: reached tiles listed");
     const GridInfo& g = plan.info;
     const std::uint64_t budget =
         std::min<std::uint64_t>(kCandidateBudget, ctx_.limits().max_storage_buffer_range);
@@ -55,6 +58,7 @@ void DensityPass::record(Commands& cmds, StagingArena& arena, const AtomBins& bi
                            bins.start.size() * sizeof(std::uint32_t), "bin_start");
     first_shell_ = upload_buffer(ctx_, cmds, arena, bins.first_shell.data(),
                                  bins.first_shell.size() * sizeof(std::uint32_t), "bin_first_shell");
+    trace("density: atoms uploaded");
     // An empty buffer cannot be bound: one word stands in when no box is reached.
     const std::uint32_t none = 0;
     tiles_ = upload_buffer(ctx_, cmds, arena, tiles.empty() ? &none : tiles.data(),
@@ -63,6 +67,7 @@ void DensityPass::record(Commands& cmds, StagingArena& arena, const AtomBins& bi
     candidates_ = Buffer(
         ctx_, std::max<std::size_t>(tiles.size(), 1) * (capacity + 1) * sizeof(std::uint32_t),
         MemoryUse::Device, "density_candidates");
+    trace("density: tiles uploaded, candidate lists allocated");
     // Boxes no atom reaches are 0; the dispatches below visit only the others.
     cmds.fill(field, 0);
     cmds.barrier_compute();

@@ -3,8 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include "fdmsurf/error.hpp"
 
@@ -110,6 +112,72 @@ std::uint32_t r2c_axis_size(std::uint32_t n) {
     return n;
 }
 
+namespace {
+
+constexpr double kIsolation = 30.0;  // Å of empty space along an axis that separates groups
+
+// Splits `group` along the first axis whose sorted coordinates leave a gap wider than
+// kIsolation, recursively; appends the groups that no axis splits.
+void split_groups(const Atoms& atoms, std::vector<std::uint32_t> group,
+                  std::vector<std::vector<std::uint32_t>>& out, int depth = 0) {
+    for (int a = 0; a < 3 && depth < 64; ++a) {
+        std::sort(group.begin(), group.end(), [&](std::uint32_t i, std::uint32_t j) {
+            return atoms.xyz[3 * i + a] < atoms.xyz[3 * j + a];
+        });
+        for (std::size_t k = 1; k < group.size(); ++k) {
+            if (double(atoms.xyz[3 * group[k] + a]) - atoms.xyz[3 * group[k - 1] + a] <= kIsolation)
+                continue;
+            split_groups(atoms, {group.begin(), group.begin() + std::ptrdiff_t(k)}, out, depth + 1);
+            split_groups(atoms, {group.begin() + std::ptrdiff_t(k), group.end()}, out, depth + 1);
+            return;
+        }
+    }
+    out.push_back(std::move(group));
+}
+
+std::string describe_atom(const Atoms& atoms, std::uint32_t i) {
+    char where[96];
+    std::snprintf(where, sizeof where, "at (%.1f, %.1f, %.1f)", atoms.xyz[3 * i],
+                  atoms.xyz[3 * i + 1], atoms.xyz[3 * i + 2]);
+    std::string text = "atom " + std::to_string(i + 1);
+    if (i < atoms.meta.size()) {
+        const AtomMeta& m = atoms.meta[i];
+        text += " (" + std::string(m.hetero ? "HETATM " : "") + "serial " +
+                std::to_string(m.serial) + " " + m.name + " " + m.residue_name + " " + m.chain +
+                std::to_string(m.residue_number) +
+                (m.insertion_code != ' ' ? std::string(1, m.insertion_code) : std::string()) + ")";
+    }
+    return text + " " + where;
+}
+
+}  // namespace
+
+std::string isolated_atoms_note(const Atoms& atoms) {
+    if (atoms.size() < 2 || atoms.xyz.size() != 3 * atoms.size()) return {};
+    std::vector<std::uint32_t> all(atoms.size());
+    for (std::uint32_t i = 0; i < all.size(); ++i) all[i] = i;
+    std::vector<std::vector<std::uint32_t>> groups;
+    split_groups(atoms, std::move(all), groups);
+    if (groups.size() < 2) return {};
+    // The largest group is the structure; the others are named, smallest first.
+    std::sort(groups.begin(), groups.end(),
+              [](const auto& x, const auto& y) { return x.size() < y.size(); });
+    std::size_t apart = 0;
+    for (std::size_t g = 0; g + 1 < groups.size(); ++g) apart += groups[g].size();
+    std::string text = "; " + std::to_string(apart) + " atom" + (apart == 1 ? "" : "s") +
+                       (apart == 1 ? " lies" : " lie") + " more than " + std::to_string(int(kIsolation)) +
+                       " Å from the other " + std::to_string(groups.back().size()) +
+                       " across empty space and stretch the grid: ";
+    std::size_t named = 0;
+    for (std::size_t g = 0; g + 1 < groups.size() && named < 5; ++g)
+        for (std::uint32_t i : groups[g]) {
+            if (named == 5) break;
+            text += (named++ ? ", " : "") + describe_atom(atoms, i);
+        }
+    if (apart > named) text += ", ...";
+    return text + " (misplaced? leave them out with --select, or edit the file)";
+}
+
 GridPlan plan_grid(const Atoms& atoms, const SurfaceOptions& options) {
     GridPlan plan;
     const float cutoff = effective_cutoff(options);
@@ -166,7 +234,7 @@ GridPlan plan_grid(const Atoms& atoms, const SurfaceOptions& options) {
             throw Error(ErrorCode::DeviceLimit,
                         "the grid would have " + std::to_string(static_cast<long long>(points)) +
                             " points along one axis at spacing " + std::to_string(h) +
-                            " Å; use a coarser --spacing");
+                            " Å; use a coarser --spacing" + isolated_atoms_note(atoms));
         if (options.min_grid[a] > 65536)
             throw Error(ErrorCode::InvalidArgument, "min_grid asks for " +
                                                         std::to_string(options.min_grid[a]) +

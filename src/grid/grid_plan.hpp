@@ -1,6 +1,8 @@
 // Where the density grid sits and how big it is: padding, FFT-friendly sizes, density parameters.
 #pragma once
 
+#include <string>
+
 #include <cstdint>
 #include <vector>
 
@@ -41,5 +43,10 @@ std::uint32_t r2c_axis_size(std::uint32_t n);
 
 // Validates `options` (throws Error(InvalidArgument)) and places the grid around the atoms.
 GridPlan plan_grid(const Atoms& atoms, const SurfaceOptions& options);
+
+// For an error about a grid too large: when some atoms lie apart from the rest, across empty
+// space of more than 30 Å along an axis (a misplaced atom at 9999 Å, say), a sentence naming the
+// smaller groups' atoms (at most five) and how many there are; "" otherwise. O(N log N).
+std::string isolated_atoms_note(const Atoms& atoms);
 
 }  // namespace fdmsurf::detail

@@ -1,11 +1,13 @@
 // Marching-cubes dispatches (shaders/mc_*.comp): sizes come from a counting pass and a prefix
 // sum, so no fixed cap can drop triangles.
 #include "isosurface/marching_cubes_gpu.hpp"
+#include "core/trace.hpp"
 
 #include <algorithm>
 #include <cstring>
 #include <string>
 
+#include "core/parallel.hpp"
 #include "core/shaders.hpp"
 #include "fdmsurf_generated/mc_tables.hpp"
 #include "fdmsurf/error.hpp"
@@ -101,7 +103,9 @@ GpuMesh MarchingCubesPass::run(Commands& cmds, StagingArena& arena, const Buffer
     cmds.barrier_compute();
     const Buffer& totals_host = readback_buffer(ctx_, cmds, arena, totals, 8, "mc_totals_readback");
     cmds.barrier_to_host();
+    trace("marching cubes: recorded");
     cmds.submit_and_wait();
+    trace("marching cubes: field, occupancy, count, scan waited for");
     std::vector<StageTime> first = cmds.stage_times();
 
     totals_host.invalidate();
@@ -115,6 +119,7 @@ GpuMesh MarchingCubesPass::run(Commands& cmds, StagingArena& arena, const Buffer
     mesh.vertices = Buffer(ctx_, std::uint64_t(total[0]) * 24, MemoryUse::Device, "mesh_vertices");
     mesh.indices = Buffer(ctx_, std::uint64_t(total[1]) * 12, MemoryUse::Device, "mesh_indices");
 
+    trace("marching cubes: mesh buffers allocated");
     cmds.begin();
     if (total[0] > 0) {
         dispatch(
@@ -132,6 +137,7 @@ GpuMesh MarchingCubesPass::run(Commands& cmds, StagingArena& arena, const Buffer
     cmds.mark("mc-triangles");
     cmds.barrier_compute();
     cmds.submit_and_wait();
+    trace("marching cubes: vertices and triangles waited for");
     first.insert(first.end(), cmds.stage_times().begin(), cmds.stage_times().end());
     times_ = std::move(first);
     return mesh;
@@ -145,20 +151,34 @@ Mesh MarchingCubesPass::read_back(Commands& cmds, const GpuMesh& gpu) {
     const Buffer& i = readback_buffer(ctx_, cmds, arena, gpu.indices, ibytes, "indices_readback");
     cmds.barrier_to_host();
     cmds.mark("read-back");
+    trace("read-back: staging allocated, recorded");
     cmds.submit_and_wait();
+    trace("read-back: waited for");
     const double t0 = now_ms();
     v.invalidate();
     i.invalidate();
     Mesh mesh;
     mesh.positions.resize(std::size_t(gpu.vertex_count) * 3);
     mesh.normals.resize(std::size_t(gpu.vertex_count) * 3);
-    const float* src = static_cast<const float*>(v.mapped());
-    for (std::size_t k = 0; k < gpu.vertex_count; ++k) {
-        std::memcpy(&mesh.positions[3 * k], src + 6 * k, 12);
-        std::memcpy(&mesh.normals[3 * k], src + 6 * k + 3, 12);
-    }
     mesh.indices.resize(std::size_t(gpu.triangle_count) * 3);
-    if (ibytes) std::memcpy(mesh.indices.data(), i.mapped(), ibytes);
+    // Split the interleaved vertices and copy the indices on all threads, in blocks.
+    const float* src = static_cast<const float*>(v.mapped());
+    constexpr std::size_t block = std::size_t{1} << 16;
+    const std::size_t vertex_blocks = (gpu.vertex_count + block - 1) / block;
+    const std::size_t index_blocks = (ibytes / 4 + block - 1) / block;
+    parallel_chunks(vertex_blocks + index_blocks, thread_count(), [&](std::size_t b) {
+        if (b < vertex_blocks) {
+            for (std::size_t k = b * block; k < std::min<std::size_t>(gpu.vertex_count, (b + 1) * block); ++k) {
+                std::memcpy(&mesh.positions[3 * k], src + 6 * k, 12);
+                std::memcpy(&mesh.normals[3 * k], src + 6 * k + 3, 12);
+            }
+        } else {
+            const std::size_t first = (b - vertex_blocks) * block;
+            const std::size_t count = std::min(block, ibytes / 4 - first);
+            std::memcpy(mesh.indices.data() + first, static_cast<const std::uint32_t*>(i.mapped()) + first,
+                        count * 4);
+        }
+    });
     unpack_ms_ = now_ms() - t0;
     return mesh;
 }

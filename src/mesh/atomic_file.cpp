@@ -2,7 +2,10 @@
 #include "mesh/atomic_file.hpp"
 
 #include <fcntl.h>
+#include <pthread.h>
 #include <unistd.h>
+
+#include <csignal>
 
 #include <algorithm>
 #include <cerrno>
@@ -11,6 +14,7 @@
 #include <cstring>
 #include <random>
 
+#include "core/temp_files.hpp"
 #include "fdmsurf/error.hpp"
 
 namespace fdmsurf::detail {
@@ -30,7 +34,17 @@ AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
         std::snprintf(suffix, sizeof suffix, ".tmp.%012llx",
                       static_cast<unsigned long long>(random() & 0xffffffffffffULL));
         temp_path_ = path_ + suffix;
+        // Interrupts wait until the file is open and tracked, so an interrupt handler removes
+        // every temporary file it leaves (cli/interrupts.cpp).
+        sigset_t block, previous;
+        sigemptyset(&block);
+        for (int sig : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&block, sig);
+        pthread_sigmask(SIG_BLOCK, &block, &previous);
         fd_ = ::open(temp_path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        const int open_errno = errno;
+        if (fd_ >= 0) tracked_ = track_temp_file(temp_path_);
+        pthread_sigmask(SIG_SETMASK, &previous, nullptr);
+        errno = open_errno;
         if (fd_ < 0 && errno != EEXIST) break;
     }
     if (fd_ < 0) {
@@ -44,6 +58,7 @@ AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
 AtomicFile::~AtomicFile() {
     if (fd_ >= 0) ::close(fd_);
     if (!committed_ && !temp_path_.empty()) ::unlink(temp_path_.c_str());
+    if (tracked_) untrack_temp_file(temp_path_);
 }
 
 void AtomicFile::write(const void* data, std::size_t size) {
@@ -76,6 +91,8 @@ void AtomicFile::commit() {
     if (::close(fd) != 0) fail(errno);
     if (std::rename(temp_path_.c_str(), path_.c_str()) != 0) fail(errno);
     committed_ = true;
+    if (tracked_) untrack_temp_file(temp_path_);
+    tracked_ = false;
 }
 
 void AtomicFile::fail(int error_number) {
@@ -85,6 +102,8 @@ void AtomicFile::fail(int error_number) {
     }
     if (!temp_path_.empty()) {
         ::unlink(temp_path_.c_str());
+        if (tracked_) untrack_temp_file(temp_path_);
+        tracked_ = false;
         temp_path_.clear();
     }
     throw Error(ErrorCode::Io, "cannot write " + path_ + ": " + std::strerror(error_number));

@@ -33,6 +33,7 @@ private:
     std::vector<char> buffer_;
     std::size_t used_ = 0;
     bool committed_ = false;
+    bool tracked_ = false;  // in core/temp_files' table, for an interrupt handler
 };
 
 }  // namespace fdmsurf::detail

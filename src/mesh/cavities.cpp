@@ -15,6 +15,7 @@
 #include "core/parallel.hpp"
 #include "fdmsurf/mesh.hpp"
 #include "mesh/mesh_attributes.hpp"
+#include "mesh/mesh_pieces.hpp"
 #include "mesh/mesh_validate.hpp"
 #include "mesh/union_find.hpp"
 
@@ -152,34 +153,41 @@ std::size_t remove_pieces_if(Mesh& mesh, const std::function<bool(double)>& cand
     validate_attributes(mesh, "remove_cavities");
     const std::size_t nv = mesh.vertex_count(), nt = mesh.triangle_count();
     if (nt == 0) return 0;
-    DisjointSets sets(nv);
-    for (std::size_t t = 0; t < nt; ++t) {
-        sets.unite(mesh.indices[3 * t], mesh.indices[3 * t + 1]);
-        sets.unite(mesh.indices[3 * t], mesh.indices[3 * t + 2]);
-    }
-    // Signed volume per piece (divergence theorem), keyed by root vertex.
-    std::vector<double> volume(nv, 0.0);
+    const VertexPieces parts = vertex_pieces(mesh);
+    // Signed volume per piece (divergence theorem), summed chunk by chunk in a fixed order.
+    struct Run {
+        std::uint32_t piece;
+        double volume;
+    };
+    std::vector<std::vector<Run>> runs(chunk_count(nt, kTriangleChunk));
     const float* p = mesh.positions.data();
-    for (std::size_t t = 0; t < nt; ++t) {
-        const float* a = p + 3 * mesh.indices[3 * t];
-        const float* b = p + 3 * mesh.indices[3 * t + 1];
-        const float* c = p + 3 * mesh.indices[3 * t + 2];
-        double det = double(a[0]) * (double(b[1]) * c[2] - double(b[2]) * c[1]) -
-                     double(a[1]) * (double(b[0]) * c[2] - double(b[2]) * c[0]) +
-                     double(a[2]) * (double(b[0]) * c[1] - double(b[1]) * c[0]);
-        volume[sets.find(mesh.indices[3 * t])] += det / 6.0;
-    }
+    parallel_chunks(runs.size(), thread_count(), [&](std::size_t k) {
+        for (std::size_t t = k * kTriangleChunk; t < std::min(nt, (k + 1) * kTriangleChunk); ++t) {
+            const float* a = p + 3 * mesh.indices[3 * t];
+            const float* b = p + 3 * mesh.indices[3 * t + 1];
+            const float* c = p + 3 * mesh.indices[3 * t + 2];
+            const double det = double(a[0]) * (double(b[1]) * c[2] - double(b[2]) * c[1]) -
+                               double(a[1]) * (double(b[0]) * c[2] - double(b[2]) * c[0]) +
+                               double(a[2]) * (double(b[0]) * c[1] - double(b[1]) * c[0]);
+            const std::uint32_t piece = parts.of_vertex[mesh.indices[3 * t]];
+            if (runs[k].empty() || runs[k].back().piece != piece) runs[k].push_back({piece, 0.0});
+            runs[k].back().volume += det / 6.0;
+        }
+    });
+    std::vector<double> volume(parts.count, 0.0);
+    for (const std::vector<Run>& chunk : runs)
+        for (const Run& r : chunk) volume[r.piece] += r.volume;
     // The triangles of each candidate piece, for the predicate.
-    std::vector<std::uint32_t> piece_of(nv, UINT32_MAX);
+    std::vector<std::uint32_t> candidate_of(parts.count, UINT32_MAX);
     std::vector<MeshPiece> pieces;
-    for (std::size_t v = 0; v < nv; ++v) {
-        if (sets.find(static_cast<std::uint32_t>(v)) != v || !candidate(volume[v])) continue;
-        piece_of[v] = static_cast<std::uint32_t>(pieces.size());
-        pieces.push_back(MeshPiece{volume[v], {}});
+    for (std::size_t q = 0; q < parts.count; ++q) {
+        if (!candidate(volume[q])) continue;
+        candidate_of[q] = static_cast<std::uint32_t>(pieces.size());
+        pieces.push_back(MeshPiece{volume[q], {}});
     }
     if (pieces.empty()) return 0;
     for (std::size_t t = 0; t < nt; ++t) {
-        const std::uint32_t c = piece_of[sets.find(mesh.indices[3 * t])];
+        const std::uint32_t c = candidate_of[parts.of_vertex[mesh.indices[3 * t]]];
         if (c == UINT32_MAX) continue;
         std::array<P3, 3> tri;
         for (int k = 0; k < 3; ++k)
@@ -190,26 +198,30 @@ std::size_t remove_pieces_if(Mesh& mesh, const std::function<bool(double)>& cand
     std::vector<char> verdict(pieces.size(), 0);
     parallel_chunks(pieces.size(), concurrent ? thread_count() : 1,
                     [&](std::size_t i) { verdict[i] = remove(pieces[i]) ? 1 : 0; });
-    std::vector<char> drop(nv, 0);
+    std::vector<char> drop(parts.count, 0);
     std::size_t removed = 0;
-    for (std::size_t v = 0; v < nv; ++v) {
-        if (piece_of[v] == UINT32_MAX || !verdict[piece_of[v]]) continue;
-        drop[v] = 1;
+    for (std::size_t q = 0; q < parts.count; ++q) {
+        if (candidate_of[q] == UINT32_MAX || !verdict[candidate_of[q]]) continue;
+        drop[q] = 1;
         ++removed;
     }
     if (removed == 0) return 0;
-    // Every per-vertex array (positions, normals, atoms, colours, scalars) follows the vertices.
+    // Every per-vertex array (positions, normals, atoms, colours, scalars) follows the vertices;
+    // unreferenced vertices are kept, as before.
+    const auto dropped = [&](std::uint32_t v) {
+        return parts.of_vertex[v] != kNoPiece && drop[parts.of_vertex[v]];
+    };
     std::vector<std::uint32_t> remap(nv, UINT32_MAX);
     std::vector<std::uint32_t> kept;
     for (std::size_t v = 0; v < nv; ++v) {
-        if (drop[sets.find(static_cast<std::uint32_t>(v))]) continue;
+        if (dropped(static_cast<std::uint32_t>(v))) continue;
         remap[v] = static_cast<std::uint32_t>(kept.size());
         kept.push_back(static_cast<std::uint32_t>(v));
     }
     keep_vertices(mesh, kept);
     std::size_t out = 0;
     for (std::size_t t = 0; t < nt; ++t) {
-        if (drop[sets.find(mesh.indices[3 * t])]) continue;
+        if (dropped(mesh.indices[3 * t])) continue;
         for (int k = 0; k < 3; ++k) mesh.indices[3 * out + k] = remap[mesh.indices[3 * t + k]];
         ++out;
     }

@@ -1,33 +1,25 @@
-// Mesh statistics: area, signed volume, connected pieces, and the edge and vertex topology checks.
+// Mesh statistics: area, signed volume, connected pieces, and the edge and vertex topology checks,
+// on all of the machine's threads (the sums are taken in a fixed order: the same figures for any
+// number of threads).
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <numeric>
 #include <vector>
 
+#include "core/parallel.hpp"
 #include "fdmsurf/mesh.hpp"
+#include "mesh/mesh_pieces.hpp"
+#include "mesh/mesh_stats_detail.hpp"
 #include "mesh/mesh_validate.hpp"
-#include "mesh/union_find.hpp"
 
 namespace fdmsurf {
 namespace detail {
 namespace {
 
 using Index = std::uint32_t;
-
-// One triangle's use of an undirected edge {lo, hi}, lo < hi. Uses are bucketed by lo (a
-// counting sort, linear time) and sorted by hi inside each bucket, which is short.
-struct EdgeUse {
-    Index hi;
-    Index corner_lo;  // 3 t + k: the triangle's corner at lo
-    bool forward;     // the triangle runs lo -> hi
-};
-
-Index next_corner(Index c) { return c % 3 == 2 ? c - 2 : c + 1; }
-Index prev_corner(Index c) { return c % 3 == 0 ? c + 2 : c - 1; }
-Index corner_hi(const EdgeUse& u) {
-    return u.forward ? next_corner(u.corner_lo) : prev_corner(u.corner_lo);
-}
 
 bool is_degenerate(const Index* t) { return t[0] == t[1] || t[1] == t[2] || t[2] == t[0]; }
 
@@ -36,90 +28,63 @@ std::array<double, 3> position(const Mesh& mesh, Index v) {
     return {p[0], p[1], p[2]};
 }
 
-// Piece number of every vertex, numbered by smallest vertex; unreferenced vertices get none.
-struct Pieces {
-    std::vector<Index> of_vertex;
-    std::size_t count = 0;
-};
-
-constexpr Index no_piece = ~Index{0};
-
-Pieces find_pieces(const Mesh& mesh) {
-    const std::size_t n = mesh.vertex_count();
-    DisjointSets sets(n);
-    std::vector<bool> referenced(n, false);
-    for (std::size_t c = 0; c < mesh.indices.size(); c += 3) {
-        const Index* t = &mesh.indices[c];
-        sets.unite(t[0], t[1]);
-        sets.unite(t[0], t[2]);
-        referenced[t[0]] = referenced[t[1]] = referenced[t[2]] = true;
-    }
-    Pieces pieces;
-    pieces.of_vertex.assign(n, no_piece);
-    // Roots are smallest members, so a root is met before the rest of its set.
-    for (Index v = 0; v < n; ++v) {
-        if (!referenced[v]) continue;
-        const Index root = sets.find(v);
-        pieces.of_vertex[v] = root == v ? Index(pieces.count++) : pieces.of_vertex[root];
-    }
-    return pieces;
-}
-
-// Edge uses of the non-degenerate triangles, grouped by edge: bucket lo is
-// uses[start[lo], start[lo + 1]), sorted by hi.
-struct EdgeTable {
+// The corners at each vertex: corners[start[v], start[v + 1]) (3 t + k for corner k of
+// triangle t), in no particular order; every triangle counts, degenerate ones too.
+struct VertexCorners {
     std::vector<Index> start;
-    std::vector<EdgeUse> uses;
+    std::vector<Index> corners;
 };
 
-EdgeTable build_edges(const Mesh& mesh) {
-    const std::size_t n = mesh.vertex_count();
-    EdgeTable table;
-    table.start.assign(n + 1, 0);
-    const auto& idx = mesh.indices;
-    for (std::size_t c = 0; c < idx.size(); c += 3) {
-        if (is_degenerate(&idx[c])) continue;
-        for (std::size_t k = 0; k < 3; ++k) {
-            ++table.start[std::min(idx[c + k], idx[c + (k + 1) % 3])];
+VertexCorners corners_by_vertex(const std::vector<Index>& idx, std::size_t n, unsigned threads) {
+    VertexCorners vc;
+    vc.start.assign(n + 1, 0);
+    const std::size_t corners = idx.size();
+    parallel_chunks(chunk_count(corners, 3 * kTriangleChunk), threads, [&](std::size_t k) {
+        const std::size_t end = std::min(corners, (k + 1) * 3 * kTriangleChunk);
+        for (std::size_t c = k * 3 * kTriangleChunk; c < end; ++c)
+            std::atomic_ref<Index>(vc.start[idx[c] + 1]).fetch_add(1, std::memory_order_relaxed);
+    });
+    for (std::size_t v = 1; v <= n; ++v) vc.start[v] += vc.start[v - 1];
+    std::vector<Index> cursor(vc.start.begin(), vc.start.end() - 1);
+    vc.corners.resize(corners);
+    parallel_chunks(chunk_count(corners, 3 * kTriangleChunk), threads, [&](std::size_t k) {
+        const std::size_t end = std::min(corners, (k + 1) * 3 * kTriangleChunk);
+        for (std::size_t c = k * 3 * kTriangleChunk; c < end; ++c) {
+            const Index slot =
+                std::atomic_ref<Index>(cursor[idx[c]]).fetch_add(1, std::memory_order_relaxed);
+            vc.corners[slot] = Index(c);
         }
-    }
-    // Inclusive prefix sums give each bucket's end; filling backwards leaves its start.
-    for (std::size_t v = 1; v <= n; ++v) table.start[v] += table.start[v - 1];
-    table.uses.resize(table.start[n]);
-    for (std::size_t c = 0; c < idx.size(); c += 3) {
-        if (is_degenerate(&idx[c])) continue;
-        for (std::size_t k = 0; k < 3; ++k) {
-            const Index a = idx[c + k];
-            const Index b = idx[c + (k + 1) % 3];
-            const auto corner_a = Index(c + k);
-            const auto corner_b = Index(c + (k + 1) % 3);
-            const EdgeUse use = a < b ? EdgeUse{b, corner_a, true} : EdgeUse{a, corner_b, false};
-            table.uses[--table.start[std::min(a, b)]] = use;
-        }
-    }
-    for (std::size_t v = 0; v < n; ++v) {
-        std::sort(table.uses.begin() + table.start[v], table.uses.begin() + table.start[v + 1],
-                  [](const EdgeUse& x, const EdgeUse& y) { return x.hi < y.hi; });
-    }
-    return table;
+    });
+    return vc;
 }
 
-// Statistics of every piece, in piece order; `vertices` counts referenced vertices only.
-std::vector<MeshStats> analyse_pieces(const Mesh& mesh) {
-    // Normals play no part in the statistics, so they are not checked.
-    validate_mesh(mesh, "mesh statistics", false);
-    const auto& idx = mesh.indices;
-    const Pieces pieces = find_pieces(mesh);
-    std::vector<MeshStats> stats(pieces.count);
-    std::vector<long> edge_count(pieces.count, 0);
-    std::vector<long> face_count(pieces.count, 0);  // non-degenerate triangles
+using Pieces = VertexPieces;
+constexpr Index no_piece = kNoPiece;
 
-    for (Index v = 0; v < mesh.vertex_count(); ++v) {
-        if (pieces.of_vertex[v] != no_piece) ++stats[pieces.of_vertex[v]].vertices;
-    }
-    for (std::size_t c = 0; c < idx.size(); c += 3) {
-        const Index p = pieces.of_vertex[idx[c]];
-        MeshStats& s = stats[p];
+// One chunk's contribution to one piece; a chunk's runs are summed in chunk order, so the
+// floating-point sums do not depend on the number of threads.
+struct Partial {
+    Index piece = no_piece;
+    MeshStats stats;
+    long edges = 0;
+    long faces = 0;  // non-degenerate triangles
+};
+
+// Appends to `runs` a new partial when the piece changes (vertices and triangles of one piece
+// mostly come together, so runs stay few).
+Partial& partial_for(std::vector<Partial>& runs, Index piece) {
+    if (runs.empty() || runs.back().piece != piece) runs.push_back(Partial{piece, {}, 0, 0});
+    return runs.back();
+}
+
+// Area, signed volume and triangle counts of the triangles in chunk k.
+void triangle_chunk(const Mesh& mesh, const Pieces& pieces, std::size_t k,
+                    std::vector<Partial>& runs) {
+    const auto& idx = mesh.indices;
+    const std::size_t end = std::min(idx.size(), (k + 1) * 3 * kTriangleChunk);
+    for (std::size_t c = k * 3 * kTriangleChunk; c < end; c += 3) {
+        Partial& part = partial_for(runs, pieces.of_vertex[idx[c]]);
+        MeshStats& s = part.stats;
         const auto a = position(mesh, idx[c]);
         const auto b = position(mesh, idx[c + 1]);
         const auto d = position(mesh, idx[c + 2]);
@@ -135,46 +100,116 @@ std::vector<MeshStats> analyse_pieces(const Mesh& mesh) {
         if (is_degenerate(&idx[c])) {
             ++s.degenerate_triangles;
         } else {
-            ++face_count[p];
+            ++part.faces;
         }
     }
+}
 
-    // Corners joined through the edges at their vertex: each set is one fan of triangles.
-    DisjointSets fans(idx.size());
-    const EdgeTable edges = build_edges(mesh);
-    for (Index lo = 0; lo < mesh.vertex_count(); ++lo) {
-        const auto first = edges.uses.begin() + edges.start[lo];
-        const auto last = edges.uses.begin() + edges.start[lo + 1];
-        for (auto g = first; g != last;) {
-            auto e = g + 1;
-            while (e != last && e->hi == g->hi) ++e;
-            const Index p = pieces.of_vertex[lo];
-            ++edge_count[p];
-            const auto uses = e - g;
-            if (uses == 1) {
-                ++stats[p].boundary_edges;
-            } else if (uses == 2) {
-                if (g[0].forward == g[1].forward) ++stats[p].inconsistent_edges;
-            } else {
-                ++stats[p].nonmanifold_edges;
+// One use of an edge {v, other} by the triangle whose corner at v is `corner` (local number).
+struct LocalUse {
+    Index other;
+    Index corner;
+    bool forward;  // the triangle runs v -> other
+};
+
+// The edges and fans around the vertices of chunk k. Each edge {v, w} is seen from both ends
+// and counted at its smaller end v; the corners at v that share an edge form one fan, and more
+// than one fan makes v a non-manifold vertex.
+void vertex_chunk(const Mesh& mesh, const Pieces& pieces, const VertexCorners& vc, std::size_t k,
+                  std::vector<Partial>& runs) {
+    const auto& idx = mesh.indices;
+    const std::size_t n = mesh.vertex_count();
+    std::vector<LocalUse> uses;
+    std::vector<Index> parent;
+    const auto find = [&](Index x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+    };
+    const std::size_t end = std::min(n, (k + 1) * kVertexChunk);
+    for (std::size_t v = k * kVertexChunk; v < end; ++v) {
+        if (pieces.of_vertex[v] == no_piece) continue;
+        Partial& part = partial_for(runs, pieces.of_vertex[v]);
+        MeshStats& s = part.stats;
+        ++s.vertices;
+        uses.clear();
+        Index local = 0;
+        for (Index i = vc.start[v]; i < vc.start[v + 1]; ++i) {
+            const Index c = vc.corners[i];
+            const Index t = c - c % 3;
+            if (is_degenerate(&idx[t])) continue;
+            uses.push_back({idx[t + (c - t + 1) % 3], local, true});
+            uses.push_back({idx[t + (c - t + 2) % 3], local, false});
+            ++local;
+        }
+        std::sort(uses.begin(), uses.end(),
+                  [](const LocalUse& x, const LocalUse& y) { return x.other < y.other; });
+        parent.resize(local);
+        std::iota(parent.begin(), parent.end(), Index{0});
+        Index fans = local;
+        for (std::size_t g = 0; g < uses.size();) {
+            std::size_t e = g + 1;
+            while (e < uses.size() && uses[e].other == uses[g].other) ++e;
+            if (uses[g].other > v) {
+                ++part.edges;
+                if (e - g == 1) {
+                    ++s.boundary_edges;
+                } else if (e - g == 2) {
+                    if (uses[g].forward == uses[g + 1].forward) ++s.inconsistent_edges;
+                } else {
+                    ++s.nonmanifold_edges;
+                }
             }
-            for (auto u = g + 1; u != e; ++u) {
-                fans.unite(g->corner_lo, u->corner_lo);
-                fans.unite(corner_hi(*g), corner_hi(*u));
+            for (std::size_t u = g + 1; u < e; ++u) {
+                const Index a = find(uses[g].corner), b = find(uses[u].corner);
+                if (a != b) {
+                    parent[std::max(a, b)] = std::min(a, b);
+                    --fans;
+                }
             }
             g = e;
         }
+        if (fans > 1) ++s.nonmanifold_vertices;
     }
-    // Fan count per vertex, saturated at 2: more than one fan is a non-manifold vertex.
-    std::vector<std::uint8_t> fan_count(mesh.vertex_count(), 0);
-    for (Index c = 0; c < idx.size(); ++c) {
-        if (is_degenerate(&idx[c - c % 3])) continue;
-        if (fans.find(c) == c && fan_count[idx[c]] < 2) ++fan_count[idx[c]];
-    }
-    for (Index v = 0; v < mesh.vertex_count(); ++v) {
-        if (fan_count[v] > 1) ++stats[pieces.of_vertex[v]].nonmanifold_vertices;
-    }
+}
 
+// Statistics of every piece, in piece order; `vertices` counts referenced vertices only.
+std::vector<MeshStats> analyse_pieces(const Mesh& mesh, unsigned requested_threads) {
+    // Normals play no part in the statistics, so they are not checked.
+    validate_mesh(mesh, "mesh statistics", false);
+    const unsigned threads = thread_count(requested_threads);
+    const VertexCorners vc = corners_by_vertex(mesh.indices, mesh.vertex_count(), threads);
+    const Pieces pieces = vertex_pieces(mesh, threads);
+
+    const std::size_t triangle_chunks = chunk_count(mesh.triangle_count(), kTriangleChunk);
+    const std::size_t vertex_chunks = chunk_count(mesh.vertex_count(), kVertexChunk);
+    std::vector<std::vector<Partial>> runs(triangle_chunks + vertex_chunks);
+    parallel_chunks(runs.size(), threads, [&](std::size_t k) {
+        if (k < triangle_chunks)
+            triangle_chunk(mesh, pieces, k, runs[k]);
+        else
+            vertex_chunk(mesh, pieces, vc, k - triangle_chunks, runs[k]);
+    });
+
+    std::vector<MeshStats> stats(pieces.count);
+    std::vector<long> edge_count(pieces.count, 0);
+    std::vector<long> face_count(pieces.count, 0);
+    for (const std::vector<Partial>& chunk : runs) {
+        for (const Partial& part : chunk) {
+            MeshStats& s = stats[part.piece];
+            const MeshStats& q = part.stats;
+            s.vertices += q.vertices;
+            s.triangles += q.triangles;
+            s.area += q.area;
+            s.volume += q.volume;
+            s.boundary_edges += q.boundary_edges;
+            s.nonmanifold_edges += q.nonmanifold_edges;
+            s.nonmanifold_vertices += q.nonmanifold_vertices;
+            s.inconsistent_edges += q.inconsistent_edges;
+            s.degenerate_triangles += q.degenerate_triangles;
+            edge_count[part.piece] += part.edges;
+            face_count[part.piece] += part.faces;
+        }
+    }
     for (std::size_t p = 0; p < stats.size(); ++p) {
         MeshStats& s = stats[p];
         s.pieces = 1;
@@ -185,16 +220,10 @@ std::vector<MeshStats> analyse_pieces(const Mesh& mesh) {
 }
 
 }  // namespace
-}  // namespace detail
 
-bool MeshStats::is_closed_manifold() const {
-    return boundary_edges == 0 && nonmanifold_edges == 0 && nonmanifold_vertices == 0 &&
-           inconsistent_edges == 0 && degenerate_triangles == 0 && volume > 0.0;
-}
-
-MeshStats compute_stats(const Mesh& mesh) {
+MeshStats total_stats(const Mesh& mesh, unsigned threads) {
     MeshStats total;
-    for (const MeshStats& s : detail::analyse_pieces(mesh)) {
+    for (const MeshStats& s : analyse_pieces(mesh, threads)) {
         total.area += s.area;
         total.volume += s.volume;
         total.pieces += s.pieces;
@@ -212,8 +241,17 @@ MeshStats compute_stats(const Mesh& mesh) {
     return total;
 }
 
+}  // namespace detail
+
+bool MeshStats::is_closed_manifold() const {
+    return boundary_edges == 0 && nonmanifold_edges == 0 && nonmanifold_vertices == 0 &&
+           inconsistent_edges == 0 && degenerate_triangles == 0 && volume > 0.0;
+}
+
+MeshStats compute_stats(const Mesh& mesh) { return detail::total_stats(mesh, 0); }
+
 std::vector<MeshStats> piece_stats(const Mesh& mesh) {
-    std::vector<MeshStats> pieces = detail::analyse_pieces(mesh);
+    std::vector<MeshStats> pieces = detail::analyse_pieces(mesh, 0);
     std::stable_sort(pieces.begin(), pieces.end(),
                      [](const MeshStats& a, const MeshStats& b) { return a.area > b.area; });
     return pieces;

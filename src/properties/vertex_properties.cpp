@@ -80,6 +80,41 @@ std::vector<std::string> check_property_inputs(const Atoms& atoms, const Propert
     return warnings;
 }
 
+std::uint32_t pack_rgba(const std::array<std::uint8_t, 3>& rgb) {
+    return pack(rgb) | 0xff000000u;
+}
+
+Buffer device_mesh_attributes(VertexPropertiesPass& pass, Commands& cmds, const Atoms& atoms,
+                              const SurfaceOptions& options, const GpuMesh& mesh,
+                              const GridInfo& grid, std::vector<StageTime>& times) {
+    const PropertyOptions& po = options.properties;
+    if (po.color == ColorScheme::Coulombic)
+        throw Error(ErrorCode::InvalidArgument,
+                    "make_device_surface: the coulombic colours are computed on the host mesh "
+                    "only (make_surface, then Engine::upload_mesh)");
+    const double t0 = now_ms();
+    std::vector<std::uint32_t> colors(atoms.size());
+    const std::vector<Rgb> rgb = atom_colors(atoms, po);
+    for (std::size_t i = 0; i < atoms.size(); ++i) colors[i] = pack_rgba(rgb[i]);
+    // The grid's box holds every vertex (refined ones move along the surface, within a cell).
+    float lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = grid.origin[a] - grid.spacing;
+        hi[a] = grid.origin[a] + grid.spacing * float(grid.dims[a]);
+    }
+    Buffer out = pass.device_vertex_atoms(cmds, mesh.vertices, mesh.vertex_count, lo, hi, atoms,
+                                          vertex_radius_add(options), colors);
+    double device = 0.0;
+    if (mesh.vertex_count > 0 && !atoms.empty()) {
+        for (const StageTime& t : cmds.stage_times()) {
+            times.push_back(t);
+            device += t.ms;
+        }
+    }
+    times.push_back({"vertex-atoms-host", std::max(now_ms() - t0 - device, 0.0), false});
+    return out;
+}
+
 float vertex_radius_add(const SurfaceOptions& options) {
     return options.surface == SurfaceKind::Sas ? options.probe : 0.0f;
 }

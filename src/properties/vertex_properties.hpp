@@ -6,6 +6,8 @@
 #include <vector>
 
 #include "fdmsurf/surface.hpp"
+#include "isosurface/marching_cubes_gpu.hpp"
+#include "vulkan/buffer.hpp"
 
 namespace fdmsurf::detail {
 
@@ -21,6 +23,17 @@ std::vector<std::string> check_property_inputs(const Atoms& atoms, const Propert
 // warning naming the charge model when the atoms carry no charges of their own.
 void add_vertex_properties(VertexPropertiesPass& pass, Commands& cmds, const Atoms& atoms,
                            const SurfaceOptions& options, SurfaceResult& result);
+
+// For make_device_surface: the attribute buffer of `mesh` (per vertex its atom and its colour
+// under options.properties.color, packed R8G8B8A8 with alpha 255), computed on the device from
+// the mesh's own vertex buffer, which lies in `grid`'s box. Throws Error(InvalidArgument) for
+// Coulombic (which needs the host mesh); adds the stage times to `times`.
+Buffer device_mesh_attributes(VertexPropertiesPass& pass, Commands& cmds, const Atoms& atoms,
+                              const SurfaceOptions& options, const GpuMesh& mesh,
+                              const GridInfo& grid, std::vector<StageTime>& times);
+
+// R8G8B8A8 with alpha 255: red in the low byte.
+std::uint32_t pack_rgba(const std::array<std::uint8_t, 3>& rgb);
 
 // The radius added to each atom's for its power distance: the probe for sas, else 0.
 float vertex_radius_add(const SurfaceOptions& options);

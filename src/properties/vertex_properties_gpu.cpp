@@ -1,6 +1,7 @@
 // Dispatch of the vertex-property passes: the atoms binned into cells on the host, vertices in
 // chunks that fit one storage-buffer binding.
 #include "properties/vertex_properties_gpu.hpp"
+#include "core/trace.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -105,15 +106,16 @@ struct AtomCells {
     std::vector<float> cell_r2;        // the largest (r + radius_add)² in each cell (0: empty)
 };
 
-AtomCells bin_for_vertices(const Atoms& atoms, const Mesh& mesh, float radius_add) {
+// Cells over the box [lo, hi] (which holds every vertex) and the atoms.
+AtomCells bin_for_vertices(const Atoms& atoms, const float box_lo[3], const float box_hi[3],
+                           float radius_add) {
     AtomCells c;
     float lo[3], hi[3];
     for (int a = 0; a < 3; ++a) {
-        lo[a] = std::numeric_limits<float>::max();
-        hi[a] = -lo[a];
+        lo[a] = box_lo[a];
+        hi[a] = box_hi[a];
     }
     extend_box(atoms.xyz.data(), atoms.size(), 3, lo, hi);
-    extend_box(mesh.positions.data(), mesh.vertex_count(), 3, lo, hi);
     float r_max = 0.0f;
     for (float r : atoms.radius) r_max = std::max(r_max, r + radius_add);
     c.r2_max = r_max * r_max;
@@ -137,6 +139,36 @@ AtomCells bin_for_vertices(const Atoms& atoms, const Mesh& mesh, float radius_ad
     return c;
 }
 
+AtomCells bin_for_vertices(const Atoms& atoms, const Mesh& mesh, float radius_add) {
+    float lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = std::numeric_limits<float>::max();
+        hi[a] = -lo[a];
+    }
+    extend_box(mesh.positions.data(), mesh.vertex_count(), 3, lo, hi);
+    return bin_for_vertices(atoms, lo, hi, radius_add);
+}
+
+// The push constants of vertex_atoms.comp for `n` vertices over `cells`.
+shader::VertexAtomsPush vertex_atoms_push(const AtomCells& cells, std::size_t n,
+                                          std::uint32_t per_atom, std::uint32_t stride,
+                                          std::uint32_t groups_x) {
+    shader::VertexAtomsPush p{};
+    p.bin_origin_x = cells.grid.origin[0];
+    p.bin_origin_y = cells.grid.origin[1];
+    p.bin_origin_z = cells.grid.origin[2];
+    p.bin_size = cells.grid.size;
+    p.bin_nx = cells.grid.dims[0];
+    p.bin_ny = cells.grid.dims[1];
+    p.bin_nz = cells.grid.dims[2];
+    p.vertex_count = static_cast<std::uint32_t>(n);
+    p.r2_max = cells.r2_max;
+    p.attributes = per_atom;
+    p.position_stride = stride;
+    p.groups_x = groups_x;
+    return p;
+}
+
 // Vertices per dispatch: every buffer of the chunk within one binding.
 std::size_t chunk_vertices(const Context& ctx, std::size_t bytes_per_vertex) {
     const std::uint64_t range = ctx.limits().max_storage_buffer_range;
@@ -158,6 +190,10 @@ void scatter(const Buffer& host, const std::vector<std::uint32_t>& order, std::s
              std::size_t n, std::uint32_t stride, std::vector<std::uint32_t>& out) {
     host.invalidate();
     const auto* words = static_cast<const std::uint32_t*>(host.mapped());
+    if (order.empty()) {  // mesh order
+        std::memcpy(&out[first * stride], words, n * stride * sizeof(std::uint32_t));
+        return;
+    }
     for (std::size_t i = 0; i < n; ++i)
         std::memcpy(&out[std::size_t(order[first + i]) * stride], &words[i * stride],
                     stride * sizeof(std::uint32_t));
@@ -173,7 +209,8 @@ Buffer upload_vector(Context& ctx, Commands& cmds, StagingArena& arena, const st
 
 }  // namespace
 
-VertexPropertiesPass::VertexPropertiesPass(Context& ctx) : ctx_(ctx) {
+VertexPropertiesPass::VertexPropertiesPass(Context& ctx)
+    : ctx_(ctx), sort_vertices_(ctx.info().type == "CPU") {
     ShaderCode a = shader_code(Shader::VertexAtoms);
     atoms_pipeline_ = ComputePipeline(ctx, a.words, a.bytes, 7, sizeof(shader::VertexAtomsPush),
                                       "vertex_atoms");
@@ -195,9 +232,15 @@ std::vector<std::uint32_t> VertexPropertiesPass::vertex_atoms(
     const std::size_t chunk = chunk_vertices(ctx_, stride * sizeof(std::uint32_t) + 12);
     // Vertices in cell order: neighbours in a dispatch then search the same cells, so the
     // lanes of a SIMD group run alike (on 1AON the pass took 0.6 of the time of mesh order).
-    const std::vector<std::uint32_t> order =
-        sort_into_cells(cells.grid, mesh.positions.data(), nv, 3).order;
-    const std::vector<float> sorted = gather(mesh.positions.data(), order, 3);
+    // (set_sort_vertices: on CPU devices only; `order` stays empty for mesh order.)
+    std::vector<std::uint32_t> order;
+    std::vector<float> sorted;
+    if (sort_vertices_) {
+        order = sort_into_cells(cells.grid, mesh.positions.data(), nv, 3).order;
+        sorted = gather(mesh.positions.data(), order, 3);
+    }
+    const float* positions = sort_vertices_ ? sorted.data() : mesh.positions.data();
+    trace("vertex atoms: atoms binned, vertices sorted");
 
     StagingArena arena;
     cmds.begin();
@@ -210,24 +253,13 @@ std::vector<std::uint32_t> VertexPropertiesPass::vertex_atoms(
     std::vector<const Buffer*> hosts;
     for (std::size_t first = 0; first < nv; first += chunk) {
         const std::size_t n = std::min(chunk, nv - first);
-        Buffer pos = upload_buffer(ctx_, cmds, arena, &sorted[3 * first], 3 * n * sizeof(float),
+        Buffer pos = upload_buffer(ctx_, cmds, arena, positions + 3 * first, 3 * n * sizeof(float),
                                    "vertex_positions");
         outputs.emplace_back(ctx_, n * stride * sizeof(std::uint32_t), MemoryUse::Device,
                              "vertex_atoms");
         cmds.barrier_compute();
-        shader::VertexAtomsPush p{};
-        p.bin_origin_x = cells.grid.origin[0];
-        p.bin_origin_y = cells.grid.origin[1];
-        p.bin_origin_z = cells.grid.origin[2];
-        p.bin_size = cells.grid.size;
-        p.bin_nx = cells.grid.dims[0];
-        p.bin_ny = cells.grid.dims[1];
-        p.bin_nz = cells.grid.dims[2];
-        p.vertex_count = static_cast<std::uint32_t>(n);
-        p.r2_max = cells.r2_max;
-        p.attributes = per_atom;
         const auto [gx, gy] = cmds.fold_groups((n + shader::kVertexGroup - 1) / shader::kVertexGroup);
-        p.groups_x = gx;
+        const shader::VertexAtomsPush p = vertex_atoms_push(cells, n, per_atom, 3, gx);
         cmds.dispatch(atoms_pipeline_,
                       {whole(pos), whole(bin_atoms), whole(bin_index), whole(bin_start),
                        whole(attr), whole(outputs.back()), whole(cell_r2)},
@@ -238,9 +270,56 @@ std::vector<std::uint32_t> VertexPropertiesPass::vertex_atoms(
     }
     cmds.mark("vertex-atoms");
     cmds.barrier_to_host();
+    trace("vertex atoms: uploaded, recorded");
     cmds.submit_and_wait();
+    trace("vertex atoms: waited for");
     for (std::size_t k = 0, first = 0; k < hosts.size(); ++k, first += chunk)
         scatter(*hosts[k], order, first, std::min(chunk, nv - first), stride, out);
+    trace("vertex atoms: scattered");
+    return out;
+}
+
+Buffer VertexPropertiesPass::device_vertex_atoms(Commands& cmds, const Buffer& vertices,
+                                                 std::uint32_t vertex_count, const float lo[3],
+                                                 const float hi[3], const Atoms& atoms,
+                                                 float radius_add,
+                                                 const std::vector<std::uint32_t>& colors) {
+    constexpr std::uint32_t kStride = 2;  // atom, colour
+    Buffer out(ctx_, std::size_t(vertex_count) * kStride * sizeof(std::uint32_t),
+               MemoryUse::Device, "mesh_attributes");
+    if (vertex_count == 0 || atoms.empty()) return out;
+    const AtomCells cells = bin_for_vertices(atoms, lo, hi, radius_add);
+    check_fits(ctx_, cells.atoms.size() * sizeof(float), "binned atoms");
+    check_fits(ctx_, colors.size() * sizeof(std::uint32_t), "atom colours");
+    // Chunks of whole workgroups whose 24-byte vertices fit one binding; a chunk's offsets
+    // (a multiple of 64 vertices: 1,536 and 512 bytes) meet every device's
+    // minStorageBufferOffsetAlignment (at most 256).
+    const std::size_t chunk = chunk_vertices(ctx_, 6 * sizeof(float));
+    StagingArena arena;
+    cmds.begin();
+    // The mesh's vertices were written by an earlier submission's compute shaders (or by the
+    // host): make them visible to this one's.
+    cmds.barrier_compute();
+    Buffer bin_atoms = upload_vector(ctx_, cmds, arena, cells.atoms, "vertex_bin_atoms");
+    Buffer bin_index = upload_vector(ctx_, cmds, arena, cells.index, "vertex_bin_index");
+    Buffer bin_start = upload_vector(ctx_, cmds, arena, cells.start, "vertex_bin_start");
+    Buffer attr = upload_vector(ctx_, cmds, arena, colors, "atom_colors");
+    Buffer cell_r2 = upload_vector(ctx_, cmds, arena, cells.cell_r2, "vertex_bin_r2");
+    cmds.barrier_compute();
+    for (std::size_t first = 0; first < vertex_count; first += chunk) {
+        const std::size_t n = std::min<std::size_t>(chunk, vertex_count - first);
+        const auto [gx, gy] = cmds.fold_groups((n + shader::kVertexGroup - 1) / shader::kVertexGroup);
+        const shader::VertexAtomsPush p = vertex_atoms_push(cells, n, 1, 6, gx);
+        const BufferRange in{vertices.handle(), first * 6 * sizeof(float), n * 6 * sizeof(float)};
+        const BufferRange words{out.handle(), first * kStride * sizeof(std::uint32_t),
+                                n * kStride * sizeof(std::uint32_t)};
+        cmds.dispatch(atoms_pipeline_,
+                      {in, whole(bin_atoms), whole(bin_index), whole(bin_start), whole(attr),
+                       words, whole(cell_r2)},
+                      &p, gx, gy);
+    }
+    cmds.mark("vertex-atoms");
+    cmds.submit_and_wait();
     return out;
 }
 

@@ -65,12 +65,16 @@ bool find_compute_queue(VkPhysicalDevice device, std::uint32_t* family) {
     vkGetPhysicalDeviceQueueFamilyProperties(device, &count, nullptr);
     std::vector<VkQueueFamilyProperties> families(count);
     vkGetPhysicalDeviceQueueFamilyProperties(device, &count, families.data());
-    // Prefer a compute queue family that also reports timestamps.
+    // Prefer a compute queue family that also reports timestamps, then one that also does
+    // graphics (the renderer, src/render/, draws on the same queue).
+    auto rank = [&](std::uint32_t i) {
+        return (families[i].timestampValidBits > 0 ? 2 : 0) +
+               ((families[i].queueFlags & VK_QUEUE_GRAPHICS_BIT) ? 1 : 0);
+    };
     int best = -1;
     for (std::uint32_t i = 0; i < count; ++i) {
         if (!(families[i].queueFlags & VK_QUEUE_COMPUTE_BIT)) continue;
-        if (best < 0 || (families[i].timestampValidBits > 0 &&
-                         families[static_cast<std::uint32_t>(best)].timestampValidBits == 0))
+        if (best < 0 || rank(i) > rank(static_cast<std::uint32_t>(best)))
             best = static_cast<int>(i);
     }
     if (best < 0) return false;
@@ -308,6 +312,8 @@ void Context::read_limits(const EngineOptions& options) {
     vkGetPhysicalDeviceQueueFamilyProperties(physical_, &count, nullptr);
     std::vector<VkQueueFamilyProperties> families(count);
     vkGetPhysicalDeviceQueueFamilyProperties(physical_, &count, families.data());
+    limits_.max_image_dimension_2d = props.limits.maxImageDimension2D;
+    limits_.graphics = (families[queue_family_].queueFlags & VK_QUEUE_GRAPHICS_BIT) != 0;
     if (families[queue_family_].timestampValidBits > 0)
         limits_.timestamp_period_ns = props.limits.timestampPeriod;
 }

@@ -22,6 +22,8 @@ struct DeviceLimits {
     std::uint32_t max_shared_memory = 0;
     double timestamp_period_ns = 0.0;  // 0: no timestamps on the compute queue
     VkDeviceSize min_storage_offset_alignment = 1;
+    std::uint32_t max_image_dimension_2d = 0;
+    bool graphics = false;  // the queue family supports graphics (the renderer needs it)
 };
 
 // Owns instance, debug messenger and device; destroys them in reverse order.

@@ -83,7 +83,7 @@ TEST(CliFormatOptions, OutputFormatAndStandardStreamsParse) {
     }
     EXPECT_TRUE(
         fdmsurf_cli_test::contains(fdmsurf_cli_test::parse_error_with({"--output-format", "wrl"}),
-                                   "ply, obj, glb, stl or off"));
+                                   "ply, obj, glb, stl, off or png"));
 }
 
 TEST_F(CliFormats, EveryOutputExtensionWritesAClosedMeshThatReadsBack) {
@@ -119,7 +119,7 @@ TEST_F(CliFormats, OutputFormatOverridesTheExtensionAndNamesFolderOutputs) {
     const std::string a = write_file("a.xyzr", kTwoAtomsXyzr);
     const std::string b = write_file("b.xyzr", kTwoAtomsXyzr);
     expect_failure(run({a, "-o", path("out.ply"), "--output-format", "vrml"}), 2,
-                   {"--output-format", "vrml", "ply, obj, glb, stl or off"});
+                   {"--output-format", "vrml", "ply, obj, glb, stl, off or png"});
     REQUIRE_DEVICE();
     CliRun r = run({a, "-o", path("mesh.bin"), "--output-format", "stl", "--quiet"});
     ASSERT_EQ(r.exit_code, 0) << r.err;

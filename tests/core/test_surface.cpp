@@ -371,6 +371,26 @@ SurfaceResult surface_with_limit(std::uint64_t limit, const Atoms& atoms,
     return res;
 }
 
+// One atom 9999 Å away: no slab split can hold the 20160³-point grid, and the refusal names the
+// atom that stretched it (on any device: no plane count fits, or the host field would not).
+TEST_F(Surface, MisplacedAtomIsNamedInsteadOfAnEnormousGrid) {
+    Atoms atoms = fdmsurf::read_structure(data_path("1crn.pdb")).atoms;
+    atoms.xyz.insert(atoms.xyz.end(), {9999.0f, 9999.0f, 9999.0f});
+    atoms.radius.push_back(1.5f);
+    atoms.element.push_back("O");
+    atoms.meta.push_back(atoms.meta.back());
+    try {
+        engine().make_surface(atoms, SurfaceOptions{});
+        ADD_FAILURE() << "a 20160-cube grid was computed";
+    } catch (const fdmsurf::Error& e) {
+        EXPECT_EQ(e.code(), fdmsurf::ErrorCode::DeviceLimit) << e.what();
+        EXPECT_NE(std::string(e.what()).find("1 atom lies more than 30 Å from the other 327"),
+                  std::string::npos)
+            << e.what();
+        EXPECT_NE(std::string(e.what()).find("atom 328"), std::string::npos) << e.what();
+    }
+}
+
 TEST_F(Surface, GridBeyondMaxStorageBufferRangeIsProcessedInSlabs) {
     const Atoms atoms = fdmsurf::read_structure(data_path("1crn.pdb")).atoms;
     const SurfaceOptions options{.spacing = 0.5f};

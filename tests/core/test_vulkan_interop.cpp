@@ -186,11 +186,39 @@ TEST(VulkanInterop, SurfaceOnTheApplicationsDeviceStaysInDeviceBuffers) {
                 ASSERT_EQ(f[6 * k + c], host.mesh.positions[3 * k + c]);
                 ASSERT_EQ(f[6 * k + 3 + c], host.mesh.normals[3 * k + c]);
             }
-        // Colours and properties need the host mesh: refused here rather than left out.
+        // Colours by chain are found on the device: each vertex's atom and colour, as the
+        // host mesh has them.
         fdmsurf::SurfaceOptions colored = options;
         colored.properties.color = fdmsurf::ColorScheme::Chain;
+        const fdmsurf::DeviceSurfaceResult cdev = engine.make_device_surface(s.atoms, colored);
+        const fdmsurf::SurfaceResult chost = engine.make_surface(s.atoms, colored);
+        ASSERT_NE(cdev.mesh.attribute_buffer(), VK_NULL_HANDLE);
+        ASSERT_EQ(cdev.mesh.vertex_count(), chost.mesh.vertex_count());
+        const std::vector<char> a = r.read(cdev.mesh.attribute_buffer(), cdev.mesh.vertex_count() * 8ull);
+        const auto* words = reinterpret_cast<const std::uint32_t*>(a.data());
+        for (std::size_t k = 0; k < chost.mesh.vertex_count(); ++k) {
+            ASSERT_EQ(words[2 * k], chost.mesh.atoms[k]) << "vertex " << k;
+            for (int c = 0; c < 3; ++c)
+                ASSERT_EQ((words[2 * k + 1] >> (8 * c)) & 0xff, chost.mesh.colors[3 * k + c]);
+            ASSERT_EQ(words[2 * k + 1] >> 24, 0xffu);
+        }
+        // Properties and the coulombic colours need the host mesh: refused, not left out.
+        colored.properties.color = fdmsurf::ColorScheme::Coulombic;
         EXPECT_THROW(engine.make_device_surface(s.atoms, colored), fdmsurf::Error);
-    }  // engine and device mesh released before the application's device
+        colored.properties.color = fdmsurf::ColorScheme::None;
+        colored.properties.scalars = {fdmsurf::VertexProperty::MeanCurvature};
+        EXPECT_THROW(engine.make_device_surface(s.atoms, colored), fdmsurf::Error);
+        // fdmsurf's renderer draws on the application's device and queue too.
+        fdmsurf::Renderer renderer(engine);
+        fdmsurf::RenderOptions ro;
+        ro.width = 96;
+        ro.height = 64;
+        ro.background = {0, 0, 0, 0};
+        const fdmsurf::RenderResult pic = renderer.render(cdev.mesh, ro);
+        std::size_t drawn = 0;
+        for (std::size_t p = 3; p < pic.image.rgba.size(); p += 4) drawn += pic.image.rgba[p] == 255;
+        EXPECT_GT(drawn, 96u * 64u / 8u);
+    }  // renderer, engine and device meshes released before the application's device
     for (const std::string& m : r.messages) ADD_FAILURE() << "validation: " << m;
 }
 

@@ -235,4 +235,48 @@ TEST(GridPlan, MinGridGrowsTheGridAroundTheSameCentre) {
     EXPECT_THROW(plan_grid(atoms, absurd), Error);
 }
 
+
+// A misplaced atom far from the rest: a refusal for the grid's size names it (issue: a HETATM
+// at 9999 Å must not mean a grid of 20,000³ points); groups closer than 30 Å are not named.
+TEST(GridPlan, IsolatedAtomsAreNamedWhenTheyStretchTheGrid) {
+    fdmsurf::Structure s = fdmsurf::read_structure(data_path("1crn.pdb"));
+    EXPECT_EQ(fdmsurf::detail::isolated_atoms_note(s.atoms), "");
+    Atoms far = s.atoms;
+    far.xyz.insert(far.xyz.end(), {9999.0f, 9999.0f, 9999.0f});
+    far.radius.push_back(1.4f);
+    far.element.push_back("ZN");
+    fdmsurf::AtomMeta zn = far.meta.back();
+    zn.serial = 9999;
+    zn.name = "ZN";
+    zn.residue_name = "ZN";
+    zn.residue_number = 999;
+    zn.hetero = true;
+    far.meta.push_back(zn);
+    const std::string note = fdmsurf::detail::isolated_atoms_note(far);
+    EXPECT_NE(note.find("1 atom lies more than 30 Å from the other 327"), std::string::npos) << note;
+    EXPECT_NE(note.find("atom 328 (HETATM serial 9999 ZN ZN"), std::string::npos) << note;
+    EXPECT_NE(note.find("(9999.0, 9999.0, 9999.0)"), std::string::npos) << note;
+    // At 0.1 Å the grid needs over 65536 points along an axis: refused before any device work,
+    // with the note.
+    SurfaceOptions fine;
+    fine.spacing = 0.1f;
+    try {
+        plan_grid(far, fine);
+        ADD_FAILURE() << "a 200,000-point axis was planned";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ErrorCode::DeviceLimit);
+        EXPECT_NE(std::string(e.what()).find("atom 328"), std::string::npos) << e.what();
+    }
+    // Two proteins 25 Å apart are one structure as far as the note goes.
+    Atoms two = s.atoms;
+    for (std::size_t i = 0; i < s.atoms.size(); ++i) {
+        two.xyz.insert(two.xyz.end(), {s.atoms.xyz[3 * i] + 55.0f, s.atoms.xyz[3 * i + 1],
+                                       s.atoms.xyz[3 * i + 2]});
+        two.radius.push_back(s.atoms.radius[i]);
+        two.element.push_back(s.atoms.element[i]);
+        two.meta.push_back(s.atoms.meta[i]);
+    }
+    EXPECT_EQ(fdmsurf::detail::isolated_atoms_note(two), "");
+}
+
 }  // namespace

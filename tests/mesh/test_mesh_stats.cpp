@@ -5,9 +5,12 @@
 #include <numbers>
 #include <string>
 
+#include "fdmsurf/compare.hpp"
 #include "fdmsurf/error.hpp"
 #include "fdmsurf/mesh.hpp"
 #include "mesh/mesh_shapes.hpp"
+#include "mesh/mesh_stats_detail.hpp"
+#include "support/test_data.hpp"
 #include "support/mesh_checks.hpp"
 
 namespace fdmsurf {
@@ -239,3 +242,40 @@ TEST(PieceStats, CavityIsASecondPieceWithNegativeVolume) {
 
 }  // namespace
 }  // namespace fdmsurf
+
+// The statistics run on all threads, with sums taken chunk by chunk in a fixed order: one
+// thread and many give the same figures, bit for bit, on a real surface (NanoShaper's 1CRN SES,
+// with a pierced copy for boundary edges and a glued copy for non-manifold edges and vertices).
+TEST(MeshStats, SameFiguresOnOneThreadAndMany) {
+    const fdmsurf::Mesh ses = fdmsurf::read_mesh_any(fdmsurf::test::data_path("1crn-ses-nanoshaper.ply.gz"));
+    fdmsurf::Mesh pierced = ses;
+    pierced.indices.resize(pierced.indices.size() - 3 * 1000);
+    fdmsurf::Mesh glued = ses;  // two copies sharing vertex 0's position index: fans meet there
+    const auto n = static_cast<std::uint32_t>(ses.vertex_count());
+    glued.positions.insert(glued.positions.end(), ses.positions.begin(), ses.positions.end());
+    for (std::size_t c = 0; c < ses.indices.size(); ++c)
+        glued.indices.push_back(ses.indices[c] == 0 ? 0 : ses.indices[c] + n);
+    glued.normals.clear();
+    for (const fdmsurf::Mesh* mesh : {&ses, static_cast<const fdmsurf::Mesh*>(&pierced), static_cast<const fdmsurf::Mesh*>(&glued)}) {
+        const fdmsurf::MeshStats one = fdmsurf::detail::total_stats(*mesh, 1);
+        for (unsigned threads : {2u, 3u, 8u, 0u}) {
+            const fdmsurf::MeshStats many = fdmsurf::detail::total_stats(*mesh, threads);
+            EXPECT_EQ(one.area, many.area) << threads;
+            EXPECT_EQ(one.volume, many.volume) << threads;
+            EXPECT_EQ(one.pieces, many.pieces);
+            EXPECT_EQ(one.boundary_edges, many.boundary_edges);
+            EXPECT_EQ(one.nonmanifold_edges, many.nonmanifold_edges);
+            EXPECT_EQ(one.nonmanifold_vertices, many.nonmanifold_vertices);
+            EXPECT_EQ(one.inconsistent_edges, many.inconsistent_edges);
+            EXPECT_EQ(one.euler_characteristic, many.euler_characteristic);
+        }
+    }
+    const fdmsurf::MeshStats s = fdmsurf::compute_stats(ses);
+    EXPECT_TRUE(s.is_closed_manifold());
+    EXPECT_GT(fdmsurf::compute_stats(pierced).boundary_edges, 100u);  // the rim of the hole
+    const fdmsurf::MeshStats g = fdmsurf::compute_stats(glued);
+    EXPECT_EQ(g.pieces, 2 * s.pieces - 1);  // the copy of vertex 0's piece hangs on it
+    EXPECT_EQ(g.nonmanifold_vertices, 1u);
+    EXPECT_EQ(g.boundary_edges, 0u);
+    EXPECT_NEAR(g.area, 2 * s.area, 1e-9 * s.area);
+}

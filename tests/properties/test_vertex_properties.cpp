@@ -279,6 +279,20 @@ TEST_F(VertexProperties, ChunkedDispatchesAndRepeatedRunsGiveIdenticalWords) {
     Engine small(EngineOptions{.validation = true, .max_buffer_range = 1u << 20});
     detail::EngineImpl& many = small.impl();
     EXPECT_EQ(atoms_one, many.vertex_properties.vertex_atoms(many.commands, mesh, atoms, 0.0f, {}, 0));
+    // Vertices in mesh order (a GPU's default) and sorted by cell (a CPU device's), one chunk
+    // and several: the same words, with attributes.
+    const std::vector<std::uint32_t> attributes(atoms.size(), 7u);
+    for (detail::EngineImpl* e : {&one, &many}) {
+        std::vector<std::vector<std::uint32_t>> words;
+        for (bool sort : {true, false}) {
+            e->vertex_properties.set_sort_vertices(sort);
+            words.push_back(e->vertex_properties.vertex_atoms(e->commands, mesh, atoms, 0.0f, attributes, 1));
+        }
+        e->vertex_properties.set_sort_vertices(e->context.info().type == "CPU");
+        EXPECT_EQ(words[0], words[1]);
+        ASSERT_EQ(words[0].size(), 2 * mesh.vertex_count());
+        for (std::size_t v = 0; v < mesh.vertex_count(); ++v) ASSERT_EQ(words[0][2 * v], atoms_one[v]);
+    }
     EXPECT_EQ(phi_one, many.vertex_properties.coulombic(many.commands, mesh, atoms, q, 1.4f, true));
     const std::vector<std::string> messages = small.take_validation_messages();
     EXPECT_TRUE(messages.empty()) << fdmsurf_test::join_messages(messages);

@@ -179,8 +179,7 @@ TEST(Assembly, EmptySelectionNamesTheAssembly) {
 
 // 4YVS, EV71 capsid: 15 chains in the file, 12 operators: a 180-mer of 317,160 atoms.
 TEST(Assembly, CapsidOf4yvsHasTheFullAtomCount) {
-    const std::string path = std::string(FDMSURF_SHARED_DIR) + "/data/4yvs.cif.gz";
-    if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " is absent";
+    const std::string path = std::string(FDMSURF_TEST_DATA_DIR) + "/4yvs.cif.gz";
     ReadOptions options;
     options.assembly = 1;
     const Structure s = read_structure(path, options);

@@ -7,6 +7,7 @@
 #include "fdmsurf/mesh.hpp"
 #include "fdmsurf/msms.hpp"
 #include "fdmsurf/properties.hpp"
+#include "fdmsurf/render.hpp"
 #include "fdmsurf/simplify.hpp"
 #include "fdmsurf/structure.hpp"
 #include "fdmsurf/surface.hpp"

@@ -17,6 +17,7 @@ namespace fdmsurf {
 
 struct ExternalDevice;       // fdmsurf/vulkan_interop.hpp
 struct DeviceSurfaceResult;  // fdmsurf/vulkan_interop.hpp
+class DeviceMesh;            // fdmsurf/vulkan_interop.hpp
 
 enum class SurfaceKind {
     Ses,  // solvent excluded: filtered density (FDM)
@@ -159,10 +160,19 @@ public:
 
     // The same surface, left on the device for a renderer (fdmsurf/vulkan_interop.hpp). Small
     // cavities are not removed on this path (that needs the mesh on the host). With refine > 0
-    // the mesh is read back, refined on the host and uploaded. Per-vertex atoms, colours and
-    // properties are not computed on this path: options.properties must ask for none
-    // (Error InvalidArgument otherwise).
+    // the mesh is read back, refined on the host and uploaded. With a colour scheme in
+    // options.properties.color, each vertex's atom and colour are found on the device from the
+    // mesh's own vertex buffer (DeviceMesh::attribute_buffer; stage "vertex-atoms"); the
+    // Coulombic colours and per-vertex scalars need the host mesh (Error InvalidArgument: use
+    // make_surface and upload_mesh).
     DeviceSurfaceResult make_device_surface(const Atoms& atoms, const SurfaceOptions& options = {});
+
+    // A host mesh copied into device buffers laid out as make_device_surface's (positions and
+    // normals interleaved, indices, and, when the mesh has colors, atoms and colours): for
+    // drawing a mesh that was simplified, cut into a patch or read from a file. Normals are
+    // computed from the triangles when the mesh has none. Throws Error(InvalidArgument) for
+    // arrays of inconsistent sizes or an index out of range.
+    DeviceMesh upload_mesh(const Mesh& mesh);
 
     const DeviceInfo& device() const;
     // Validation-layer messages (warnings and errors) seen since the last call; cleared by it.

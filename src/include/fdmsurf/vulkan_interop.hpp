@@ -26,10 +26,11 @@ struct ExternalDevice {
 };
 
 namespace detail { struct DeviceMeshBuffers; }
+class Renderer;  // fdmsurf/render.hpp
 
-// A surface mesh in two device buffers, owned by this object (released when it is destroyed,
-// which must happen before the VkDevice is). Both buffers carry the STORAGE, VERTEX or INDEX,
-// and TRANSFER_SRC usages. The work that wrote them has completed (fdmsurf waited on its fence)
+// A surface mesh in two device buffers (three with colours), owned by this object (released
+// when it is destroyed, which must happen before the VkDevice is). Every buffer carries the
+// STORAGE, VERTEX, INDEX, TRANSFER_SRC and TRANSFER_DST usages. The work that wrote them has completed (fdmsurf waited on its fence)
 // when Engine::make_device_surface returns. The renderer must still make those compute-shader
 // writes visible to its own use with a memory barrier in its command buffer: src stage
 // COMPUTE_SHADER, access SHADER_WRITE; dst stage VERTEX_INPUT (or its own), access
@@ -46,11 +47,19 @@ public:
     VkBuffer vertex_buffer() const;
     // 3 uint32 indices per triangle, counter-clockwise seen from outside.
     VkBuffer index_buffer() const;
+    // 2 uint32 per vertex (stride 8 bytes): the index of its atom in the Atoms given (least
+    // power distance, as Mesh::atoms; 0xffffffff when unknown), then its colour as R8G8B8A8
+    // (sRGB, red in the lowest byte, alpha 255): bind it at offset 4 with stride 8 as a
+    // VK_FORMAT_R8G8B8A8_UNORM vertex attribute. VK_NULL_HANDLE when the mesh has no colours
+    // (SurfaceOptions::properties.color None, or an uploaded Mesh without colors). Same usages
+    // and synchronisation as the other two.
+    VkBuffer attribute_buffer() const;
     std::uint32_t vertex_count() const;
     std::uint32_t triangle_count() const;
 
 private:
     friend class Engine;
+    friend class Renderer;
     std::unique_ptr<detail::DeviceMeshBuffers> buffers_;
 };
 
