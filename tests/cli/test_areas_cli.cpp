@@ -144,4 +144,74 @@ TEST_F(CliAreasRun, AreasBesideTheMesh) {
     EXPECT_NE(file->find("atoms")->array[0].find("mesh_area")->type, JsonValue::Type::Null);
 }
 
+// -o FILE.png with --areas: vdw and sas keep the mesh on the device for the picture and write
+// the exact areas with no mesh split (as without -o); ses splits the host mesh it draws.
+TEST_F(CliAreasRun, AreasBesideAPicture) {
+    if (const auto why = no_usable_device()) {
+        if (device_required()) FAIL() << *why;
+        GTEST_SKIP() << *why;
+    }
+    const std::string picture = path("p.png"), areas = path("a.json");
+    const CliRun r = run({data("1crn.pdb"), "-o", picture, "--surface", "sas", "--areas", areas,
+                          "--relative", "tien2013", "--image-size", "64x48", "--stats", "json"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_FALSE(read_text(picture).empty());
+    const auto summary = parse_json(r.out);
+    ASSERT_TRUE(summary.has_value()) << r.out;
+    EXPECT_FALSE(summary->find("mesh_on_host")->boolean);
+    EXPECT_EQ(summary->find("images")->array.size(), 1u);
+    const JsonValue* a = summary->find("areas");
+    ASSERT_NE(a, nullptr);
+    EXPECT_TRUE(a->find("exact")->boolean);
+    EXPECT_EQ(a->find("mesh_total")->type, JsonValue::Type::Null);
+    EXPECT_EQ(a->find("residues")->number, 46);
+    const auto file = parse_json(read_text(areas));
+    ASSERT_TRUE(file.has_value());
+    EXPECT_EQ(file->find("mesh")->type, JsonValue::Type::Null);
+    EXPECT_EQ(file->find("atoms")->array.size(), 327u);
+    EXPECT_EQ(file->find("atoms")->array[0].find("mesh_area")->type, JsonValue::Type::Null);
+    // The same exact areas as without -o.
+    const std::string alone = path("alone.json");
+    ASSERT_EQ(run({data("1crn.pdb"), "--surface", "sas", "--areas", alone, "--relative",
+                   "tien2013"})
+                  .exit_code,
+              0);
+    const auto file_alone = parse_json(read_text(alone));
+    ASSERT_TRUE(file_alone.has_value());
+    EXPECT_EQ(file->find("total")->find("area")->number,
+              file_alone->find("total")->find("area")->number);
+
+    // ses: the areas come from the mesh, made on the host and drawn.
+    const std::string ses_picture = path("q.png"), ses_areas = path("b.json");
+    const CliRun s = run({data("1crn.pdb"), "-o", ses_picture, "--areas", ses_areas,
+                          "--image-size", "64x48", "--stats", "json"});
+    ASSERT_EQ(s.exit_code, 0) << s.err;
+    EXPECT_FALSE(read_text(ses_picture).empty());
+    const auto ses_summary = parse_json(s.out);
+    ASSERT_TRUE(ses_summary.has_value()) << s.out;
+    EXPECT_TRUE(ses_summary->find("mesh_on_host")->boolean);
+    EXPECT_NEAR(ses_summary->find("areas")->find("total")->number,
+                ses_summary->find("area")->number, 1e-6 * ses_summary->find("area")->number);
+    const auto ses_file = parse_json(read_text(ses_areas));
+    ASSERT_TRUE(ses_file.has_value());
+    EXPECT_NE(ses_file->find("atoms")->array[0].find("mesh_area")->type, JsonValue::Type::Null);
+}
+
+// Without -o no mesh is made: a picture option is refused, not ignored.
+TEST(CliAreas, PicturesNeedAMesh) {
+    for (const char* option : {"--image", "--view", "--outline"}) {
+        std::vector<std::string> args{"in.pdb", "--surface", "sas", "--areas", "a.csv", option};
+        if (std::string(option) == "--image") args.push_back("p.png");
+        if (std::string(option) == "--view") args.push_back("top");
+        try {
+            fdmsurf::cli::parse_args(args);
+            ADD_FAILURE() << option;
+        } catch (const fdmsurf::Error& e) {
+            EXPECT_EQ(e.code(), fdmsurf::ErrorCode::InvalidArgument);
+            EXPECT_TRUE(contains(e.what(), "--areas without -o computes none")) << e.what();
+            EXPECT_TRUE(contains(e.what(), option)) << e.what();
+        }
+    }
+}
+
 }  // namespace
