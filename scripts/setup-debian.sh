@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Installs fdmsurf's build and test dependencies on Debian 12 and builds it in build/ (Release).
 #
-# Run as root (or through sudo) from anywhere: ./scripts/setup-debian.sh
+# Run as root (or through sudo) from anywhere: ./scripts/setup-debian.sh [--sanitizers]
+# --sanitizers also installs clang, its sanitizer and libFuzzer runtimes and llvm-symbolizer,
+# for scripts/sanitize.sh and scripts/fuzz.sh.
 # Idempotent: when every package is already installed apt is skipped entirely (fast, works
 # offline), and the CMake build is incremental.
 # Environment: FDMSURF_BUILD_DIR (default build), FDMSURF_BUILD_TYPE (default Release).
@@ -43,6 +45,14 @@ packages=(
     # scripts/crease-accuracy.py
     freesasa
 )
+if [[ ${1:-} == --sanitizers ]]; then
+    # clang 14 with AddressSanitizer, UndefinedBehaviorSanitizer and libFuzzer
+    # (libclang-rt-14-dev) and llvm-symbolizer (llvm-14) for readable stacks
+    packages+=(clang libclang-rt-14-dev llvm-14)
+elif (($#)); then
+    echo "setup-debian: unknown argument $1 (the only one is --sanitizers)" >&2
+    exit 2
+fi
 # node and npm for the Khronos glTF validator (scripts/test.sh installs npm's gltf-validator),
 # unless something else provides them already (NodeSource's nodejs bundles npm and conflicts
 # with Debian's npm package)

@@ -789,7 +789,7 @@ int run(const CliOptions& options) {
             } catch (const Error& e) {
                 progress.end();
                 print_error(naming(input, e.what()));
-                if (status == kExitOk) status = exit_code_for(e.code());
+                if (status == kExitOk) status = exit_code_for(e);
                 continue;
             }
         }
@@ -819,7 +819,7 @@ int run(const CliOptions& options) {
                 progress.end();
                 print_error(naming(input, e.what()) +
                             (options.all_models ? " (model " + std::to_string(model) + ")" : ""));
-                code = exit_code_for(e.code());
+                code = exit_code_for(e);
                 // A failed device (lost, out of memory) would fail every later input too.
                 if (e.code() == ErrorCode::Vulkan) {
                     print_error(

@@ -34,10 +34,10 @@ int report_errors(Body&& body) {
         return body();
     } catch (const Error& e) {
         print_error(e.what());
-        return exit_code_for(e.code());
+        return exit_code_for(e);
     } catch (const std::bad_alloc&) {
-        print_error("out of host memory");
-        return kExitFailure;
+        print_error("out of host memory; try a coarser --spacing");
+        return kExitOutOfMemory;
     } catch (const std::exception& e) {
         print_error(e.what());
         return kExitFailure;

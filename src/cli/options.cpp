@@ -12,6 +12,8 @@
 #include <string_view>
 #include <system_error>
 
+#include <vulkan/vulkan_core.h>
+
 #include "mesh/refine.hpp"
 
 namespace fdmsurf::cli {
@@ -1044,6 +1046,8 @@ Exit codes:
   4  device error: no usable Vulkan device (on a machine without a GPU install
      mesa-vulkan-drivers), job too large for the device, Vulkan or VkFFT failure
   5  --validation: the Vulkan validation layer reported messages
+  6  the Vulkan device was lost (driver reset, GPU fault or removal)
+  7  out of memory: a device or host allocation failed
 )";
 }
 
@@ -1064,6 +1068,20 @@ int exit_code_for(ErrorCode code) noexcept {
             return kExitFailure;
     }
     return kExitFailure;
+}
+
+int exit_code_for(const Error& error) noexcept {
+    const int vk = error.vk_result();
+    if ((error.code() == ErrorCode::Vulkan || error.code() == ErrorCode::DeviceLimit ||
+         error.code() == ErrorCode::Fft) &&
+        vk != 0) {
+        if (error.code() != ErrorCode::Fft && vk == VK_ERROR_DEVICE_LOST) return kExitDeviceLost;
+        if (error.code() != ErrorCode::Fft &&
+            (vk == VK_ERROR_OUT_OF_DEVICE_MEMORY || vk == VK_ERROR_OUT_OF_HOST_MEMORY)) {
+            return kExitOutOfMemory;
+        }
+    }
+    return exit_code_for(error.code());
 }
 
 const char* surface_name(SurfaceKind kind) noexcept {

@@ -97,8 +97,13 @@ inline constexpr int kExitUsage = 2;       // InvalidArgument
 inline constexpr int kExitInput = 3;       // Io, Format, EmptySelection
 inline constexpr int kExitDevice = 4;      // NoDevice, DeviceLimit, Vulkan, Fft
 inline constexpr int kExitValidation = 5;  // --validation and the layer reported messages
+inline constexpr int kExitDeviceLost = 6;  // the Vulkan device was lost (VK_ERROR_DEVICE_LOST)
+inline constexpr int kExitOutOfMemory = 7; // an allocation failed: device or host memory
 
 int exit_code_for(fdmsurf::ErrorCode code) noexcept;
+// The same for a thrown Error, whose VkResult tells a lost device (6) and an allocation that
+// failed (7) from the other device errors (4).
+int exit_code_for(const fdmsurf::Error& error) noexcept;
 
 // The name the command line uses for a surface kind ("ses", "vdw", "sas").
 const char* surface_name(fdmsurf::SurfaceKind kind) noexcept;

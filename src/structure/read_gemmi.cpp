@@ -1,4 +1,5 @@
 // PDB and mmCIF through gemmi, with our own checks where gemmi is lenient; selection and radii.
+// C++17 only here: clang compiles this file as C++17 (CMakeLists.txt says why: gemmi 0.5).
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -114,7 +115,7 @@ SymbolMap cif_symbols(gemmi::cif::Block& block) {
 }
 
 std::string counted(std::size_t n, const std::string& noun) {
-    if (n != 1 && noun.ends_with('y'))
+    if (n != 1 && !noun.empty() && noun.back() == 'y')
         return std::to_string(n) + " " + noun.substr(0, noun.size() - 1) + "ies";
     return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
 }
@@ -267,7 +268,7 @@ gemmi::Model build_assembly(const gemmi::Structure& st, gemmi::cif::Document& do
     std::string line;
     std::istringstream lines(log.str());
     while (std::getline(lines, line)) {
-        if (line.starts_with("Warning: "))
+        if (line.rfind("Warning: ", 0) == 0)
             info.warnings.push_back(name + ": assembly " + assembly.name + ": " + line.substr(9));
     }
     return built;
@@ -284,7 +285,7 @@ void with_gemmi(const std::string& name, F&& f) {
         throw;
     } catch (const std::exception& e) {
         std::string what = e.what();
-        fail_format(what.starts_with(name) ? what : name + ": " + what);
+        fail_format(what.rfind(name, 0) == 0 ? what : name + ": " + what);
     }
 }
 

@@ -5,6 +5,7 @@
 
 #include "vulkan/check.hpp"
 #include "vulkan/context.hpp"
+#include "vulkan/fault_injection.hpp"
 
 namespace fdmsurf::detail {
 namespace {
@@ -69,7 +70,9 @@ Buffer::Buffer(const Context& ctx, VkDeviceSize size, MemoryUse use, const char*
         VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
         alloc.allocationSize = req.size;
         alloc.memoryTypeIndex = static_cast<std::uint32_t>(type);
-        VkResult r = vkAllocateMemory(device_, &alloc, nullptr, &memory_);
+        VkResult r = allocation_fault(name)
+                                 ? VK_ERROR_OUT_OF_DEVICE_MEMORY
+                                 : vkAllocateMemory(device_, &alloc, nullptr, &memory_);
         if (r == VK_ERROR_OUT_OF_DEVICE_MEMORY || r == VK_ERROR_OUT_OF_HOST_MEMORY)
             throw Error(ErrorCode::DeviceLimit,
                         std::string("out of memory allocating ") + std::to_string(req.size >> 20) +

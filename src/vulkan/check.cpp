@@ -42,6 +42,8 @@ void throw_vk_error(VkResult result, const char* call, const char* file, int lin
                        vk_result_name(result) + " (" + where + ")";
     if (result == VK_ERROR_OUT_OF_DEVICE_MEMORY || result == VK_ERROR_OUT_OF_HOST_MEMORY)
         text += "; try a coarser --spacing";
+    if (result == VK_ERROR_DEVICE_LOST)
+        text += ": the Vulkan device was lost (a driver reset, a GPU fault or a removed GPU)";
     throw Error(ErrorCode::Vulkan, text, static_cast<int>(result));
 }
 

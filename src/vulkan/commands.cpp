@@ -9,6 +9,7 @@
 #include "vulkan/buffer.hpp"
 #include "vulkan/check.hpp"
 #include "vulkan/context.hpp"
+#include "vulkan/fault_injection.hpp"
 #include "vulkan/pipeline.hpp"
 
 namespace fdmsurf::detail {
@@ -197,7 +198,8 @@ void Commands::submit_and_wait(std::uint64_t timeout_ns) {
     submit.pCommandBuffers = &cmd_;
     FDM_VK_CHECK(vkResetFences(ctx_.device(), 1, &fence_));
     FDM_VK_CHECK(vkQueueSubmit(ctx_.queue(), 1, &submit, fence_));
-    VkResult r = vkWaitForFences(ctx_.device(), 1, &fence_, VK_TRUE, timeout_ns);
+    VkResult r =
+        injected_wait_result(vkWaitForFences(ctx_.device(), 1, &fence_, VK_TRUE, timeout_ns));
     // Before throwing, let the queue drain: the buffers that unwinding frees may still be in use,
     // and the command buffer may not be reset while pending.
     if (r != VK_SUCCESS) vkQueueWaitIdle(ctx_.queue());

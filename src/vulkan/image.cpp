@@ -5,6 +5,7 @@
 
 #include "vulkan/check.hpp"
 #include "vulkan/context.hpp"
+#include "vulkan/fault_injection.hpp"
 
 namespace fdmsurf::detail {
 
@@ -41,7 +42,9 @@ DeviceImage::DeviceImage(const Context& ctx, VkFormat format, std::uint32_t widt
         VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
         alloc.allocationSize = req.size;
         alloc.memoryTypeIndex = static_cast<std::uint32_t>(type);
-        const VkResult r = vkAllocateMemory(device_, &alloc, nullptr, &memory_);
+        const VkResult r = allocation_fault(name)
+                                 ? VK_ERROR_OUT_OF_DEVICE_MEMORY
+                                 : vkAllocateMemory(device_, &alloc, nullptr, &memory_);
         if (r == VK_ERROR_OUT_OF_DEVICE_MEMORY || r == VK_ERROR_OUT_OF_HOST_MEMORY)
             throw Error(ErrorCode::DeviceLimit,
                         "out of memory allocating " + std::to_string(req.size >> 20) +

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include <vulkan/vulkan_core.h>
+
 #include "cli/options.hpp"
 
 namespace {
@@ -339,7 +341,7 @@ TEST(CliOptions, HelpNamesEveryOptionAndExitCode) {
         EXPECT_TRUE(contains(help, option)) << option;
     }
     for (const char* text : {"Exit codes", "default 0.5", "default 1.4", "default 3", "Å", "1/Å",
-                             "  2  ", "  3  ", "  4  ", "  5  "}) {
+                             "  2  ", "  3  ", "  4  ", "  5  ", "  6  ", "  7  "}) {
         EXPECT_TRUE(contains(help, text)) << text;
     }
 }
@@ -355,6 +357,20 @@ TEST(CliExitCodes, OnePerErrorClass) {
     EXPECT_EQ(exit_code_for(ErrorCode::Vulkan), 4);
     EXPECT_EQ(exit_code_for(ErrorCode::Fft), 4);
     EXPECT_EQ(exit_code_for(ErrorCode::Internal), 1);
+}
+
+// A lost device and a failed allocation have their own codes, told by the error's VkResult.
+TEST(CliExitCodes, DeviceLostAndOutOfMemoryByTheirVkResult) {
+    using fdmsurf::Error;
+    using fdmsurf::cli::exit_code_for;
+    EXPECT_EQ(exit_code_for(Error(ErrorCode::Vulkan, "lost", VK_ERROR_DEVICE_LOST)), 6);
+    EXPECT_EQ(exit_code_for(Error(ErrorCode::Vulkan, "oom", VK_ERROR_OUT_OF_DEVICE_MEMORY)), 7);
+    EXPECT_EQ(exit_code_for(Error(ErrorCode::DeviceLimit, "oom", VK_ERROR_OUT_OF_HOST_MEMORY)), 7);
+    EXPECT_EQ(exit_code_for(Error(ErrorCode::DeviceLimit, "too wide")), 4);
+    EXPECT_EQ(exit_code_for(Error(ErrorCode::Vulkan, "other", VK_ERROR_INITIALIZATION_FAILED)), 4);
+    // A VkFFTResult is not a VkResult: its numbers mean something else.
+    EXPECT_EQ(exit_code_for(Error(ErrorCode::Fft, "fft", VK_ERROR_DEVICE_LOST)), 4);
+    EXPECT_EQ(exit_code_for(Error(ErrorCode::Format, "bad")), 3);
 }
 
 TEST(CliOptions, SurfaceNamesRoundTrip) {

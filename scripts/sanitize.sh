@@ -1,0 +1,65 @@
+#!/usr/bin/env bash
+# The whole test suite under AddressSanitizer + UndefinedBehaviorSanitizer (clang, build-san),
+# lavapipe and the validation layer included, then every libFuzzer harness for a bounded time
+# (scripts/fuzz.sh). .ci/run runs it after scripts/test.sh; docs/reliability.md has the figures.
+#
+#   scripts/sanitize.sh                 # set up, build build-san, ctest, fuzz 60 s per harness
+#   FDMSURF_FUZZ_SECONDS=0 scripts/sanitize.sh   # the suite only
+#
+# Environment: FDMSURF_SAN_BUILD_DIR (default build-san); FDMSURF_FUZZ_SECONDS (0: no fuzzing);
+# extra arguments go to ctest (e.g. -R Structure).
+#
+# The build leaves out the Python module (a sanitized extension would need the ASan runtime
+# preloaded into the interpreter) and the benchmarks; everything else, the test binary, the
+# CLI it runs, the MSMS reader test and the glTF validator test, is built with the sanitizers.
+# Leak reports are on; tests/sanitizers/lsan.supp lists the only suppressions, each inside
+# Mesa (lavapipe, LLVM) or the Vulkan loader and layer, with its reason.
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+
+build_dir=${FDMSURF_SAN_BUILD_DIR:-build-san}
+export FDMSURF_SAN_BUILD_DIR=$build_dir
+
+./scripts/setup-debian.sh --sanitizers
+
+cmake -S . -B "$build_dir" -G Ninja -DCMAKE_CXX_COMPILER=clang++ \
+    -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only -DNDEBUG" \
+    -DFDMSURF_SANITIZE=ON -DFDMSURF_FUZZ=ON -DFDMSURF_PYTHON=OFF -DFDMSURF_BUILD_BENCH=OFF
+cmake --build "$build_dir" -j2
+
+# The glTF validator that scripts/test.sh installed into build/ (npm), when it is there.
+if [[ -d build/tools/gltf-validator && ! -e $build_dir/tools/gltf-validator ]]; then
+    mkdir -p "$build_dir/tools"
+    ln -s "$(pwd)/build/tools/gltf-validator" "$build_dir/tools/gltf-validator"
+fi
+
+supp="$(pwd)/tests/sanitizers"
+export ASAN_OPTIONS="detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1:check_initialization_order=1"
+export LSAN_OPTIONS="suppressions=$supp/lsan.supp:print_suppressions=0"
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:suppressions=$supp/ubsan.supp"
+export ASAN_SYMBOLIZER_PATH=${ASAN_SYMBOLIZER_PATH:-$(command -v llvm-symbolizer || command -v llvm-symbolizer-14)}
+
+log=$(mktemp)
+trap 'rm -f "$log"' EXIT
+status=0
+FDMSURF_REQUIRE_DEVICE=1 FDMSURF_REQUIRE_TOOLS=1 \
+    ctest --test-dir "$build_dir" --output-on-failure --no-tests=error -j2 "$@" 2>&1 | tee "$log" \
+    || status=$?
+skipped=$(grep -E '^[[:space:]]*[0-9]+ - .* \(Skipped\)$' "$log" || true)
+if [[ ! -d build/tools/gltf-validator ]]; then
+    skipped=$(grep -v ' - GltfValidator\.' <<<"$skipped" || true)
+fi
+if [[ -n $skipped ]]; then
+    echo "sanitize.sh: these tests were skipped under the sanitizers:" >&2
+    echo "$skipped" >&2
+    ((status != 0)) || status=1
+fi
+if ((status)); then
+    echo "sanitize.sh: the suite failed under AddressSanitizer + UndefinedBehaviorSanitizer" >&2
+fi
+
+if [[ ${FDMSURF_FUZZ_SECONDS:-60} != 0 ]]; then
+    ./scripts/fuzz.sh || status=1
+fi
+exit $status
