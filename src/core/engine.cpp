@@ -179,10 +179,12 @@ void EngineImpl::record_field(StagingArena& arena, const GridPlan& plan, const A
 std::uint64_t EngineImpl::field_budget() const {
     // One binding holds at most maxStorageBufferRange; the whole pass needs up to about four
     // times the field (field, marching cubes' words, vertices and indices, staging on a discrete
-    // GPU), so a quarter of the device-local memory bounds it too: larger grids go through slabs.
+    // GPU), so a quarter of the device-local memory still free (VK_EXT_memory_budget where the
+    // device has it, else the heap's size) bounds it too: larger grids go through slabs.
     const DeviceLimits& lim = context.limits();
     std::uint64_t budget = lim.max_storage_buffer_range;
-    if (lim.device_memory > 0) budget = std::min<std::uint64_t>(budget, lim.device_memory / 4);
+    const std::uint64_t memory = context.available_device_memory();
+    if (memory > 0) budget = std::min<std::uint64_t>(budget, memory / 4);
     return budget;
 }
 

@@ -275,6 +275,21 @@ Context::Context(const EngineOptions& options) {
         VkDeviceCreateInfo info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
         info.queueCreateInfoCount = 1;
         info.pQueueCreateInfos = &queue;
+        // VK_EXT_memory_budget where the device has it: how much memory is free now, not only
+        // how large the heap is (other applications share a GPU's memory).
+        std::uint32_t ext_count = 0;
+        vkEnumerateDeviceExtensionProperties(physical_, nullptr, &ext_count, nullptr);
+        std::vector<VkExtensionProperties> device_exts(ext_count);
+        vkEnumerateDeviceExtensionProperties(physical_, nullptr, &ext_count, device_exts.data());
+        device_exts.resize(ext_count);
+        const char* budget_ext = VK_EXT_MEMORY_BUDGET_EXTENSION_NAME;
+        memory_budget_ = std::any_of(device_exts.begin(), device_exts.end(), [&](const auto& e) {
+            return std::strcmp(e.extensionName, budget_ext) == 0;
+        });
+        if (memory_budget_) {
+            info.enabledExtensionCount = 1;
+            info.ppEnabledExtensionNames = &budget_ext;
+        }
         FDM_VK_CHECK(vkCreateDevice(physical_, &info, nullptr, &device_));
         vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
     } catch (...) {
@@ -287,6 +302,26 @@ Context::Context(const EngineOptions& options) {
         vkDestroyInstance(instance_, nullptr);
         throw;
     }
+}
+
+VkDeviceSize Context::available_device_memory() const {
+    if (!memory_budget_) return limits_.device_memory;
+    VkPhysicalDeviceMemoryBudgetPropertiesEXT budget{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MEMORY_BUDGET_PROPERTIES_EXT};
+    VkPhysicalDeviceMemoryProperties2 props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MEMORY_PROPERTIES_2};
+    props.pNext = &budget;
+    vkGetPhysicalDeviceMemoryProperties2(physical_, &props);
+    // The largest device-local heap, as limits().device_memory counts it.
+    int heap = -1;
+    for (std::uint32_t i = 0; i < props.memoryProperties.memoryHeapCount; ++i) {
+        const VkMemoryHeap& h = props.memoryProperties.memoryHeaps[i];
+        if ((h.flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT) &&
+            (heap < 0 || h.size > props.memoryProperties.memoryHeaps[heap].size))
+            heap = static_cast<int>(i);
+    }
+    if (heap < 0) return limits_.device_memory;
+    const VkDeviceSize limit = budget.heapBudget[heap], used = budget.heapUsage[heap];
+    return limit > used ? limit - used : 0;
 }
 
 void Context::read_limits(const EngineOptions& options) {

@@ -43,6 +43,12 @@ public:
     const DeviceInfo& info() const { return info_; }
     const VkPhysicalDeviceMemoryProperties& memory_properties() const { return memory_; }
 
+    // Device-local memory a new allocation can still get: with VK_EXT_memory_budget (enabled
+    // when the device has it), the largest device-local heap's budget less what is in use now,
+    // by this process and others; without it, that heap's size (limits().device_memory).
+    VkDeviceSize available_device_memory() const;
+    bool has_memory_budget() const { return memory_budget_; }
+
     // Gives a Vulkan object a name that validation messages will show.
     void set_name(VkObjectType type, std::uint64_t handle, const char* name) const;
 
@@ -63,6 +69,7 @@ private:
     DeviceInfo info_;
     VkPhysicalDeviceMemoryProperties memory_{};
     PFN_vkSetDebugUtilsObjectNameEXT set_name_ = nullptr;
+    bool memory_budget_ = false;  // VK_EXT_memory_budget enabled on device_
     std::mutex messages_mutex_;
     std::vector<std::string> messages_;
 };

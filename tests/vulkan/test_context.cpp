@@ -9,6 +9,7 @@
 #include "fdmsurf/error.hpp"
 #include "fdmsurf/surface.hpp"
 #include "support/gpu_fixture.hpp"
+#include "vulkan/buffer.hpp"
 
 namespace {
 
@@ -142,6 +143,29 @@ TEST(Context, MaxBufferRangeOverrideLowersTheLimitOnly) {
     EXPECT_EQ(huge.impl().context.limits().max_storage_buffer_range,
               huge.device().max_storage_buffer_range)
         << "an override above the device's limit must not raise it";
+}
+
+// The memory a new allocation can still get: never more than the heap, never nothing on an
+// idle device; with VK_EXT_memory_budget (NVIDIA, AMD; lavapipe 22.3 lacks it) it falls when
+// this process holds memory.
+TEST(Context, AvailableDeviceMemoryIsWithinTheHeap) {
+    Listing l = list();
+    REQUIRE_DEVICES(l);
+    if (!any_usable(l.devices)) GTEST_SKIP() << "no usable device";
+    Engine engine;
+    const auto& context = engine.impl().context;
+    const std::uint64_t heap = context.limits().device_memory;
+    const std::uint64_t before = context.available_device_memory();
+    EXPECT_GT(before, 0u);
+    EXPECT_LE(before, heap);
+    if (!context.has_memory_budget()) {
+        EXPECT_EQ(before, heap);
+        return;
+    }
+    const VkDeviceSize bytes = 256u << 20;
+    fdmsurf::detail::Buffer held(context, bytes, fdmsurf::detail::MemoryUse::Device, "held");
+    EXPECT_LE(context.available_device_memory() + bytes / 2, before)
+        << "256 MiB held should show in the budget";
 }
 
 }  // namespace
