@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs every libFuzzer harness of tests/fuzz for a bounded time, each from a seed corpus made of
-# the repository's own files (tests/data and tests/fuzz/seeds), and fails on any crash, leak,
-# sanitizer report, failed check or time-out. The harnesses must be built already
+# the repository's own files (tests/data, tests/fuzz/seeds and tests/fuzz/regressions), and
+# fails on any crash, leak, sanitizer report, failed check or time-out. The harnesses must be built already
 # (scripts/sanitize.sh builds them in build-san with FDMSURF_FUZZ=ON; docs/reliability.md).
 #
 #   scripts/fuzz.sh                    # 60 s per harness, 2 at a time
@@ -50,6 +50,8 @@ seed_dir() {
                     gzip -9c $data/1crn.xyzr >"$dir/1crn.xyzr.gz" ;;
     esac
     if [[ -d $seeds/$h ]]; then cp "$seeds/$h"/* "$dir"/; fi
+    # the inputs that once broke this target (tests/fuzz/regressions, replayed by the suite)
+    find tests/fuzz/regressions -name "$h-*" -exec cp {} "$dir"/ \;
     echo "$dir"
 }
 
@@ -65,23 +67,26 @@ run_one() {
            -max_len=65536 -print_final_stats=1 -artifact_prefix="$work/$h-" \
            "$corpus" "$seed" >"$log" 2>&1; then
         local runs cov corp
-        runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log")
-        cov=$(grep -E '^#[0-9]+ +DONE' "$log" | sed -n 's/.*cov: \([0-9]*\).*/\1/p' | tail -1)
-        corp=$(ls "$corpus" | wc -l)
+        runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" || true)
+        cov=$(grep -E '^#[0-9]+ +DONE' "$log" | sed -n 's/.*cov: \([0-9]*\).*/\1/p' | tail -1 || true)
+        corp=$(find "$corpus" -type f | wc -l)
         printf '%-14s ok     %10s runs  coverage %6s  corpus %6s\n' "$h" "${runs:-?}" "${cov:-?}" "$corp"
     else
         printf '%-14s FAILED (log: %s)\n' "$h" "$log"
-        grep -E 'ERROR|SUMMARY|fuzz check failed|Test unit written|uncaught' "$log" | head -8 | sed 's/^/    /'
+        grep -E 'ERROR|SUMMARY|runtime error|fuzz check failed|Test unit written|uncaught' "$log" | head -8 | sed 's/^/    /' || true
         local artifact
-        artifact=$(sed -n 's/.*Test unit written to \(.*\)$/\1/p' "$log" | head -1)
-        [[ -n $artifact ]] && echo "    replay: $build_dir/tests/fuzz/$h $artifact"
+        artifact=$(sed -n 's/.*Test unit written to \(.*\)$/\1/p' "$log" | head -1 || true)
+        if [[ -n $artifact ]]; then echo "    replay: $build_dir/tests/fuzz/$h $artifact"; fi
         return 1
     fi
 }
 
 mkdir -p "$work"
-export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:allocator_may_return_null=0}
+supp="$(pwd)/tests/sanitizers"
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1}
+export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$supp/lsan.supp:print_suppressions=0}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+export ASAN_SYMBOLIZER_PATH=${ASAN_SYMBOLIZER_PATH:-$(command -v llvm-symbolizer || command -v llvm-symbolizer-14 || true)}
 echo "fuzz.sh: ${#harnesses[@]} harnesses, $seconds s each, $jobs at a time ($(date -u +%FT%TZ), $(git rev-parse --short HEAD 2>/dev/null || echo '?'))"
 status=0
 pids=()
@@ -90,7 +95,7 @@ rm -rf "$results"
 mkdir -p "$results"
 for h in "${harnesses[@]}"; do
     while (($(jobs -rp | wc -l) >= jobs)); do wait -n || true; done
-    (run_one "$h" >"$results/$h" 2>&1; echo $? >"$results/$h.rc") &
+    (if run_one "$h" >"$results/$h" 2>&1; then echo 0; else echo 1; fi >"$results/$h.rc") &
 done
 wait
 for h in "${harnesses[@]}"; do
