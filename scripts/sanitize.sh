@@ -12,8 +12,11 @@
 # The build leaves out the Python module (a sanitized extension would need the ASan runtime
 # preloaded into the interpreter) and the benchmarks; everything else, the test binary, the
 # CLI it runs, the MSMS reader test and the glTF validator test, is built with the sanitizers.
-# Leak reports are on; tests/sanitizers/lsan.supp lists the only suppressions, each inside
-# Mesa (lavapipe, LLVM) or the Vulkan loader and layer, with its reason.
+# Leak reports are on. tests/sanitizers/keep_loaded.c, preloaded, keeps the Vulkan driver and
+# layers mapped to the end (the loader's dlclose would unmap them, and memory that only their
+# globals still point to would then be reported as leaked, in "<unknown module>");
+# tests/sanitizers/lsan.supp lists the suppressions, each inside Mesa (lavapipe, LLVM) or the
+# Vulkan loader and layer, with its reason.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
@@ -35,6 +38,8 @@ if [[ -d build/tools/gltf-validator && ! -e $build_dir/tools/gltf-validator ]]; 
 fi
 
 supp="$(pwd)/tests/sanitizers"
+cc -shared -fPIC -O1 -o "$build_dir/keep_loaded.so" "$supp/keep_loaded.c"
+export LD_PRELOAD="$(pwd)/$build_dir/keep_loaded.so${LD_PRELOAD:+:$LD_PRELOAD}"
 export ASAN_OPTIONS="detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1:check_initialization_order=1"
 export LSAN_OPTIONS="suppressions=$supp/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
