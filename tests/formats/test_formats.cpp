@@ -30,12 +30,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-#ifdef FDMSURF_SHARED_DIR
-const std::string kSharedDir = FDMSURF_SHARED_DIR;
-#else
-const std::string kSharedDir = "../shared";
-#endif
-
 // A fresh, empty folder per test, removed afterwards.
 class FormatFiles : public ::testing::Test {
 protected:
@@ -656,15 +650,13 @@ TEST_F(FormatFiles, CompareReadsGlbAndStl) {
 
 // meshstat.py, an independent reader, on the formats it reads (STL, OFF; not GLB).
 TEST_F(FormatFiles, MeshstatReadsStlAndOffWithTheSameAreaAndVolume) {
-    const std::string meshstat = kSharedDir + "/tools/meshstat.py";
-    FDMSURF_REQUIRE_MESHSTAT(meshstat);
+    FDMSURF_REQUIRE_MESHSTAT();
     const Mesh mesh = attributed_crambin();
     const MeshStats ours = compute_stats(mesh);
     for (const char* name : {"c.stl", "c.off"}) {
         write_mesh(mesh, path(name));
         int status = 0;
-        const std::string text = test::run_capture(
-            "/usr/bin/python3 '" + meshstat + "' --json stats '" + path(name) + "'", status);
+        const std::string text = test::run_meshstat({"stats", path(name)}, status);
         ASSERT_EQ(status, 0) << name << ": " << text;
         const auto json = fdmsurf_cli_test::parse_json(text);
         ASSERT_TRUE(json.has_value()) << text;
