@@ -3,13 +3,11 @@
 // itself, the byte layouts, the limits, streams, and meshstat.py as an independent reader.
 #include <gtest/gtest.h>
 #include <tiny_gltf.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <sstream>
 #include <streambuf>
@@ -23,6 +21,7 @@
 #include "formats/formats.hpp"
 #include "mesh/mesh_shapes.hpp"
 #include "support/meshstat_tool.hpp"
+#include "support/temp_folder.hpp"
 #include "support/test_data.hpp"
 
 namespace fdmsurf {
@@ -31,34 +30,9 @@ namespace {
 namespace fs = std::filesystem;
 
 // A fresh, empty folder per test, removed afterwards.
-class FormatFiles : public ::testing::Test {
+class FormatFiles : public test::TempFolderTest {
 protected:
-    void SetUp() override {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        dir_ = fs::temp_directory_path() / ("fdmsurf_formats_" + std::to_string(::getpid()) + "_" +
-                                            info->test_suite_name() + "_" + info->name());
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-
-    std::string path(const std::string& name) const { return (dir_ / name).string(); }
-
-    std::string read_file(const std::string& name) const {
-        std::ifstream in(path(name), std::ios::binary);
-        std::ostringstream bytes;
-        bytes << in.rdbuf();
-        return bytes.str();
-    }
-
-    std::string write_file(const std::string& name, const std::string& content) const {
-        std::ofstream(path(name), std::ios::binary) << content;
-        return path(name);
-    }
-
-    bool empty() const { return fs::is_empty(dir_); }
-
-    fs::path dir_;
+    FormatFiles() : TempFolderTest("fdmsurf_formats_") {}
 };
 
 template <typename F>

@@ -2,20 +2,17 @@
 // on such files, rejection of malformed attributes, extract_patch, and their alignment through
 // cavity removal and refinement.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
 
-#include "support/meshstat_tool.hpp"
 #include "cli/json_check.hpp"
 #include "fdmsurf/error.hpp"
 #include "fdmsurf/mesh.hpp"
@@ -24,41 +21,16 @@
 #include "mesh/mesh_shapes.hpp"
 #include "mesh/refine.hpp"
 #include "support/mesh_checks.hpp"
+#include "support/meshstat_tool.hpp"
+#include "support/temp_folder.hpp"
 
 namespace fdmsurf {
 namespace {
 
-namespace fs = std::filesystem;
-
 // A fresh, empty folder per test, removed afterwards.
-class MeshAttributeFiles : public ::testing::Test {
+class MeshAttributeFiles : public test::TempFolderTest {
 protected:
-    void SetUp() override {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        dir_ = fs::temp_directory_path() / ("fdmsurf_attr_" + std::to_string(::getpid()) + "_" +
-                                            info->test_suite_name() + "_" + info->name());
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-
-    std::string path(const std::string& name) const { return (dir_ / name).string(); }
-
-    bool empty() const { return fs::is_empty(dir_); }
-
-    std::string read_file(const std::string& name) const {
-        std::ifstream in(path(name), std::ios::binary);
-        std::ostringstream text;
-        text << in.rdbuf();
-        return text.str();
-    }
-
-    std::string write_file(const std::string& name, const std::string& content) const {
-        std::ofstream(path(name), std::ios::binary) << content;
-        return path(name);
-    }
-
-    fs::path dir_;
+    MeshAttributeFiles() : TempFolderTest("fdmsurf_attr_") {}
 };
 
 template <typename F>
