@@ -629,14 +629,9 @@ TEST_F(FormatFiles, MeshstatReadsStlAndOffWithTheSameAreaAndVolume) {
     const MeshStats ours = compute_stats(mesh);
     for (const char* name : {"c.stl", "c.off"}) {
         write_mesh(mesh, path(name));
-        int status = 0;
-        const std::string text = test::run_meshstat({"stats", path(name)}, status);
-        ASSERT_EQ(status, 0) << name << ": " << text;
-        const auto json = fdmsurf_cli_test::parse_json(text);
-        ASSERT_TRUE(json.has_value()) << text;
-        using Type = fdmsurf_cli_test::JsonValue::Type;
-        const auto* stats =
-            json->type == Type::Array && !json->array.empty() ? &json->array[0] : &*json;
+        std::string text;
+        const auto stats = test::meshstat_stats(path(name), text);
+        ASSERT_TRUE(stats.has_value()) << name << ": " << text;
         for (const char* key : {"area", "volume", "vertices", "triangles"}) {
             ASSERT_NE(stats->find(key), nullptr) << key << " in " << text;
         }

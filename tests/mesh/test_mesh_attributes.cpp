@@ -288,15 +288,9 @@ TEST_F(MeshAttributeFiles, MeshstatReadsPlyAndObjWithAllAttributes) {
     const MeshStats ours = compute_stats(mesh);
     for (const char* name : {"s.ply", "s.obj"}) {
         write_mesh(mesh, path(name));
-        int status = 0;
-        const std::string text = test::run_meshstat({"stats", path(name)}, status);
-        ASSERT_EQ(status, 0) << name << ": " << text;
-        const auto json = fdmsurf_cli_test::parse_json(text);
-        ASSERT_TRUE(json.has_value()) << text;
-        // One mesh: one object (several: a list of them).
-        using Type = fdmsurf_cli_test::JsonValue::Type;
-        const auto* stats =
-            json->type == Type::Array && !json->array.empty() ? &json->array[0] : &*json;
+        std::string text;
+        const auto stats = test::meshstat_stats(path(name), text);
+        ASSERT_TRUE(stats.has_value()) << name << ": " << text;
         const auto* area = stats->find("area");
         const auto* vertices = stats->find("vertices");
         ASSERT_NE(area, nullptr) << text;

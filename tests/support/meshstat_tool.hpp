@@ -7,7 +7,10 @@
 #include <filesystem>
 #include <initializer_list>
 #include <memory>
+#include <optional>
 #include <string>
+
+#include "cli/json_check.hpp"
 
 namespace fdmsurf::test {
 
@@ -48,6 +51,20 @@ inline std::string run_meshstat(std::initializer_list<std::string> args, int& st
     std::string command = "/usr/bin/python3 '" + meshstat_path() + "' --json";
     for (const std::string& arg : args) command += " '" + arg + "'";
     return run_capture(command, status);
+}
+
+// The statistics of the mesh file at `path` by `meshstat.py --json stats` (an object; the first
+// when it gives a list, one per mesh), or nullopt when meshstat fails or prints no JSON. `text`
+// gets what it printed.
+inline std::optional<fdmsurf_cli_test::JsonValue> meshstat_stats(const std::string& path,
+                                                                 std::string& text) {
+    int status = 0;
+    text = run_meshstat({"stats", path}, status);
+    auto json = fdmsurf_cli_test::parse_json(text);
+    if (status != 0 || !json) return std::nullopt;
+    if (json->type == fdmsurf_cli_test::JsonValue::Type::Array && !json->array.empty())
+        return json->array[0];
+    return json;
 }
 
 // Why meshstat.py cannot run here, or "" when it can.
