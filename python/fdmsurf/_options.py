@@ -173,6 +173,36 @@ def _flag(name, value):
     return bool(value)
 
 
+def _fraction(name, value):
+    _real(name, value)
+    return float(value)
+
+
+def _grid(name, value):
+    grid = tuple(value)
+    if len(grid) != 3:
+        raise TypeError(f"{name} must be three whole numbers (nx, ny, nz)")
+    grid = tuple(int(_integer(name, n)) for n in grid)
+    if min(grid) < 0:
+        raise _fdmsurf.InvalidArgumentError(f"{name} must be >= 0 on every axis")
+    return grid
+
+
+# Keyword.kind -> how a value becomes the text of `--option=TEXT` (None: no option).
+_OPTION_TEXT = {
+    "float": _real,
+    "int": _integer,
+    "choice": _text,
+    "str": _text,
+    "list": lambda name, value: _items(name, value) or None,  # []: every chain, no property
+    "color": _color,
+}
+# Flags: the value that gives the bare option (--no-cavities; --no-snap for snap=False).
+_FLAG_VALUE = {"flag": True, "negflag": False}
+# Library-only settings: the value set on _Options.
+_LIBRARY_VALUE = {"fraction": _fraction, "grid": _grid}
+
+
 def _option_args(given):
     """The CLI arguments of the keywords in `given` (name -> value), and the library-only
     settings. A keyword given as None is left at its default."""
@@ -181,34 +211,15 @@ def _option_args(given):
         k = KEYWORDS[name]
         if value is None:
             continue
-        if k.kind == "float":
-            args.append(f"{k.cli}={_real(name, value)}")
-        elif k.kind == "int":
-            args.append(f"{k.cli}={_integer(name, value)}")
-        elif k.kind in ("choice", "str"):
-            args.append(f"{k.cli}={_text(name, value)}")
-        elif k.kind == "list":
-            text = _items(name, value)
-            if text:  # an empty list: every chain, no property
+        if k.kind in _OPTION_TEXT:
+            text = _OPTION_TEXT[k.kind](name, value)
+            if text is not None:
                 args.append(f"{k.cli}={text}")
-        elif k.kind == "color":
-            args.append(f"{k.cli}={_color(name, value)}")
-        elif k.kind == "flag":
-            if _flag(name, value):
+        elif k.kind in _FLAG_VALUE:
+            if _flag(name, value) == _FLAG_VALUE[k.kind]:
                 args.append(k.cli)
-        elif k.kind == "negflag":
-            if not _flag(name, value):
-                args.append(k.cli)
-        elif k.kind == "fraction":
-            _real(name, value)
-            library[name] = float(value)
-        elif k.kind == "grid":
-            grid = tuple(value)
-            if len(grid) != 3:
-                raise TypeError(f"{name} must be three whole numbers (nx, ny, nz)")
-            library[name] = tuple(int(_integer(name, n)) for n in grid)
-            if min(library[name]) < 0:
-                raise _fdmsurf.InvalidArgumentError(f"{name} must be >= 0 on every axis")
+        else:
+            library[name] = _LIBRARY_VALUE[k.kind](name, value)
     return args, library
 
 

@@ -46,6 +46,11 @@ std::string color_name(const PropertyOptions& p) {
     return text;
 }
 
+// None for a negative value (the library's "not given"), else the value.
+py::object none_if_negative(double value) {
+    return value < 0 ? py::object(py::none()) : py::object(py::float_(value));
+}
+
 // Every effective setting, defaults resolved as the library resolves them where that needs no
 // atoms: the options hash of fdmsurf.batch and the repr of the options.
 py::dict describe(const PyOptions& o) {
@@ -59,15 +64,13 @@ py::dict describe(const PyOptions& o) {
     d["sigma"] = s.sigma;
     d["level"] = effective_level(s);
     d["filter"] = filter_name(s.filter);
-    d["padding"] = s.padding < 0 ? py::object(py::none()) : py::object(py::float_(s.padding));
+    d["padding"] = none_if_negative(s.padding);
     d["density_cut"] = s.density_cut;
-    d["min_cavity_volume"] = s.min_cavity_volume < 0 ? py::object(py::none())
-                                                     : py::object(py::float_(s.min_cavity_volume));
+    d["min_cavity_volume"] = none_if_negative(s.min_cavity_volume);
     d["refine"] = s.refine;
     d["snap"] = s.snap;
     // None: the library's spacing / 50
-    d["chord_tolerance"] =
-        s.chord_tolerance < 0 ? py::object(py::none()) : py::object(py::float_(s.chord_tolerance));
+    d["chord_tolerance"] = none_if_negative(s.chord_tolerance);
     d["min_grid"] = py::make_tuple(s.min_grid[0], s.min_grid[1], s.min_grid[2]);
     d["color"] = color_name(s.properties);
     py::list properties;

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "cli/json.hpp"
@@ -166,40 +167,57 @@ inline std::string areas_lines(const RunReport& r) {
     return s;
 }
 
+// `key`: `value` where it is known, else null.
+template <class T>
+void member_or_null(JsonWriter& w, std::string_view key, bool known, const T& value) {
+    if (known)
+        w.member(key, value);
+    else
+        w.member(key, nullptr);
+}
+
+// `key`: the object that members() writes, or null when there is none.
+template <class Members>
+void object_or_null(JsonWriter& w, std::string_view key, bool present, Members&& members) {
+    if (!present) {
+        w.member(key, nullptr);
+        return;
+    }
+    w.key(key).begin_object();
+    members();
+    w.end_object();
+}
+
 inline void areas_json(JsonWriter& w, const RunReport& r) {
-    if (r.areas_file.empty()) {
-        w.member("areas", nullptr);
-    } else {
-        w.key("areas").begin_object();
+    const bool mesh = r.areas_mesh_total >= 0.0;
+    object_or_null(w, "areas", !r.areas_file.empty(), [&] {
         w.member("file", r.areas_file);
         w.member("exact", r.areas_exact);
         w.member("total", r.areas_total);
-        if (r.areas_mesh_total >= 0.0) {
-            w.member("mesh_total", r.areas_mesh_total);
-            w.member("mesh_on_patches", r.areas_on_patches);
-        } else {
-            w.member("mesh_total", nullptr);
-            w.member("mesh_on_patches", nullptr);
-        }
+        member_or_null(w, "mesh_total", mesh, r.areas_mesh_total);
+        member_or_null(w, "mesh_on_patches", mesh, r.areas_on_patches);
         w.member("residues", r.areas_residues);
-        w.end_object();
-    }
-    if (r.buried.empty()) {
-        w.member("buried", nullptr);
-    } else {
-        w.key("buried").begin_object();
+    });
+    object_or_null(w, "buried", !r.buried.empty(), [&] {
         w.member("groups", r.buried);
         w.member("area", r.buried_area);
         w.key("group_areas").begin_array();
         for (double a : r.buried_groups) w.value(a);
         w.end_array();
-        if (r.buried_mesh_area >= 0.0)
-            w.member("mesh_area", r.buried_mesh_area);
-        else
-            w.member("mesh_area", nullptr);
+        member_or_null(w, "mesh_area", r.buried_mesh_area >= 0.0, r.buried_mesh_area);
         w.member("atoms_outside_groups", r.atoms_outside_groups);
-        w.end_object();
-    }
+    });
+}
+
+// The stage times, the total and the warnings: the last members of both JSON summaries.
+inline void times_json(JsonWriter& w, const RunReport& r) {
+    w.key("times").begin_object();
+    for (const StageTime& t : merge_times(r.times)) w.member(t.name, t.ms);
+    w.end_object();
+    w.member("total_ms", r.total_ms);
+    w.key("warnings").begin_array();
+    for (const std::string& warning : r.warnings) w.value(warning);
+    w.end_array();
 }
 
 inline std::string text_summary(const RunReport& r) {
@@ -346,33 +364,21 @@ inline std::string json_summary(const RunReport& r) {
     w.member("vertices", m.vertices);
     w.member("triangles", m.triangles);
     w.member("mesh_on_host", r.mesh_on_host);
-    if (r.mesh_on_host) {
-        w.member("pieces", m.pieces);
-        w.member("closed_pieces", m.closed_pieces);
-        w.member("boundary_edges", m.boundary_edges);
-        w.member("nonmanifold_edges", m.nonmanifold_edges);
-        w.member("closed_manifold", r.closed_manifold);
-    } else {
-        for (const char* key :
-             {"pieces", "closed_pieces", "boundary_edges", "nonmanifold_edges", "closed_manifold"})
-            w.member(key, nullptr);
-    }
+    member_or_null(w, "pieces", r.mesh_on_host, m.pieces);
+    member_or_null(w, "closed_pieces", r.mesh_on_host, m.closed_pieces);
+    member_or_null(w, "boundary_edges", r.mesh_on_host, m.boundary_edges);
+    member_or_null(w, "nonmanifold_edges", r.mesh_on_host, m.nonmanifold_edges);
+    member_or_null(w, "closed_manifold", r.mesh_on_host, r.closed_manifold);
     w.member("patch", r.patch);
     w.member("patch_atoms", r.patch_atoms);
     w.member("color", to_string(r.color));
     w.key("properties").begin_array();
     for (const std::string& p : r.properties) w.value(p);
     w.end_array();
-    if (r.mesh_on_host) {
-        w.member("area", m.area);
-        w.member("volume", m.volume);
-    } else {
-        w.member("area", nullptr);
-        w.member("volume", nullptr);
-    }
-    if (r.simplified) {
+    member_or_null(w, "area", r.mesh_on_host, m.area);
+    member_or_null(w, "volume", r.mesh_on_host, m.volume);
+    object_or_null(w, "simplify", r.simplified, [&] {
         const SimplifyReport& q = r.simplify;
-        w.key("simplify").begin_object();
         w.member("ratio", r.simplify_options.ratio);
         w.member("max_triangles", r.simplify_options.max_triangles);
         w.member("target_triangles", q.target_triangles);
@@ -389,10 +395,7 @@ inline std::string json_summary(const RunReport& r) {
         w.member("error", q.error);
         w.member("hausdorff", q.hausdorff);
         w.member("rmsd", q.rmsd);
-        w.end_object();
-    } else {
-        w.member("simplify", nullptr);
-    }
+    });
     w.member("optimized", r.optimized);
     areas_json(w, r);
     w.member("device", r.device);
@@ -412,14 +415,7 @@ inline std::string json_summary(const RunReport& r) {
     }
     w.end_array();
 
-    w.key("times").begin_object();
-    for (const StageTime& t : merge_times(r.times)) w.member(t.name, t.ms);
-    w.end_object();
-    w.member("total_ms", r.total_ms);
-
-    w.key("warnings").begin_array();
-    for (const std::string& warning : r.warnings) w.value(warning);
-    w.end_array();
+    times_json(w, r);
     w.end_object();
     return w.str();
 }
@@ -450,13 +446,7 @@ inline std::string areas_only_json(const RunReport& r) {
     w.member("atoms_used", r.atoms_used);
     w.member("atoms_in_file", r.info.atoms_in_file);
     areas_json(w, r);
-    w.key("times").begin_object();
-    for (const StageTime& t : merge_times(r.times)) w.member(t.name, t.ms);
-    w.end_object();
-    w.member("total_ms", r.total_ms);
-    w.key("warnings").begin_array();
-    for (const std::string& warning : r.warnings) w.value(warning);
-    w.end_array();
+    times_json(w, r);
     w.end_object();
     return w.str();
 }

@@ -73,21 +73,7 @@ void DensityPass::record(Commands& cmds, StagingArena& arena, const AtomBins& bi
     cmds.barrier_compute();
 
     shader::DensityPush p{};
-    p.origin_x = g.origin[0];
-    p.origin_y = g.origin[1];
-    p.origin_z = g.origin[2];
-    p.spacing = g.spacing;
-    p.nx = g.dims[0];
-    p.ny = g.dims[1];
-    p.nz = g.dims[2];
-    p.pitch = plan.pitch;
-    p.bin_origin_x = bins.origin[0];
-    p.bin_origin_y = bins.origin[1];
-    p.bin_origin_z = bins.origin[2];
-    p.bin_size = bins.size;
-    p.bin_nx = bins.dims[0];
-    p.bin_ny = bins.dims[1];
-    p.bin_nz = bins.dims[2];
+    set_grid_push(p, plan, bins.origin, bins.size, bins.dims);
     p.max_shell = bins.max_shell;
     p.inv_sigma2 = 1.0f / (plan.density.sigma * plan.density.sigma);
     p.pi_cut = plan.density.pi_cut;

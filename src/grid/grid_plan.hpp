@@ -34,6 +34,30 @@ struct GridPlan {
     std::size_t field_floats() const { return std::size_t(pitch) * info.dims[1] * info.dims[2]; }
 };
 
+// Sets the members that the density and SES distance shaders' push constants share
+// (shaders/shader_interface.h): the grid's origin, spacing, points and pitch, and the atom bins'
+// origin, edge (Å) and counts.
+template <class Push>
+void set_grid_push(Push& p, const GridPlan& plan, const float (&bin_origin)[3], float bin_size,
+                   const std::uint32_t (&bin_dims)[3]) {
+    const GridInfo& g = plan.info;
+    p.origin_x = g.origin[0];
+    p.origin_y = g.origin[1];
+    p.origin_z = g.origin[2];
+    p.spacing = g.spacing;
+    p.nx = g.dims[0];
+    p.ny = g.dims[1];
+    p.nz = g.dims[2];
+    p.pitch = plan.pitch;
+    p.bin_origin_x = bin_origin[0];
+    p.bin_origin_y = bin_origin[1];
+    p.bin_origin_z = bin_origin[2];
+    p.bin_size = bin_size;
+    p.bin_nx = bin_dims[0];
+    p.bin_ny = bin_dims[1];
+    p.bin_nz = bin_dims[2];
+}
+
 // Smallest n' >= n whose prime factors are 2, 3, 5 and 7 only (and even if `even`).
 std::uint32_t fft_friendly_size(std::uint32_t n, bool even);
 

@@ -155,28 +155,23 @@ std::size_t remove_pieces_if(Mesh& mesh, const std::function<bool(double)>& cand
     if (nt == 0) return 0;
     const VertexPieces parts = vertex_pieces(mesh);
     // Signed volume per piece (divergence theorem), summed chunk by chunk in a fixed order.
-    struct Run {
-        std::uint32_t piece;
-        double volume;
-    };
-    std::vector<std::vector<Run>> runs(chunk_count(nt, kTriangleChunk));
     const float* p = mesh.positions.data();
-    parallel_chunks(runs.size(), thread_count(), [&](std::size_t k) {
-        for (std::size_t t = k * kTriangleChunk; t < std::min(nt, (k + 1) * kTriangleChunk); ++t) {
-            const float* a = p + 3 * mesh.indices[3 * t];
-            const float* b = p + 3 * mesh.indices[3 * t + 1];
-            const float* c = p + 3 * mesh.indices[3 * t + 2];
-            const double det = double(a[0]) * (double(b[1]) * c[2] - double(b[2]) * c[1]) -
-                               double(a[1]) * (double(b[0]) * c[2] - double(b[2]) * c[0]) +
-                               double(a[2]) * (double(b[0]) * c[1] - double(b[1]) * c[0]);
-            const std::uint32_t piece = parts.of_vertex[mesh.indices[3 * t]];
-            if (runs[k].empty() || runs[k].back().piece != piece) runs[k].push_back({piece, 0.0});
-            runs[k].back().volume += det / 6.0;
-        }
-    });
     std::vector<double> volume(parts.count, 0.0);
-    for (const std::vector<Run>& chunk : runs)
-        for (const Run& r : chunk) volume[r.piece] += r.volume;
+    sum_by_piece<double>(
+        chunk_count(nt, kTriangleChunk), thread_count(),
+        [&](std::size_t k, PieceRuns<double>& runs) {
+            for (std::size_t t = k * kTriangleChunk; t < std::min(nt, (k + 1) * kTriangleChunk);
+                 ++t) {
+                const float* a = p + 3 * mesh.indices[3 * t];
+                const float* b = p + 3 * mesh.indices[3 * t + 1];
+                const float* c = p + 3 * mesh.indices[3 * t + 2];
+                const double det = double(a[0]) * (double(b[1]) * c[2] - double(b[2]) * c[1]) -
+                                   double(a[1]) * (double(b[0]) * c[2] - double(b[2]) * c[0]) +
+                                   double(a[2]) * (double(b[0]) * c[1] - double(b[1]) * c[0]);
+                piece_sum(runs, parts.of_vertex[mesh.indices[3 * t]]) += det / 6.0;
+            }
+        },
+        [&](std::uint32_t piece, double v) { volume[piece] += v; });
     // The triangles of each candidate piece, for the predicate.
     std::vector<std::uint32_t> candidate_of(parts.count, UINT32_MAX);
     std::vector<MeshPiece> pieces;

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/parallel.hpp"
 #include "fdmsurf/mesh.hpp"
 
 namespace fdmsurf::detail {
@@ -27,6 +28,35 @@ inline constexpr std::size_t kTriangleChunk = std::size_t{1} << 16;
 inline constexpr std::size_t kVertexChunk = std::size_t{1} << 14;
 inline std::size_t chunk_count(std::size_t count, std::size_t chunk) {
     return (count + chunk - 1) / chunk;
+}
+
+// One chunk's running sums per piece: a new run whenever the piece changes (the vertices and
+// triangles of one piece mostly come together, so runs stay few).
+template <class Sum>
+struct PieceRun {
+    std::uint32_t piece;
+    Sum sum;
+};
+template <class Sum>
+using PieceRuns = std::vector<PieceRun<Sum>>;
+
+// The sum of `piece` in a chunk's `runs`: the last run's, or a new run's (Sum{}) when the piece
+// differs from the last.
+template <class Sum>
+Sum& piece_sum(PieceRuns<Sum>& runs, std::uint32_t piece) {
+    if (runs.empty() || runs.back().piece != piece) runs.push_back({piece, Sum{}});
+    return runs.back().sum;
+}
+
+// Runs chunk(k, runs) for k in [0, chunks) on `threads` threads, each chunk with runs of its own,
+// then add(piece, sum) for every run, chunk after chunk: sums taken this way come out the same
+// for any number of threads.
+template <class Sum, class Chunk, class Add>
+void sum_by_piece(std::size_t chunks, unsigned threads, Chunk&& chunk, Add&& add) {
+    std::vector<PieceRuns<Sum>> runs(chunks);
+    parallel_chunks(chunks, threads, [&](std::size_t k) { chunk(k, runs[k]); });
+    for (const PieceRuns<Sum>& of_chunk : runs)
+        for (const PieceRun<Sum>& run : of_chunk) add(run.piece, run.sum);
 }
 
 }  // namespace fdmsurf::detail

@@ -61,29 +61,20 @@ VertexCorners corners_by_vertex(const std::vector<Index>& idx, std::size_t n, un
 using Pieces = VertexPieces;
 constexpr Index no_piece = kNoPiece;
 
-// One chunk's contribution to one piece; a chunk's runs are summed in chunk order, so the
-// floating-point sums do not depend on the number of threads.
+// One chunk's contribution to one piece (sum_by_piece adds them up in chunk order).
 struct Partial {
-    Index piece = no_piece;
     MeshStats stats;
     long edges = 0;
     long faces = 0;  // non-degenerate triangles
 };
-
-// Appends to `runs` a new partial when the piece changes (vertices and triangles of one piece
-// mostly come together, so runs stay few).
-Partial& partial_for(std::vector<Partial>& runs, Index piece) {
-    if (runs.empty() || runs.back().piece != piece) runs.push_back(Partial{piece, {}, 0, 0});
-    return runs.back();
-}
+using Runs = PieceRuns<Partial>;
 
 // Area, signed volume and triangle counts of the triangles in chunk k.
-void triangle_chunk(const Mesh& mesh, const Pieces& pieces, std::size_t k,
-                    std::vector<Partial>& runs) {
+void triangle_chunk(const Mesh& mesh, const Pieces& pieces, std::size_t k, Runs& runs) {
     const auto& idx = mesh.indices;
     const std::size_t end = std::min(idx.size(), (k + 1) * 3 * kTriangleChunk);
     for (std::size_t c = k * 3 * kTriangleChunk; c < end; c += 3) {
-        Partial& part = partial_for(runs, pieces.of_vertex[idx[c]]);
+        Partial& part = piece_sum(runs, pieces.of_vertex[idx[c]]);
         MeshStats& s = part.stats;
         const auto a = position(mesh, idx[c]);
         const auto b = position(mesh, idx[c + 1]);
@@ -116,7 +107,7 @@ struct LocalUse {
 // and counted at its smaller end v; the corners at v that share an edge form one fan, and more
 // than one fan makes v a non-manifold vertex.
 void vertex_chunk(const Mesh& mesh, const Pieces& pieces, const VertexCorners& vc, std::size_t k,
-                  std::vector<Partial>& runs) {
+                  Runs& runs) {
     const auto& idx = mesh.indices;
     const std::size_t n = mesh.vertex_count();
     std::vector<LocalUse> uses;
@@ -128,7 +119,7 @@ void vertex_chunk(const Mesh& mesh, const Pieces& pieces, const VertexCorners& v
     const std::size_t end = std::min(n, (k + 1) * kVertexChunk);
     for (std::size_t v = k * kVertexChunk; v < end; ++v) {
         if (pieces.of_vertex[v] == no_piece) continue;
-        Partial& part = partial_for(runs, pieces.of_vertex[v]);
+        Partial& part = piece_sum(runs, pieces.of_vertex[v]);
         MeshStats& s = part.stats;
         ++s.vertices;
         uses.clear();
@@ -182,20 +173,19 @@ std::vector<MeshStats> analyse_pieces(const Mesh& mesh, unsigned requested_threa
 
     const std::size_t triangle_chunks = chunk_count(mesh.triangle_count(), kTriangleChunk);
     const std::size_t vertex_chunks = chunk_count(mesh.vertex_count(), kVertexChunk);
-    std::vector<std::vector<Partial>> runs(triangle_chunks + vertex_chunks);
-    parallel_chunks(runs.size(), threads, [&](std::size_t k) {
-        if (k < triangle_chunks)
-            triangle_chunk(mesh, pieces, k, runs[k]);
-        else
-            vertex_chunk(mesh, pieces, vc, k - triangle_chunks, runs[k]);
-    });
-
     std::vector<MeshStats> stats(pieces.count);
     std::vector<long> edge_count(pieces.count, 0);
     std::vector<long> face_count(pieces.count, 0);
-    for (const std::vector<Partial>& chunk : runs) {
-        for (const Partial& part : chunk) {
-            MeshStats& s = stats[part.piece];
+    sum_by_piece<Partial>(
+        triangle_chunks + vertex_chunks, threads,
+        [&](std::size_t k, Runs& runs) {
+            if (k < triangle_chunks)
+                triangle_chunk(mesh, pieces, k, runs);
+            else
+                vertex_chunk(mesh, pieces, vc, k - triangle_chunks, runs);
+        },
+        [&](Index piece, const Partial& part) {
+            MeshStats& s = stats[piece];
             const MeshStats& q = part.stats;
             s.vertices += q.vertices;
             s.triangles += q.triangles;
@@ -206,10 +196,9 @@ std::vector<MeshStats> analyse_pieces(const Mesh& mesh, unsigned requested_threa
             s.nonmanifold_vertices += q.nonmanifold_vertices;
             s.inconsistent_edges += q.inconsistent_edges;
             s.degenerate_triangles += q.degenerate_triangles;
-            edge_count[part.piece] += part.edges;
-            face_count[part.piece] += part.faces;
-        }
-    }
+            edge_count[piece] += part.edges;
+            face_count[piece] += part.faces;
+        });
     for (std::size_t p = 0; p < stats.size(); ++p) {
         MeshStats& s = stats[p];
         s.pieces = 1;

@@ -177,3 +177,13 @@ protected:
 };
 
 }  // namespace fdmsurf_cli_test
+
+// In a CliProgram test: skips the end-to-end test when no device is usable, or fails it under
+// FDMSURF_REQUIRE_DEVICE=1.
+#define FDMSURF_REQUIRE_CLI_DEVICE()                                               \
+    do {                                                                           \
+        if (const auto why = no_usable_device()) {                                 \
+            if (device_required()) FAIL() << *why << "(FDMSURF_REQUIRE_DEVICE=1)"; \
+            GTEST_SKIP() << *why;                                                  \
+        }                                                                          \
+    } while (0)

@@ -118,10 +118,7 @@ TEST_F(CliAreasRun, AreasAloneNeedNoDevice) {
 }
 
 TEST_F(CliAreasRun, AreasBesideTheMesh) {
-    if (const auto why = no_usable_device()) {
-        if (device_required()) FAIL() << *why;
-        GTEST_SKIP() << *why;
-    }
+    FDMSURF_REQUIRE_CLI_DEVICE();
     const std::string mesh = path("m.ply"), areas = path("a.json");
     const CliRun r = run({data("3al1.pdb"), "-o", mesh, "--surface", "sas", "--areas", areas,
                           "--buried", "A:B", "--stats", "json"});
@@ -147,10 +144,7 @@ TEST_F(CliAreasRun, AreasBesideTheMesh) {
 // -o FILE.png with --areas: vdw and sas keep the mesh on the device for the picture and write
 // the exact areas with no mesh split (as without -o); ses splits the host mesh it draws.
 TEST_F(CliAreasRun, AreasBesideAPicture) {
-    if (const auto why = no_usable_device()) {
-        if (device_required()) FAIL() << *why;
-        GTEST_SKIP() << *why;
-    }
+    FDMSURF_REQUIRE_CLI_DEVICE();
     const std::string picture = path("p.png"), areas = path("a.json");
     const CliRun r = run({data("1crn.pdb"), "-o", picture, "--surface", "sas", "--areas", areas,
                           "--relative", "tien2013", "--image-size", "64x48", "--stats", "json"});

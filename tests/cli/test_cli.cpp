@@ -87,10 +87,7 @@ TEST_F(CliProgram, OutputFolderIsCreatedButNotItsParents) {
     expect_failure(run({a, b, "-o", path("missing/meshes") + "/"}), 3,
                    {"missing", "does not exist"});
     EXPECT_FALSE(fs::exists(path("missing")));
-    if (const auto why = no_usable_device()) {
-        if (device_required()) FAIL() << *why << "(FDMSURF_REQUIRE_DEVICE=1)";
-        GTEST_SKIP() << *why;
-    }
+    FDMSURF_REQUIRE_CLI_DEVICE();
     const CliRun r = run({a, b, "-o", path("meshes") + "/", "--spacing", "1.0", "--quiet"});
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_TRUE(fs::exists(path("meshes/a.ply")));
@@ -152,10 +149,7 @@ TEST_F(CliProgram, NoVulkanDriverNamesThePackageToInstall) {
 }
 
 TEST_F(CliProgram, CoarseSpacingWarnsButSucceeds) {
-    if (auto why = no_usable_device()) {
-        if (device_required()) FAIL() << *why;
-        GTEST_SKIP() << *why;
-    }
+    FDMSURF_REQUIRE_CLI_DEVICE();
     const std::string input = write_file("atoms.xyzr", kTwoAtomsXyzr);
     const CliRun r = run({input, "-o", path("out.ply"), "--spacing", "3.0", "--quiet"});
     EXPECT_EQ(r.exit_code, 0) << r.err;
@@ -175,10 +169,7 @@ TEST_F(CliProgram, CrambinSurfaceAsJson) {
     if (crambin.empty() || !fs::exists(crambin)) {
         GTEST_SKIP() << "tests/data/1crn.pdb is absent";
     }
-    if (const auto why = no_usable_device()) {
-        if (device_required()) FAIL() << *why << "(FDMSURF_REQUIRE_DEVICE=1)";
-        GTEST_SKIP() << *why;
-    }
+    FDMSURF_REQUIRE_CLI_DEVICE();
 
     const std::string output = path("1crn.ply");
     const CliRun r = run({crambin.string(), "-o", output, "--stats", "json"});
@@ -210,10 +201,7 @@ TEST_F(CliProgram, CrambinSurfaceAsJson) {
 }
 
 TEST_F(CliProgram, QuietRunPrintsNothingAndWritesObj) {
-    if (const auto why = no_usable_device()) {
-        if (device_required()) FAIL() << *why << "(FDMSURF_REQUIRE_DEVICE=1)";
-        GTEST_SKIP() << *why;
-    }
+    FDMSURF_REQUIRE_CLI_DEVICE();
     const std::string input = write_file("atoms.xyzr", kTwoAtomsXyzr);
     const std::string output = path("atoms.obj");
     const CliRun r = run({input, "-o", output, "--quiet", "--spacing=0.4"});
@@ -243,10 +231,7 @@ TEST_F(CliProgram, AssemblyOutOfRangeNamesHowManyThereAre) {
 
 TEST_F(CliProgram, AssemblyIsReportedInJson) {
     if (kDataDir == nullptr) GTEST_SKIP() << "no test data folder";
-    if (const auto why = no_usable_device()) {
-        if (device_required()) FAIL() << *why << "(FDMSURF_REQUIRE_DEVICE=1)";
-        GTEST_SKIP() << *why;
-    }
+    FDMSURF_REQUIRE_CLI_DEVICE();
     const std::string crambin = (fs::path(kDataDir) / "1crn.cif").string();
     const CliRun r = run(
         {crambin, "--assembly", "1", "-o", path("a1.ply"), "--stats", "json", "--spacing", "1.0"});
@@ -266,10 +251,7 @@ TEST_F(CliProgram, ModelsAllWritesOneClosedMeshPerModel) {
     const fs::path ensemble = kDataDir == nullptr ? fs::path() : fs::path(kDataDir) / "1d3z.pdb.gz";
     if (ensemble.empty() || !fs::exists(ensemble))
         GTEST_SKIP() << "tests/data/1d3z.pdb.gz is absent";
-    if (const auto why = no_usable_device()) {
-        if (device_required()) FAIL() << *why << "(FDMSURF_REQUIRE_DEVICE=1)";
-        GTEST_SKIP() << *why;
-    }
+    FDMSURF_REQUIRE_CLI_DEVICE();
     const std::string folder = path("meshes") + "/";
     fs::create_directories(folder);
     const CliRun r = run({ensemble.string(), "--models", "all", "-o", folder, "--stats", "json",
@@ -315,10 +297,7 @@ TEST_F(CliProgram, ModelsAllWritesOneClosedMeshPerModel) {
 // --refine through the program: the stage appears in the JSON times, the mesh has four times
 // the triangles, and a bad level is a usage error before any work.
 TEST_F(CliProgram, RefineQuadruplesTheTrianglesAndIsTimed) {
-    if (const auto why = no_usable_device()) {
-        if (device_required()) FAIL() << *why << "(FDMSURF_REQUIRE_DEVICE=1)";
-        GTEST_SKIP() << *why;
-    }
+    FDMSURF_REQUIRE_CLI_DEVICE();
     const std::string input = write_file("atoms.xyzr", kTwoAtomsXyzr);
     double triangles[2] = {0, 0};
     for (int level = 0; level < 2; ++level) {
@@ -346,10 +325,7 @@ TEST_F(CliProgram, RefineOutOfRangeIsAUsageError) {
 }
 
 TEST_F(CliProgram, SimplifiedMeshIsClosedAndItsDeviationReported) {
-    if (const auto why = no_usable_device()) {
-        if (device_required()) FAIL() << *why << "(FDMSURF_REQUIRE_DEVICE=1)";
-        GTEST_SKIP() << *why;
-    }
+    FDMSURF_REQUIRE_CLI_DEVICE();
     const std::string input = write_file("atoms.xyzr", kTwoAtomsXyzr);
     const std::string full = path("full.ply"), simplified = path("simplified.ply");
     const CliRun a = run({input, "-o", full, "--stats", "json"});
@@ -403,10 +379,7 @@ TEST_F(CliProgram, SimplifyRatioOutsideZeroOneIsAUsageError) {
 }
 
 TEST_F(CliProgram, ExactSesIsReportedAsTheEdtMethod) {
-    if (const auto why = no_usable_device()) {
-        if (device_required()) FAIL() << *why << "(FDMSURF_REQUIRE_DEVICE=1)";
-        GTEST_SKIP() << *why;
-    }
+    FDMSURF_REQUIRE_CLI_DEVICE();
     const std::string input = write_file("atoms.xyzr", kTwoAtomsXyzr);
     const std::string output = path("edt.ply");
     const CliRun r = run({input, "-o", output, "--stats", "json", "--method", "edt"});

@@ -28,15 +28,6 @@ using fdmsurf_cli_test::parse_json;
 using fdmsurf_cli_test::read_text;
 using fdmsurf_cli_test::shell_quote;
 
-// The end-to-end tests need a device; FDMSURF_REQUIRE_DEVICE=1 makes its absence a failure.
-#define REQUIRE_DEVICE()                                                           \
-    do {                                                                           \
-        if (const auto why = no_usable_device()) {                                 \
-            if (device_required()) FAIL() << *why << "(FDMSURF_REQUIRE_DEVICE=1)"; \
-            GTEST_SKIP() << *why;                                                  \
-        }                                                                          \
-    } while (0)
-
 class CliFormats : public CliProgram {
 protected:
     // Runs `pipeline` (a shell command line in which $FDMSURF is the program) under bash;
@@ -87,7 +78,7 @@ TEST(CliFormatOptions, OutputFormatAndStandardStreamsParse) {
 }
 
 TEST_F(CliFormats, EveryOutputExtensionWritesAClosedMeshThatReadsBack) {
-    REQUIRE_DEVICE();
+    FDMSURF_REQUIRE_CLI_DEVICE();
     const std::string input = write_file("atoms.xyzr", kTwoAtomsXyzr);
     for (const char* ext : {".glb", ".stl", ".off", ".ply", ".obj"}) {
         const std::string output = path(std::string("atoms") + ext);
@@ -120,7 +111,7 @@ TEST_F(CliFormats, OutputFormatOverridesTheExtensionAndNamesFolderOutputs) {
     const std::string b = write_file("b.xyzr", kTwoAtomsXyzr);
     expect_failure(run({a, "-o", path("out.ply"), "--output-format", "vrml"}), 2,
                    {"--output-format", "vrml", "ply, obj, glb, stl, off or png"});
-    REQUIRE_DEVICE();
+    FDMSURF_REQUIRE_CLI_DEVICE();
     CliRun r = run({a, "-o", path("mesh.bin"), "--output-format", "stl", "--quiet"});
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const std::string stl = read_text(path("mesh.bin"));
@@ -135,7 +126,7 @@ TEST_F(CliFormats, OutputFormatOverridesTheExtensionAndNamesFolderOutputs) {
 
 // -o -: the bytes on stdout are those of the file; the summary, text or JSON, goes to stderr.
 TEST_F(CliFormats, MeshOnStandardOutputEqualsTheFileAndTheSummaryGoesToStderr) {
-    REQUIRE_DEVICE();
+    FDMSURF_REQUIRE_CLI_DEVICE();
     const std::string input = write_file("atoms.xyzr", kTwoAtomsXyzr);
     for (const char* format : {"ply", "glb", "stl", "off", "obj"}) {
         const std::string file = path(std::string("atoms.") + format);
@@ -165,7 +156,7 @@ TEST_F(CliFormats, MeshOnStandardOutputEqualsTheFileAndTheSummaryGoesToStderr) {
 
 // - reads standard input, from a redirect or a pipe, gzip or not; the format from the content.
 TEST_F(CliFormats, StandardInputGivesTheSameMeshAsTheFile) {
-    REQUIRE_DEVICE();
+    FDMSURF_REQUIRE_CLI_DEVICE();
     const std::string from_file = path("file.ply");
     CliRun r = run({crambin(), "-o", from_file, "--quiet"});
     ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -188,7 +179,7 @@ TEST_F(CliFormats, StandardInputGivesTheSameMeshAsTheFile) {
 }
 
 TEST_F(CliFormats, StandardInputFormatComesFromTheContent) {
-    REQUIRE_DEVICE();
+    FDMSURF_REQUIRE_CLI_DEVICE();
     // PQR: whitespace-separated, charge and radius last (not PDB's occupancy and B columns).
     const std::string pqr =
         "ATOM      1  N   ALA     1      -0.677  -1.230  -0.491  0.1414 1.8240\n"
@@ -213,7 +204,7 @@ TEST_F(CliFormats, StandardInputFormatComesFromTheContent) {
 
 // A reader that goes away: an error naming standard output and the broken pipe, exit 3, no crash.
 TEST_F(CliFormats, BrokenPipeIsAnErrorNotACrash) {
-    REQUIRE_DEVICE();
+    FDMSURF_REQUIRE_CLI_DEVICE();
     std::string err;
     const int code = run_pipeline(
         "\"$FDMSURF\" " + shell_quote(crambin()) + " -o - --quiet | head -c 10 >/dev/null", err);

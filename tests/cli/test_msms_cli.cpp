@@ -13,6 +13,7 @@
 
 #include "cli/msms_command.hpp"
 #include "fdmsurf/fdmsurf.hpp"
+#include "support/temp_folder.hpp"
 
 namespace {
 
@@ -153,17 +154,11 @@ MasifRead masif_read(const std::string& base) {
     return r;
 }
 
-class MsmsRuns : public ::testing::Test {
+// A fresh folder per test, its name with the process id: runs of the suite in other checkouts
+// at the same time do not share it.
+class MsmsRuns : public fdmsurf::test::TempFolderTest {
 protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() /
-               ("fdmsurf-msms-" + std::string(::testing::UnitTest::GetInstance()
-                                                  ->current_test_info()
-                                                  ->name()));
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
+    MsmsRuns() : TempFolderTest("fdmsurf-msms-") {}
 
     // Runs `program args` in the test's folder.
     MsmsRun run(const std::string& program, const std::string& args) {
@@ -182,7 +177,6 @@ protected:
     static std::string data(const std::string& file) {
         return std::string(FDMSURF_TEST_DATA_DIR) + "/" + file;
     }
-    fs::path dir_;
 };
 
 TEST_F(MsmsRuns, MasifReadsTheFilesOfCrambinAndHaemoglobinIntoTheRightArrays) {

@@ -30,14 +30,6 @@ using fdmsurf_cli_test::parse_error_with;
 using fdmsurf_cli_test::parse_json;
 using fdmsurf_cli_test::parse_with;
 
-#define REQUIRE_DEVICE()                                                           \
-    do {                                                                           \
-        if (const auto why = no_usable_device()) {                                 \
-            if (device_required()) FAIL() << *why << "(FDMSURF_REQUIRE_DEVICE=1)"; \
-            GTEST_SKIP() << *why;                                                  \
-        }                                                                          \
-    } while (0)
-
 CliOptions parse_png(std::vector<std::string> extra) {
     std::vector<std::string> args{"in.pdb", "-o", "out.png"};
     args.insert(args.end(), extra.begin(), extra.end());
@@ -204,7 +196,7 @@ TEST(CliRenderSummary, PicturesAndTheDeviceMeshInTextAndJson) {
 
 // -o FILE.png: the surface drawn on the device; the PNG, the summary without area, the times.
 TEST_F(CliRender, PictureOnlyRunWritesThePngAndReportsIt) {
-    REQUIRE_DEVICE();
+    FDMSURF_REQUIRE_CLI_DEVICE();
     CliRun r = run({crambin(), "-o", path("1crn.png"), "--image-size", "320x240", "--stats", "json",
                     "--validation"});
     ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -240,7 +232,7 @@ TEST_F(CliRender, PictureOnlyRunWritesThePngAndReportsIt) {
 
 // --image beside a mesh, several views, colours by chain on screen.
 TEST_F(CliRender, ImageBesideTheMeshWithViews) {
-    REQUIRE_DEVICE();
+    FDMSURF_REQUIRE_CLI_DEVICE();
     const std::string input = (fs::path(kDataDir) / "3al1.pdb").string();
     CliRun r = run({input, "-o", path("3al1.ply"), "--image", path("3al1.png"), "--views",
                     "front,right", "--image-size", "200x150", "--color", "chain", "--outline",
@@ -275,7 +267,7 @@ TEST_F(CliRender, ImageBesideTheMeshWithViews) {
 
 // -o - --output-format png: the PNG on stdout, the summary on stderr.
 TEST_F(CliRender, PictureOnStandardOutput) {
-    REQUIRE_DEVICE();
+    FDMSURF_REQUIRE_CLI_DEVICE();
     const std::string input = write_file("atoms.xyzr", kTwoAtomsXyzr);
     const CliRun r = run({input, "-o", "-", "--output-format", "png", "--image-size", "40x30"});
     ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -295,7 +287,7 @@ TEST_F(CliRender, BadSizesAndPathsFailBeforeAnythingIsWritten) {
                    {"missing", "does not exist"});
     expect_failure(run({input, "-o", path("m.ply"), "--image", path("missing") + "/a.png"}), 3,
                    {"missing"});
-    REQUIRE_DEVICE();
+    FDMSURF_REQUIRE_CLI_DEVICE();
     expect_failure(run({input, "-o", path("a.png"), "--image-size", "100000x10"}), 2,
                    {"100000 x 10", "maxImageDimension2D"});
     expect_failure(

@@ -3,13 +3,11 @@
 // itself, the byte layouts, the limits, streams, and meshstat.py as an independent reader.
 #include <gtest/gtest.h>
 #include <tiny_gltf.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <sstream>
 #include <streambuf>
@@ -23,6 +21,7 @@
 #include "formats/formats.hpp"
 #include "mesh/mesh_shapes.hpp"
 #include "support/meshstat_tool.hpp"
+#include "support/temp_folder.hpp"
 #include "support/test_data.hpp"
 
 namespace fdmsurf {
@@ -30,41 +29,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-#ifdef FDMSURF_SHARED_DIR
-const std::string kSharedDir = FDMSURF_SHARED_DIR;
-#else
-const std::string kSharedDir = "../shared";
-#endif
-
 // A fresh, empty folder per test, removed afterwards.
-class FormatFiles : public ::testing::Test {
+class FormatFiles : public test::TempFolderTest {
 protected:
-    void SetUp() override {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        dir_ = fs::temp_directory_path() / ("fdmsurf_formats_" + std::to_string(::getpid()) + "_" +
-                                            info->test_suite_name() + "_" + info->name());
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-
-    std::string path(const std::string& name) const { return (dir_ / name).string(); }
-
-    std::string read_file(const std::string& name) const {
-        std::ifstream in(path(name), std::ios::binary);
-        std::ostringstream bytes;
-        bytes << in.rdbuf();
-        return bytes.str();
-    }
-
-    std::string write_file(const std::string& name, const std::string& content) const {
-        std::ofstream(path(name), std::ios::binary) << content;
-        return path(name);
-    }
-
-    bool empty() const { return fs::is_empty(dir_); }
-
-    fs::path dir_;
+    FormatFiles() : TempFolderTest("fdmsurf_formats_") {}
 };
 
 template <typename F>
@@ -656,21 +624,14 @@ TEST_F(FormatFiles, CompareReadsGlbAndStl) {
 
 // meshstat.py, an independent reader, on the formats it reads (STL, OFF; not GLB).
 TEST_F(FormatFiles, MeshstatReadsStlAndOffWithTheSameAreaAndVolume) {
-    const std::string meshstat = kSharedDir + "/tools/meshstat.py";
-    FDMSURF_REQUIRE_MESHSTAT(meshstat);
+    FDMSURF_REQUIRE_MESHSTAT();
     const Mesh mesh = attributed_crambin();
     const MeshStats ours = compute_stats(mesh);
     for (const char* name : {"c.stl", "c.off"}) {
         write_mesh(mesh, path(name));
-        int status = 0;
-        const std::string text = test::run_capture(
-            "/usr/bin/python3 '" + meshstat + "' --json stats '" + path(name) + "'", status);
-        ASSERT_EQ(status, 0) << name << ": " << text;
-        const auto json = fdmsurf_cli_test::parse_json(text);
-        ASSERT_TRUE(json.has_value()) << text;
-        using Type = fdmsurf_cli_test::JsonValue::Type;
-        const auto* stats =
-            json->type == Type::Array && !json->array.empty() ? &json->array[0] : &*json;
+        std::string text;
+        const auto stats = test::meshstat_stats(path(name), text);
+        ASSERT_TRUE(stats.has_value()) << name << ": " << text;
         for (const char* key : {"area", "volume", "vertices", "triangles"}) {
             ASSERT_NE(stats->find(key), nullptr) << key << " in " << text;
         }

@@ -36,11 +36,6 @@ const std::string kDataDir = FDMSURF_TEST_DATA_DIR;
 #else
 const std::string kDataDir = "tests/data";
 #endif
-#ifdef FDMSURF_SHARED_DIR
-const std::string kSharedDir = FDMSURF_SHARED_DIR;
-#else
-const std::string kSharedDir = "../shared";
-#endif
 
 ErrorCode code_of(const std::function<void()>& f) {
     try {
@@ -558,14 +553,12 @@ TEST_F(CompareFiles, FormatsCompareAlike) {
 
 
 TEST(CompareMeshes, AgreesWithMeshstatOn1crn) {
-    const std::string meshstat = kSharedDir + "/tools/meshstat.py";
-    FDMSURF_REQUIRE_MESHSTAT(meshstat);
+    FDMSURF_REQUIRE_MESHSTAT();
     const std::string reference = kDataDir + "/1crn-ses-nanoshaper.ply.gz";
     const std::string tested = kDataDir + "/1crn-fdm-0.5.ply";
     int status = 0;
-    const std::string text = test::run_capture("/usr/bin/python3 '" + meshstat + "' --json compare '" +
-                                             reference + "' '" + tested + "' --spacing 0.5",
-                                         status);
+    const std::string text =
+        test::run_meshstat({"compare", reference, tested, "--spacing", "0.5"}, status);
     ASSERT_EQ(status, 0) << text;
     const auto json = fdmsurf_cli_test::parse_json(text);
     ASSERT_TRUE(json.has_value()) << text;

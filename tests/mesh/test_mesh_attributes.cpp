@@ -2,20 +2,17 @@
 // on such files, rejection of malformed attributes, extract_patch, and their alignment through
 // cavity removal and refinement.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
 
-#include "support/meshstat_tool.hpp"
 #include "cli/json_check.hpp"
 #include "fdmsurf/error.hpp"
 #include "fdmsurf/mesh.hpp"
@@ -24,47 +21,16 @@
 #include "mesh/mesh_shapes.hpp"
 #include "mesh/refine.hpp"
 #include "support/mesh_checks.hpp"
+#include "support/meshstat_tool.hpp"
+#include "support/temp_folder.hpp"
 
 namespace fdmsurf {
 namespace {
 
-namespace fs = std::filesystem;
-
-#ifdef FDMSURF_SHARED_DIR
-const std::string kSharedDir = FDMSURF_SHARED_DIR;
-#else
-const std::string kSharedDir = "../shared";
-#endif
-
 // A fresh, empty folder per test, removed afterwards.
-class MeshAttributeFiles : public ::testing::Test {
+class MeshAttributeFiles : public test::TempFolderTest {
 protected:
-    void SetUp() override {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        dir_ = fs::temp_directory_path() / ("fdmsurf_attr_" + std::to_string(::getpid()) + "_" +
-                                            info->test_suite_name() + "_" + info->name());
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-
-    std::string path(const std::string& name) const { return (dir_ / name).string(); }
-
-    bool empty() const { return fs::is_empty(dir_); }
-
-    std::string read_file(const std::string& name) const {
-        std::ifstream in(path(name), std::ios::binary);
-        std::ostringstream text;
-        text << in.rdbuf();
-        return text.str();
-    }
-
-    std::string write_file(const std::string& name, const std::string& content) const {
-        std::ofstream(path(name), std::ios::binary) << content;
-        return path(name);
-    }
-
-    fs::path dir_;
+    MeshAttributeFiles() : TempFolderTest("fdmsurf_attr_") {}
 };
 
 template <typename F>
@@ -317,22 +283,14 @@ TEST(MeshAttributes, ScalarNamesAcceptedAreTheDocumentedOnes) {
 
 
 TEST_F(MeshAttributeFiles, MeshstatReadsPlyAndObjWithAllAttributes) {
-    const std::string meshstat = kSharedDir + "/tools/meshstat.py";
-    FDMSURF_REQUIRE_MESHSTAT(meshstat);
+    FDMSURF_REQUIRE_MESHSTAT();
     const Mesh mesh = attributed_sphere();
     const MeshStats ours = compute_stats(mesh);
     for (const char* name : {"s.ply", "s.obj"}) {
         write_mesh(mesh, path(name));
-        int status = 0;
-        const std::string text = test::run_capture(
-            "/usr/bin/python3 '" + meshstat + "' --json stats '" + path(name) + "'", status);
-        ASSERT_EQ(status, 0) << name << ": " << text;
-        const auto json = fdmsurf_cli_test::parse_json(text);
-        ASSERT_TRUE(json.has_value()) << text;
-        // One mesh: one object (several: a list of them).
-        using Type = fdmsurf_cli_test::JsonValue::Type;
-        const auto* stats =
-            json->type == Type::Array && !json->array.empty() ? &json->array[0] : &*json;
+        std::string text;
+        const auto stats = test::meshstat_stats(path(name), text);
+        ASSERT_TRUE(stats.has_value()) << name << ": " << text;
         const auto* area = stats->find("area");
         const auto* vertices = stats->find("vertices");
         ASSERT_NE(area, nullptr) << text;

@@ -1,13 +1,10 @@
 // Tests of write_mesh and read_mesh: round trips, other tools' files, atomic writes, bad input.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <bit>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -15,6 +12,7 @@
 #include "fdmsurf/mesh.hpp"
 #include "mesh/mesh_shapes.hpp"
 #include "support/mesh_checks.hpp"
+#include "support/temp_folder.hpp"
 
 namespace fdmsurf {
 namespace {
@@ -22,18 +20,9 @@ namespace {
 namespace fs = std::filesystem;
 
 // A fresh, empty folder per test, removed afterwards.
-class MeshFiles : public ::testing::Test {
+class MeshFiles : public test::TempFolderTest {
 protected:
-    void SetUp() override {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        dir_ = fs::temp_directory_path() / ("fdmsurf_mesh_" + std::to_string(::getpid()) + "_" +
-                                            info->test_suite_name() + "_" + info->name());
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-
-    std::string path(const std::string& name) const { return (dir_ / name).string(); }
+    MeshFiles() : TempFolderTest("fdmsurf_mesh_") {}
 
     std::vector<std::string> listing() const {
         std::vector<std::string> names;
@@ -43,20 +32,6 @@ protected:
         std::sort(names.begin(), names.end());
         return names;
     }
-
-    std::string write_file(const std::string& name, const std::string& content) const {
-        std::ofstream(path(name), std::ios::binary) << content;
-        return path(name);
-    }
-
-    std::string read_file(const std::string& name) const {
-        std::ifstream in(path(name), std::ios::binary);
-        std::ostringstream text;
-        text << in.rdbuf();
-        return text.str();
-    }
-
-    fs::path dir_;
 };
 
 template <typename F>
