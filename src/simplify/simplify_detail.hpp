@@ -43,6 +43,16 @@ bool topology_kept(const MeshStats& in, const MeshStats& out);
 std::vector<std::uint32_t> new_defects(const std::vector<std::uint32_t>& in,
                                        const std::vector<std::uint32_t>& out,
                                        std::size_t vertex_count);
+// The same with `in_pieces` = piece_labels(in, vertex_count), for callers that check several
+// outputs against one input.
+std::vector<std::uint32_t> new_defects(const std::vector<std::uint32_t>& in,
+                                       const std::vector<std::uint32_t>& in_pieces,
+                                       const std::vector<std::uint32_t>& out,
+                                       std::size_t vertex_count);
+// Per vertex, a label shared by the vertices of one piece of `indices` (joined through
+// triangles); unused vertices are their own piece.
+std::vector<std::uint32_t> piece_labels(const std::vector<std::uint32_t>& indices,
+                                        std::size_t vertex_count);
 
 struct RegionResult {
     std::vector<std::uint32_t> indices;  // the simplified region, into the region's vertices
