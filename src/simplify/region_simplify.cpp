@@ -402,18 +402,29 @@ std::vector<Index> new_defects(const std::vector<Index>& in, const std::vector<I
 
 RegionResult simplify_region(const std::vector<float>& positions, const std::vector<Index>& indices,
                              const std::vector<Index>& context, std::size_t target,
-                             double max_error) {
+                             double max_error, const std::vector<std::uint8_t>* keep) {
     const std::size_t nv = positions.size() / 3, triangles = indices.size() / 3;
     RegionResult r;
     if (target >= triangles) {
         r.indices = indices;
         return r;
     }
+    std::vector<std::uint8_t> frozen(triangles, 0);
+    std::size_t kept = 0;
+    if (keep) {
+        for (std::size_t t = 0; t < triangles; ++t) kept += frozen[t] = (*keep)[t] != 0;
+    }
+    r.frozen = kept;
     const float scale = meshopt_simplifyScale(positions.data(), nv, 3 * sizeof(float));
     const float relative_error = std::isinf(max_error) || !(scale > 0.0f)
                                      ? std::numeric_limits<float>::max()
                                      : static_cast<float>(max_error / scale);
-    const double ratio = static_cast<double>(target) / static_cast<double>(triangles);
+    // The kept triangles count in the target; the rest goes to the ratio that makes it up.
+    const double ratio =
+        kept >= triangles ? 1.0
+                          : std::clamp((static_cast<double>(target) - double(kept)) /
+                                           static_cast<double>(triangles - kept),
+                                       0.0, 1.0);
     // Edge of an equilateral triangle of the simplified mesh's mean area: the freezing radius
     // grows by half of it with every attempt.
     const double step = std::sqrt(4.0 / std::sqrt(3.0) * total_area(positions, indices) /
@@ -421,7 +432,6 @@ RegionResult simplify_region(const std::vector<float>& positions, const std::vec
     std::vector<Index> checked_in = indices;
     checked_in.insert(checked_in.end(), context.begin(), context.end());
     const std::vector<Index> in_pieces = piece_labels(checked_in, nv);
-    std::vector<std::uint8_t> frozen(triangles, 0);
     std::vector<Index> free, result(indices.size());
     float first_error = 0.0f;
     for (int attempt = 1; attempt <= kMaxRegionAttempts; ++attempt) {
