@@ -3,6 +3,7 @@
 // way MaSIF's read_msms reads MSMS's files (fields 0-5, 7 and 9; the area file's 1 and 3).
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -156,10 +157,11 @@ MasifRead masif_read(const std::string& base) {
 class MsmsRuns : public ::testing::Test {
 protected:
     void SetUp() override {
+        // The process id too: other checkouts' test runs on the same machine use the same
+        // test names, and one's TearDown would remove the other's files.
         dir_ = fs::temp_directory_path() /
-               ("fdmsurf-msms-" + std::string(::testing::UnitTest::GetInstance()
-                                                  ->current_test_info()
-                                                  ->name()));
+               ("fdmsurf-msms-" + std::to_string(::getpid()) + "-" +
+                std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
         fs::remove_all(dir_);
         fs::create_directories(dir_);
     }
