@@ -14,6 +14,12 @@ the full mesh, and whether the result is a closed manifold. The last round's two
 also compared by `fdmsurf compare`, the independent check of the distances.
 
   bench/simplify.py [--reps 3] [--structures 1aon] [--ratio 0.1] [--spacing 0.5]
+                    [--exe build/fdmsurf] [--baseline OTHER_FDMSURF]
+
+With --baseline, a second binary (another branch's build) runs in the same rounds, alternating
+with --exe (full and simplified runs of each in turn), so that before and after see the same
+load on a shared machine; its rows are labelled "before", the others "after". The 1-minute load
+average is sampled at each round and its range printed.
 
 Structures are read from tests/data, else ../shared/data (FDMSURF_SHARED moves it); 1AON is
 only in ../shared/data: without it the script says so and measures nothing.
@@ -54,17 +60,22 @@ def main():
     ap.add_argument("--structures", default="1aon")
     ap.add_argument("--ratio", type=float, default=0.1)
     ap.add_argument("--spacing", type=float, default=0.5)
+    ap.add_argument("--exe", default=os.path.join(ROOT, "build", "fdmsurf"))
+    ap.add_argument("--baseline", help="a second fdmsurf binary, run alternating with --exe")
     args = ap.parse_args()
-    exe = os.path.join(ROOT, "build", "fdmsurf")
-    if not os.access(exe, os.X_OK):
-        sys.exit("bench/simplify.py: build/fdmsurf is missing (run scripts/setup-debian.sh)")
+    exes = [("after", args.exe)] if args.baseline else [("", args.exe)]
+    if args.baseline:
+        exes.insert(0, ("before", args.baseline))
+    for _, exe in exes:
+        if not os.access(exe, os.X_OK):
+            sys.exit(f"bench/simplify.py: {exe} is missing (run scripts/setup-debian.sh)")
     if not os.path.isdir(SHARED):
         print(f"bench/simplify.py: {os.path.abspath(SHARED)} is absent (set FDMSURF_SHARED to the "
               "shared folder): 1AON and the other large structures are only there", file=sys.stderr)
     rows = []
     device = ""
+    loads = []
     with tempfile.TemporaryDirectory() as tmp:
-        full_mesh, simple_mesh = os.path.join(tmp, "full.ply"), os.path.join(tmp, "simplified.ply")
         for name in args.structures.split(","):
             path = find(name)
             if path is None:
@@ -72,33 +83,41 @@ def main():
                       file=sys.stderr)
                 continue
             base = [path, "--spacing", str(args.spacing), "--stats", "json"]
-            full, simple = [], []
+            runs = {label: ([], []) for label, _ in exes}
+            mesh = lambda label, kind: os.path.join(tmp, f"{kind}-{label or 'x'}.ply")
             for _ in range(args.reps):
-                full.append(run(exe, base + ["-o", full_mesh])[1])
-                simple.append(run(exe, base + ["-o", simple_mesh, "--simplify", str(args.ratio),
-                                               "--optimize"])[1])
-            _, check = run(exe, ["compare", full_mesh, simple_mesh, "--spacing", str(args.spacing),
-                                 "--stats", "json"])
-            device = full[0]["device"]
-            med = lambda runs, f: statistics.median(f(s) for s in runs)
-            stage = lambda n: med(simple, lambda s: s["times"].get(n, 0.0))
-            q = simple[-1]["simplify"]
-            surf = med(simple, surface_ms)
-            rows.append(dict(
-                name=name, tri_in=q["triangles_in"], tri_out=q["triangles_out"], target=q["target_triangles"],
-                full_total=med(full, lambda s: s["total_ms"]), full_surface=med(full, surface_ms),
-                surface=surf, simplify=stage("simplify"),
-                share=med(simple, lambda s: s["times"]["simplify"] / surface_ms(s)),
-                compare=stage("simplify-compare"), optimize=stage("optimize"),
-                hausdorff=q["hausdorff"], rmsd=q["rmsd"], error=q["error"],
-                check_rmsd=check["rmsd"], check_h=check["hausdorff"], dA=check["area_rel_err"],
-                dV=check["volume_rel_err"], closed=simple[-1]["closed_manifold"],
-                full_closed=full[-1]["closed_manifold"], kept=q["topology_kept"],
-                frozen=q["frozen_triangles"], regions=q["regions"], attempts=q["attempts"]))
+                loads.append(os.getloadavg()[0])
+                for label, exe in exes:
+                    full, simple = runs[label]
+                    full.append(run(exe, base + ["-o", mesh(label, "full")])[1])
+                    simple.append(run(exe, base + ["-o", mesh(label, "simplified"), "--simplify",
+                                                   str(args.ratio), "--optimize"])[1])
+            for label, exe in exes:
+                full, simple = runs[label]
+                _, check = run(exe, ["compare", mesh(label, "full"), mesh(label, "simplified"),
+                                     "--spacing", str(args.spacing), "--stats", "json"])
+                device = full[0]["device"]
+                med = lambda runs, f: statistics.median(f(s) for s in runs)
+                stage = lambda n: med(simple, lambda s: s["times"].get(n, 0.0))
+                q = simple[-1]["simplify"]
+                surf = med(simple, surface_ms)
+                rows.append(dict(
+                    name=(f"{name} {label}" if label else name), tri_in=q["triangles_in"], tri_out=q["triangles_out"], target=q["target_triangles"],
+                    full_total=med(full, lambda s: s["total_ms"]), full_surface=med(full, surface_ms),
+                    surface=surf, simplify=stage("simplify"),
+                    share=med(simple, lambda s: s["times"]["simplify"] / surface_ms(s)),
+                    compare=stage("simplify-compare"), optimize=stage("optimize"),
+                    hausdorff=q["hausdorff"], rmsd=q["rmsd"], error=q["error"],
+                    check_rmsd=check["rmsd"], check_h=check["hausdorff"], dA=check["area_rel_err"],
+                    dV=check["volume_rel_err"], closed=simple[-1]["closed_manifold"],
+                    full_closed=full[-1]["closed_manifold"], kept=q["topology_kept"],
+                    frozen=q["frozen_triangles"], regions=q["regions"], attempts=q["attempts"]))
     if not rows:
         sys.exit("bench/simplify.py: nothing measured (no structure found)")
     load = os.getloadavg()[0]
-    print(f"machine: {platform.machine()}, {os.cpu_count()} cores, load {load:.2f} at the end; "
+    loads.append(load)
+    print(f"machine: {platform.machine()}, {os.cpu_count()} cores, 1-minute load "
+          f"{min(loads):.1f}-{max(loads):.1f} over the rounds, {load:.2f} at the end; "
           f"device: {device}; spacing {args.spacing} Å, --simplify {args.ratio} --optimize, "
           f"median of {args.reps} alternating rounds, ms\n")
     print("| structure | triangles | simplified (target) | surface | simplify | simplify ÷ surface | "

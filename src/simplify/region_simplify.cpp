@@ -121,23 +121,6 @@ std::vector<std::array<Index, 3>> doubled_triangles(const std::vector<Index>& in
     return doubled;
 }
 
-// The vertices of the input's pieces (joined through triangles) of which no vertex is left.
-std::vector<Index> vanished_pieces(const std::vector<Index>& in, const std::vector<Index>& out,
-                                   std::size_t vertex_count) {
-    DisjointSets sets(vertex_count);
-    for (std::size_t c = 0; c < in.size(); c += 3) {
-        sets.unite(in[c], in[c + 1]);
-        sets.unite(in[c], in[c + 2]);
-    }
-    std::vector<std::uint8_t> alive(vertex_count, 0);
-    for (Index v : out) alive[sets.find(v)] = 1;
-    std::vector<Index> gone;
-    for (Index v : in) {
-        if (!alive[sets.find(v)]) gone.push_back(v);
-    }
-    return gone;
-}
-
 // Marks the triangles with a corner among `defects` or within `radius` (Å) of one of them.
 std::size_t freeze_around(const std::vector<float>& positions, const std::vector<Index>& indices,
                           const std::vector<Index>& defects, double radius,
@@ -205,18 +188,142 @@ double total_area(const std::vector<float>& p, const std::vector<Index>& indices
 
 }  // namespace
 
+std::vector<Index> piece_labels(const std::vector<Index>& indices, std::size_t vertex_count) {
+    DisjointSets sets(vertex_count);
+    for (std::size_t c = 0; c < indices.size(); c += 3) {
+        sets.unite(indices[c], indices[c + 1]);
+        sets.unite(indices[c], indices[c + 2]);
+    }
+    std::vector<Index> label(vertex_count);
+    for (std::size_t v = 0; v < vertex_count; ++v) label[v] = sets.find(Index(v));
+    return label;
+}
+
+namespace {
+
+// What new_defects needs to know of the output, from one walk over the corners at each vertex
+// (a counting sort, then the small star of each vertex) instead of sorting every edge use and
+// every triangle: the edges not used once each way with their counts (sorted by edge), the
+// fans at each vertex, and the vertex triples of triangles that share their three vertices.
+// Only for outputs without a triangle that repeats a vertex (meshoptimizer drops those);
+// new_defects takes the sorting path for the others.
+struct OutputStars {
+    std::vector<EdgeCount> irregular;
+    std::vector<Index> fans;
+    std::vector<std::array<Index, 3>> doubled;
+};
+
+OutputStars output_stars(const std::vector<Index>& indices, std::size_t vertex_count) {
+    OutputStars s;
+    std::vector<Index> start(vertex_count + 1, 0);
+    for (Index v : indices) ++start[v + 1];
+    for (std::size_t v = 0; v < vertex_count; ++v) start[v + 1] += start[v];
+    // Per corner, the triangle's next and previous vertex (the sides v -> next, prev -> v).
+    std::vector<std::array<Index, 2>> around(indices.size());
+    {
+        std::vector<Index> fill(start.begin(), start.end() - 1);
+        for (std::size_t c = 0; c < indices.size(); ++c) {
+            const std::size_t t = c - c % 3;
+            around[fill[indices[c]]++] = {indices[t + (c % 3 + 1) % 3],
+                                          indices[t + (c % 3 + 2) % 3]};
+        }
+    }
+    s.fans.assign(vertex_count, 0);
+    std::vector<Index> parent;
+    for (std::size_t v = 0; v < vertex_count; ++v) {
+        const Index first = start[v], n = start[v + 1] - first;
+        if (n == 0) continue;
+        const std::array<Index, 2>* o = &around[first];
+        parent.resize(n);
+        for (Index i = 0; i < n; ++i) parent[i] = i;
+        auto find = [&parent](Index x) {
+            while (parent[x] != x) x = parent[x] = parent[parent[x]];
+            return x;
+        };
+        // Triangles sharing a neighbour share the edge to it: one fan. Valences are small.
+        for (Index i = 0; i < n; ++i) {
+            for (Index j = 0; j < i; ++j) {
+                const auto& a = o[i];
+                const auto& b = o[j];
+                if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) {
+                    parent[find(i)] = find(j);
+                    // The same two other vertices: a triangle doubled (seen from its lowest).
+                    if (((a[0] == b[0] && a[1] == b[1]) || (a[0] == b[1] && a[1] == b[0])) &&
+                        v < a[0] && v < a[1]) {
+                        s.doubled.push_back({Index(v), std::min(a[0], a[1]), std::max(a[0], a[1])});
+                    }
+                }
+            }
+        }
+        Index roots = 0;
+        for (Index i = 0; i < n; ++i) roots += find(i) == i;
+        s.fans[v] = roots;
+        // The edges v - u with u > v: side v -> u is a corner at v whose next is u (lo -> hi),
+        // side u -> v one whose previous is u.
+        for (Index i = 0; i < n; ++i) {
+            for (int k = 0; k < 2; ++k) {
+                const Index u = o[i][k];
+                if (u <= v) continue;
+                bool seen = false;  // counted already, from an earlier corner
+                for (Index j = 0; j < i && !seen; ++j) seen = o[j][0] == u || o[j][1] == u;
+                if (seen || (k == 1 && o[i][0] == u)) continue;
+                EdgeCount e{edge_key(Index(v), u), 0, 0};
+                for (Index j = i; j < n; ++j) {
+                    e.forward += o[j][0] == u;
+                    e.backward += o[j][1] == u;
+                }
+                if (e.forward != 1 || e.backward != 1) s.irregular.push_back(e);
+            }
+        }
+    }
+    std::sort(s.irregular.begin(), s.irregular.end());
+    std::sort(s.doubled.begin(), s.doubled.end());
+    s.doubled.erase(std::unique(s.doubled.begin(), s.doubled.end()), s.doubled.end());
+    return s;
+}
+
+bool repeats_a_vertex(const std::vector<Index>& indices) {
+    for (std::size_t c = 0; c < indices.size(); c += 3) {
+        if (indices[c] == indices[c + 1] || indices[c + 1] == indices[c + 2] ||
+            indices[c + 2] == indices[c])
+            return true;
+    }
+    return false;
+}
+
+}  // namespace
+
 std::vector<Index> new_defects(const std::vector<Index>& in, const std::vector<Index>& out,
                                std::size_t vertex_count) {
+    return new_defects(in, piece_labels(in, vertex_count), out, vertex_count);
+}
+
+std::vector<Index> new_defects(const std::vector<Index>& in, const std::vector<Index>& in_pieces,
+                               const std::vector<Index>& out, std::size_t vertex_count) {
     std::vector<Index> defects;
+    OutputStars stars;
+    if (repeats_a_vertex(out)) {
+        stars.irregular = irregular_edges(out);
+        stars.fans = fan_counts(out, vertex_count);
+        stars.doubled = doubled_triangles(out);
+    } else {
+        stars = output_stars(out, vertex_count);
+    }
     // The input is larger than the output: it is only scanned, for the edges and vertices that
     // look wrong in the output.
-    const std::vector<EdgeCount> out_irregular = irregular_edges(out);
+    const std::vector<EdgeCount>& out_irregular = stars.irregular;
     if (!out_irregular.empty()) {
+        std::vector<std::uint8_t> end(vertex_count, 0);  // an end of an irregular output edge
+        for (const EdgeCount& e : out_irregular) {
+            end[e.edge >> 32] = 1;
+            end[e.edge & 0xffffffffu] = 1;
+        }
         std::vector<EdgeCount> before(out_irregular);
         for (EdgeCount& e : before) e.forward = e.backward = 0;
         for (std::size_t c = 0; c < in.size(); c += 3) {
             for (int k = 0; k < 3; ++k) {
                 const Index a = in[c + k], b = in[c + (k + 1) % 3];
+                if (!end[a] || !end[b]) continue;
                 const EdgeCount key{edge_key(a, b), 0, 0};
                 auto it = std::lower_bound(before.begin(), before.end(), key);
                 if (it != before.end() && it->edge == key.edge)
@@ -224,23 +331,26 @@ std::vector<Index> new_defects(const std::vector<Index>& in, const std::vector<I
             }
         }
         std::vector<std::uint64_t> bad;
+        std::fill(end.begin(), end.end(), 0);  // now: an end of a bad edge
         for (std::size_t i = 0; i < out_irregular.size(); ++i) {
             const EdgeCount& e = out_irregular[i];
             if (e.forward != before[i].forward || e.backward != before[i].backward) {
                 bad.push_back(e.edge);
+                end[e.edge >> 32] = 1;
+                end[e.edge & 0xffffffffu] = 1;
             }
         }
         for (std::size_t c = 0; c < out.size() && !bad.empty(); c += 3) {
             for (int k = 0; k < 3; ++k) {
-                if (std::binary_search(bad.begin(), bad.end(),
-                                       edge_key(out[c + k], out[c + (k + 1) % 3]))) {
+                const Index a = out[c + k], b = out[c + (k + 1) % 3];
+                if (end[a] && end[b] && std::binary_search(bad.begin(), bad.end(), edge_key(a, b))) {
                     defects.insert(defects.end(), {out[c], out[c + 1], out[c + 2]});
                     break;
                 }
             }
         }
     }
-    const std::vector<Index> out_fans = fan_counts(out, vertex_count);
+    const std::vector<Index>& out_fans = stars.fans;
     std::vector<std::uint8_t> suspect(vertex_count, 0);
     bool any = false;
     for (std::size_t v = 0; v < vertex_count; ++v) {
@@ -249,28 +359,42 @@ std::vector<Index> new_defects(const std::vector<Index>& in, const std::vector<I
     }
     if (any) {
         // The input's stars of the suspects: every triangle at one of them.
-        std::vector<Index> stars;
+        std::vector<Index> in_stars;
         for (std::size_t c = 0; c < in.size(); c += 3) {
             if (suspect[in[c]] || suspect[in[c + 1]] || suspect[in[c + 2]]) {
-                stars.insert(stars.end(), &in[c], &in[c] + 3);
+                in_stars.insert(in_stars.end(), &in[c], &in[c] + 3);
             }
         }
-        const std::vector<Index> in_fans = fan_counts(stars, vertex_count);
+        const std::vector<Index> in_fans = fan_counts(in_stars, vertex_count);
         for (std::size_t v = 0; v < vertex_count; ++v) {
             if (suspect[v] && out_fans[v] > in_fans[v]) defects.push_back(Index(v));
         }
     }
     // A small closed piece can fold flat into two triangles on the same three vertices (every
-    // edge used once each way, one fan per vertex, no volume), and then vanish.
-    const std::vector<std::array<Index, 3>> out_doubles = doubled_triangles(out);
+    // edge used once each way, one fan per vertex), and then vanish.
+    const std::vector<std::array<Index, 3>>& out_doubles = stars.doubled;
     if (!out_doubles.empty()) {
-        const std::vector<std::array<Index, 3>> in_doubles = doubled_triangles(in);
-        for (const auto& t : out_doubles) {
-            if (!std::binary_search(in_doubles.begin(), in_doubles.end(), t))
-                defects.insert(defects.end(), t.begin(), t.end());
+        // How often the input has each of them (only its triangles on their vertices looked up).
+        std::vector<std::uint8_t> corner(vertex_count, 0);
+        for (const auto& t : out_doubles) corner[t[0]] = corner[t[1]] = corner[t[2]] = 1;
+        std::vector<Index> uses(out_doubles.size(), 0);
+        for (std::size_t c = 0; c < in.size(); c += 3) {
+            if (!corner[in[c]] || !corner[in[c + 1]] || !corner[in[c + 2]]) continue;
+            std::array<Index, 3> t{in[c], in[c + 1], in[c + 2]};
+            std::sort(t.begin(), t.end());
+            auto it = std::lower_bound(out_doubles.begin(), out_doubles.end(), t);
+            if (it != out_doubles.end() && *it == t) ++uses[std::size_t(it - out_doubles.begin())];
+        }
+        for (std::size_t i = 0; i < out_doubles.size(); ++i) {
+            if (uses[i] < 2) defects.insert(defects.end(), out_doubles[i].begin(), out_doubles[i].end());
         }
     }
-    for (Index v : vanished_pieces(in, out, vertex_count)) defects.push_back(v);
+    // The pieces of the input of which no vertex is left.
+    std::vector<std::uint8_t> alive(vertex_count, 0);
+    for (Index v : out) alive[in_pieces[v]] = 1;
+    for (Index v : in) {
+        if (!alive[in_pieces[v]]) defects.push_back(v);
+    }
     std::sort(defects.begin(), defects.end());
     defects.erase(std::unique(defects.begin(), defects.end()), defects.end());
     return defects;
@@ -278,25 +402,36 @@ std::vector<Index> new_defects(const std::vector<Index>& in, const std::vector<I
 
 RegionResult simplify_region(const std::vector<float>& positions, const std::vector<Index>& indices,
                              const std::vector<Index>& context, std::size_t target,
-                             double max_error) {
+                             double max_error, const std::vector<std::uint8_t>* keep) {
     const std::size_t nv = positions.size() / 3, triangles = indices.size() / 3;
     RegionResult r;
     if (target >= triangles) {
         r.indices = indices;
         return r;
     }
+    std::vector<std::uint8_t> frozen(triangles, 0);
+    std::size_t kept = 0;
+    if (keep) {
+        for (std::size_t t = 0; t < triangles; ++t) kept += frozen[t] = (*keep)[t] != 0;
+    }
+    r.frozen = kept;
     const float scale = meshopt_simplifyScale(positions.data(), nv, 3 * sizeof(float));
     const float relative_error = std::isinf(max_error) || !(scale > 0.0f)
                                      ? std::numeric_limits<float>::max()
                                      : static_cast<float>(max_error / scale);
-    const double ratio = static_cast<double>(target) / static_cast<double>(triangles);
+    // The kept triangles count in the target; the rest goes to the ratio that makes it up.
+    const double ratio =
+        kept >= triangles ? 1.0
+                          : std::clamp((static_cast<double>(target) - double(kept)) /
+                                           static_cast<double>(triangles - kept),
+                                       0.0, 1.0);
     // Edge of an equilateral triangle of the simplified mesh's mean area: the freezing radius
     // grows by half of it with every attempt.
     const double step = std::sqrt(4.0 / std::sqrt(3.0) * total_area(positions, indices) /
                                   static_cast<double>(std::max<std::size_t>(target, 1)));
     std::vector<Index> checked_in = indices;
     checked_in.insert(checked_in.end(), context.begin(), context.end());
-    std::vector<std::uint8_t> frozen(triangles, 0);
+    const std::vector<Index> in_pieces = piece_labels(checked_in, nv);
     std::vector<Index> free, result(indices.size());
     float first_error = 0.0f;
     for (int attempt = 1; attempt <= kMaxRegionAttempts; ++attempt) {
@@ -325,7 +460,7 @@ RegionResult simplify_region(const std::vector<float>& positions, const std::vec
         r.error = static_cast<double>(error) * scale;
         const std::size_t own = out.size();
         out.insert(out.end(), context.begin(), context.end());
-        const std::vector<Index> defects = new_defects(checked_in, out, nv);
+        const std::vector<Index> defects = new_defects(checked_in, in_pieces, out, nv);
         if (defects.empty()) {
             out.resize(own);
             r.indices = std::move(out);

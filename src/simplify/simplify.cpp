@@ -8,6 +8,7 @@
 #include <meshoptimizer.h>
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <chrono>
 #include <cmath>
@@ -16,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "core/parallel.hpp"
 #include "fdmsurf/error.hpp"
 #include "mesh/compare_detail.hpp"
 #include "mesh/mesh_attributes.hpp"
@@ -75,7 +77,9 @@ std::size_t simplify_target(std::size_t triangles, const SimplifyOptions& option
 namespace {
 
 // Whether two vertices have bit-identical positions: one pass over the positions with an
-// open-addressing table (cheaper than meshopt_generateVertexRemap, which walks the indices).
+// open-addressing table (cheaper than meshopt_generateVertexRemap, which walks the indices),
+// filled by all threads at once: a slot is taken by compare-and-swap, and two vertices at one
+// position probe the same slots, so whichever comes second meets the first.
 bool has_duplicate_positions(const std::vector<float>& positions) {
     const std::size_t nv = positions.size() / 3;
     std::size_t size = 1;
@@ -84,23 +88,31 @@ bool has_duplicate_positions(const std::vector<float>& positions) {
     auto bits = [&positions](std::size_t v, int a) {
         return std::bit_cast<std::uint32_t>(positions[3 * v + a]);
     };
-    for (std::size_t v = 0; v < nv; ++v) {
-        std::uint64_t h = bits(v, 0) * 0x9e3779b97f4a7c15ull;
-        h = (h ^ bits(v, 1)) * 0xc2b2ae3d27d4eb4full;
-        h = (h ^ bits(v, 2)) * 0x165667b19e3779f9ull;
-        for (std::size_t slot = (h >> 32) & (size - 1);; slot = (slot + 1) & (size - 1)) {
-            const std::uint32_t other = table[slot];
-            if (other == kUnused) {
-                table[slot] = static_cast<std::uint32_t>(v);
-                break;
-            }
-            if (bits(other, 0) == bits(v, 0) && bits(other, 1) == bits(v, 1) &&
-                bits(other, 2) == bits(v, 2)) {
-                return true;
+    std::atomic<bool> found{false};
+    constexpr std::size_t kChunk = 65536;
+    parallel_chunks((nv + kChunk - 1) / kChunk, thread_count(0), [&](std::size_t chunk) {
+        const std::size_t end = std::min(nv, (chunk + 1) * kChunk);
+        for (std::size_t v = chunk * kChunk; v < end && !found.load(std::memory_order_relaxed);
+             ++v) {
+            std::uint64_t h = bits(v, 0) * 0x9e3779b97f4a7c15ull;
+            h = (h ^ bits(v, 1)) * 0xc2b2ae3d27d4eb4full;
+            h = (h ^ bits(v, 2)) * 0x165667b19e3779f9ull;
+            for (std::size_t slot = (h >> 32) & (size - 1);; slot = (slot + 1) & (size - 1)) {
+                std::atomic_ref<std::uint32_t> entry(table[slot]);
+                std::uint32_t other = kUnused;
+                if (entry.compare_exchange_strong(other, static_cast<std::uint32_t>(v),
+                                                  std::memory_order_relaxed)) {
+                    break;
+                }
+                if (bits(other, 0) == bits(v, 0) && bits(other, 1) == bits(v, 1) &&
+                    bits(other, 2) == bits(v, 2)) {
+                    found = true;
+                    return;
+                }
             }
         }
-    }
-    return false;
+    });
+    return found;
 }
 
 }  // namespace

@@ -43,6 +43,16 @@ bool topology_kept(const MeshStats& in, const MeshStats& out);
 std::vector<std::uint32_t> new_defects(const std::vector<std::uint32_t>& in,
                                        const std::vector<std::uint32_t>& out,
                                        std::size_t vertex_count);
+// The same with `in_pieces` = piece_labels(in, vertex_count), for callers that check several
+// outputs against one input.
+std::vector<std::uint32_t> new_defects(const std::vector<std::uint32_t>& in,
+                                       const std::vector<std::uint32_t>& in_pieces,
+                                       const std::vector<std::uint32_t>& out,
+                                       std::size_t vertex_count);
+// Per vertex, a label shared by the vertices of one piece of `indices` (joined through
+// triangles); unused vertices are their own piece.
+std::vector<std::uint32_t> piece_labels(const std::vector<std::uint32_t>& indices,
+                                        std::size_t vertex_count);
 
 struct RegionResult {
     std::vector<std::uint32_t> indices;  // the simplified region, into the region's vertices
@@ -58,16 +68,18 @@ struct RegionResult {
 // are locked as the region's border, and they are checked with it, not returned). While a run
 // leaves a defect, the input triangles within a growing distance of the defects are frozen
 // (kept as they are) and the rest simplified again at the same ratio; after kMaxRegionAttempts
-// runs the region is kept whole. `max_error`: Å, infinity for none.
+// runs the region is kept whole. `max_error`: Å, infinity for none. `keep` (may be null; one
+// flag per triangle): triangles frozen from the first run on, counted in `target`. The frozen
+// triangles are the last `frozen` of the result.
 inline constexpr int kMaxRegionAttempts = 8;
 RegionResult simplify_region(const std::vector<float>& positions,
                              const std::vector<std::uint32_t>& indices,
                              const std::vector<std::uint32_t>& context, std::size_t target,
-                             double max_error);
+                             double max_error, const std::vector<std::uint8_t>* keep = nullptr);
 
 struct CellPassStats {
     std::size_t regions = 0;  // regions (cells) run, over both passes
-    std::size_t frozen = 0;   // triangles frozen, over both passes
+    std::size_t frozen = 0;   // triangles of the result kept as they were for the topology
     std::size_t gave_up = 0;  // regions kept whole
     int attempts = 0;         // meshopt_simplify runs, over all regions
     double error = 0.0;       // the largest estimate of each pass, summed over passes (Å)

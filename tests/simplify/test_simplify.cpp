@@ -212,6 +212,53 @@ TEST(SimplifyWeld, MergesBitIdenticalPositionsAndLeavesWeldedMeshesAlone) {
     EXPECT_TRUE(IsClosedManifold(out));
 }
 
+TEST(SimplifyWeld, FindsADuplicateFarApartInALargeMesh) {
+    // 163,842 vertices: the duplicate check runs in chunks on several threads, and the two
+    // copies lie in different chunks.
+    Mesh sphere = icosphere(5.0, 7);
+    Mesh welded;
+    EXPECT_FALSE(detail::weld_exact(sphere, welded, nullptr));
+    const std::size_t last = sphere.vertex_count() - 1;
+    for (int k = 0; k < 3; ++k) sphere.positions[3 * last + k] = sphere.positions[k];
+    std::size_t merged = 0;
+    EXPECT_TRUE(detail::weld_exact(sphere, welded, &merged));
+    EXPECT_EQ(merged, 1u);
+}
+
+TEST(SimplifyRegion, KeptTrianglesStayAsTheyAreAndCountInTheTarget) {
+    const Mesh sphere = icosphere(10.0, 4);  // 5,120 triangles
+    const std::size_t triangles = sphere.triangle_count();
+    std::vector<std::uint8_t> keep(triangles, 0);
+    std::vector<Key> kept;
+    for (std::size_t t = 0; t < triangles; ++t) {
+        bool cap = true;  // all corners near the north pole
+        for (int k = 0; k < 3; ++k) cap = cap && sphere.positions[3 * sphere.indices[3 * t + k] + 2] > 9.0;
+        if (!cap) continue;
+        keep[t] = 1;
+        kept.push_back({sphere.indices[3 * t], sphere.indices[3 * t + 1], sphere.indices[3 * t + 2]});
+    }
+    ASSERT_GT(kept.size(), 100u);
+    const std::size_t target = triangles / 10;
+    const detail::RegionResult r = detail::simplify_region(
+        sphere.positions, sphere.indices, {}, target, std::numeric_limits<double>::infinity(), &keep);
+    ASSERT_FALSE(r.gave_up);
+    EXPECT_GE(r.frozen, kept.size());
+    // The kept triangles, corners in the same order, among the result's last `frozen`.
+    const std::size_t n = r.indices.size() / 3;
+    ASSERT_LE(r.frozen, n);
+    std::vector<Key> tail;
+    for (std::size_t t = n - r.frozen; t < n; ++t)
+        tail.push_back({r.indices[3 * t], r.indices[3 * t + 1], r.indices[3 * t + 2]});
+    std::sort(tail.begin(), tail.end());
+    for (const Key& t : kept) EXPECT_TRUE(std::binary_search(tail.begin(), tail.end(), t));
+    // The rest made coarser so that the whole meets the target.
+    EXPECT_NEAR(double(n), double(target), 0.05 * double(target));
+    Mesh out;
+    out.positions = sphere.positions;
+    out.indices = r.indices;
+    EXPECT_TRUE(IsClosedManifold(out));
+}
+
 TEST(SimplifyDefects, FindsNewNonManifoldEdgesAndPinchedVertices) {
     const Mesh sphere = icosphere(1.0, 1);
     const std::size_t n = sphere.vertex_count();
