@@ -88,9 +88,11 @@ float evaluate_shared(vec3 p) {
     uint ns = sphere_count, na = arc_count;
     float lb = -3.0e38;  // max_i (R_i - |p - c_i|): > 0 inside the balls, a lower bound of d
     uint deepest = 0u;
+    bool tie = false;  // another ball exactly as deep as the deepest
     for (uint i = 0u; i < ns; ++i) {
         vec4 s = sphere_list[i];
         float depth = s.w - distance(p, s.xyz);
+        tie = depth == lb || (tie && depth < lb);
         if (depth > lb) {
             lb = depth;
             deepest = i;
@@ -105,13 +107,19 @@ float evaluate_shared(vec3 p) {
     for (uint k = 0u; k < na; ++k)
         best = min(best, arc_distance(arc_list[3u * k], arc_list[3u * k + 1u], arc_list[3u * k + 2u],
                                       p, best));
-    for (uint i = 0u; i < ns; ++i) {
-        vec4 s = sphere_list[i];
-        float face = abs(distance(p, s.xyz) - s.w);
-        // d >= lb: an exposed face is never nearer than lb, so a nearer one is buried (every
-        // ball holding p but the deepest, done above).
-        if (i == deepest || face < lb || face >= best) continue;
-        if (!buried_shared(projection(s, p), i, ns)) best = face;
+    // The other faces. A ball B not holding p cannot offer the nearest point y of E on its face:
+    // y would be p's radial projection, the segment from p to y (inside the balls, E's
+    // complement, but at y) leaves B's sphere outwards at y, so its points just before y lie in
+    // another ball, whose closure holds y: y is buried, or on a circle (an arc above gives the
+    // same distance). The faces of the balls holding p are R - |p - c| <= lb away, and d >= lb:
+    // only a ball exactly as deep as the deepest can be nearer than the arcs. The CPU
+    // reference (ses_distance_cpu.cpp) still tries every face; the tests compare the two.
+    if (tie && lb < best) {
+        for (uint i = 0u; i < ns; ++i) {
+            vec4 s = sphere_list[i];
+            if (i == deepest || s.w - distance(p, s.xyz) != lb) continue;
+            if (!buried_shared(projection(s, p), i, ns)) return lb;
+        }
     }
     return best;
 }
@@ -138,12 +146,14 @@ float evaluate_global(vec3 p) {
     ivec3 lo = bin_of(p - reach), hi = bin_of(p + reach);
     float lb = -3.0e38;
     uint deepest = 0u;
+    bool tie = false;
     for (int z = lo.z; z <= hi.z; ++z)
         for (int y = lo.y; y <= hi.y; ++y)
             for (int x = lo.x; x <= hi.x; ++x) {
                 uint b = bin_id(ivec3(x, y, z));
                 for (uint i = sphere_start[b]; i < sphere_start[b + 1u]; ++i) {
                     float depth = spheres[i].w - distance(p, spheres[i].xyz);
+                    tie = depth == lb || (tie && depth < lb);
                     if (depth > lb) {
                         lb = depth;
                         deepest = i;
@@ -163,17 +173,18 @@ float evaluate_global(vec3 p) {
                     best = min(best, arc_distance(arcs[3u * k], arcs[3u * k + 1u],
                                                   arcs[3u * k + 2u], p, best));
             }
-    for (int z = lo.z; z <= hi.z; ++z)
-        for (int y = lo.y; y <= hi.y; ++y)
-            for (int x = lo.x; x <= hi.x; ++x) {
-                uint b = bin_id(ivec3(x, y, z));
-                for (uint i = sphere_start[b]; i < sphere_start[b + 1u]; ++i) {
-                    vec4 s = spheres[i];
-                    float face = abs(distance(p, s.xyz) - s.w);
-                    if (i == deepest || face < lb || face >= best) continue;
-                    if (!buried_global(projection(s, p), i)) best = face;
+    if (tie && lb < best) {
+        for (int z = lo.z; z <= hi.z; ++z)
+            for (int y = lo.y; y <= hi.y; ++y)
+                for (int x = lo.x; x <= hi.x; ++x) {
+                    uint b = bin_id(ivec3(x, y, z));
+                    for (uint i = sphere_start[b]; i < sphere_start[b + 1u]; ++i) {
+                        vec4 s = spheres[i];
+                        if (i == deepest || s.w - distance(p, s.xyz) != lb) continue;
+                        if (!buried_global(projection(s, p), i)) return lb;
+                    }
                 }
-            }
+    }
     return best;
 }
 
