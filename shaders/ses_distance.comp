@@ -84,18 +84,10 @@ bool buried_shared(vec3 q, uint self, uint ns) {
     return false;
 }
 
-float evaluate_shared(vec3 p) {
+// d at p given lb = max_i (R_i - |p - c_i|) over the listed balls (> 0 inside the balls, a lower
+// bound of d), the first ball that deep, and whether another one is exactly as deep.
+float finish_shared(vec3 p, float lb, uint deepest, bool tie) {
     uint ns = sphere_count, na = arc_count;
-    float lb = -3.0e38;  // max_i (R_i - |p - c_i|): > 0 inside the balls, a lower bound of d
-    uint deepest = 0u;
-    for (uint i = 0u; i < ns; ++i) {
-        vec4 s = sphere_list[i];
-        float depth = s.w - distance(p, s.xyz);
-        if (depth > lb) {
-            lb = depth;
-            deepest = i;
-        }
-    }
     if (lb <= 0.0) return max(lb, -pc.d_max);
     if (lb >= pc.d_max) return pc.d_max;
     // The deepest ball's face is lb away, the least d can be: exposed, it is the answer (a
@@ -105,13 +97,19 @@ float evaluate_shared(vec3 p) {
     for (uint k = 0u; k < na; ++k)
         best = min(best, arc_distance(arc_list[3u * k], arc_list[3u * k + 1u], arc_list[3u * k + 2u],
                                       p, best));
-    for (uint i = 0u; i < ns; ++i) {
-        vec4 s = sphere_list[i];
-        float face = abs(distance(p, s.xyz) - s.w);
-        // d >= lb: an exposed face is never nearer than lb, so a nearer one is buried (every
-        // ball holding p but the deepest, done above).
-        if (i == deepest || face < lb || face >= best) continue;
-        if (!buried_shared(projection(s, p), i, ns)) best = face;
+    // The other faces. A ball B not holding p cannot offer the nearest point y of E on its face:
+    // y would be p's radial projection, the segment from p to y (inside the balls, E's
+    // complement, but at y) leaves B's sphere outwards at y, so its points just before y lie in
+    // another ball, whose closure holds y: y is buried, or on a circle (an arc above gives the
+    // same distance). The faces of the balls holding p are R - |p - c| <= lb away, and d >= lb:
+    // only a ball exactly as deep as the deepest can be nearer than the arcs. The CPU
+    // reference (ses_distance_cpu.cpp) still tries every face; the tests compare the two.
+    if (tie && lb < best) {
+        for (uint i = 0u; i < ns; ++i) {
+            vec4 s = sphere_list[i];
+            if (i == deepest || s.w - distance(p, s.xyz) != lb) continue;
+            if (!buried_shared(projection(s, p), i, ns)) return lb;
+        }
     }
     return best;
 }
@@ -138,12 +136,14 @@ float evaluate_global(vec3 p) {
     ivec3 lo = bin_of(p - reach), hi = bin_of(p + reach);
     float lb = -3.0e38;
     uint deepest = 0u;
+    bool tie = false;
     for (int z = lo.z; z <= hi.z; ++z)
         for (int y = lo.y; y <= hi.y; ++y)
             for (int x = lo.x; x <= hi.x; ++x) {
                 uint b = bin_id(ivec3(x, y, z));
                 for (uint i = sphere_start[b]; i < sphere_start[b + 1u]; ++i) {
                     float depth = spheres[i].w - distance(p, spheres[i].xyz);
+                    tie = depth == lb || (tie && depth < lb);
                     if (depth > lb) {
                         lb = depth;
                         deepest = i;
@@ -163,26 +163,29 @@ float evaluate_global(vec3 p) {
                     best = min(best, arc_distance(arcs[3u * k], arcs[3u * k + 1u],
                                                   arcs[3u * k + 2u], p, best));
             }
-    for (int z = lo.z; z <= hi.z; ++z)
-        for (int y = lo.y; y <= hi.y; ++y)
-            for (int x = lo.x; x <= hi.x; ++x) {
-                uint b = bin_id(ivec3(x, y, z));
-                for (uint i = sphere_start[b]; i < sphere_start[b + 1u]; ++i) {
-                    vec4 s = spheres[i];
-                    float face = abs(distance(p, s.xyz) - s.w);
-                    if (i == deepest || face < lb || face >= best) continue;
-                    if (!buried_global(projection(s, p), i)) best = face;
+    if (tie && lb < best) {
+        for (int z = lo.z; z <= hi.z; ++z)
+            for (int y = lo.y; y <= hi.y; ++y)
+                for (int x = lo.x; x <= hi.x; ++x) {
+                    uint b = bin_id(ivec3(x, y, z));
+                    for (uint i = sphere_start[b]; i < sphere_start[b + 1u]; ++i) {
+                        vec4 s = spheres[i];
+                        if (i == deepest || s.w - distance(p, s.xyz) != lb) continue;
+                        if (!buried_global(projection(s, p), i)) return lb;
+                    }
                 }
-            }
+    }
     return best;
 }
 
 void main() {
-    uvec3 g = gl_GlobalInvocationID;
     uint t = gl_LocalInvocationIndex;
     vec3 origin = vec3(pc.origin_x, pc.origin_y, pc.origin_z);
-    uvec3 first = gl_WorkGroupID * gl_WorkGroupSize;
-    uvec3 last = min(first + gl_WorkGroupSize, uvec3(pc.nx, pc.ny, pc.nz)) - 1u;
+    uvec3 dims = uvec3(pc.nx, pc.ny, pc.nz);
+    // The box: points_z layers of the workgroup along z, one point of each per invocation.
+    uvec3 span = uvec3(kSesGroupX, kSesGroupY, kSesGroupZ * pc.points_z);
+    uvec3 first = gl_WorkGroupID * span;
+    uvec3 last = min(first + span, dims) - 1u;
     vec3 box_lo = origin + pc.spacing * vec3(first);
     vec3 box_hi = origin + pc.spacing * vec3(last);
 
@@ -250,14 +253,52 @@ void main() {
     }
     barrier();
 
-    if (any(greaterThanEqual(g, uvec3(pc.nx, pc.ny, pc.nz)))) return;
-    uint at = (g.z * pc.ny + g.y) * pc.pitch + g.x;
+    uvec3 g0 = first + gl_LocalInvocationID;
+    if (any(greaterThanEqual(g0, dims))) return;
     if (deep != 0u) {
-        field[at] = pc.d_max;
+        for (uint j = 0u; j < pc.points_z; ++j) {
+            uint z = g0.z + j * kSesGroupZ;
+            if (z < pc.nz) field[(z * pc.ny + g0.y) * pc.pitch + g0.x] = pc.d_max;
+        }
         return;
     }
-    vec3 p = origin + pc.spacing * vec3(g);
-    bool overflow = sphere_count > kSesSphereCapacity || arc_count > kSesArcCapacity;
-    float value = (overflow || pc.force_global != 0u) ? evaluate_global(p) : evaluate_shared(p);
-    field[at] = value;
+    vec3 p0 = origin + pc.spacing * vec3(g0);
+    vec3 step = vec3(0.0, 0.0, pc.spacing * float(kSesGroupZ));
+    if (sphere_count > kSesSphereCapacity || arc_count > kSesArcCapacity ||
+        pc.force_global != 0u) {
+        for (uint j = 0u; j < pc.points_z; ++j) {
+            uint z = g0.z + j * kSesGroupZ;
+            if (z < pc.nz)
+                field[(z * pc.ny + g0.y) * pc.pitch + g0.x] = evaluate_global(p0 + float(j) * step);
+        }
+        return;
+    }
+    // The invocation's points share each sphere read: the depths of all of them in one loop.
+    float lb[kSesPointsZ];
+    uint deepest[kSesPointsZ];
+    bool tie[kSesPointsZ];
+    for (uint j = 0u; j < kSesPointsZ; ++j) {
+        lb[j] = -3.0e38;
+        deepest[j] = 0u;
+        tie[j] = false;
+    }
+    // (Arrays of the largest size, unrolled; the uniform test keeps them in registers.)
+    for (uint i = 0u; i < sphere_count; ++i) {
+        vec4 s = sphere_list[i];
+        for (uint j = 0u; j < kSesPointsZ; ++j) {
+            if (j >= pc.points_z) break;
+            float depth = s.w - distance(p0 + float(j) * step, s.xyz);
+            tie[j] = depth == lb[j] || (tie[j] && depth < lb[j]);
+            if (depth > lb[j]) {
+                lb[j] = depth;
+                deepest[j] = i;
+            }
+        }
+    }
+    for (uint j = 0u; j < kSesPointsZ; ++j) {
+        uint z = g0.z + j * kSesGroupZ;
+        if (j < pc.points_z && z < pc.nz)
+            field[(z * pc.ny + g0.y) * pc.pitch + g0.x] =
+                finish_shared(p0 + float(j) * step, lb[j], deepest[j], tie[j]);
+    }
 }

@@ -24,12 +24,15 @@ FDM_CONST kDensityTileGroup = 64;
 FDM_CONST kDensityTileLanes = 8;
 FDM_CONST kDensityPointGroup = 64;
 
-// Exact SES distance (ses_distance.comp): one invocation per grid point, 3D workgroups of
-// 8 x 4 x 2 (8 along x: lavapipe fills its 8-wide vectors along local x only; 28% faster on
-// 4HHB than 4 x 4 x 4, which ran half-empty vectors; 8 x 8 x 1, 16 x 2 x 2, 8 x 2 x 4 were slower).
+// Exact SES distance (ses_distance.comp): 3D workgroups of 8 x 4 x 2 invocations (8 along x:
+// lavapipe fills its 8-wide vectors along local x only; 28% faster on 4HHB than 4 x 4 x 4, which
+// ran half-empty vectors; 8 x 8 x 1, 16 x 2 x 2, 8 x 2 x 4 were slower), each invocation up to
+// kSesPointsZ points along z (push constant points_z, chosen by the host: ses_points_z), which
+// share one gather per box and one read of each sphere.
 FDM_CONST kSesGroupX = 8;
 FDM_CONST kSesGroupY = 4;
 FDM_CONST kSesGroupZ = 2;
+FDM_CONST kSesPointsZ = 4;
 // Spheres (one vec4) and arcs (three vec4) each workgroup copies into shared memory
 // (300 x 16 + 230 x 48 = 15,840 bytes: within the 16 KiB every Vulkan device has); a box with
 // more falls back to reading the bins per point. At 0.5 Å a box has about 60-100 spheres.
@@ -85,7 +88,7 @@ struct SesDistancePush {
     float r_max;    // largest inflated radius r + probe, Å
     float rho_max;  // largest arc circle radius, Å
     float d_max;    // the field is clamped to [-d_max, d_max] (exact within)
-    float pad0;
+    uint points_z;  // points per invocation along z, 1 to kSesPointsZ (ses_points_z)
 };
 
 struct SpectralMaskPush {

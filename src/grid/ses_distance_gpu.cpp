@@ -8,6 +8,8 @@
 
 namespace fdmsurf::detail {
 
+std::uint32_t ses_points_z(float spacing) { return spacing <= 0.5f ? shader::kSesPointsZ : 1u; }
+
 SesDistancePass::SesDistancePass(Context& ctx) : ctx_(ctx) {
     ShaderCode code = shader_code(Shader::SesDistance);
     pipeline_ = ComputePipeline(ctx, code.words, code.bytes, 5, sizeof(shader::SesDistancePush),
@@ -35,12 +37,13 @@ void SesDistancePass::record(Commands& cmds, StagingArena& arena, const SesFeatu
     p.r_max = f.r_max;
     p.rho_max = f.rho_max;
     p.d_max = plan.ses_d_max;
+    p.points_z = ses_points_z(g.spacing);
     auto groups = [](std::uint32_t n, std::uint32_t size) { return (n + size - 1) / size; };
     cmds.dispatch(
         pipeline_,
         {whole(field), whole(spheres_), whole(sphere_start_), whole(arcs_), whole(arc_start_)}, &p,
         groups(g.dims[0], shader::kSesGroupX), groups(g.dims[1], shader::kSesGroupY),
-        groups(g.dims[2], shader::kSesGroupZ));
+        groups(g.dims[2], shader::kSesGroupZ * p.points_z));
     cmds.mark("ses-distance");
     cmds.barrier_compute();
 }

@@ -12,6 +12,7 @@
 #include "fdmsurf/surface.hpp"
 #include "grid/grid_plan.hpp"
 #include "grid/ses_distance_cpu.hpp"
+#include "grid/ses_distance_gpu.hpp"
 #include "grid/ses_features.hpp"
 #include "shader_interface.h"
 #include "support/gpu_fixture.hpp"
@@ -100,9 +101,9 @@ TEST_F(SesDistanceGpu, CoarseGridsOverflowIntoTheFallbackAndStayExact) {
     // The shader's gather, for the box holding the grid's centre point.
     const auto& dims = plan.info.dims;
     float lo[3], hi[3];
-    const std::uint32_t group[3] = {fdmsurf::detail::shader::kSesGroupX,
-                                    fdmsurf::detail::shader::kSesGroupY,
-                                    fdmsurf::detail::shader::kSesGroupZ};
+    const std::uint32_t group[3] = {
+        fdmsurf::detail::shader::kSesGroupX, fdmsurf::detail::shader::kSesGroupY,
+        fdmsurf::detail::shader::kSesGroupZ * fdmsurf::detail::ses_points_z(plan.info.spacing)};
     for (int a = 0; a < 3; ++a) {
         const std::uint32_t first = dims[a] / 2 / group[a] * group[a];
         const std::uint32_t last = std::min(first + group[a] - 1, dims[a] - 1);
