@@ -24,6 +24,11 @@ struct Slot {
 Slot slots[kSlots];
 static_assert(std::atomic<int>::is_always_lock_free, "the handler needs lock-free atomics");
 
+// Creations in progress (TempFileCreation), and kSweeping once a handler has begun.
+constexpr unsigned kSweeping = 1u << 31;
+std::atomic<unsigned> creations{0};
+static_assert(std::atomic<unsigned>::is_always_lock_free, "the handler needs lock-free atomics");
+
 }  // namespace
 
 bool track_temp_file(const std::string& path) {
@@ -47,7 +52,25 @@ void untrack_temp_file(const std::string& path) {
     }
 }
 
+TempFileCreation::TempFileCreation() {
+    unsigned now = creations.load();
+    for (;;) {
+        if (now & kSweeping) {
+            // An interrupt is being handled on another thread, which exits the process: wait
+            // for it (this thread has the signals blocked) rather than create a file it misses.
+            for (;;) ::pause();
+        }
+        if (creations.compare_exchange_weak(now, now + 1)) return;
+    }
+}
+
+TempFileCreation::~TempFileCreation() { creations.fetch_sub(1); }
+
 void remove_temp_files_from_signal_handler() {
+    creations.fetch_or(kSweeping);
+    while ((creations.load() & ~kSweeping) != 0) {
+        // another thread is between creating a temporary file and tracking it: microseconds
+    }
     for (Slot& s : slots)
         if (s.state.load() == kReady) ::unlink(s.path);
 }

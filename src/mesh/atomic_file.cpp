@@ -40,9 +40,14 @@ AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
         sigemptyset(&block);
         for (int sig : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&block, sig);
         pthread_sigmask(SIG_BLOCK, &block, &previous);
-        fd_ = ::open(temp_path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-        const int open_errno = errno;
-        if (fd_ >= 0) tracked_ = track_temp_file(temp_path_);
+        int open_errno = 0;
+        {
+            // ... and an interrupt handled on another thread waits for it (temp_files.hpp).
+            const TempFileCreation creating;
+            fd_ = ::open(temp_path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+            open_errno = errno;
+            if (fd_ >= 0) tracked_ = track_temp_file(temp_path_);
+        }
         pthread_sigmask(SIG_SETMASK, &previous, nullptr);
         errno = open_errno;
         if (fd_ < 0 && errno != EEXIST) break;
