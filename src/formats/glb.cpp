@@ -13,6 +13,7 @@
 #include <ostream>
 #include <streambuf>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "fdmsurf/error.hpp"
@@ -296,18 +297,33 @@ private:
         if (size <= 0) fail(path_, what + ": unknown component type");
         const std::size_t element = std::size_t(size) * std::size_t(components);
         const std::size_t stride = view.byteStride != 0 ? view.byteStride : element;
-        const std::size_t start = view.byteOffset + a.byteOffset;
-        if (a.count > 0 &&
-            (view.byteOffset + view.byteLength > buffer.size() || stride < element ||
-             start + stride * (a.count - 1) + element > view.byteOffset + view.byteLength)) {
+        // Bounds in a form that cannot overflow, whatever sizes the file claims.
+        const std::size_t bytes = buffer.size();
+        const bool view_fits = view.byteOffset <= bytes && view.byteLength <= bytes - view.byteOffset;
+        const std::size_t room = view_fits && a.byteOffset <= view.byteLength
+                                     ? view.byteLength - a.byteOffset
+                                     : 0;
+        if (a.count > 0 && (!view_fits || a.byteOffset > view.byteLength || stride < element ||
+                            element > room || a.count - 1 > (room - element) / stride)) {
             fail(path_, what + ": accessor reaches beyond its buffer view or buffer");
         }
+        const std::size_t start = view.byteOffset + a.byteOffset;
         std::vector<T> out;
         out.reserve(a.count * std::size_t(components));
         const char* base = reinterpret_cast<const char*>(buffer.data()) + start;
         for (std::size_t i = 0; i < a.count; ++i) {
             for (int c = 0; c < components; ++c) {
-                out.push_back(T(component(base + i * stride + std::size_t(c * size), a)));
+                const double value = component(base + i * stride + std::size_t(c * size), a);
+                if constexpr (std::is_integral_v<T>) {
+                    // An index or atom number stored as float: it must be one (found by
+                    // fuzz_glb: 4.5e21 converted to an index).
+                    if (!(value >= 0.0 && value <= double(std::numeric_limits<T>::max()) &&
+                          value == std::floor(value))) {
+                        fail(path_, what + ": value " + std::to_string(value) +
+                                        " is not an index");
+                    }
+                }
+                out.push_back(T(value));
             }
         }
         return out;

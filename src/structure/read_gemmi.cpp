@@ -61,6 +61,34 @@ void check_pdb_records(std::string_view text, const std::string& name) {
     }
 }
 
+// gemmi 0.5.7 reads a LINK or SSBOND record's distance (columns 74-78) once the line is longer
+// than 73 characters, past the end of a shorter line (found by fuzz_pdb: a heap-buffer
+// overflow). Such lines are padded with spaces to 80 columns before gemmi reads them (spaces
+// read as no distance, as in a line that stops at column 73); text without them is not copied.
+std::string pad_connection_records(const std::string& text) {
+    auto needs_padding = [](std::string_view line) {  // LineReader drops "\r\n" and "\n"
+        return line.size() > 73 && line.size() < 80 &&
+               (iequals(line.substr(0, 4), "LINK") || iequals(line.substr(0, 6), "SSBOND"));
+    };
+    bool any = false;
+    {
+        LineReader lines(text);
+        std::string_view line;
+        while (!any && lines.next(line)) any = needs_padding(line);
+    }
+    if (!any) return std::string();
+    std::string padded;
+    padded.reserve(text.size() + 1024);
+    LineReader lines(text);
+    std::string_view line;
+    while (lines.next(line)) {
+        padded.append(line);
+        if (needs_padding(line)) padded.append(80 - line.size(), ' ');
+        padded.push_back('\n');
+    }
+    return padded;
+}
+
 // gemmi silently makes no atoms when one of the _atom_site columns it needs is missing.
 void check_cif_columns(gemmi::cif::Document& doc, const std::string& name) {
     if (doc.blocks.empty()) fail_format(name + ": no data block (not an mmCIF file)");
@@ -386,7 +414,9 @@ std::vector<Structure> read_pdb_or_mmcif(const std::string& text_in, const std::
     with_gemmi(name, [&] {
         if (format == StructureFormat::Pdb) {
             check_pdb_records(text, name);
-            st = gemmi::read_pdb_from_memory(text.data(), text.size(), name);
+            const std::string padded = pad_connection_records(text);
+            const std::string& pdb = padded.empty() ? text : padded;
+            st = gemmi::read_pdb_from_memory(pdb.data(), pdb.size(), name);
         } else {
             doc = gemmi::cif::read_memory(text.data(), text.size(), name.c_str());
             check_cif_columns(doc, name);
