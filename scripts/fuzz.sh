@@ -68,7 +68,7 @@ run_one() {
            "$corpus" "$seed" >"$log" 2>&1; then
         local runs cov corp
         runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" || true)
-        cov=$(grep -E '^#[0-9]+ +DONE' "$log" | sed -n 's/.*cov: \([0-9]*\).*/\1/p' | tail -1 || true)
+        cov=$(grep -E '^#[0-9]+[[:space:]]+DONE' "$log" | sed -n 's/.*cov: \([0-9]*\).*/\1/p' | tail -1 || true)
         corp=$(find "$corpus" -type f | wc -l)
         printf '%-14s ok     %10s runs  coverage %6s  corpus %6s\n' "$h" "${runs:-?}" "${cov:-?}" "$corp"
     else
