@@ -2,6 +2,7 @@
 #include "fdmsurf/structure.hpp"
 
 #include <istream>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -14,6 +15,10 @@ namespace {
 // Every model (options.model == kAllModels) or the one asked for.
 std::vector<Structure> read_text(const std::string& text, const std::string& name,
                                  const ReadOptions& options) {
+    // A UTF-8 byte-order mark (editors on Windows write one) is not part of any record: gemmi
+    // would refuse an mmCIF that starts with it ("expected block header").
+    if (std::string_view(text).substr(0, 3) == "\xEF\xBB\xBF")
+        return read_text(text.substr(3), name, options);
     detail::check_text(text, name);
     if (options.model < 0)
         throw Error(ErrorCode::InvalidArgument, name + ": model " + std::to_string(options.model) +
