@@ -1,5 +1,6 @@
 // PDB and mmCIF through gemmi, with our own checks where gemmi is lenient; selection and radii.
 // C++17 only here: clang compiles this file as C++17 (CMakeLists.txt says why: gemmi 0.5).
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -61,32 +62,42 @@ void check_pdb_records(std::string_view text, const std::string& name) {
     }
 }
 
-// gemmi 0.5.7 reads a LINK or SSBOND record's distance (columns 74-78) once the line is longer
-// than 73 characters, past the end of a shorter line (found by fuzz_pdb: a heap-buffer
-// overflow). Such lines are padded with spaces to 80 columns before gemmi reads them (spaces
-// read as no distance, as in a line that stops at column 73); text without them is not copied.
+// gemmi 0.5.7 reads a LINK or SSBOND record's distance or link id (columns 73-80) once the
+// line, as it keeps it (with its "\n" or "\r\n", up to its first NUL byte), is longer than 73
+// characters: past the end of a line shorter than 80 (found by fuzz_pdb twice: a heap-buffer
+// overflow). Those lines are given to gemmi without NUL bytes (spaces instead) and padded with
+// spaces to 80 columns (spaces read as no distance, as in a line that stops at column 72); the
+// other lines as they are, with "\n" ends. Text without such lines is not copied.
 std::string pad_connection_records(const std::string& text) {
-    auto needs_padding = [](std::string_view line) {  // LineReader drops "\r\n" and "\n"
-        return line.size() > 73 && line.size() < 80 &&
-               (iequals(line.substr(0, 4), "LINK") || iequals(line.substr(0, 6), "SSBOND"));
+    auto needs_fixing = [](std::string_view line) {  // LineReader drops "\r\n" and "\n"
+        // gemmi tells the record by its first four characters, case-insensitive ("SSBO...").
+        return (iequals(line.substr(0, 4), "LINK") || iequals(line.substr(0, 4), "SSBO")) &&
+               ((line.size() >= 72 && line.size() < 80) ||
+                line.find('\0') != std::string_view::npos);
     };
     bool any = false;
     {
         LineReader lines(text);
         std::string_view line;
-        while (!any && lines.next(line)) any = needs_padding(line);
+        while (!any && lines.next(line)) any = needs_fixing(line);
     }
     if (!any) return std::string();
-    std::string padded;
-    padded.reserve(text.size() + 1024);
+    std::string fixed;
+    fixed.reserve(text.size() + 1024);
     LineReader lines(text);
     std::string_view line;
     while (lines.next(line)) {
-        padded.append(line);
-        if (needs_padding(line)) padded.append(80 - line.size(), ' ');
-        padded.push_back('\n');
+        if (needs_fixing(line)) {
+            std::string record(line);
+            std::replace(record.begin(), record.end(), '\0', ' ');
+            if (record.size() < 80) record.append(80 - record.size(), ' ');
+            fixed += record;
+        } else {
+            fixed.append(line);
+        }
+        fixed.push_back('\n');
     }
-    return padded;
+    return fixed;
 }
 
 // gemmi silently makes no atoms when one of the _atom_site columns it needs is missing.
