@@ -375,7 +375,9 @@ Mesh parse_ply(std::string_view data, const std::string& path) {
             has_vertices = true;
         } else if (element.name == "face") {
             read_faces(element, body, mesh, path);
-        } else {
+        } else if (!element.properties.empty()) {
+            // (an element without properties takes no bytes: nothing to skip, however many it
+            // claims; found by fuzz_ply, which looped 4e18 times over one)
             for (std::size_t r = 0; r < element.count; ++r) {
                 for (const Property& p : element.properties) skip_property(p, body);
             }
