@@ -61,46 +61,65 @@ std::uint64_t edge_key(Index a, Index b) {
     return a < b ? std::uint64_t{a} << 32 | b : std::uint64_t{b} << 32 | a;
 }
 
+// The corners at each vertex, by a counting sort: the corners of vertex v are
+// around[start[v]] .. around[start[v + 1] - 1], each as its triangle's next and previous
+// vertex (the sides v -> next and prev -> v).
+struct Stars {
+    std::vector<Index> start;
+    std::vector<std::array<Index, 2>> around;
+};
+
+Stars vertex_stars(const std::vector<Index>& indices, std::size_t vertex_count) {
+    Stars s;
+    s.start.assign(vertex_count + 1, 0);
+    for (Index v : indices) ++s.start[v + 1];
+    for (std::size_t v = 0; v < vertex_count; ++v) s.start[v + 1] += s.start[v];
+    s.around.resize(indices.size());
+    std::vector<Index> fill(s.start.begin(), s.start.end() - 1);
+    for (std::size_t c = 0; c < indices.size(); ++c) {
+        const std::size_t t = c - c % 3;
+        s.around[fill[indices[c]]++] = {indices[t + (c % 3 + 1) % 3], indices[t + (c % 3 + 2) % 3]};
+    }
+    return s;
+}
+
+// How many fans the n corners `o` of one vertex form: triangles sharing a neighbour share the
+// edge to it, one fan. `parent` is scratch space; `shared(a, b)` is called for every pair of
+// corners that share a neighbour. Valences are small: all pairs are tried.
+template <class Shared>
+Index star_fans(const std::array<Index, 2>* o, Index n, std::vector<Index>& parent,
+                Shared&& shared) {
+    parent.resize(n);
+    for (Index i = 0; i < n; ++i) parent[i] = i;
+    auto find = [&parent](Index x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+    };
+    for (Index i = 0; i < n; ++i) {
+        for (Index j = 0; j < i; ++j) {
+            const auto& a = o[i];
+            const auto& b = o[j];
+            if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) {
+                parent[find(i)] = find(j);
+                shared(a, b);
+            }
+        }
+    }
+    Index roots = 0;
+    for (Index i = 0; i < n; ++i) roots += find(i) == i;
+    return roots;
+}
+
 // Per vertex, how many fans its triangles form (triangles joined through the edges at the
 // vertex): 1 on a manifold vertex, 0 on an unused one.
 std::vector<Index> fan_counts(const std::vector<Index>& indices, std::size_t vertex_count) {
-    std::vector<Index> start(vertex_count + 1, 0);
-    for (Index v : indices) ++start[v + 1];
-    for (std::size_t v = 0; v < vertex_count; ++v) start[v + 1] += start[v];
-    std::vector<Index> corners(indices.size());
-    std::vector<Index> fill(start.begin(), start.end() - 1);
-    for (std::size_t c = 0; c < indices.size(); ++c) corners[fill[indices[c]]++] = Index(c);
-
+    const Stars stars = vertex_stars(indices, vertex_count);
     std::vector<Index> fans(vertex_count, 0);
-    std::vector<std::array<Index, 2>> others;
     std::vector<Index> parent;
     for (std::size_t v = 0; v < vertex_count; ++v) {
-        const Index n = start[v + 1] - start[v];
-        if (n == 0) continue;
-        others.clear();
-        for (Index i = start[v]; i < start[v + 1]; ++i) {
-            const Index c = corners[i], t = c - c % 3;
-            others.push_back({indices[t + (c % 3 + 1) % 3], indices[t + (c % 3 + 2) % 3]});
-        }
-        parent.resize(n);
-        for (Index i = 0; i < n; ++i) parent[i] = i;
-        auto find = [&parent](Index x) {
-            while (parent[x] != x) x = parent[x] = parent[parent[x]];
-            return x;
-        };
-        // Triangles sharing a neighbour share the edge to it: one fan. Valences are small.
-        for (Index i = 0; i < n; ++i) {
-            for (Index j = 0; j < i; ++j) {
-                const auto& a = others[i];
-                const auto& b = others[j];
-                if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) {
-                    parent[find(i)] = find(j);
-                }
-            }
-        }
-        Index roots = 0;
-        for (Index i = 0; i < n; ++i) roots += find(i) == i;
-        fans[v] = roots;
+        const Index first = stars.start[v], n = stars.start[v + 1] - first;
+        if (n > 0)
+            fans[v] = star_fans(&stars.around[first], n, parent, [](const auto&, const auto&) {});
     }
     return fans;
 }
@@ -215,49 +234,20 @@ struct OutputStars {
 
 OutputStars output_stars(const std::vector<Index>& indices, std::size_t vertex_count) {
     OutputStars s;
-    std::vector<Index> start(vertex_count + 1, 0);
-    for (Index v : indices) ++start[v + 1];
-    for (std::size_t v = 0; v < vertex_count; ++v) start[v + 1] += start[v];
-    // Per corner, the triangle's next and previous vertex (the sides v -> next, prev -> v).
-    std::vector<std::array<Index, 2>> around(indices.size());
-    {
-        std::vector<Index> fill(start.begin(), start.end() - 1);
-        for (std::size_t c = 0; c < indices.size(); ++c) {
-            const std::size_t t = c - c % 3;
-            around[fill[indices[c]]++] = {indices[t + (c % 3 + 1) % 3],
-                                          indices[t + (c % 3 + 2) % 3]};
-        }
-    }
+    const Stars stars = vertex_stars(indices, vertex_count);
     s.fans.assign(vertex_count, 0);
     std::vector<Index> parent;
     for (std::size_t v = 0; v < vertex_count; ++v) {
-        const Index first = start[v], n = start[v + 1] - first;
+        const Index first = stars.start[v], n = stars.start[v + 1] - first;
         if (n == 0) continue;
-        const std::array<Index, 2>* o = &around[first];
-        parent.resize(n);
-        for (Index i = 0; i < n; ++i) parent[i] = i;
-        auto find = [&parent](Index x) {
-            while (parent[x] != x) x = parent[x] = parent[parent[x]];
-            return x;
-        };
-        // Triangles sharing a neighbour share the edge to it: one fan. Valences are small.
-        for (Index i = 0; i < n; ++i) {
-            for (Index j = 0; j < i; ++j) {
-                const auto& a = o[i];
-                const auto& b = o[j];
-                if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) {
-                    parent[find(i)] = find(j);
-                    // The same two other vertices: a triangle doubled (seen from its lowest).
-                    if (((a[0] == b[0] && a[1] == b[1]) || (a[0] == b[1] && a[1] == b[0])) &&
-                        v < a[0] && v < a[1]) {
-                        s.doubled.push_back({Index(v), std::min(a[0], a[1]), std::max(a[0], a[1])});
-                    }
-                }
+        const std::array<Index, 2>* o = &stars.around[first];
+        s.fans[v] = star_fans(o, n, parent, [&](const auto& a, const auto& b) {
+            // The same two other vertices: a triangle doubled (seen from its lowest).
+            if (((a[0] == b[0] && a[1] == b[1]) || (a[0] == b[1] && a[1] == b[0])) && v < a[0] &&
+                v < a[1]) {
+                s.doubled.push_back({Index(v), std::min(a[0], a[1]), std::max(a[0], a[1])});
             }
-        }
-        Index roots = 0;
-        for (Index i = 0; i < n; ++i) roots += find(i) == i;
-        s.fans[v] = roots;
+        });
         // The edges v - u with u > v: side v -> u is a corner at v whose next is u (lo -> hi),
         // side u -> v one whose previous is u.
         for (Index i = 0; i < n; ++i) {
@@ -343,7 +333,8 @@ std::vector<Index> new_defects(const std::vector<Index>& in, const std::vector<I
         for (std::size_t c = 0; c < out.size() && !bad.empty(); c += 3) {
             for (int k = 0; k < 3; ++k) {
                 const Index a = out[c + k], b = out[c + (k + 1) % 3];
-                if (end[a] && end[b] && std::binary_search(bad.begin(), bad.end(), edge_key(a, b))) {
+                if (end[a] && end[b] &&
+                    std::binary_search(bad.begin(), bad.end(), edge_key(a, b))) {
                     defects.insert(defects.end(), {out[c], out[c + 1], out[c + 2]});
                     break;
                 }
@@ -386,7 +377,8 @@ std::vector<Index> new_defects(const std::vector<Index>& in, const std::vector<I
             if (it != out_doubles.end() && *it == t) ++uses[std::size_t(it - out_doubles.begin())];
         }
         for (std::size_t i = 0; i < out_doubles.size(); ++i) {
-            if (uses[i] < 2) defects.insert(defects.end(), out_doubles[i].begin(), out_doubles[i].end());
+            if (uses[i] < 2)
+                defects.insert(defects.end(), out_doubles[i].begin(), out_doubles[i].end());
         }
     }
     // The pieces of the input of which no vertex is left.
@@ -420,11 +412,11 @@ RegionResult simplify_region(const std::vector<float>& positions, const std::vec
                                      ? std::numeric_limits<float>::max()
                                      : static_cast<float>(max_error / scale);
     // The kept triangles count in the target; the rest goes to the ratio that makes it up.
-    const double ratio =
-        kept >= triangles ? 1.0
-                          : std::clamp((static_cast<double>(target) - double(kept)) /
-                                           static_cast<double>(triangles - kept),
-                                       0.0, 1.0);
+    const double ratio = kept >= triangles
+                             ? 1.0
+                             : std::clamp((static_cast<double>(target) - double(kept)) /
+                                              static_cast<double>(triangles - kept),
+                                          0.0, 1.0);
     // Edge of an equilateral triangle of the simplified mesh's mean area: the freezing radius
     // grows by half of it with every attempt.
     const double step = std::sqrt(4.0 / std::sqrt(3.0) * total_area(positions, indices) /
