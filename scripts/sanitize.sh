@@ -45,21 +45,11 @@ export LSAN_OPTIONS="suppressions=$supp/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 export ASAN_SYMBOLIZER_PATH=${ASAN_SYMBOLIZER_PATH:-$(command -v llvm-symbolizer || command -v llvm-symbolizer-14)}
 
-log=$(mktemp)
-trap 'rm -f "$log"' EXIT
+source scripts/lib/ctest_no_skips.sh
+gltf_missing=0
+[[ -d build/tools/gltf-validator ]] || gltf_missing=1
 status=0
-FDMSURF_REQUIRE_DEVICE=1 FDMSURF_REQUIRE_TOOLS=1 \
-    ctest --test-dir "$build_dir" --output-on-failure --no-tests=error -j2 "$@" 2>&1 | tee "$log" \
-    || status=$?
-skipped=$(grep -E '^[[:space:]]*[0-9]+ - .* \(Skipped\)$' "$log" || true)
-if [[ ! -d build/tools/gltf-validator ]]; then
-    skipped=$(grep -v ' - GltfValidator\.' <<<"$skipped" || true)
-fi
-if [[ -n $skipped ]]; then
-    echo "sanitize.sh: these tests were skipped under the sanitizers:" >&2
-    echo "$skipped" >&2
-    ((status != 0)) || status=1
-fi
+ctest_no_skips "$build_dir" "$gltf_missing" sanitize.sh "$@" || status=$?
 if ((status)); then
     echo "sanitize.sh: the suite failed under AddressSanitizer + UndefinedBehaviorSanitizer" >&2
 fi

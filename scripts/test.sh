@@ -34,23 +34,10 @@ if [[ ! -f $validator_dir/node_modules/gltf-validator/package.json ]] ||
     fi
 fi
 
-log=$(mktemp)
-trap 'rm -f "$log"' EXIT
-status=0
-FDMSURF_REQUIRE_DEVICE=1 FDMSURF_REQUIRE_TOOLS=1 \
-    ctest --test-dir "$build_dir" --output-on-failure --no-tests=error -j2 "$@" 2>&1 | tee "$log" \
-    || status=$?
-
 # ctest counts a skipped test (GTEST_SKIP) as passed; here it is a failure.
-skipped=$(grep -E '^[[:space:]]*[0-9]+ - .* \(Skipped\)$' "$log" || true)
-if ((validator_missing)); then
-    skipped=$(grep -v ' - GltfValidator\.' <<<"$skipped" || true)
-fi
-if [[ -n $skipped ]]; then
-    echo "test.sh: these tests were skipped, so not every test ran:" >&2
-    echo "$skipped" >&2
-    ((status != 0)) || status=1
-fi
+source scripts/lib/ctest_no_skips.sh
+status=0
+ctest_no_skips "$build_dir" "$validator_missing" test.sh "$@" || status=$?
 # The embedding example built against the installed package (cmake --install into a
 # temporary prefix, examples/embed configured with find_package(fdmsurf), run with the
 # validation layer): what an application that embeds fdmsurf sees.
