@@ -98,6 +98,26 @@ std::vector<std::string> outputs(const fs::path& dir) {
     return names;
 }
 
+// The CLI run to its end with FDMSURF_FAULT=`fault`: its exit code (-1, and a failure, when a
+// signal ended it) and its stderr.
+struct FaultRun {
+    int exit_code = -1;
+    std::string err;
+};
+
+FaultRun run_with_fault(const fs::path& dir, const std::string& fault,
+                        const std::vector<std::string>& args) {
+    ChildSetup setup;
+    setup.fault = fault;
+    Child c = start(dir, args, setup);
+    const int status = c.wait_status();
+    FaultRun r;
+    r.err = slurp(dir / "stderr");
+    EXPECT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status) << ": " << r.err;
+    if (WIFEXITED(status)) r.exit_code = WEXITSTATUS(status);
+    return r;
+}
+
 class Interrupts : public ::testing::Test {
 protected:
     void SetUp() override {
@@ -198,49 +218,36 @@ TEST_F(Interrupts, ReadOnlyFolderGivesTheOutputErrorAndNothing) {
 // VK_ERROR_DEVICE_LOST): exit 6 with the reason, nothing written, and the remaining inputs not
 // tried on a device that is gone.
 TEST_F(Interrupts, DeviceLostIsExit6AndNothingWritten) {
-    ChildSetup setup;
-    setup.fault = "device-lost";
     const std::string data = FDMSURF_TEST_DATA_DIR;
-    Child c = start(dir_, {data + "/1crn.pdb", data + "/4hhb.pdb.gz", "-o", (dir_ / "out").string() + "/"},
-                    setup);
-    const int status = c.wait_status();
-    ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
-    const std::string err = slurp(dir_ / "stderr");
-    EXPECT_EQ(WEXITSTATUS(status), 6) << err;
-    EXPECT_NE(err.find("VK_ERROR_DEVICE_LOST"), std::string::npos) << err;
-    EXPECT_NE(err.find("the Vulkan device was lost"), std::string::npos) << err;
-    EXPECT_NE(err.find("the remaining inputs were not processed"), std::string::npos) << err;
+    const FaultRun r = run_with_fault(
+        dir_, "device-lost",
+        {data + "/1crn.pdb", data + "/4hhb.pdb.gz", "-o", (dir_ / "out").string() + "/"});
+    EXPECT_EQ(r.exit_code, 6) << r.err;
+    EXPECT_NE(r.err.find("VK_ERROR_DEVICE_LOST"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("the Vulkan device was lost"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("the remaining inputs were not processed"), std::string::npos) << r.err;
     EXPECT_TRUE(outputs(dir_).empty());
 }
 
 // A later wait fails (the second submission: the device is lost in the middle of the run).
 TEST_F(Interrupts, DeviceLostLaterInTheRunIsExit6Too) {
-    ChildSetup setup;
-    setup.fault = "device-lost:2";
-    Child c = start(dir_, {std::string(FDMSURF_TEST_DATA_DIR) + "/1crn.pdb", "-o",
-                           (dir_ / "out" / "1crn.ply").string()},
-                    setup);
-    const int status = c.wait_status();
-    ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
-    EXPECT_EQ(WEXITSTATUS(status), 6) << slurp(dir_ / "stderr");
+    const FaultRun r = run_with_fault(dir_, "device-lost:2",
+                                      {std::string(FDMSURF_TEST_DATA_DIR) + "/1crn.pdb", "-o",
+                                       (dir_ / "out" / "1crn.ply").string()});
+    EXPECT_EQ(r.exit_code, 6) << r.err;
     EXPECT_TRUE(outputs(dir_).empty());
 }
 
 // An allocation of device memory that fails (FDMSURF_FAULT=out-of-memory:field): exit 7, the
 // buffer and its size named with a spacing hint, nothing written.
 TEST_F(Interrupts, OutOfDeviceMemoryIsExit7AndNothingWritten) {
-    ChildSetup setup;
-    setup.fault = "out-of-memory:field";
-    Child c = start(dir_, {std::string(FDMSURF_TEST_DATA_DIR) + "/1crn.pdb", "-o",
-                           (dir_ / "out" / "1crn.ply").string()},
-                    setup);
-    const int status = c.wait_status();
-    ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
-    const std::string err = slurp(dir_ / "stderr");
-    EXPECT_EQ(WEXITSTATUS(status), 7) << err;
-    EXPECT_NE(err.find("out of memory allocating"), std::string::npos) << err;
-    EXPECT_NE(err.find("'field'"), std::string::npos) << err;
-    EXPECT_NE(err.find("coarser --spacing"), std::string::npos) << err;
+    const FaultRun r = run_with_fault(dir_, "out-of-memory:field",
+                                      {std::string(FDMSURF_TEST_DATA_DIR) + "/1crn.pdb", "-o",
+                                       (dir_ / "out" / "1crn.ply").string()});
+    EXPECT_EQ(r.exit_code, 7) << r.err;
+    EXPECT_NE(r.err.find("out of memory allocating"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("'field'"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("coarser --spacing"), std::string::npos) << r.err;
     EXPECT_TRUE(outputs(dir_).empty());
 }
 
