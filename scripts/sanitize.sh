@@ -3,10 +3,11 @@
 # lavapipe and the validation layer included, then every libFuzzer harness for a bounded time
 # (scripts/fuzz.sh). .ci/run runs it after scripts/test.sh; docs/reliability.md has the figures.
 #
-#   scripts/sanitize.sh                 # set up, build build-san, ctest, fuzz 60 s per harness
+#   scripts/sanitize.sh                 # set up, build build-san, ctest, fuzz.sh's CI mode
 #   FDMSURF_FUZZ_SECONDS=0 scripts/sanitize.sh   # the suite only
 #
-# Environment: FDMSURF_SAN_BUILD_DIR (default build-san); FDMSURF_FUZZ_SECONDS (0: no fuzzing);
+# Environment: FDMSURF_SAN_BUILD_DIR (default build-san); FDMSURF_FUZZ_SECONDS (0: no fuzzing,
+# unset: fuzz.sh's CI mode, fixed runs per harness, S: S seconds per harness);
 # extra arguments go to ctest (e.g. -R Structure).
 #
 # The build leaves out the Python module (a sanitized extension would need the ASan runtime

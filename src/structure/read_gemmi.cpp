@@ -100,13 +100,46 @@ std::string pad_connection_records(const std::string& text) {
     return fixed;
 }
 
+// True for a number written with more digits than an int holds ("99999999999"): gemmi's
+// string_to_int does not check for overflow (found by fuzz_mmcif), so such a value would come
+// out as another number (read_gemmi.cpp is compiled with -fwrapv, which makes it defined).
+bool integer_out_of_int_range(const std::string& value) {
+    std::size_t i = 0;
+    while (i < value.size() && (value[i] == ' ' || value[i] == '\t')) ++i;
+    if (i < value.size() && (value[i] == '-' || value[i] == '+')) ++i;
+    while (i < value.size() && value[i] == '0') ++i;
+    std::size_t digits = 0;
+    while (i + digits < value.size() && value[i + digits] >= '0' && value[i + digits] <= '9')
+        ++digits;
+    return digits > 10 || (digits == 10 && value.compare(i, 10, "2147483647") > 0);
+}
+
+// The _atom_site columns gemmi reads as integers: a value past int's range is refused with
+// the row it is in rather than read as a wrapped number (a serial or residue number that is
+// not the file's).
+void check_cif_integers(gemmi::cif::Block& block, const std::string& name) {
+    static const char* const kIntegerColumns[] = {"id", "label_seq_id", "auth_seq_id",
+                                                  "pdbx_formal_charge", "pdbx_PDB_model_num"};
+    for (const char* tag : kIntegerColumns) {
+        const gemmi::cif::Column column = block.find_values(std::string("_atom_site.") + tag);
+        std::size_t row = 0;
+        for (const std::string& value : column) {
+            ++row;
+            if (integer_out_of_int_range(value))
+                fail_format(name + ": _atom_site." + tag + " " + value + " in row " +
+                            std::to_string(row) + " is out of range (an integer of at most " +
+                            "2147483647 is expected)");
+        }
+    }
+}
+
 // gemmi silently makes no atoms when one of the _atom_site columns it needs is missing.
 void check_cif_columns(gemmi::cif::Document& doc, const std::string& name) {
     if (doc.blocks.empty()) fail_format(name + ": no data block (not an mmCIF file)");
     static const char* const kRequired[] = {
         "id",      "type_symbol", "label_alt_id", "label_asym_id",  "Cartn_x",
         "Cartn_y", "Cartn_z",     "occupancy",    "B_iso_or_equiv", "auth_seq_id"};
-    const gemmi::cif::Block& block = doc.blocks[0];
+    gemmi::cif::Block& block = doc.blocks[0];
     std::string missing;
     std::size_t found = 0;
     for (const char* tag : kRequired) {
@@ -118,6 +151,7 @@ void check_cif_columns(gemmi::cif::Document& doc, const std::string& name) {
     if (found == 0) fail_format(name + ": no _atom_site table (no atoms)");
     if (!missing.empty())
         fail_format(name + ": _atom_site lacks column(s) " + missing + " (needed to read atoms)");
+    check_cif_integers(block, name);
 }
 
 // Element symbols as the file writes them, by "residue atom": gemmi keeps only the parsed

@@ -136,6 +136,39 @@ TEST(StructureErrors, MmcifNonNumericOrNanCoordinates) {
     }
 }
 
+// gemmi reads these columns without an overflow check (fuzz_mmcif found it): a number past
+// int's range is refused with its column and row, while the largest int and leading zeros are
+// read as written.
+TEST(StructureErrors, MmcifIntegersPastIntRangeAreRefusedWithTheirRow) {
+    struct Case {
+        const char* serial;
+        const char* seq;
+        const char* auth_seq;
+        const char* model;
+        const char* column;
+        const char* value;
+    };
+    const Case cases[] = {{"99999999999", "1", "1", "1", "_atom_site.id", "99999999999"},
+                          {"2", "-2147483649", "1", "1", "_atom_site.label_seq_id", "-2147483649"},
+                          {"2", "1", "2147483648", "1", "_atom_site.auth_seq_id", "2147483648"},
+                          {"2", "1", "1", "+30000000000", "_atom_site.pdbx_PDB_model_num",
+                           "+30000000000"}};
+    for (const Case& c : cases) {
+        const std::string text = std::string(test::kCifAtomSiteHeader) +
+                                 "ATOM 1 C CA . ALA A 1 1.0 2.0 3.0 1.0 10.0 1 1\n" + "ATOM " +
+                                 c.serial + " C CB . ALA A " + c.seq + " 1.0 3.0 3.0 1.0 10.0 " +
+                                 c.auth_seq + " " + c.model + "\n";
+        expect_memory_error(text, "big.cif", ErrorCode::Format,
+                            {"big.cif", std::string(c.column) + " " + c.value, "in row 2",
+                             "out of range"});
+    }
+    const std::string fits = std::string(test::kCifAtomSiteHeader) +
+                             "ATOM 2147483647 C CA . ALA A 0002147483647 1.0 2.0 3.0 1.0 10.0 "
+                             "-2147483647 1\n";
+    const Structure s = read_structure_from_memory(fits, "fits.cif", {});
+    ASSERT_EQ(s.atoms.size(), 1u);
+}
+
 TEST(StructureErrors, MmcifWithoutAtoms) {
     expect_memory_error("data_x\n_cell.length_a 10\n", "noatoms.cif", ErrorCode::Format,
                         {"noatoms.cif", "no _atom_site"});

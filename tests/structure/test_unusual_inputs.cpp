@@ -239,7 +239,7 @@ TEST(UnusualInputs, PdbHybrid36Serials) {
     // Serials from 99,990 up, past 99,999 into hybrid-36 (A0000 = 100,000).
     const std::string text = edited_pdb([](int i, std::string& l) {
         const int serial = 99990 + i;
-        char field[6];
+        char field[12];  // five characters used; room for any int (this file is built -fwrapv)
         if (serial <= 99999) {
             std::snprintf(field, sizeof field, "%5d", serial);
         } else {
@@ -248,7 +248,7 @@ TEST(UnusualInputs, PdbHybrid36Serials) {
             for (int k = 4; k >= 0; --k, n /= 36) field[k] = digits[n % 36];
             field[5] = '\0';
         }
-        l.replace(6, 5, field);
+        l.replace(6, 5, field, 5);
     });
     const Structure s = read_structure_from_memory(text, "h36.pdb", keep_everything());
     expect_same(fdmsurf_reading(s), gemmi_reading(text, false));
