@@ -10,9 +10,10 @@
 # unset: fuzz.sh's CI mode, fixed runs per harness, S: S seconds per harness);
 # extra arguments go to ctest (e.g. -R Structure).
 #
-# The build leaves out the Python module (a sanitized extension would need the ASan runtime
-# preloaded into the interpreter) and the benchmarks; everything else, the test binary, the
-# CLI it runs, the MSMS reader test and the glTF validator test, is built with the sanitizers.
+# Everything but the benchmarks is built with the sanitizers: the test binary, the CLI it runs,
+# the Python module (its tests preload the shared ASan runtime into the interpreter:
+# python/CMakeLists.txt), the MSMS reader test and the glTF validator test. Every program links
+# the shared ASan runtime (CMakeLists.txt, FDMSURF_SANITIZE).
 # Leak reports are on. tests/sanitizers/keep_loaded.c, preloaded, keeps the Vulkan driver and
 # layers mapped to the end (the loader's dlclose would unmap them, and memory that only their
 # globals still point to would then be reported as leaked, in "<unknown module>");
@@ -29,7 +30,7 @@ export FDMSURF_SAN_BUILD_DIR=$build_dir
 cmake -S . -B "$build_dir" -G Ninja -DCMAKE_CXX_COMPILER=clang++ \
     -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only -DNDEBUG" \
-    -DFDMSURF_SANITIZE=ON -DFDMSURF_FUZZ=ON -DFDMSURF_PYTHON=OFF -DFDMSURF_BUILD_BENCH=OFF
+    -DFDMSURF_SANITIZE=ON -DFDMSURF_FUZZ=ON -DFDMSURF_PYTHON=ON -DFDMSURF_BUILD_BENCH=OFF
 cmake --build "$build_dir" -j2
 
 # The glTF validator that scripts/test.sh installed into build/ (npm), when it is there.
@@ -41,7 +42,10 @@ fi
 supp="$(pwd)/tests/sanitizers"
 cc -shared -fPIC -O1 -o "$build_dir/keep_loaded.so" "$supp/keep_loaded.c"
 export LD_PRELOAD="$(pwd)/$build_dir/keep_loaded.so${LD_PRELOAD:+:$LD_PRELOAD}"
-export ASAN_OPTIONS="detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1:check_initialization_order=1"
+# verify_asan_link_order=0: keep_loaded.so is preloaded ahead of the ASan runtime that the
+# programs link (the shared one), which ASan would otherwise refuse; keep_loaded.so only
+# defines dlclose and allocates nothing.
+export ASAN_OPTIONS="detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1:check_initialization_order=1:verify_asan_link_order=0"
 export LSAN_OPTIONS="suppressions=$supp/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 export ASAN_SYMBOLIZER_PATH=${ASAN_SYMBOLIZER_PATH:-$(command -v llvm-symbolizer || command -v llvm-symbolizer-14)}

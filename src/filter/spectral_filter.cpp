@@ -3,8 +3,10 @@
 #include "filter/spectral_filter.hpp"
 #include "core/trace.hpp"
 
-#include <mutex>
+#include <clocale>
 #include <cstdio>
+#include <cstring>
+#include <mutex>
 #include <optional>
 #include <vector>
 #include <string>
@@ -29,6 +31,38 @@ void check_fft(VkFFTResult r, const char* what) {
                                         std::to_string(static_cast<int>(r)),
                     static_cast<int>(r));
 }
+
+// VkFFT 1.2.26 writes each kernel's GLSL under the "C" locale (decimal points): it keeps the
+// pointer that setlocale(LC_ALL, NULL) returns, switches to "C", and restores from that pointer
+// afterwards. glibc frees the string behind the pointer at the switch unless the locale was "C"
+// already, so in a process whose locale is not "C" (Python sets the user's, an application may)
+// the restore read freed memory: a heap-use-after-free, found by AddressSanitizer in the Python
+// module's tests. Plans are made with "C" set here first, under which VkFFT's pointer is glibc's
+// static name, and the caller's locale is restored from a copy. One plan at a time in the
+// process: the locale is the whole process's.
+class CLocaleForVkFFT {
+public:
+    CLocaleForVkFFT() : lock_(mutex()) {
+        const char* current = std::setlocale(LC_ALL, nullptr);
+        if (current && std::strcmp(current, "C") != 0) {
+            saved_ = current;  // a copy: the next setlocale frees `current`
+            std::setlocale(LC_ALL, "C");
+        }
+    }
+    ~CLocaleForVkFFT() {
+        if (!saved_.empty()) std::setlocale(LC_ALL, saved_.c_str());
+    }
+    CLocaleForVkFFT(const CLocaleForVkFFT&) = delete;
+    CLocaleForVkFFT& operator=(const CLocaleForVkFFT&) = delete;
+
+private:
+    static std::mutex& mutex() {
+        static std::mutex m;
+        return m;
+    }
+    std::lock_guard<std::mutex> lock_;
+    std::string saved_;
+};
 
 }  // namespace
 
@@ -137,6 +171,7 @@ FftPlan& SpectralFilter::plan_for(const std::array<std::uint32_t, 3>& dims, cons
     std::optional<std::vector<std::uint32_t>> cached = cache_.load(key);
     trace(cached ? "filter: FFT plan read from the plan cache" : "filter: FFT plan not in the plan cache");
     VkFFTResult r = VKFFT_ERROR_FAILED_TO_INITIALIZE;
+    const CLocaleForVkFFT c_locale;
     if (cached) {
         plan->config.loadApplicationFromString = 1;
         plan->config.loadApplicationString = cached->data();
