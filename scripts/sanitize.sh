@@ -12,8 +12,9 @@
 #
 # Everything but the benchmarks is built with the sanitizers: the test binary, the CLI it runs,
 # the Python module (its tests preload the shared ASan runtime into the interpreter:
-# python/CMakeLists.txt), the MSMS reader test and the glTF validator test. Every program links
-# the shared ASan runtime (CMakeLists.txt, FDMSURF_SANITIZE).
+# python/CMakeLists.txt), the MSMS reader test and the glTF validator test. The CLI and the
+# module link the shared ASan runtime, the other programs the static one (CMakeLists.txt,
+# FDMSURF_SANITIZE).
 # Leak reports are on. tests/sanitizers/keep_loaded.c, preloaded, keeps the Vulkan driver and
 # layers mapped to the end (the loader's dlclose would unmap them, and memory that only their
 # globals still point to would then be reported as leaked, in "<unknown module>");
@@ -42,9 +43,9 @@ fi
 supp="$(pwd)/tests/sanitizers"
 cc -shared -fPIC -O1 -o "$build_dir/keep_loaded.so" "$supp/keep_loaded.c"
 export LD_PRELOAD="$(pwd)/$build_dir/keep_loaded.so${LD_PRELOAD:+:$LD_PRELOAD}"
-# verify_asan_link_order=0: keep_loaded.so is preloaded ahead of the ASan runtime that the
-# programs link (the shared one), which ASan would otherwise refuse; keep_loaded.so only
-# defines dlclose and allocates nothing.
+# verify_asan_link_order=0: keep_loaded.so is preloaded ahead of the shared ASan runtime that
+# the CLI links, which ASan would otherwise refuse; keep_loaded.so only defines dlclose and
+# allocates nothing.
 export ASAN_OPTIONS="detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1:check_initialization_order=1:verify_asan_link_order=0"
 export LSAN_OPTIONS="suppressions=$supp/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
