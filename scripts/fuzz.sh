@@ -25,6 +25,10 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
 build_dir=${FDMSURF_SAN_BUILD_DIR:-build-san}
 seconds=${FDMSURF_FUZZ_SECONDS:-}
+if [[ $seconds == 0 ]]; then  # libFuzzer would take 0 as "no limit"; sanitize.sh's "no fuzzing"
+    echo "fuzz.sh: FDMSURF_FUZZ_SECONDS=0, no fuzzing"
+    exit 0
+fi
 seed=${FDMSURF_FUZZ_SEED:-1}
 scale=${FDMSURF_FUZZ_RUNS_SCALE:-1}
 jobs=${FDMSURF_FUZZ_JOBS:-2}
