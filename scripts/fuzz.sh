@@ -25,13 +25,24 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
 build_dir=${FDMSURF_SAN_BUILD_DIR:-build-san}
 seconds=${FDMSURF_FUZZ_SECONDS:-}
-if [[ $seconds == 0 ]]; then  # libFuzzer would take 0 as "no limit"; sanitize.sh's "no fuzzing"
-    echo "fuzz.sh: FDMSURF_FUZZ_SECONDS=0, no fuzzing"
-    exit 0
-fi
 seed=${FDMSURF_FUZZ_SEED:-1}
 scale=${FDMSURF_FUZZ_RUNS_SCALE:-1}
 jobs=${FDMSURF_FUZZ_JOBS:-2}
+for setting in "FDMSURF_FUZZ_SECONDS=$seconds" "FDMSURF_FUZZ_SEED=$seed" \
+               "FDMSURF_FUZZ_RUNS_SCALE=$scale" "FDMSURF_FUZZ_JOBS=$jobs"; do
+    if [[ ! ${setting#*=} =~ ^[0-9]*$ ]]; then
+        echo "fuzz.sh: $setting is not a whole number" >&2
+        exit 2
+    fi
+done
+if [[ -n $seconds ]] && ((10#$seconds == 0)); then  # sanitize.sh's "no fuzzing" (libFuzzer
+    echo "fuzz.sh: FDMSURF_FUZZ_SECONDS=0, no fuzzing"  # would read 0 as no time limit)
+    exit 0
+fi
+if ((10#$seed == 0 || 10#$scale == 0 || 10#${jobs:-0} == 0)); then  # libFuzzer: seed 0 = random
+    echo "fuzz.sh: FDMSURF_FUZZ_SEED, FDMSURF_FUZZ_RUNS_SCALE and FDMSURF_FUZZ_JOBS must be at least 1" >&2
+    exit 2
+fi
 work="$build_dir/fuzz"
 
 # CI mode: runs per harness, about 60 s each on the 2-core VM of docs/reliability.md (its

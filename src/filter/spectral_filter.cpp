@@ -39,7 +39,8 @@ void check_fft(VkFFTResult r, const char* what) {
 // the restore read freed memory: a heap-use-after-free, found by AddressSanitizer in the Python
 // module's tests. Plans are made with "C" set here first, under which VkFFT's pointer is glibc's
 // static name, and the caller's locale is restored from a copy. One plan at a time in the
-// process: the locale is the whole process's.
+// process (engines on several threads make their plans in turn): the locale is the whole
+// process's, and another thread calling setlocale meanwhile would still race with VkFFT.
 class CLocaleForVkFFT {
 public:
     CLocaleForVkFFT() : lock_(mutex()) {

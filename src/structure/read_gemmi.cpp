@@ -100,35 +100,41 @@ std::string pad_connection_records(const std::string& text) {
     return fixed;
 }
 
-// True for a number written with more digits than an int holds ("99999999999"): gemmi's
-// string_to_int does not check for overflow (found by fuzz_mmcif), so such a value would come
-// out as another number (read_gemmi.cpp is compiled with -fwrapv, which makes it defined).
+// True for a number outside int's range ("99999999999"): gemmi's string_to_int does not check
+// for overflow (found by fuzz_mmcif), so such a value would come out as another number
+// (read_gemmi.cpp is compiled with -fwrapv, which makes it defined). `value` is the token as
+// gemmi reads it (quotes and text-field markers taken off).
 bool integer_out_of_int_range(const std::string& value) {
     std::size_t i = 0;
-    while (i < value.size() && (value[i] == ' ' || value[i] == '\t')) ++i;
+    auto space = [](char c) { return c == ' ' || (c >= '\t' && c <= '\r'); };  // gemmi's is_space
+    while (i < value.size() && space(value[i])) ++i;
+    const bool negative = i < value.size() && value[i] == '-';
     if (i < value.size() && (value[i] == '-' || value[i] == '+')) ++i;
     while (i < value.size() && value[i] == '0') ++i;
     std::size_t digits = 0;
     while (i + digits < value.size() && value[i + digits] >= '0' && value[i + digits] <= '9')
         ++digits;
-    return digits > 10 || (digits == 10 && value.compare(i, 10, "2147483647") > 0);
+    const char* const largest = negative ? "2147483648" : "2147483647";
+    return digits > 10 || (digits == 10 && value.compare(i, 10, largest) > 0);
 }
 
-// The _atom_site columns gemmi reads as integers: a value past int's range is refused with
-// the row it is in rather than read as a wrapped number (a serial or residue number that is
-// not the file's).
+// The _atom_site columns that gemmi reads as ints and fdmsurf uses (serials in messages,
+// residue numbers in names and per-residue areas; the charge, read and not used, would still
+// be read wrong): a value outside int's range is refused with its row rather than read as a
+// wrapped number. pdbx_PDB_model_num is not among them: gemmi keeps it as the model's name.
 void check_cif_integers(gemmi::cif::Block& block, const std::string& name) {
     static const char* const kIntegerColumns[] = {"id", "label_seq_id", "auth_seq_id",
-                                                  "pdbx_formal_charge", "pdbx_PDB_model_num"};
+                                                  "pdbx_formal_charge"};
     for (const char* tag : kIntegerColumns) {
         const gemmi::cif::Column column = block.find_values(std::string("_atom_site.") + tag);
         std::size_t row = 0;
-        for (const std::string& value : column) {
+        for (const std::string& raw : column) {
             ++row;
+            const std::string value = gemmi::cif::as_string(raw);
             if (integer_out_of_int_range(value))
-                fail_format(name + ": _atom_site." + tag + " " + value + " in row " +
-                            std::to_string(row) + " is out of range (an integer of at most " +
-                            "2147483647 is expected)");
+                fail_format(name + ": _atom_site." + tag + " " + gemmi::trim_str(value) + " in row " +
+                            std::to_string(row) +
+                            " is out of range (integers from -2147483648 to 2147483647)");
         }
     }
 }

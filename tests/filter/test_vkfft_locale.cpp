@@ -26,9 +26,30 @@ std::unique_ptr<fdmsurf::Engine> validating_engine() {
     }
 }
 
+// Puts the locale and FDMSURF_CACHE_DIR back as they were, whatever the test's outcome.
+class RestoreLocaleAndCache {
+public:
+    RestoreLocaleAndCache() : locale_(std::setlocale(LC_ALL, nullptr)) {
+        if (const char* v = std::getenv("FDMSURF_CACHE_DIR")) cache_ = v, had_cache_ = true;
+    }
+    ~RestoreLocaleAndCache() {
+        std::setlocale(LC_ALL, locale_.c_str());
+        if (had_cache_)
+            setenv("FDMSURF_CACHE_DIR", cache_.c_str(), 1);
+        else
+            unsetenv("FDMSURF_CACHE_DIR");
+    }
+
+private:
+    std::string locale_, cache_;
+    bool had_cache_ = false;
+};
+
 }  // namespace
 
 TEST(VkFFTLocale, APlanMadeUnderAnotherLocaleLeavesItAsItWasAndTheSurfaceTheSame) {
+    const RestoreLocaleAndCache restore;
+    ASSERT_NE(std::setlocale(LC_ALL, "C"), nullptr);
     // No plan cache: a plan read from it skips VkFFT's code generation, where the locale changes.
     ASSERT_EQ(setenv("FDMSURF_CACHE_DIR", "off", 1), 0);
     const fdmsurf::Structure s = fdmsurf::read_structure(FDMSURF_TEST_DATA_DIR "/1crn.pdb");
@@ -56,8 +77,6 @@ TEST(VkFFTLocale, APlanMadeUnderAnotherLocaleLeavesItAsItWasAndTheSurfaceTheSame
     EXPECT_TRUE(other->take_validation_messages().empty());
     other.reset();
 
-    std::setlocale(LC_ALL, "C");
-    unsetenv("FDMSURF_CACHE_DIR");
     ASSERT_EQ(again.grid.dims, reference.grid.dims);
     EXPECT_EQ(again.mesh.indices, reference.mesh.indices);
     EXPECT_EQ(again.mesh.positions, reference.mesh.positions);

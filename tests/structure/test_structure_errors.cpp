@@ -137,8 +137,8 @@ TEST(StructureErrors, MmcifNonNumericOrNanCoordinates) {
 }
 
 // gemmi reads these columns without an overflow check (fuzz_mmcif found it): a number past
-// int's range is refused with its column and row, while the largest int and leading zeros are
-// read as written.
+// int's range, quoted or not, is refused with its column and row, while the ends of the range and
+// leading zeros are read as written.
 TEST(StructureErrors, MmcifIntegersPastIntRangeAreRefusedWithTheirRow) {
     struct Case {
         const char* serial;
@@ -148,11 +148,13 @@ TEST(StructureErrors, MmcifIntegersPastIntRangeAreRefusedWithTheirRow) {
         const char* column;
         const char* value;
     };
-    const Case cases[] = {{"99999999999", "1", "1", "1", "_atom_site.id", "99999999999"},
-                          {"2", "-2147483649", "1", "1", "_atom_site.label_seq_id", "-2147483649"},
-                          {"2", "1", "2147483648", "1", "_atom_site.auth_seq_id", "2147483648"},
-                          {"2", "1", "1", "+30000000000", "_atom_site.pdbx_PDB_model_num",
-                           "+30000000000"}};
+    const Case cases[] = {
+        {"99999999999", "1", "1", "1", "_atom_site.id", "99999999999"},
+        {"2", "-2147483649", "1", "1", "_atom_site.label_seq_id", "-2147483649"},
+        {"2", "1", "2147483648", "1", "_atom_site.auth_seq_id", "2147483648"},
+        // gemmi takes quotes and text-field markers off before it reads the number
+        {"2", "1", "'99999999999'", "1", "_atom_site.auth_seq_id", "99999999999"},
+        {"2", "1", "\n;\n+30000000000\n;\n", "1", "_atom_site.auth_seq_id", "+30000000000"}};
     for (const Case& c : cases) {
         const std::string text = std::string(test::kCifAtomSiteHeader) +
                                  "ATOM 1 C CA . ALA A 1 1.0 2.0 3.0 1.0 10.0 1 1\n" + "ATOM " +
@@ -162,9 +164,11 @@ TEST(StructureErrors, MmcifIntegersPastIntRangeAreRefusedWithTheirRow) {
                             {"big.cif", std::string(c.column) + " " + c.value, "in row 2",
                              "out of range"});
     }
+    // The ends of int's range, with leading zeros, and a model number of any size (gemmi keeps
+    // it as the model's name).
     const std::string fits = std::string(test::kCifAtomSiteHeader) +
                              "ATOM 2147483647 C CA . ALA A 0002147483647 1.0 2.0 3.0 1.0 10.0 "
-                             "-2147483647 1\n";
+                             "'-2147483648' 99999999999\n";
     const Structure s = read_structure_from_memory(fits, "fits.cif", {});
     ASSERT_EQ(s.atoms.size(), 1u);
 }
