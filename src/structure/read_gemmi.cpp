@@ -132,8 +132,8 @@ void check_cif_integers(gemmi::cif::Block& block, const std::string& name) {
             ++row;
             const std::string value = gemmi::cif::as_string(raw);
             if (integer_out_of_int_range(value))
-                fail_format(name + ": _atom_site." + tag + " " + gemmi::trim_str(value) + " in row " +
-                            std::to_string(row) +
+                fail_format(name + ": _atom_site." + tag + " " + gemmi::trim_str(value) +
+                            " in row " + std::to_string(row) +
                             " is out of range (integers from -2147483648 to 2147483647)");
         }
     }

@@ -2,24 +2,16 @@
 // unique handles and so hid a stale-descriptor bug: drivers reuse a destroyed buffer's handle).
 #include <gtest/gtest.h>
 
-#include <cstdlib>
 #include <memory>
 #include <string>
 
 #include "fdmsurf/fdmsurf.hpp"
+#include "support/gpu_fixture.hpp"
 
 TEST(EngineReuse, SameSizeSurfacesWithoutValidationAreIdentical) {
-    fdmsurf::Engine* engine = nullptr;
-    std::unique_ptr<fdmsurf::Engine> owner;
-    try {
-        owner = std::make_unique<fdmsurf::Engine>(fdmsurf::EngineOptions{});
-        engine = owner.get();
-    } catch (const fdmsurf::Error& e) {
-        const char* v = std::getenv("FDMSURF_REQUIRE_DEVICE");
-        if (e.code() == fdmsurf::ErrorCode::NoDevice && !(v && std::string(v) == "1"))
-            GTEST_SKIP() << e.what();
-        throw;
-    }
+    std::string why;
+    const std::unique_ptr<fdmsurf::Engine> engine = fdmsurf_test::own_engine({}, why);
+    if (!engine) GTEST_SKIP() << why;
     const fdmsurf::Structure s = fdmsurf::read_structure(FDMSURF_TEST_DATA_DIR "/1crn.pdb");
     fdmsurf::SurfaceOptions options;
     options.spacing = 0.8f;

@@ -7,13 +7,9 @@
 #include <vector>
 
 #include "fdmsurf/fdmsurf.hpp"
+#include "support/gpu_fixture.hpp"
 
 namespace {
-
-bool device_required() {
-    const char* v = std::getenv("FDMSURF_REQUIRE_DEVICE");
-    return v && std::string(v) == "1";
-}
 
 VKAPI_ATTR VkBool32 VKAPI_CALL record(VkDebugUtilsMessageSeverityFlagBitsEXT, VkDebugUtilsMessageTypeFlagsEXT,
                                       const VkDebugUtilsMessengerCallbackDataEXT* data, void* user) {
@@ -163,7 +159,7 @@ struct Renderer {
 TEST(VulkanInterop, SurfaceOnTheApplicationsDeviceStaysInDeviceBuffers) {
     Renderer r;
     if (!r.why_not.empty()) {
-        if (device_required()) FAIL() << r.why_not;
+        if (fdmsurf_test::device_required()) FAIL() << r.why_not;
         GTEST_SKIP() << r.why_not;
     }
     const fdmsurf::Structure s = fdmsurf::read_structure(FDMSURF_TEST_DATA_DIR "/1crn.pdb");

@@ -12,19 +12,9 @@
 #include <string>
 
 #include "fdmsurf/fdmsurf.hpp"
+#include "support/gpu_fixture.hpp"
 
 namespace {
-
-std::unique_ptr<fdmsurf::Engine> validating_engine() {
-    try {
-        return std::make_unique<fdmsurf::Engine>(fdmsurf::EngineOptions{.validation = true});
-    } catch (const fdmsurf::Error& e) {
-        const char* v = std::getenv("FDMSURF_REQUIRE_DEVICE");
-        if (e.code() == fdmsurf::ErrorCode::NoDevice && !(v && std::string(v) == "1"))
-            return nullptr;
-        throw;
-    }
-}
 
 // Puts the locale and FDMSURF_CACHE_DIR back as they were, whatever the test's outcome.
 class RestoreLocaleAndCache {
@@ -56,8 +46,10 @@ TEST(VkFFTLocale, APlanMadeUnderAnotherLocaleLeavesItAsItWasAndTheSurfaceTheSame
     fdmsurf::SurfaceOptions options;
     options.spacing = 0.9f;
 
-    std::unique_ptr<fdmsurf::Engine> in_c = validating_engine();
-    if (!in_c) GTEST_SKIP() << "no Vulkan device";
+    const fdmsurf::EngineOptions validating{.validation = true};
+    std::string why;
+    std::unique_ptr<fdmsurf::Engine> in_c = fdmsurf_test::own_engine(validating, why);
+    if (!in_c) GTEST_SKIP() << why;
     ASSERT_STREQ(std::setlocale(LC_ALL, nullptr), "C");
     const fdmsurf::SurfaceResult reference = in_c->make_surface(s.atoms, options);
     EXPECT_STREQ(std::setlocale(LC_ALL, nullptr), "C");
@@ -70,7 +62,7 @@ TEST(VkFFTLocale, APlanMadeUnderAnotherLocaleLeavesItAsItWasAndTheSurfaceTheSame
     const std::string before = std::setlocale(LC_ALL, nullptr);
     ASSERT_NE(before, "C");
 
-    std::unique_ptr<fdmsurf::Engine> other = validating_engine();
+    std::unique_ptr<fdmsurf::Engine> other = fdmsurf_test::own_engine(validating, why);
     ASSERT_TRUE(other);
     const fdmsurf::SurfaceResult again = other->make_surface(s.atoms, options);
     EXPECT_EQ(std::string(std::setlocale(LC_ALL, nullptr)), before);

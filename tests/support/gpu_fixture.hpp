@@ -28,6 +28,20 @@ inline bool device_required() {
     return v != nullptr && std::strcmp(v, "1") == 0;
 }
 
+// An engine of the test's own (fresh plans, other options than the shared one): null, with the
+// reason in `why`, when there is no Vulkan device and FDMSURF_REQUIRE_DEVICE is not 1 (the test
+// then skips); any other failure, or no device when one is required, throws.
+inline std::unique_ptr<fdmsurf::Engine> own_engine(const fdmsurf::EngineOptions& options,
+                                                   std::string& why) {
+    try {
+        return std::make_unique<fdmsurf::Engine>(options);
+    } catch (const fdmsurf::Error& e) {
+        if (e.code() != fdmsurf::ErrorCode::NoDevice || device_required()) throw;
+        why = e.what();
+        return nullptr;
+    }
+}
+
 // Formats validation messages, one per line, for a failure message.
 inline std::string join_messages(const std::vector<std::string>& messages) {
     std::string out;
