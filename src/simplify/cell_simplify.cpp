@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/parallel.hpp"
+#include "core/trace.hpp"
 #include "simplify/simplify_detail.hpp"
 
 namespace fdmsurf::detail {
@@ -99,6 +100,7 @@ std::vector<std::uint32_t> cells_of(const std::vector<float>& p, const std::vect
 }
 
 // One region's vertices (global numbers, in order of first use), positions and triangles.
+// A worker fills one in turn for each of its regions: the vectors keep their memory.
 struct LocalRegion {
     std::vector<Index> vertices;
     std::vector<float> positions;
@@ -106,15 +108,20 @@ struct LocalRegion {
     std::size_t fan = 0;  // own triangles at a corner of the context: locked, barely reducible
     std::vector<std::uint8_t> keep;  // per own triangle, when the pass has triangles to keep
     std::size_t kept = 0;            // own triangles to keep that are not in the fan
+    std::vector<std::uint8_t> locked;
 };
 
-// `map`: one entry per global vertex, all kNone, and left so.
-LocalRegion localise(const std::vector<float>& positions, const std::vector<Index>& indices,
-                     const Index* own, std::size_t own_count, const Index* context,
-                     std::size_t context_count, const std::vector<std::uint8_t>* keep,
-                     std::vector<Index>& map) {
+// Fills `region` with the triangles own[0 .. own_count) and context[0 .. context_count) of
+// `indices`. `map`: one entry per global vertex, all kNone, and left so.
+void localise(const std::vector<float>& positions, const std::vector<Index>& indices,
+              const Index* own, std::size_t own_count, const Index* context,
+              std::size_t context_count, const std::vector<std::uint8_t>* keep,
+              std::vector<Index>& map, LocalRegion& region) {
     constexpr Index kNone = std::numeric_limits<Index>::max();
-    LocalRegion region;
+    region.vertices.clear();
+    region.own.clear();
+    region.context.clear();
+    region.fan = region.kept = 0;
     auto local = [&](const Index* list, std::size_t count, std::vector<Index>& out) {
         out.reserve(3 * count);
         for (std::size_t k = 0; k < count; ++k) {
@@ -131,12 +138,12 @@ LocalRegion localise(const std::vector<float>& positions, const std::vector<Inde
     };
     local(own, own_count, region.own);
     local(context, context_count, region.context);
-    std::vector<std::uint8_t> locked(region.vertices.size(), 0);
-    for (Index v : region.context) locked[v] = 1;
-    if (keep) region.keep.resize(own_count);
+    region.locked.assign(region.vertices.size(), 0);
+    for (Index v : region.context) region.locked[v] = 1;
+    region.keep.resize(keep ? own_count : 0);
     for (std::size_t c = 0; c < region.own.size(); c += 3) {
-        const bool fan =
-            locked[region.own[c]] | locked[region.own[c + 1]] | locked[region.own[c + 2]];
+        const bool fan = region.locked[region.own[c]] | region.locked[region.own[c + 1]] |
+                         region.locked[region.own[c + 2]];
         region.fan += fan;
         if (keep) {
             region.keep[c / 3] = (*keep)[own[c / 3]];
@@ -149,7 +156,6 @@ LocalRegion localise(const std::vector<float>& positions, const std::vector<Inde
         for (int a = 0; a < 3; ++a) region.positions[3 * v + a] = positions[3 * std::size_t{g} + a];
         map[g] = kNone;
     }
-    return region;
 }
 
 // The error meshoptimizer reached on the bulk of the surface: the median over the regions,
@@ -231,6 +237,7 @@ PassResult run_pass(const std::vector<float>& positions, const std::vector<Index
         band_total += n;
     });
     const std::size_t band_count = band_total;
+    trace("simplify: cells, band");
     const CellLists own = group(cell, grid.count(), &band);
     // Context: a band triangle belongs to the cell of each of its corners that is not cut.
     std::vector<std::uint32_t> context_cell;
@@ -258,40 +265,55 @@ PassResult run_pass(const std::vector<float>& positions, const std::vector<Index
             sizes.push_back(own.start[c + 1] - own.start[c]);
         }
     }
-    // Every region localised first (in parallel): the targets depend on all the fans.
-    std::vector<LocalRegion> regions(cells.size());
-    {
-        std::atomic<std::size_t> next{0};
-        parallel_chunks(threads, threads, [&](std::size_t) {
-            std::vector<Index> map(nv, std::numeric_limits<Index>::max());
-            for (std::size_t i; (i = next++) < cells.size();) {
-                const std::size_t c = cells[i];
-                regions[i] = localise(positions, indices, &own.order[own.start[c]], sizes[i],
-                                      context.order.data() + context.start[c],
-                                      context.start[c + 1] - context.start[c], keep, map);
+    trace("simplify: cell lists, context");
+    // With ratio 0, the one ratio that makes `total` with the band, the fans and the kept
+    // triangles over all cells: an own triangle is in its cell's fan when a corner is a corner
+    // of a band triangle (that triangle is then context of the cell, the corner not being cut).
+    if (ratio <= 0.0) {
+        std::vector<std::uint8_t> band_corner(nv, 0);
+        for_ranges(triangles, threads, [&](std::size_t begin, std::size_t end) {
+            for (std::size_t t = begin; t < end; ++t) {
+                if (!band[t]) continue;
+                for (int k = 0; k < 3; ++k)
+                    std::atomic_ref<std::uint8_t>(band_corner[indices[3 * t + k]])
+                        .store(1, std::memory_order_relaxed);
             }
         });
-    }
-    std::size_t fans = 0;
-    for (const LocalRegion& r : regions) fans += r.fan + r.kept;
-    if (ratio <= 0.0) {
+        std::atomic<std::size_t> fans_total{0};
+        for_ranges(triangles, threads, [&](std::size_t begin, std::size_t end) {
+            std::size_t n = 0;
+            for (std::size_t t = begin; t < end; ++t) {
+                if (band[t]) continue;
+                const Index* tri = &indices[3 * t];
+                const bool fan = band_corner[tri[0]] | band_corner[tri[1]] | band_corner[tri[2]];
+                n += fan || (keep && (*keep)[t]);
+            }
+            fans_total += n;
+        });
+        const std::size_t fans = fans_total;
         const double reducible = double(triangles - band_count - fans);
         ratio = reducible <= 0.0
                     ? 1.0
                     : std::clamp((total - double(band_count + fans)) / reducible, 0.0, 1.0);
     }
 
+    // Each worker localises the next region (largest first) into its own buffers, simplifies
+    // it and keeps the result in global vertex numbers.
     std::vector<RegionResult> results(cells.size());
-    // Each worker takes the next region, largest first.
     auto run = [&](const std::vector<std::size_t>& which, double region_cap) {
         std::vector<std::size_t> schedule = which;
         std::stable_sort(schedule.begin(), schedule.end(),
                          [&](std::size_t a, std::size_t b) { return sizes[a] > sizes[b]; });
         std::atomic<std::size_t> next{0};
         parallel_chunks(threads, threads, [&](std::size_t) {
+            std::vector<Index> map(nv, std::numeric_limits<Index>::max());
+            LocalRegion region;
             for (std::size_t k; (k = next++) < schedule.size();) {
                 const std::size_t i = schedule[k];
-                const LocalRegion& region = regions[i];
+                const std::size_t c = cells[i];
+                localise(positions, indices, &own.order[own.start[c]], sizes[i],
+                         context.order.data() + context.start[c],
+                         context.start[c + 1] - context.start[c], keep, map, region);
                 const std::size_t fixed = region.fan + region.kept;
                 const double reducible = double(sizes[i] - fixed);
                 const auto target =
@@ -300,12 +322,14 @@ PassResult run_pass(const std::vector<float>& positions, const std::vector<Index
                 results[i] = simplify_region(region.positions, region.own, region.context, target,
                                              region_cap, keep ? &region.keep : nullptr);
                 results[i].attempts += before;
+                for (Index& v : results[i].indices) v = region.vertices[v];
             }
         });
     };
     std::vector<std::size_t> all(cells.size());
     for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
     run(all, cap);
+    trace("simplify: regions run");
     std::vector<double> errors(cells.size());
     for (std::size_t i = 0; i < cells.size(); ++i) errors[i] = results[i].error;
     PassResult pass;
@@ -319,23 +343,42 @@ PassResult run_pass(const std::vector<float>& positions, const std::vector<Index
         run(outliers, outlier_cap);
     }
 
+    // The regions' triangles in cell order, then the band, copied in parallel.
+    std::vector<std::size_t> offset(cells.size() + 1, 0);
     for (std::size_t i = 0; i < cells.size(); ++i) {
-        RegionResult& r = results[i];
-        for (Index& v : r.indices) v = regions[i].vertices[v];
-        pass.indices.insert(pass.indices.end(), r.indices.begin(), r.indices.end());
-        // The frozen triangles are the region result's last.
-        pass.frozen.resize(pass.indices.size() / 3, 0);
-        std::fill(pass.frozen.end() - std::ptrdiff_t(r.frozen), pass.frozen.end(), 1);
+        const RegionResult& r = results[i];
+        offset[i + 1] = offset[i] + r.indices.size() / 3;
         stats.gave_up += r.gave_up;
         stats.attempts += r.attempts;
         pass.error = std::max(pass.error, r.error);
     }
-    for (std::size_t t = 0; t < triangles; ++t) {
-        if (!band[t]) continue;
-        pass.indices.insert(pass.indices.end(), &indices[3 * t], &indices[3 * t] + 3);
-        pass.frozen.push_back(keep ? (*keep)[t] : 0);
-    }
+    const std::size_t chunks = (triangles + kChunk - 1) / kChunk;
+    std::vector<std::size_t> band_offset(chunks + 1, 0);
+    for_ranges(triangles, threads, [&](std::size_t begin, std::size_t end) {
+        band_offset[begin / kChunk + 1] =
+            std::size_t(std::count(band.begin() + std::ptrdiff_t(begin), band.begin() + std::ptrdiff_t(end), 1));
+    });
+    for (std::size_t k = 0; k < chunks; ++k) band_offset[k + 1] += band_offset[k];
+    const std::size_t region_triangles = offset.back();
+    pass.indices.resize(3 * (region_triangles + band_offset.back()));
+    pass.frozen.assign(region_triangles + band_offset.back(), 0);
+    parallel_chunks(cells.size(), threads, [&](std::size_t i) {
+        const RegionResult& r = results[i];
+        std::copy(r.indices.begin(), r.indices.end(), pass.indices.begin() + std::ptrdiff_t(3 * offset[i]));
+        // The frozen triangles are the region result's last.
+        std::fill(pass.frozen.begin() + std::ptrdiff_t(offset[i + 1] - r.frozen),
+                  pass.frozen.begin() + std::ptrdiff_t(offset[i + 1]), 1);
+    });
+    for_ranges(triangles, threads, [&](std::size_t begin, std::size_t end) {
+        std::size_t out = region_triangles + band_offset[begin / kChunk];
+        for (std::size_t t = begin; t < end; ++t) {
+            if (!band[t]) continue;
+            std::copy(&indices[3 * t], &indices[3 * t] + 3, pass.indices.begin() + std::ptrdiff_t(3 * out));
+            pass.frozen[out++] = keep ? (*keep)[t] : 0;
+        }
+    });
     stats.regions += cells.size();
+    trace("simplify: pass assembled");
     return pass;
 }
 
@@ -417,6 +460,7 @@ std::vector<Index> simplify_in_cells(const std::vector<float>& positions,
             cell *= 0.8;
         }
         const double ratio = double(target) / double(triangles);
+        trace("simplify: bounds, cell size");
 
         // First pass: each cell at the ratio, its band and fans left for the second pass.
         const PassResult first = run_pass(positions, indices, make_grid(lo, hi, cell, 0.0), ratio,

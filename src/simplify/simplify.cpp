@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "core/parallel.hpp"
+#include "core/trace.hpp"
 #include "fdmsurf/error.hpp"
 #include "mesh/compare_detail.hpp"
 #include "mesh/mesh_attributes.hpp"
@@ -119,11 +120,18 @@ bool has_duplicate_positions(const std::vector<float>& positions) {
 
 bool weld_exact(const Mesh& mesh, Mesh& welded, std::size_t* merged) {
     if (merged) *merged = 0;
-    bool degenerate = false;
-    for (std::size_t c = 0; c < mesh.indices.size() && !degenerate; c += 3) {
-        const std::uint32_t* t = &mesh.indices[c];
-        degenerate = t[0] == t[1] || t[1] == t[2] || t[2] == t[0];
-    }
+    std::atomic<bool> degenerate{false};
+    constexpr std::size_t kChunk = 65536;
+    const std::size_t triangles = mesh.triangle_count();
+    parallel_chunks((triangles + kChunk - 1) / kChunk, thread_count(0), [&](std::size_t chunk) {
+        const std::size_t end = std::min(triangles, (chunk + 1) * kChunk);
+        bool found = false;
+        for (std::size_t t = chunk * kChunk; t < end; ++t) {
+            const std::uint32_t* c = &mesh.indices[3 * t];
+            found |= c[0] == c[1] || c[1] == c[2] || c[2] == c[0];
+        }
+        if (found) degenerate = true;
+    });
     if (!degenerate && !has_duplicate_positions(mesh.positions)) return false;
 
     const std::size_t nv = mesh.vertex_count();
@@ -201,8 +209,10 @@ Mesh simplify_mesh(const Mesh& mesh, const SimplifyOptions& options, SimplifyRep
     simplify_target(mesh.triangle_count(), options);  // the options' checks, before any work
     SimplifyReport r;
     const auto start = Clock::now();
+    trace("simplify: start");
     Mesh welded;
     const Mesh& in = weld_exact(mesh, welded, &r.welded) ? welded : mesh;
+    trace("simplify: welded");
     r.triangles_in = in.triangle_count();
     r.vertices_in = in.vertex_count();
     r.target_triangles = simplify_target(r.triangles_in, options);
@@ -220,6 +230,7 @@ Mesh simplify_mesh(const Mesh& mesh, const SimplifyOptions& options, SimplifyRep
         r.attempts = cells.attempts;
         r.error = cells.error;
     }
+    trace("simplify: compact");
     r.triangles_out = out.triangle_count();
     r.vertices_out = out.vertex_count();
     r.stats_out = compute_stats(out);
@@ -227,6 +238,7 @@ Mesh simplify_mesh(const Mesh& mesh, const SimplifyOptions& options, SimplifyRep
     // when the result is not a closed manifold, to tell what simplification changed.
     r.topology_kept =
         r.stats_out.is_closed_manifold() || topology_kept(compute_stats(in), r.stats_out);
+    trace("simplify: stats");
     r.times.push_back({"simplify", ms_since(start), false});
 
     if (options.measure_distance && out.triangle_count() != 0) {
