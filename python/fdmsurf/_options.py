@@ -60,6 +60,10 @@ SURFACE = (
             "vertex on its ball, with vertices on the creases where spheres meet and chords "
             "split to chord_tolerance; for edt every vertex projected onto the exact SES; fdm "
             "is not snapped (False: the CLI's --no-snap, marching cubes' vertices as they are)"),
+    Keyword("canonical_grid", True, "negflag", "--natural-grid",
+            "fdm: round a small grid up to a cube of 64 to 160 points whose FFT plan "
+            "Engine.prepare (the CLI's `fdmsurf prepare`) builds ahead, for a fast first run "
+            "(False: the CLI's --natural-grid, the smallest FFT-friendly grid)"),
     Keyword("chord_tolerance", None, "float", "--chord-tolerance",
             "vdw and sas with snap: split edges whose arc lies more than this from them, Å (>= "
             "0; 0: creases only; None: spacing / 50)"),
@@ -112,6 +116,7 @@ READ = (
 # What the CLI's negated flags do (--no-ligands is ligands=False): fdmsurf.batch's help.
 NEGATED_HELP = {
     "snap": "keep marching cubes' vertices where they are (snap=False)",
+    "canonical_grid": "fdm: the smallest FFT-friendly grid, not a prepared cube (canonical_grid=False)",
     "ligands": "leave out HETATM residues other than water (ligands=False)",
 }
 

@@ -69,6 +69,7 @@ py::dict describe(const PyOptions& o) {
     d["min_cavity_volume"] = none_if_negative(s.min_cavity_volume);
     d["refine"] = s.refine;
     d["snap"] = s.snap;
+    d["canonical_grid"] = s.canonical_grid;
     // None: the library's spacing / 50
     d["chord_tolerance"] = none_if_negative(s.chord_tolerance);
     d["min_grid"] = py::make_tuple(s.min_grid[0], s.min_grid[1], s.min_grid[2]);

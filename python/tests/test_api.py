@@ -349,7 +349,8 @@ def test_keywords_are_the_cli_options_with_their_defaults(cli):
     sections = help_text.split("\nDevice:")[0]
     options = set(re.findall(r"^  (--[a-z-]+)", sections, flags=re.M))
     not_keywords = {"--models"}  # Engine.surface_models
-    negated = {"--no-ligands": "ligands", "--no-snap": "snap"}  # the keyword's default is True
+    # the keyword's default is True
+    negated = {"--no-ligands": "ligands", "--no-snap": "snap", "--natural-grid": "canonical_grid"}
     parameters = inspect.signature(fdmsurf.Engine.surface).parameters
     for option in options - not_keywords:
         name = negated.get(option, option[2:].replace("-", "_"))

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "cli/compare_command.hpp"
+#include "cli/prepare_command.hpp"
 #include "cli/interrupts.hpp"
 #include "cli/messages.hpp"
 #include "cli/msms_command.hpp"
@@ -858,6 +859,8 @@ int run_command(int argc, char** argv) {
     if (argc >= 2 && std::string(argv[1]) == "compare") {
         return compare_command(std::vector<std::string>(argv + 2, argv + argc));
     }
+    if (argc >= 2 && std::string(argv[1]) == "prepare")
+        return prepare_command(std::vector<std::string>(argv + 2, argv + argc));
     return report_errors([&] {
         const CliOptions options = parse_args(std::vector<std::string>(argv + 1, argv + argc));
         if (options.help) {

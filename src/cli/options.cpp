@@ -57,6 +57,7 @@ enum class Opt {
     MinCavity,
     Refine,
     NoSnap,
+    NaturalGrid,
     ChordTolerance,
     Method,
     Simplify,
@@ -83,7 +84,7 @@ struct OptionSpec {
     bool numeric;  // a value that may start with '-' (a negative number, rejected later)
 };
 
-constexpr std::array<OptionSpec, 52> kOptions{{
+constexpr std::array<OptionSpec, 53> kOptions{{
     {"--output", "-o", Opt::Output, true, false},
     {"--output-format", "", Opt::OutputFormat, true, false},
     {"--surface", "", Opt::Surface, true, false},
@@ -115,6 +116,7 @@ constexpr std::array<OptionSpec, 52> kOptions{{
     {"--min-cavity-volume", "", Opt::MinCavity, true, true},
     {"--refine", "", Opt::Refine, true, true},
     {"--no-snap", "", Opt::NoSnap, false, false},
+    {"--natural-grid", "", Opt::NaturalGrid, false, false},
     {"--chord-tolerance", "", Opt::ChordTolerance, true, true},
     {"--method", "", Opt::Method, true, false},
     {"--color", "", Opt::Color, true, false},
@@ -689,6 +691,9 @@ void apply_flag(CliOptions& o, const OptionSpec& spec) {
         case Opt::NoSnap:
             o.surface.snap = false;
             break;
+        case Opt::NaturalGrid:
+            o.surface.canonical_grid = false;
+            break;
         case Opt::NoCavities:
             o.surface.min_cavity_volume = std::numeric_limits<float>::infinity();
             o.explicit_cavities = true;
@@ -868,6 +873,7 @@ std::string usage_text() {
        fdmsurf INPUT -o PICTURE.png [picture options]
        fdmsurf INPUT... --models all -o FOLDER/ [options]
        fdmsurf compare REFERENCE TESTED --spacing H [--stats json] [--outer]
+       fdmsurf prepare [--device D] [--quiet]
        fdmsurf --list-devices | --help | --version
 
 Writes the molecular surface of INPUT (PDB, mmCIF, PQR, XYZR or XYZRN; .gz
@@ -877,6 +883,8 @@ computed on a Vulkan device with the Filtered Density Map method (Giard & Macq
 2010), or as a picture (.png) drawn on that device. With several inputs, -o names a folder that gets one NAME.ply per input,
 all computed in one process on one device. `fdmsurf compare` measures a mesh
 against a reference mesh (weighted RMSD of Giard & Macq; see docs/compare.md).
+`fdmsurf prepare` builds once what a small structure's first run would compile
+(FFT plans of the grid sizes small grids are rounded to; see --natural-grid).
 Options take their value as `--name value` or `--name=value`.
 
 Surface:
@@ -916,6 +924,9 @@ Surface:
                          exact SES)
   --chord-tolerance T    vdw and sas: split edges whose arc lies more than T Å
                          from them (>= 0; 0: none; default spacing / 50)
+  --natural-grid         fdm: the smallest FFT-friendly grid (default: a small grid
+                         is rounded up to a cube of 64 to 160 points whose FFT plan
+                         `fdmsurf prepare` builds ahead, for a fast first run)
 
 Input:
   --format pdb|cif|pqr|xyzr|xyzrn  input format (default: from the extension,

@@ -469,6 +469,40 @@ Engine::~Engine() = default;
 Engine::Engine(Engine&&) noexcept = default;
 Engine& Engine::operator=(Engine&&) noexcept = default;
 
+std::vector<Engine::PreparedPlan> Engine::prepare() {
+    // lavapipe compiles a kernel to machine code at its first dispatch, not when its pipeline
+    // is made: each plan is therefore run, in the surface of one atom on a grid of that size
+    // (min_grid), which also runs every stage of the default surface once. The exact SES, vdw
+    // and sas surfaces of the atom then run their own kernels (their grids need no FFT).
+    Atoms atom;
+    atom.xyz = {0.0f, 0.0f, 0.0f};
+    atom.radius = {1.7f};
+    atom.element = {"C"};
+    std::vector<PreparedPlan> rows;
+    for (std::uint32_t c : detail::kCanonicalGridSizes) {
+        PreparedPlan row;
+        row.dims = {c, c, c};
+        const double t0 = detail::now_ms();
+        row.from_cache = impl_->filter.prepare(row.dims);
+        SurfaceOptions fdm;
+        fdm.min_grid = row.dims;
+        make_surface(atom, fdm);
+        row.ms = detail::now_ms() - t0;
+        rows.push_back(row);
+        impl_->report("prepare " + std::to_string(c));
+    }
+    SurfaceOptions edt;
+    edt.method = SesMethod::Edt;
+    make_surface(atom, edt);
+    for (SurfaceKind kind : {SurfaceKind::Vdw, SurfaceKind::Sas}) {
+        SurfaceOptions balls;
+        balls.surface = kind;
+        make_surface(atom, balls);
+    }
+    impl_->report("prepare exact surfaces");
+    return rows;
+}
+
 SurfaceResult Engine::make_surface(const Atoms& atoms, const SurfaceOptions& options) {
     std::vector<std::string> property_warnings =
         detail::check_property_inputs(atoms, options.properties);

@@ -210,6 +210,16 @@ FftPlan& SpectralFilter::plan_for(const std::array<std::uint32_t, 3>& dims, cons
     return ref;
 }
 
+bool SpectralFilter::prepare(const std::array<std::uint32_t, 3>& dims) {
+    if (auto it = plans_.find(dims); it != plans_.end()) return it->second->from_cache;
+    // VkFFT builds its descriptors on the buffer it is planned with; every launch rebinds the
+    // field (FftPlan::bind), so this one may go when the plan is built.
+    const VkDeviceSize bytes =
+        VkDeviceSize(2) * (dims[0] / 2 + 1) * dims[1] * dims[2] * sizeof(float);
+    const Buffer field(ctx_, bytes, MemoryUse::Device, "prepare_field");
+    return plan_for(dims, field).from_cache;
+}
+
 void SpectralFilter::record(Commands& cmds, const Buffer& field, const GridPlan& plan,
                             FilterShape shape) {
     const auto& d = plan.info.dims;

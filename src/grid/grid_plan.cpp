@@ -112,6 +112,17 @@ std::uint32_t r2c_axis_size(std::uint32_t n) {
     return n;
 }
 
+std::uint32_t canonical_grid_size(const std::array<std::uint32_t, 3>& dims) {
+    const std::uint32_t largest = std::max({dims[0], dims[1], dims[2]});
+    for (std::uint32_t c : kCanonicalGridSizes) {
+        if (c < largest) continue;
+        const double points = double(dims[0]) * dims[1] * dims[2];
+        const double cube = double(c) * c * c;
+        return cube <= 2.5 * points || c <= 96 ? c : 0;
+    }
+    return 0;
+}
+
 namespace {
 
 constexpr double kIsolation = 30.0;  // Å of empty space along an axis that separates groups
@@ -249,6 +260,19 @@ GridPlan plan_grid(const Atoms& atoms, const SurfaceOptions& options) {
         plan.info.dims[a] = n;
         double extra = (n - 1) * double(h) - (hi[a] - lo[a]);  // centred in a larger grid
         plan.info.origin[a] = static_cast<float>(lo[a] - extra / 2.0);
+    }
+    if (plan.filtered && options.canonical_grid) {
+        // Points added on both sides on the grid's own lattice: the points of the smaller grid
+        // keep their places (and densities), and the surface moves only as much as the
+        // filter's periodic images farther apart move it.
+        if (const std::uint32_t c = canonical_grid_size(plan.info.dims)) {
+            for (int a = 0; a < 3; ++a) {
+                const std::uint32_t before = (c - plan.info.dims[a]) / 2;
+                plan.info.origin[a] =
+                    static_cast<float>(double(plan.info.origin[a]) - double(before) * h);
+                plan.info.dims[a] = c;
+            }
+        }
     }
     plan.pitch = plan.filtered ? 2 * (plan.info.dims[0] / 2 + 1) : plan.info.dims[0];
     return plan;

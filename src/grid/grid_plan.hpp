@@ -1,6 +1,7 @@
 // Where the density grid sits and how big it is: padding, FFT-friendly sizes, density parameters.
 #pragma once
 
+#include <array>
 #include <string>
 
 #include <cstdint>
@@ -64,6 +65,17 @@ std::uint32_t fft_friendly_size(std::uint32_t n, bool even);
 // The size of the contiguous (R2C) axis for at least n points: fft_friendly_size(n, true), moved
 // up to a size at which VkFFT's R2C transform is fast, from 240 to 512 points.
 std::uint32_t r2c_axis_size(std::uint32_t n);
+
+// The cube edges to which small FFT grids are rounded up (SurfaceOptions::canonical_grid): a
+// first run on a fresh machine spends its time compiling the FFT kernels of its grid size (on
+// lavapipe 2-3 s; VkFFT writes the sizes into its kernels), so small structures share a few
+// sizes whose plans `fdmsurf prepare` (Engine::prepare) builds once, at set-up.
+inline constexpr std::uint32_t kCanonicalGridSizes[] = {64, 80, 96, 112, 128, 144, 160};
+
+// The canonical cube edge for an FFT grid of `dims` points: the smallest of
+// kCanonicalGridSizes that holds every axis, unless the cube would have more than 2.5 times the
+// points and more than 96^3 (an elongated structure); 0 when none applies.
+std::uint32_t canonical_grid_size(const std::array<std::uint32_t, 3>& dims);
 
 // Validates `options` (throws Error(InvalidArgument)) and places the grid around the atoms.
 GridPlan plan_grid(const Atoms& atoms, const SurfaceOptions& options);

@@ -3,6 +3,7 @@
 
 #include <vector>
 
+#include "core/trace.hpp"
 #include "vulkan/check.hpp"
 #include "vulkan/context.hpp"
 
@@ -52,6 +53,7 @@ ComputePipeline::ComputePipeline(const Context& ctx, const std::uint32_t* spirv,
         FDM_VK_CHECK(vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_));
         vkDestroyShaderModule(device_, module, nullptr);
         ctx.set_name(VK_OBJECT_TYPE_PIPELINE, reinterpret_cast<std::uint64_t>(pipeline_), name);
+        if (trace_on()) trace((std::string("pipeline made: ") + name).c_str());
     } catch (...) {
         if (module) vkDestroyShaderModule(device_, module, nullptr);
         reset();

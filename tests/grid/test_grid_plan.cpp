@@ -20,6 +20,7 @@ using fdmsurf::Error;
 using fdmsurf::ErrorCode;
 using fdmsurf::SurfaceKind;
 using fdmsurf::SurfaceOptions;
+using fdmsurf::detail::canonical_grid_size;
 using fdmsurf::detail::fft_friendly_size;
 using fdmsurf::detail::GridPlan;
 using fdmsurf::detail::plan_grid;
@@ -211,8 +212,10 @@ namespace {
 
 TEST(GridPlan, MinGridGrowsTheGridAroundTheSameCentre) {
     const Atoms atoms = one_atom();
-    const GridPlan own = plan_grid(atoms, SurfaceOptions{});
-    SurfaceOptions larger;
+    SurfaceOptions natural;
+    natural.canonical_grid = false;  // canonical sizes: GridPlan.CanonicalGrid* below
+    const GridPlan own = plan_grid(atoms, natural);
+    SurfaceOptions larger = natural;
     larger.min_grid = {own.info.dims[0] + 10, 0, own.info.dims[2] + 30};
     const GridPlan big = plan_grid(atoms, larger);
     EXPECT_GE(big.info.dims[0], own.info.dims[0] + 10);
@@ -226,7 +229,7 @@ TEST(GridPlan, MinGridGrowsTheGridAroundTheSameCentre) {
         EXPECT_NEAR(c_big, c_own, 1e-4);
     }
     // A smaller minimum changes nothing; the public entry point agrees.
-    SurfaceOptions smaller;
+    SurfaceOptions smaller = natural;
     smaller.min_grid = {2, 2, 2};
     EXPECT_EQ(plan_grid(atoms, smaller).info.dims, own.info.dims);
     EXPECT_EQ(fdmsurf::plan_surface_grid(atoms, larger).dims, big.info.dims);
@@ -277,6 +280,68 @@ TEST(GridPlan, IsolatedAtomsAreNamedWhenTheyStretchTheGrid) {
         two.meta.push_back(s.atoms.meta[i]);
     }
     EXPECT_EQ(fdmsurf::detail::isolated_atoms_note(two), "");
+}
+
+// Small FDM grids are rounded up to a canonical cube on their own lattice (SurfaceOptions::
+// canonical_grid), so that their FFT plans are among the few Engine::prepare builds.
+TEST(GridPlan, CanonicalGridSizeIsTheSmallestCubeThatHoldsTheGridUnlessFarLarger) {
+    EXPECT_EQ(canonical_grid_size({108, 96, 105}), 112u);  // 1CRN at 0.5 Å: 1.40 / 1.09 M points
+    EXPECT_EQ(canonical_grid_size({112, 112, 125}), 128u);
+    EXPECT_EQ(canonical_grid_size({160, 160, 160}), 160u);
+    EXPECT_EQ(canonical_grid_size({30, 20, 10}), 64u);     // tiny: at most 96³ always allowed
+    EXPECT_EQ(canonical_grid_size({40, 40, 96}), 96u);
+    EXPECT_EQ(canonical_grid_size({60, 60, 150}), 0u);     // 160³ would be 7.6 times the points
+    EXPECT_EQ(canonical_grid_size({150, 150, 40}), 0u);    // 160³: 4.6 times
+    EXPECT_EQ(canonical_grid_size({161, 100, 100}), 0u);   // beyond the largest cube
+    for (std::uint32_t c : fdmsurf::detail::kCanonicalGridSizes) {
+        EXPECT_EQ(c % 2, 0u) << c;  // the R2C axis must be even
+        EXPECT_TRUE(smooth_2357(c)) << c;
+        EXPECT_EQ(canonical_grid_size({c, c, c}), c);
+    }
+}
+
+TEST(GridPlan, CanonicalGridKeepsTheNaturalGridsPointsWhereTheyWere) {
+    const Atoms atoms = fdmsurf::read_structure(data_path("1crn.pdb")).atoms;
+    SurfaceOptions natural_options;
+    natural_options.canonical_grid = false;
+    const GridPlan natural = plan_grid(atoms, natural_options);
+    const GridPlan canonical = plan_grid(atoms, SurfaceOptions{});
+    ASSERT_EQ(natural.info.dims, (std::array<std::uint32_t, 3>{108, 96, 105}));
+    ASSERT_EQ(canonical.info.dims, (std::array<std::uint32_t, 3>{112, 112, 112}));
+    EXPECT_EQ(canonical.pitch, 2u * (112 / 2 + 1));
+    const float h = natural.info.spacing;
+    EXPECT_EQ(canonical.info.spacing, h);
+    EXPECT_EQ(canonical.info.cutoff, natural.info.cutoff);
+    for (int a = 0; a < 3; ++a) {
+        // The natural grid's first point is canonical point k, k whole, and its last one lies
+        // inside the canonical grid too: the points are added around it, half on each side.
+        const double k = (double(natural.info.origin[a]) - canonical.info.origin[a]) / h;
+        EXPECT_NEAR(k, std::round(k), 1e-3) << "axis " << a;
+        EXPECT_EQ(std::lround(k), long((canonical.info.dims[a] - natural.info.dims[a]) / 2))
+            << "axis " << a;
+    }
+    // Only the FFT's grid is rounded: the exact SES, vdw and sas keep theirs, and so does an
+    // elongated grid that a cube would more than 2.5-fold beyond 96³.
+    for (auto [kind, method] : {std::pair{SurfaceKind::Ses, fdmsurf::SesMethod::Edt},
+                                std::pair{SurfaceKind::Vdw, fdmsurf::SesMethod::Fdm},
+                                std::pair{SurfaceKind::Sas, fdmsurf::SesMethod::Fdm}}) {
+        SurfaceOptions o;
+        o.surface = kind;
+        o.method = method;
+        SurfaceOptions off = o;
+        off.canonical_grid = false;
+        EXPECT_EQ(plan_grid(atoms, o).info.dims, plan_grid(atoms, off).info.dims);
+        EXPECT_EQ(plan_grid(atoms, o).info.origin, plan_grid(atoms, off).info.origin);
+    }
+    Atoms rod;
+    for (int i = 0; i < 30; ++i) {
+        rod.xyz.insert(rod.xyz.end(), {0.0f, 0.0f, 1.5f * float(i)});
+        rod.radius.push_back(1.7f);
+        rod.element.push_back("C");
+    }
+    const GridPlan long_grid = plan_grid(rod, SurfaceOptions{});
+    EXPECT_EQ(canonical_grid_size(long_grid.info.dims), 0u);
+    EXPECT_EQ(long_grid.info.dims, plan_grid(rod, natural_options).info.dims);
 }
 
 }  // namespace
