@@ -10,14 +10,17 @@ namespace fdmsurf::detail {
 
 std::uint32_t ses_points_z(float spacing) { return spacing <= 0.5f ? shader::kSesPointsZ : 1u; }
 
-SesDistancePass::SesDistancePass(Context& ctx) : ctx_(ctx) {
-    ShaderCode code = shader_code(Shader::SesDistance);
-    pipeline_ = ComputePipeline(ctx, code.words, code.bytes, 5, sizeof(shader::SesDistancePush),
-                                "ses_distance");
-}
+SesDistancePass::SesDistancePass(Context& ctx) : ctx_(ctx) {}
 
 void SesDistancePass::record(Commands& cmds, StagingArena& arena, const SesFeatures& f,
                              const GridPlan& plan, const Buffer& field, bool force_global) {
+    // Made at first use: an engine that only computes FDM surfaces never needs it (35 ms on
+    // lavapipe, warm).
+    if (pipeline_.handle() == VK_NULL_HANDLE) {
+        ShaderCode code = shader_code(Shader::SesDistance);
+        pipeline_ = ComputePipeline(ctx_, code.words, code.bytes, 5,
+                                    sizeof(shader::SesDistancePush), "ses_distance");
+    }
     spheres_ = upload_buffer(ctx_, cmds, arena, f.spheres.data(), f.spheres.size() * sizeof(float),
                              "ses_spheres");
     sphere_start_ =
