@@ -209,12 +209,15 @@ double total_area(const std::vector<float>& p, const std::vector<Index>& indices
 
 std::vector<Index> piece_labels(const std::vector<Index>& indices, std::size_t vertex_count) {
     DisjointSets sets(vertex_count);
+    std::vector<std::uint8_t> used(vertex_count, 0);
     for (std::size_t c = 0; c < indices.size(); c += 3) {
         sets.unite(indices[c], indices[c + 1]);
         sets.unite(indices[c], indices[c + 2]);
+        used[indices[c]] = used[indices[c + 1]] = used[indices[c + 2]] = 1;
     }
     std::vector<Index> label(vertex_count);
-    for (std::size_t v = 0; v < vertex_count; ++v) label[v] = sets.find(Index(v));
+    for (std::size_t v = 0; v < vertex_count; ++v)
+        label[v] = used[v] ? sets.find(Index(v)) : kNoPiece;
     return label;
 }
 
@@ -232,14 +235,21 @@ struct OutputStars {
     std::vector<std::array<Index, 3>> doubled;
 };
 
-OutputStars output_stars(const std::vector<Index>& indices, std::size_t vertex_count) {
+OutputStars output_stars(const std::vector<Index>& indices, std::size_t own,
+                         std::size_t vertex_count) {
     OutputStars s;
     const Stars stars = vertex_stars(indices, vertex_count);
     s.fans.assign(vertex_count, 0);
+    // Only the vertices of the first `own` triangles can have changed (the others' triangles,
+    // edges and fans are the input's); an edge or a doubled triangle at one of them is found
+    // from its lowest vertex, which is one of them too.
+    const bool all = own >= indices.size() / 3;
+    std::vector<std::uint8_t> changed(vertex_count, all ? 1 : 0);
+    for (std::size_t c = 0; !all && c < 3 * own; ++c) changed[indices[c]] = 1;
     std::vector<Index> parent;
     for (std::size_t v = 0; v < vertex_count; ++v) {
         const Index first = stars.start[v], n = stars.start[v + 1] - first;
-        if (n == 0) continue;
+        if (n == 0 || !changed[v]) continue;
         const std::array<Index, 2>* o = &stars.around[first];
         s.fans[v] = star_fans(o, n, parent, [&](const auto& a, const auto& b) {
             // The same two other vertices: a triangle doubled (seen from its lowest).
@@ -289,7 +299,8 @@ std::vector<Index> new_defects(const std::vector<Index>& in, const std::vector<I
 }
 
 std::vector<Index> new_defects(const std::vector<Index>& in, const std::vector<Index>& in_pieces,
-                               const std::vector<Index>& out, std::size_t vertex_count) {
+                               const std::vector<Index>& out, std::size_t vertex_count,
+                               std::size_t own) {
     std::vector<Index> defects;
     OutputStars stars;
     if (repeats_a_vertex(out)) {
@@ -297,7 +308,7 @@ std::vector<Index> new_defects(const std::vector<Index>& in, const std::vector<I
         stars.fans = fan_counts(out, vertex_count);
         stars.doubled = doubled_triangles(out);
     } else {
-        stars = output_stars(out, vertex_count);
+        stars = output_stars(out, own, vertex_count);
     }
     // The input is larger than the output: it is only scanned, for the edges and vertices that
     // look wrong in the output.
@@ -381,11 +392,16 @@ std::vector<Index> new_defects(const std::vector<Index>& in, const std::vector<I
                 defects.insert(defects.end(), out_doubles[i].begin(), out_doubles[i].end());
         }
     }
-    // The pieces of the input of which no vertex is left.
+    // The pieces of the input of which no vertex is left (a piece is labelled by one of its
+    // vertices; the input is scanned only when one has gone).
     std::vector<std::uint8_t> alive(vertex_count, 0);
-    for (Index v : out) alive[in_pieces[v]] = 1;
-    for (Index v : in) {
-        if (!alive[in_pieces[v]]) defects.push_back(v);
+    for (Index v : out) {
+        if (in_pieces[v] != kNoPiece) alive[in_pieces[v]] = 1;
+    }
+    bool gone = false;
+    for (std::size_t v = 0; v < vertex_count && !gone; ++v) gone = in_pieces[v] == v && !alive[v];
+    for (std::size_t c = 0; gone && c < in.size(); ++c) {
+        if (!alive[in_pieces[in[c]]]) defects.push_back(in[c]);
     }
     std::sort(defects.begin(), defects.end());
     defects.erase(std::unique(defects.begin(), defects.end()), defects.end());
@@ -424,7 +440,9 @@ RegionResult simplify_region(const std::vector<float>& positions, const std::vec
     std::vector<Index> checked_in = indices;
     checked_in.insert(checked_in.end(), context.begin(), context.end());
     const std::vector<Index> in_pieces = piece_labels(checked_in, nv);
-    std::vector<Index> free, result(indices.size());
+    // Scratch kept by each thread from region to region (its memory, not its contents).
+    thread_local std::vector<Index> free, result;
+    if (result.size() < indices.size()) result.resize(indices.size());
     float first_error = 0.0f;
     for (int attempt = 1; attempt <= kMaxRegionAttempts; ++attempt) {
         free.clear();
@@ -452,7 +470,7 @@ RegionResult simplify_region(const std::vector<float>& positions, const std::vec
         r.error = static_cast<double>(error) * scale;
         const std::size_t own = out.size();
         out.insert(out.end(), context.begin(), context.end());
-        const std::vector<Index> defects = new_defects(checked_in, in_pieces, out, nv);
+        const std::vector<Index> defects = new_defects(checked_in, in_pieces, out, nv, own / 3);
         if (defects.empty()) {
             out.resize(own);
             r.indices = std::move(out);
