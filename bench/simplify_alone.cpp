@@ -3,7 +3,7 @@
 // time, the process's CPU time per run, and the report's counts, so that a change to
 // src/simplify/ can be timed without the surface's noise (docs/performance.md, simplification).
 //
-//   build/fdmsurf_bench_simplify MESH [--ratio 0.1] [--reps 3] [--threads N] [--no-distance]
+//   build/fdmsurf_bench_simplify MESH [--ratio 0.1] [--reps 3] [--no-distance]
 #include <sys/resource.h>
 
 #include <algorithm>

@@ -98,10 +98,15 @@ fi
 cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE="$build_type"
 cmake --build "$build_dir"
 echo "setup-debian: built $(pwd)/$build_dir/fdmsurf"
-# The FFT plans of the grid sizes small structures are rounded to, and every kernel run once, so
-# that the first surface compiles nothing (docs/performance.md, "Cold start"). Not a reason to
-# fail: without a Vulkan device now, the first run builds what it needs itself.
-if "$build_dir/fdmsurf" prepare --quiet; then
+# The FFT plans of the grid sizes small structures are rounded to, and the kernels of the
+# default surfaces run once, so that a first surface compiles nothing (docs/performance.md,
+# "Cold start"). The caches are the user's: under sudo, prepared for the user who ran sudo. Not a
+# reason to fail: without a Vulkan device now, the first run builds what it needs itself.
+prepare=("$build_dir/fdmsurf" prepare --quiet)
+if ((EUID == 0)) && [[ -n ${SUDO_USER:-} && $SUDO_USER != root ]] && command -v sudo >/dev/null 2>&1; then
+    prepare=(sudo -u "$SUDO_USER" -H "${prepare[@]}")
+fi
+if "${prepare[@]}"; then
     echo "setup-debian: prepared the FFT plans and kernels (fdmsurf prepare)"
 else
     echo "setup-debian: fdmsurf prepare failed (see above); a first run will compile its own kernels" >&2

@@ -61,9 +61,9 @@ SURFACE = (
             "split to chord_tolerance; for edt every vertex projected onto the exact SES; fdm "
             "is not snapped (False: the CLI's --no-snap, marching cubes' vertices as they are)"),
     Keyword("canonical_grid", True, "negflag", "--natural-grid",
-            "fdm: round a small grid up to a cube of 64 to 160 points whose FFT plan "
-            "Engine.prepare (the CLI's `fdmsurf prepare`) builds ahead, for a fast first run "
-            "(False: the CLI's --natural-grid, the smallest FFT-friendly grid)"),
+            "fdm with the Gaussian filter: round a small grid up to a cube of 64 to 160 points "
+            "whose FFT plan `fdmsurf prepare` builds ahead, for a fast first run (False: the "
+            "CLI's --natural-grid, the smallest FFT-friendly grid)"),
     Keyword("chord_tolerance", None, "float", "--chord-tolerance",
             "vdw and sas with snap: split edges whose arc lies more than this from them, Å (>= "
             "0; 0: creases only; None: spacing / 50)"),

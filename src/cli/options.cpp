@@ -873,7 +873,7 @@ std::string usage_text() {
        fdmsurf INPUT -o PICTURE.png [picture options]
        fdmsurf INPUT... --models all -o FOLDER/ [options]
        fdmsurf compare REFERENCE TESTED --spacing H [--stats json] [--outer]
-       fdmsurf prepare [--device D] [--quiet]
+       fdmsurf prepare [--device D] [--validation] [--quiet]
        fdmsurf --list-devices | --help | --version
 
 Writes the molecular surface of INPUT (PDB, mmCIF, PQR, XYZR or XYZRN; .gz

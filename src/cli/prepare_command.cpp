@@ -10,6 +10,7 @@
 #include "cli/options.hpp"
 #include "fdmsurf/error.hpp"
 #include "fdmsurf/surface.hpp"
+#include "filter/plan_cache.hpp"
 
 namespace fdmsurf::cli {
 
@@ -19,9 +20,11 @@ std::string prepare_usage_text() {
 Builds, once per machine, what the first surface of a small structure would otherwise spend
 seconds on: the FFT plans of the grid sizes to which fdmsurf rounds small grids (cubes of 64,
 80, 96, 112, 128, 144 and 160 points; see --natural-grid), kept in fdmsurf's plan cache
-($FDMSURF_CACHE_DIR, else ~/.cache/fdmsurf), and the driver's compiled kernels, kept in the
-driver's own shader cache (Mesa: ~/.cache/mesa_shader_cache). scripts/setup-debian.sh runs it
-after the build. Running it again costs little: the plans are then read from the cache.
+($FDMSURF_CACHE_DIR, else $XDG_CACHE_HOME/fdmsurf, else ~/.cache/fdmsurf), and the driver's
+compiled kernels of the default fdm, edt, vdw and sas surfaces, kept in the driver's own shader
+cache (Mesa: ~/.cache/mesa_shader_cache). Both caches belong to the user who runs it.
+scripts/setup-debian.sh runs it after the build. Running it again costs little: the plans are
+then read from the cache.
 
   --device D     the device to prepare for (index or part of its name; default: the one a run
                  uses); plans and compiled kernels are per device and driver
@@ -46,15 +49,15 @@ int prepare_command(const std::vector<std::string>& args) {
             } else if (a == "--validation") {
                 engine.validation = true;
             } else if (a == "--device" || a.rfind("--device=", 0) == 0) {
-                if (a == "--device") {
-                    if (i + 1 >= args.size())
-                        throw Error(ErrorCode::InvalidArgument,
-                                    "prepare: option --device needs a value (see fdmsurf "
-                                    "prepare --help)");
-                    engine.device = args[++i];
-                } else {
-                    engine.device = a.substr(9);
-                }
+                const bool joined = a != "--device";
+                const std::string value =
+                    joined ? a.substr(9) : (i + 1 < args.size() ? args[i + 1] : std::string());
+                if (value.empty() || (!joined && value.front() == '-'))
+                    throw Error(ErrorCode::InvalidArgument,
+                                "prepare: option --device needs a value, a device's index or "
+                                "part of its name (see fdmsurf prepare --help)");
+                if (!joined) ++i;
+                engine.device = value;
             } else {
                 throw Error(ErrorCode::InvalidArgument, "prepare: unknown argument '" + a +
                                                             "' (see fdmsurf prepare --help)");
@@ -72,10 +75,12 @@ int prepare_command(const std::vector<std::string>& args) {
         if (quiet) return kExitOk;
         std::printf("device    %s (%s)\n", e.device().name.c_str(), e.device().driver.c_str());
         std::printf("pipelines %.0f ms (the engine's own kernels)\n", init_ms);
+        const bool cache_off = detail::PlanCache::default_directory().empty();
         for (const Engine::PreparedPlan& p : plans) {
             std::printf("FFT %ux%ux%u  %6.0f ms  %s\n", p.dims[0], p.dims[1], p.dims[2], p.ms,
-                        p.from_cache ? "plan read from the plan cache"
-                                     : "plan built and cached");
+                        p.from_cache  ? "plan read from the plan cache"
+                        : cache_off   ? "plan built (plan cache off: FDMSURF_CACHE_DIR=off)"
+                                      : "plan built and cached");
         }
         const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() -
                                                            start)

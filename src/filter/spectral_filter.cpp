@@ -133,7 +133,8 @@ FftPlan& SpectralFilter::plan_for(const std::array<std::uint32_t, 3>& dims, cons
     auto it = plans_.find(dims);
     if (it != plans_.end()) return *it->second;
     // Each plan holds a few MiB: keep the most recent few (the disk cache makes a re-plan cheap).
-    constexpr std::size_t kMaxPlans = 6;
+    // (8: Engine::prepare's seven canonical sizes and one more stay in memory.)
+    constexpr std::size_t kMaxPlans = 8;
     if (plans_.size() >= kMaxPlans) {
         plans_.erase(plan_order_.front());
         plan_order_.erase(plan_order_.begin());

@@ -261,7 +261,9 @@ GridPlan plan_grid(const Atoms& atoms, const SurfaceOptions& options) {
         double extra = (n - 1) * double(h) - (hi[a] - lo[a]);  // centred in a larger grid
         plan.info.origin[a] = static_cast<float>(lo[a] - extra / 2.0);
     }
-    if (plan.filtered && options.canonical_grid) {
+    // Gaussian filter only: its kernel is the same on any box, while the ideal mask, sampled at
+    // steps of 1/(n h), passes other frequencies on another n (1CRN --paper moved 0.05 Å RMS).
+    if (plan.filtered && options.canonical_grid && options.filter == FilterShape::Gaussian) {
         // Points added on both sides on the grid's own lattice: the points of the smaller grid
         // keep their places (and densities), and the surface moves only as much as the
         // filter's periodic images farther apart move it.

@@ -66,7 +66,8 @@ std::uint32_t fft_friendly_size(std::uint32_t n, bool even);
 // up to a size at which VkFFT's R2C transform is fast, from 240 to 512 points.
 std::uint32_t r2c_axis_size(std::uint32_t n);
 
-// The cube edges to which small FFT grids are rounded up (SurfaceOptions::canonical_grid): a
+// The cube edges to which small FFT grids of the Gaussian filter are rounded up
+// (SurfaceOptions::canonical_grid): a
 // first run on a fresh machine spends its time compiling the FFT kernels of its grid size (on
 // lavapipe 2-3 s; VkFFT writes the sizes into its kernels), so small structures share a few
 // sizes whose plans `fdmsurf prepare` (Engine::prepare) builds once, at set-up.

@@ -301,11 +301,13 @@ PassResult run_pass(const std::vector<float>& positions, const std::vector<Index
     // it and keeps the result in global vertex numbers.
     std::vector<RegionResult> results(cells.size());
     auto run = [&](const std::vector<std::size_t>& which, double region_cap) {
+        if (which.empty()) return;
         std::vector<std::size_t> schedule = which;
         std::stable_sort(schedule.begin(), schedule.end(),
                          [&](std::size_t a, std::size_t b) { return sizes[a] > sizes[b]; });
         std::atomic<std::size_t> next{0};
-        parallel_chunks(threads, threads, [&](std::size_t) {
+        const unsigned workers = unsigned(std::min<std::size_t>(threads, schedule.size()));
+        parallel_chunks(workers, workers, [&](std::size_t) {
             std::vector<Index> map(nv, std::numeric_limits<Index>::max());
             LocalRegion region;
             for (std::size_t k; (k = next++) < schedule.size();) {

@@ -235,21 +235,18 @@ struct OutputStars {
     std::vector<std::array<Index, 3>> doubled;
 };
 
-OutputStars output_stars(const std::vector<Index>& indices, std::size_t own,
-                         std::size_t vertex_count) {
+// `changed`: the vertices to examine (null: all). Every other vertex must have the same
+// triangles in `indices` as in the input: then so have its fans, and its edges, which are
+// found from their lower end only, also when the upper end is examined.
+OutputStars output_stars(const std::vector<Index>& indices, std::size_t vertex_count,
+                         const std::vector<std::uint8_t>* changed) {
     OutputStars s;
     const Stars stars = vertex_stars(indices, vertex_count);
     s.fans.assign(vertex_count, 0);
-    // Only the vertices of the first `own` triangles can have changed (the others' triangles,
-    // edges and fans are the input's); an edge or a doubled triangle at one of them is found
-    // from its lowest vertex, which is one of them too.
-    const bool all = own >= indices.size() / 3;
-    std::vector<std::uint8_t> changed(vertex_count, all ? 1 : 0);
-    for (std::size_t c = 0; !all && c < 3 * own; ++c) changed[indices[c]] = 1;
     std::vector<Index> parent;
     for (std::size_t v = 0; v < vertex_count; ++v) {
         const Index first = stars.start[v], n = stars.start[v + 1] - first;
-        if (n == 0 || !changed[v]) continue;
+        if (n == 0 || (changed && !(*changed)[v])) continue;
         const std::array<Index, 2>* o = &stars.around[first];
         s.fans[v] = star_fans(o, n, parent, [&](const auto& a, const auto& b) {
             // The same two other vertices: a triangle doubled (seen from its lowest).
@@ -300,15 +297,22 @@ std::vector<Index> new_defects(const std::vector<Index>& in, const std::vector<I
 
 std::vector<Index> new_defects(const std::vector<Index>& in, const std::vector<Index>& in_pieces,
                                const std::vector<Index>& out, std::size_t vertex_count,
-                               std::size_t own) {
+                               std::size_t context) {
     std::vector<Index> defects;
     OutputStars stars;
     if (repeats_a_vertex(out)) {
         stars.irregular = irregular_edges(out);
         stars.fans = fan_counts(out, vertex_count);
         stars.doubled = doubled_triangles(out);
+    } else if (context == 0 || 3 * context > in.size() || 3 * context > out.size()) {
+        stars = output_stars(out, vertex_count, nullptr);
     } else {
-        stars = output_stars(out, own, vertex_count);
+        // The vertices of the triangles before the shared context, in the input or the output:
+        // only at them can triangles, and so edges and fans, differ.
+        std::vector<std::uint8_t> changed(vertex_count, 0);
+        for (std::size_t c = 0; c + 3 * context < in.size(); ++c) changed[in[c]] = 1;
+        for (std::size_t c = 0; c + 3 * context < out.size(); ++c) changed[out[c]] = 1;
+        stars = output_stars(out, vertex_count, &changed);
     }
     // The input is larger than the output: it is only scanned, for the edges and vertices that
     // look wrong in the output.
@@ -470,7 +474,8 @@ RegionResult simplify_region(const std::vector<float>& positions, const std::vec
         r.error = static_cast<double>(error) * scale;
         const std::size_t own = out.size();
         out.insert(out.end(), context.begin(), context.end());
-        const std::vector<Index> defects = new_defects(checked_in, in_pieces, out, nv, own / 3);
+        const std::vector<Index> defects =
+            new_defects(checked_in, in_pieces, out, nv, context.size() / 3);
         if (defects.empty()) {
             out.resize(own);
             r.indices = std::move(out);

@@ -4,11 +4,11 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <limits>
 #include <vector>
 
 #include "fdmsurf/mesh.hpp"
 #include "fdmsurf/simplify.hpp"
+#include "mesh/mesh_pieces.hpp"
 
 namespace fdmsurf::detail {
 
@@ -45,16 +45,16 @@ std::vector<std::uint32_t> new_defects(const std::vector<std::uint32_t>& in,
                                        const std::vector<std::uint32_t>& out,
                                        std::size_t vertex_count);
 // The same with `in_pieces` = piece_labels(in, vertex_count), for callers that check several
-// outputs against one input, and with only the first `own` triangles of `out` new (the rest are
-// triangles of `in`, the context kept as it was: their vertices are not examined unless the
-// own triangles touch them).
+// outputs against one input. When the last `context` triangles of `in` and of `out` are the
+// same triangles (kept as they were), a vertex that only those use in both keeps the input's
+// edges and fans and is not examined.
 std::vector<std::uint32_t> new_defects(const std::vector<std::uint32_t>& in,
                                        const std::vector<std::uint32_t>& in_pieces,
                                        const std::vector<std::uint32_t>& out,
-                                       std::size_t vertex_count, std::size_t own = SIZE_MAX);
+                                       std::size_t vertex_count, std::size_t context = 0);
 // Per vertex, a label shared by the vertices of one piece of `indices` (joined through
-// triangles): one of the piece's vertices; kNoPiece for vertices no triangle uses.
-inline constexpr std::uint32_t kNoPiece = 0xffffffffu;
+// triangles): one of the piece's vertices; kNoPiece (mesh/mesh_pieces.hpp) for vertices no
+// triangle uses.
 std::vector<std::uint32_t> piece_labels(const std::vector<std::uint32_t>& indices,
                                         std::size_t vertex_count);
 

@@ -30,6 +30,8 @@ TEST_F(PrepareCli, BadArgumentsAreUsageErrors) {
     expect_failure(run({"prepare", "--frobnicate"}), 2, {"prepare", "--frobnicate"});
     expect_failure(run({"prepare", "1crn.pdb"}), 2, {"prepare", "1crn.pdb"});
     expect_failure(run({"prepare", "--device"}), 2, {"--device", "needs a value"});
+    expect_failure(run({"prepare", "--device", "--quiet"}), 2, {"--device", "needs a value"});
+    expect_failure(run({"prepare", "--device="}), 2, {"--device", "needs a value"});
 }
 
 TEST_F(PrepareCli, BuildsEveryPlanIntoThePlanCacheThenReadsThem) {

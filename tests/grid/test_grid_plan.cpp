@@ -333,6 +333,13 @@ TEST(GridPlan, CanonicalGridKeepsTheNaturalGridsPointsWhereTheyWere) {
         EXPECT_EQ(plan_grid(atoms, o).info.dims, plan_grid(atoms, off).info.dims);
         EXPECT_EQ(plan_grid(atoms, o).info.origin, plan_grid(atoms, off).info.origin);
     }
+    // The ideal mask is sampled on the box's frequencies: another box would change the mesh
+    // (1CRN --paper: 0.05 Å RMS), so the paper's settings keep the natural grid.
+    const SurfaceOptions paper = fdmsurf::paper_settings();
+    SurfaceOptions paper_natural = paper;
+    paper_natural.canonical_grid = false;
+    EXPECT_EQ(plan_grid(atoms, paper).info.dims, plan_grid(atoms, paper_natural).info.dims);
+    EXPECT_EQ(plan_grid(atoms, paper).info.origin, plan_grid(atoms, paper_natural).info.origin);
     Atoms rod;
     for (int i = 0; i < 30; ++i) {
         rod.xyz.insert(rod.xyz.end(), {0.0f, 0.0f, 1.5f * float(i)});

@@ -79,11 +79,13 @@ struct SurfaceOptions {
     // structures (the models of an NMR ensemble) given the largest grid of the batch shares one
     // FFT plan and one set of compiled kernels (plan_surface_grid gives each one's grid).
     std::array<std::uint32_t, 3> min_grid{0, 0, 0};
-    // FDM only: round a small grid up to one of a few cube sizes (64 to 160 points a side; not
-    // when that would more than 2.5-fold its points beyond 96^3), adding points around it on
-    // its own lattice, so that its FFT plan is one that Engine::prepare (`fdmsurf prepare`)
-    // built ahead and a first run does not compile FFT kernels (docs/performance.md, "Cold
-    // start"). The mesh moves by less than 1e-3 Å; false: the smallest FFT-friendly grid.
+    // FDM with the Gaussian filter (the default) only: round a small grid up to one of a few
+    // cube sizes (64 to 160 points a side; not when that would more than 2.5-fold its points
+    // beyond 96^3), adding points around it on its own lattice, so that its FFT plan is one
+    // that Engine::prepare (`fdmsurf prepare`) built ahead and a first run does not compile FFT
+    // kernels (docs/performance.md, "Cold start"). The mesh moves by less than 1e-3 Å (2e-5 Å
+    // on 1CRN). The ideal filter (paper_settings) keeps its grid: its mask, sampled on the
+    // box's frequencies, would change. false: the smallest FFT-friendly grid.
     bool canonical_grid = true;
     // Colours and per-vertex scalars (Mesh::colors, Mesh::scalars). Mesh::atoms is always set.
     PropertyOptions properties;
@@ -182,13 +184,14 @@ public:
 
     // Builds ahead what a first surface on a small grid would build: the FFT plans of the
     // canonical grid sizes (SurfaceOptions::canonical_grid), stored in fdmsurf's plan cache,
-    // and the driver's machine code for them and for the engine's own kernels, which Mesa keeps
-    // in its shader cache (lavapipe compiles a kernel at its first dispatch: every plan and
-    // every stage of the fdm, edt, vdw and sas surfaces is run once, on one atom). Run once per
-    // machine, device and driver (`fdmsurf prepare`; scripts/setup-debian.sh does), it makes
-    // the first run of a small structure in a new process about as fast as a later one
-    // (docs/performance.md, "Cold start"). One row per plan: its grid, whether the plan cache
-    // had it, milliseconds (plan and surface).
+    // and the driver's machine code for them and for the engine's kernels, which Mesa keeps in
+    // its shader cache (lavapipe compiles a kernel at its first dispatch: every plan and every
+    // stage of the default fdm, edt, vdw and sas surfaces is run once, on one atom; not the
+    // Coulombic colours' kernel nor the PNG renderer's). Run once per machine, device and
+    // driver (`fdmsurf prepare`; scripts/setup-debian.sh does), it makes the first run of a
+    // small structure in a new process about as fast as a later one (docs/performance.md,
+    // "Cold start"). One row per plan: its grid, whether the plan cache had it, milliseconds
+    // (plan and surface).
     struct PreparedPlan {
         std::array<std::uint32_t, 3> dims{};
         bool from_cache = false;
