@@ -8,9 +8,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
-#include <cstdint>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -41,9 +41,12 @@ int main(int argc, char** argv) try {
     options.measure_distance = true;
     int reps = 3;
     for (int i = 2; i < argc; ++i) {
-        if (!std::strcmp(argv[i], "--no-distance")) options.measure_distance = false;
-        else if (!std::strcmp(argv[i], "--ratio") && i + 1 < argc) options.ratio = std::strtod(argv[++i], nullptr);
-        else if (!std::strcmp(argv[i], "--reps") && i + 1 < argc) reps = std::max(1, std::atoi(argv[++i]));
+        if (!std::strcmp(argv[i], "--no-distance"))
+            options.measure_distance = false;
+        else if (!std::strcmp(argv[i], "--ratio") && i + 1 < argc)
+            options.ratio = std::strtod(argv[++i], nullptr);
+        else if (!std::strcmp(argv[i], "--reps") && i + 1 < argc)
+            reps = std::max(1, std::atoi(argv[++i]));
         else {
             std::fprintf(stderr, "unknown option %s\n", argv[i]);
             return 2;
@@ -58,7 +61,9 @@ int main(int argc, char** argv) try {
         const double c0 = cpu_seconds();
         const auto t0 = std::chrono::steady_clock::now();
         const Mesh out = simplify_mesh(mesh, options, &report);
-        wall.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+        wall.push_back(
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                .count());
         cpu.push_back(1e3 * (cpu_seconds() - c0));
         for (const auto& t : report.times)
             if (t.name == "simplify") stage.push_back(t.ms);
@@ -75,11 +80,13 @@ int main(int argc, char** argv) try {
         std::sort(v.begin(), v.end());
         return v.empty() ? 0.0 : v[v.size() / 2];
     };
-    std::printf("%s: %zu -> %zu triangles (target %zu), %zu regions, %zu runs, frozen %zu, "
-                "closed manifold %d, RMSD %.4f Å, Hausdorff %.3f Å, mesh hash %016llx\n",
-                argv[1], mesh.triangle_count(), out_triangles, report.target_triangles, report.regions,
-                std::size_t(report.attempts), report.frozen_triangles, int(report.stats_out.is_closed_manifold()),
-                report.rmsd, report.hausdorff, static_cast<unsigned long long>(hash));
+    std::printf(
+        "%s: %zu -> %zu triangles (target %zu), %zu regions, %zu runs, frozen %zu, "
+        "closed manifold %d, RMSD %.4f Å, Hausdorff %.3f Å, mesh hash %016llx\n",
+        argv[1], mesh.triangle_count(), out_triangles, report.target_triangles, report.regions,
+        std::size_t(report.attempts), report.frozen_triangles,
+        int(report.stats_out.is_closed_manifold()), report.rmsd, report.hausdorff,
+        static_cast<unsigned long long>(hash));
     std::printf("median of %d: simplify stage %.0f ms, call %.0f ms wall, %.0f ms CPU\n", reps,
                 median(stage), median(wall), median(cpu));
     return 0;

@@ -79,6 +79,15 @@ void glslang_release() {
     if (--g_glslang_users == 0) glslang_finalize_process();
 }
 
+namespace {
+
+// Bytes of a field of `dims` points in the in-place R2C layout (2 (nx/2 + 1) floats per row).
+std::uint64_t r2c_field_bytes(const std::array<std::uint32_t, 3>& dims) {
+    return std::uint64_t(2) * (dims[0] / 2 + 1) * dims[1] * dims[2] * sizeof(float);
+}
+
+}  // namespace
+
 struct FftPlan {
     VkFFTApplication app{};
     VkFFTConfiguration config{};
@@ -147,7 +156,7 @@ FftPlan& SpectralFilter::plan_for(const std::array<std::uint32_t, 3>& dims, cons
     plan->pool = pool_;
     plan->fence = fence_;
     plan->slots[0] = field.handle();
-    plan->buffer_size = std::uint64_t(2) * (dims[0] / 2 + 1) * dims[1] * dims[2] * sizeof(float);
+    plan->buffer_size = r2c_field_bytes(dims);
     VkFFTConfiguration& c = plan->config;
     c.FFTdim = 3;
     c.size[0] = dims[0];
@@ -215,9 +224,7 @@ bool SpectralFilter::prepare(const std::array<std::uint32_t, 3>& dims) {
     if (auto it = plans_.find(dims); it != plans_.end()) return it->second->from_cache;
     // VkFFT builds its descriptors on the buffer it is planned with; every launch rebinds the
     // field (FftPlan::bind), so this one may go when the plan is built.
-    const VkDeviceSize bytes =
-        VkDeviceSize(2) * (dims[0] / 2 + 1) * dims[1] * dims[2] * sizeof(float);
-    const Buffer field(ctx_, bytes, MemoryUse::Device, "prepare_field");
+    const Buffer field(ctx_, r2c_field_bytes(dims), MemoryUse::Device, "prepare_field");
     return plan_for(dims, field).from_cache;
 }
 

@@ -108,15 +108,16 @@ struct LocalRegion {
     std::size_t fan = 0;  // own triangles at a corner of the context: locked, barely reducible
     std::vector<std::uint8_t> keep;  // per own triangle, when the pass has triangles to keep
     std::size_t kept = 0;            // own triangles to keep that are not in the fan
-    std::vector<std::uint8_t> locked;
 };
 
 // Fills `region` with the triangles own[0 .. own_count) and context[0 .. context_count) of
-// `indices`. `map`: one entry per global vertex, all kNone, and left so.
+// `indices`; `fan`: per triangle, whether it is in its cell's fan. `map`: one entry per global
+// vertex, all kNone, and left so.
 void localise(const std::vector<float>& positions, const std::vector<Index>& indices,
               const Index* own, std::size_t own_count, const Index* context,
-              std::size_t context_count, const std::vector<std::uint8_t>* keep,
-              std::vector<Index>& map, LocalRegion& region) {
+              std::size_t context_count, const std::vector<std::uint8_t>& fan,
+              const std::vector<std::uint8_t>* keep, std::vector<Index>& map,
+              LocalRegion& region) {
     constexpr Index kNone = std::numeric_limits<Index>::max();
     region.vertices.clear();
     region.own.clear();
@@ -138,16 +139,12 @@ void localise(const std::vector<float>& positions, const std::vector<Index>& ind
     };
     local(own, own_count, region.own);
     local(context, context_count, region.context);
-    region.locked.assign(region.vertices.size(), 0);
-    for (Index v : region.context) region.locked[v] = 1;
     region.keep.resize(keep ? own_count : 0);
-    for (std::size_t c = 0; c < region.own.size(); c += 3) {
-        const bool fan = region.locked[region.own[c]] | region.locked[region.own[c + 1]] |
-                         region.locked[region.own[c + 2]];
-        region.fan += fan;
+    for (std::size_t k = 0; k < own_count; ++k) {
+        region.fan += fan[own[k]];
         if (keep) {
-            region.keep[c / 3] = (*keep)[own[c / 3]];
-            region.kept += region.keep[c / 3] && !fan;
+            region.keep[k] = (*keep)[own[k]];
+            region.kept += region.keep[k] && !fan[own[k]];
         }
     }
     region.positions.resize(3 * region.vertices.size());
@@ -266,35 +263,37 @@ PassResult run_pass(const std::vector<float>& positions, const std::vector<Index
         }
     }
     trace("simplify: cell lists, context");
-    // With ratio 0, the one ratio that makes `total` with the band, the fans and the kept
-    // triangles over all cells: an own triangle is in its cell's fan when a corner is a corner
-    // of a band triangle (that triangle is then context of the cell, the corner not being cut).
+    // The fans: an own triangle is in its cell's fan when a corner is a corner of a band
+    // triangle (that triangle is then context of the cell, the corner not being cut, and the
+    // corner locked). With ratio 0, the one ratio that makes `total` with the band, the fans and
+    // the kept triangles over all cells.
+    std::vector<std::uint8_t> band_corner(nv, 0);
+    for_ranges(triangles, threads, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t t = begin; t < end; ++t) {
+            if (!band[t]) continue;
+            for (int k = 0; k < 3; ++k)
+                std::atomic_ref<std::uint8_t>(band_corner[indices[3 * t + k]])
+                    .store(1, std::memory_order_relaxed);
+        }
+    });
+    std::vector<std::uint8_t> fan(triangles, 0);
+    std::atomic<std::size_t> fixed_total{0};
+    for_ranges(triangles, threads, [&](std::size_t begin, std::size_t end) {
+        std::size_t n = 0;
+        for (std::size_t t = begin; t < end; ++t) {
+            if (band[t]) continue;
+            const Index* tri = &indices[3 * t];
+            fan[t] = band_corner[tri[0]] | band_corner[tri[1]] | band_corner[tri[2]];
+            n += fan[t] || (keep && (*keep)[t]);
+        }
+        fixed_total += n;
+    });
     if (ratio <= 0.0) {
-        std::vector<std::uint8_t> band_corner(nv, 0);
-        for_ranges(triangles, threads, [&](std::size_t begin, std::size_t end) {
-            for (std::size_t t = begin; t < end; ++t) {
-                if (!band[t]) continue;
-                for (int k = 0; k < 3; ++k)
-                    std::atomic_ref<std::uint8_t>(band_corner[indices[3 * t + k]])
-                        .store(1, std::memory_order_relaxed);
-            }
-        });
-        std::atomic<std::size_t> fans_total{0};
-        for_ranges(triangles, threads, [&](std::size_t begin, std::size_t end) {
-            std::size_t n = 0;
-            for (std::size_t t = begin; t < end; ++t) {
-                if (band[t]) continue;
-                const Index* tri = &indices[3 * t];
-                const bool fan = band_corner[tri[0]] | band_corner[tri[1]] | band_corner[tri[2]];
-                n += fan || (keep && (*keep)[t]);
-            }
-            fans_total += n;
-        });
-        const std::size_t fans = fans_total;
-        const double reducible = double(triangles - band_count - fans);
+        const std::size_t fixed = fixed_total;
+        const double reducible = double(triangles - band_count - fixed);
         ratio = reducible <= 0.0
                     ? 1.0
-                    : std::clamp((total - double(band_count + fans)) / reducible, 0.0, 1.0);
+                    : std::clamp((total - double(band_count + fixed)) / reducible, 0.0, 1.0);
     }
 
     // Each worker localises the next region (largest first) into its own buffers, simplifies
@@ -315,7 +314,7 @@ PassResult run_pass(const std::vector<float>& positions, const std::vector<Index
                 const std::size_t c = cells[i];
                 localise(positions, indices, &own.order[own.start[c]], sizes[i],
                          context.order.data() + context.start[c],
-                         context.start[c + 1] - context.start[c], keep, map, region);
+                         context.start[c + 1] - context.start[c], fan, keep, map, region);
                 const std::size_t fixed = region.fan + region.kept;
                 const double reducible = double(sizes[i] - fixed);
                 const auto target =
@@ -357,8 +356,8 @@ PassResult run_pass(const std::vector<float>& positions, const std::vector<Index
     const std::size_t chunks = (triangles + kChunk - 1) / kChunk;
     std::vector<std::size_t> band_offset(chunks + 1, 0);
     for_ranges(triangles, threads, [&](std::size_t begin, std::size_t end) {
-        band_offset[begin / kChunk + 1] =
-            std::size_t(std::count(band.begin() + std::ptrdiff_t(begin), band.begin() + std::ptrdiff_t(end), 1));
+        band_offset[begin / kChunk + 1] = std::size_t(std::count(
+            band.begin() + std::ptrdiff_t(begin), band.begin() + std::ptrdiff_t(end), 1));
     });
     for (std::size_t k = 0; k < chunks; ++k) band_offset[k + 1] += band_offset[k];
     const std::size_t region_triangles = offset.back();
@@ -366,7 +365,8 @@ PassResult run_pass(const std::vector<float>& positions, const std::vector<Index
     pass.frozen.assign(region_triangles + band_offset.back(), 0);
     parallel_chunks(cells.size(), threads, [&](std::size_t i) {
         const RegionResult& r = results[i];
-        std::copy(r.indices.begin(), r.indices.end(), pass.indices.begin() + std::ptrdiff_t(3 * offset[i]));
+        std::copy(r.indices.begin(), r.indices.end(),
+                  pass.indices.begin() + std::ptrdiff_t(3 * offset[i]));
         // The frozen triangles are the region result's last.
         std::fill(pass.frozen.begin() + std::ptrdiff_t(offset[i + 1] - r.frozen),
                   pass.frozen.begin() + std::ptrdiff_t(offset[i + 1]), 1);
@@ -375,7 +375,8 @@ PassResult run_pass(const std::vector<float>& positions, const std::vector<Index
         std::size_t out = region_triangles + band_offset[begin / kChunk];
         for (std::size_t t = begin; t < end; ++t) {
             if (!band[t]) continue;
-            std::copy(&indices[3 * t], &indices[3 * t] + 3, pass.indices.begin() + std::ptrdiff_t(3 * out));
+            std::copy(&indices[3 * t], &indices[3 * t] + 3,
+                      pass.indices.begin() + std::ptrdiff_t(3 * out));
             pass.frozen[out++] = keep ? (*keep)[t] : 0;
         }
     });

@@ -77,6 +77,9 @@ std::size_t simplify_target(std::size_t triangles, const SimplifyOptions& option
 
 namespace {
 
+// Items per chunk of the loops over the whole mesh that run on all threads.
+constexpr std::size_t kChunk = 65536;
+
 // Whether two vertices have bit-identical positions: one pass over the positions with an
 // open-addressing table (cheaper than meshopt_generateVertexRemap, which walks the indices),
 // filled by all threads at once: a slot is taken by compare-and-swap, and two vertices at one
@@ -90,7 +93,6 @@ bool has_duplicate_positions(const std::vector<float>& positions) {
         return std::bit_cast<std::uint32_t>(positions[3 * v + a]);
     };
     std::atomic<bool> found{false};
-    constexpr std::size_t kChunk = 65536;
     parallel_chunks((nv + kChunk - 1) / kChunk, thread_count(0), [&](std::size_t chunk) {
         const std::size_t end = std::min(nv, (chunk + 1) * kChunk);
         for (std::size_t v = chunk * kChunk; v < end && !found.load(std::memory_order_relaxed);
@@ -121,7 +123,6 @@ bool has_duplicate_positions(const std::vector<float>& positions) {
 bool weld_exact(const Mesh& mesh, Mesh& welded, std::size_t* merged) {
     if (merged) *merged = 0;
     std::atomic<bool> degenerate{false};
-    constexpr std::size_t kChunk = 65536;
     const std::size_t triangles = mesh.triangle_count();
     parallel_chunks((triangles + kChunk - 1) / kChunk, thread_count(0), [&](std::size_t chunk) {
         const std::size_t end = std::min(triangles, (chunk + 1) * kChunk);

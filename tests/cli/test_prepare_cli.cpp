@@ -49,7 +49,8 @@ TEST_F(PrepareCli, BuildsEveryPlanIntoThePlanCacheThenReadsThem) {
     EXPECT_EQ(built, 7) << first.out;
     EXPECT_NE(first.out.find("FFT 112x112x112"), std::string::npos) << first.out;
     std::size_t entries = 0;
-    for (const auto& e : std::filesystem::directory_iterator(path("plans"))) entries += e.is_regular_file();
+    for (const auto& e : std::filesystem::directory_iterator(path("plans")))
+        entries += e.is_regular_file();
     EXPECT_GE(entries, 7u);
 
     // Again, under the validation layer (its messages would be errors): every plan from the cache.
@@ -57,7 +58,8 @@ TEST_F(PrepareCli, BuildsEveryPlanIntoThePlanCacheThenReadsThem) {
     ASSERT_EQ(second.exit_code, 0) << second.err;
     int read = 0;
     for (const std::string& line : lines_of(second.out))
-        read += line.rfind("FFT ", 0) == 0 && line.find("read from the plan cache") != std::string::npos;
+        read += line.rfind("FFT ", 0) == 0 &&
+                line.find("read from the plan cache") != std::string::npos;
     EXPECT_EQ(read, 7) << second.out;
     EXPECT_EQ(run({"prepare", "--quiet"}, env).out, "");
 }
