@@ -3,7 +3,7 @@
 //
 // Only the tiles (boxes of grid points that some atom's Gaussian support reaches) are visited;
 // the host zero-fills the field first. Each point scans the candidates density_tiles.comp found
-// for its tile, or, when they overflowed the tile's capacity, searches shells of bins around
+// for its tile, or, when they overflowed (the tile's capacity or the pool), searches shells of bins around
 // itself. Exact either way.
 #version 450
 #extension GL_GOOGLE_include_directive : require
@@ -66,11 +66,11 @@ void main() {
         pyz[j] = origin.yz + pc.spacing * vec2(g[j].yz);
         best[j] = vec4(3.0e38);
     }
-    uint base = tile * (pc.capacity + 1u);
-    uint n = candidates[base];
-    if (n <= pc.capacity) {
+    uint n = candidates[2u * tile];
+    if (n != kDensityOverflow) {
+        uint base = candidates[2u * tile + 1u];
         for (uint k = 0u; k < n; ++k) {
-            vec4 a = atoms[candidates[base + 1u + k]];
+            vec4 a = atoms[candidates[base + k]];
             for (uint j = 0u; j < kQuads; ++j) {
                 vec2 dyz = pyz[j] - a.yz;
                 vec4 dx = px[j] - a.x;

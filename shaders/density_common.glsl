@@ -8,10 +8,16 @@ layout(std430, binding = 1) readonly buffer AtomsBuf { vec4 atoms[]; };  // xyz,
 layout(std430, binding = 2) readonly buffer BinStart { uint bin_start[]; };
 layout(std430, binding = 3) readonly buffer FirstShell { uint first_shell[]; };
 layout(std430, binding = 4) readonly buffer Tiles { uint tiles[]; };  // box index per tile
-// Per tile, pc.capacity + 1 words: the candidate count, then up to pc.capacity atom indices.
+// The candidate lists: for tile t, words 2t and 2t + 1 hold its candidate count (kDensityOverflow
+// when it has more than pc.capacity or the pool ran out) and the first word of its list; word
+// 2 * tile_count is the pool's top (0 before the tiles pass), and the pool of pc.pool_words atom
+// indices follows it.
 layout(std430, binding = 5) buffer Candidates { uint candidates[]; };
 
 layout(push_constant) uniform Push { DensityPush pc; };
+
+uint pool_top_word() { return 2u * pc.tile_count; }
+uint pool_first_word() { return 2u * pc.tile_count + 1u; }
 
 // The box of tile `tile`: its first grid point and its corners (grid points), Å.
 struct Box {

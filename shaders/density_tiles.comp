@@ -4,8 +4,8 @@
 // One invocation per tile, no shared memory and no barrier (lavapipe emulates both slowly).
 // With U = min_a max_{p in box} pi_a(p), an upper bound on pi everywhere in the box (capped at
 // pi_cut), only atoms with min_{p in box} pi_a(p) <= U can be the minimiser at some point of the
-// box, and they lie within sqrt(U + r_max^2) of it. Their indices go to `candidates`; density.comp
-// then scans them for each point. Exact: no atom that can win is left out.
+// box, and they lie within sqrt(U + r_max^2) of it. Their indices go to a run of `candidates`' pool;
+// density.comp then scans them for each point. Exact: no atom that can win is left out.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "shader_interface.h"
@@ -16,6 +16,30 @@ layout(local_size_x = kDensityTileGroup) in;
 
 vec3 box_gap(vec3 c, vec3 lo, vec3 hi) { return max(max(lo - c, c - hi), vec3(0.0)); }
 vec3 box_far(vec3 c, vec3 lo, vec3 hi) { return max(abs(c - lo), abs(c - hi)); }
+
+// Walks the bins within reach of the box and counts the atoms that can reach pi <= u somewhere in
+// it; with `write`, stores their indices from candidates[first] on.
+uint scan_candidates(Box box, float u, ivec3 b_lo, ivec3 b_hi, uint first, bool write) {
+    vec3 bin_origin = vec3(pc.bin_origin_x, pc.bin_origin_y, pc.bin_origin_z);
+    uint count = 0u;
+    for (int z = b_lo.z; z <= b_hi.z; ++z)
+        for (int y = b_lo.y; y <= b_hi.y; ++y) {
+            // A row of bins (contiguous atoms) whose y-z distance to the box already exceeds the
+            // reach holds no candidate.
+            vec2 lo = bin_origin.yz + vec2(y, z) * pc.bin_size;
+            vec2 gap = max(max(lo - box.hi.yz, box.lo.yz - (lo + pc.bin_size)), vec2(0.0));
+            if (dot(gap, gap) - pc.r2_max > u) continue;
+            uint row = (uint(z) * pc.bin_ny + uint(y)) * pc.bin_nx;
+            for (uint i = bin_start[row + uint(b_lo.x)]; i < bin_start[row + uint(b_hi.x) + 1u]; ++i) {
+                vec4 a = atoms[i];
+                vec3 d = box_gap(a.xyz, box.lo, box.hi);
+                if (dot(d, d) - a.w > u) continue;
+                if (write) candidates[first + count] = i;
+                ++count;
+            }
+        }
+    return count;
+}
 
 void main() {
     uint tile = gl_WorkGroupID.y * (pc.groups_x * kDensityTileGroup) + gl_GlobalInvocationID.x;
@@ -40,27 +64,27 @@ void main() {
     // The slack keeps float rounding in the bounds below from dropping the true minimiser.
     u += 1e-3 * (1.0 + abs(u));
 
-    // 2. The candidates: atoms that can reach pi <= u somewhere in the box.
+    // 2. The candidates: atoms that can reach pi <= u somewhere in the box. Counted first, then
+    // given a run of the shared pool (a bump of the pool's top) and written: the lists take the
+    // memory they need, not a fixed stride per tile.
     float reach = sqrt(max(u + pc.r2_max, 0.0));
     b_lo = clamp(ivec3(floor((box.lo - reach - bin_origin) / pc.bin_size)), ivec3(0), dims - 1);
     b_hi = clamp(ivec3(floor((box.hi + reach - bin_origin) / pc.bin_size)), ivec3(0), dims - 1);
-    uint base = tile * (pc.capacity + 1u);
-    uint count = 0u;
-    for (int z = b_lo.z; z <= b_hi.z; ++z)
-        for (int y = b_lo.y; y <= b_hi.y; ++y) {
-            // A row of bins (contiguous atoms) whose y-z distance to the box already exceeds the
-            // reach holds no candidate.
-            vec2 lo = bin_origin.yz + vec2(y, z) * pc.bin_size;
-            vec2 gap = max(max(lo - box.hi.yz, box.lo.yz - (lo + pc.bin_size)), vec2(0.0));
-            if (dot(gap, gap) - pc.r2_max > u) continue;
-            uint row = (uint(z) * pc.bin_ny + uint(y)) * pc.bin_nx;
-            for (uint i = bin_start[row + uint(b_lo.x)]; i < bin_start[row + uint(b_hi.x) + 1u]; ++i) {
-                vec4 a = atoms[i];
-                vec3 d = box_gap(a.xyz, box.lo, box.hi);
-                if (dot(d, d) - a.w > u) continue;
-                if (count < pc.capacity) candidates[base + 1u + count] = i;
-                ++count;
-            }
+    uint count = scan_candidates(box, u, b_lo, b_hi, 0u, false);
+    uint first = 0u;
+    // Once the pool is seen full no tile bumps its top further, which keeps the top far from
+    // wrapping around (only the tiles running at that moment can overshoot).
+    if (count <= pc.capacity && count <= pc.pool_words &&
+        candidates[pool_top_word()] <= pc.pool_words - count) {
+        first = atomicAdd(candidates[pool_top_word()], count);
+        if (first <= pc.pool_words - count) {
+            scan_candidates(box, u, b_lo, b_hi, pool_first_word() + first, true);
+        } else {
+            count = kDensityOverflow;  // the pool is full: density.comp searches per point
         }
-    candidates[base] = count;  // > capacity: density.comp falls back to a search per point
+    } else {
+        count = kDensityOverflow;
+    }
+    candidates[2u * tile] = count;
+    candidates[2u * tile + 1u] = pool_first_word() + first;
 }

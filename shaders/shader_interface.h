@@ -23,6 +23,8 @@ FDM_CONST kDensityGroupZ = 4;
 FDM_CONST kDensityTileGroup = 64;
 FDM_CONST kDensityTileLanes = 8;
 FDM_CONST kDensityPointGroup = 64;
+// A tile's candidate count when its list did not fit (density.comp then searches per point).
+FDM_CONST kDensityOverflow = 0xffffffffu;
 
 // Exact SES distance (ses_distance.comp): 3D workgroups of 8 x 4 x 2 invocations (8 along x:
 // lavapipe fills its 8-wide vectors along local x only; 28% faster on 4HHB than 4 x 4 x 4, which
@@ -77,7 +79,8 @@ struct DensityPush {
     uint boxes_x, boxes_y;  // tiles per axis of the whole grid (x, y)
     uint tile_count;        // tiles in the `tiles` buffer (the boxes some atom reaches)
     uint groups_x;          // workgroups along x of the 2D dispatch (folded into rows)
-    uint capacity;          // candidate atoms stored per tile
+    uint capacity;          // candidate atoms a tile may store; more: the per-point search
+    uint pool_words;        // atom indices the candidates' pool holds (all tiles together)
 };
 
 struct SesDistancePush {

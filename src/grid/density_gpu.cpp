@@ -2,9 +2,11 @@
 #include "grid/density_gpu.hpp"
 
 #include <algorithm>
+#include <string>
 
 #include "core/shaders.hpp"
 #include "core/trace.hpp"
+#include "fdmsurf/error.hpp"
 #include "shader_interface.h"
 #include "vulkan/commands.hpp"
 #include "vulkan/context.hpp"
@@ -13,11 +15,13 @@ namespace fdmsurf::detail {
 
 namespace {
 
-// Candidate atoms stored per tile: at most kMaxCapacity, and all tiles' lists within
-// kCandidateBudget bytes. At 0.5 Å the tiles of 4HHB have 10 on average and at most 78; at 2 Å,
-// up to 267. A tile with more falls back to the (exact, slower) search per point.
+// The tiles' candidate lists share one pool: a tile takes the words it needs (at 0.5 Å the tiles
+// of 4HHB hold 10 on average and at most 78; at 2 Å, up to 267). A tile with more than
+// kMaxCapacity, or that finds the pool full, falls back to the (exact, slower) search per point.
+// The pool holds at most kPoolBudget bytes; only what the lists use is written (on lavapipe,
+// where device memory is host memory, the rest is never touched).
 constexpr std::uint64_t kMaxCapacity = 1535;
-constexpr std::uint64_t kCandidateBudget = 64ull << 20;
+constexpr std::uint64_t kPoolBudget = 64ull << 20;
 
 static_assert(shader::kDensityGroupX % 4 == 0, "density.comp evaluates quads of 4 points along x");
 constexpr std::uint32_t kQuadsPerTile =
@@ -45,12 +49,18 @@ void DensityPass::record(Commands& cmds, StagingArena& arena, const AtomBins& bi
     const std::vector<std::uint32_t> tiles = reached_boxes(bins, plan, group);
     trace("density: reached tiles listed");
     const GridInfo& g = plan.info;
-    const std::uint64_t budget =
-        std::min<std::uint64_t>(kCandidateBudget, ctx_.limits().max_storage_buffer_range);
-    const std::uint64_t words =
-        budget / sizeof(std::uint32_t) / std::max<std::size_t>(tiles.size(), 1);
-    const std::uint32_t capacity = static_cast<std::uint32_t>(std::min(
-        {kMaxCapacity, std::max<std::uint64_t>(words, 1) - 1, std::uint64_t{capacity_limit_}}));
+    const std::uint32_t capacity =
+        static_cast<std::uint32_t>(std::min<std::uint64_t>(kMaxCapacity, capacity_limit_));
+    // Per tile a count and a first word, then the pool's top, then the pool (density_common.glsl).
+    const std::uint64_t header_words = 2 * std::uint64_t{tiles.size()} + 1;
+    const std::uint64_t range_words = ctx_.limits().max_storage_buffer_range / sizeof(std::uint32_t);
+    if (header_words > range_words)  // the slabs keep a field, 64 points per tile, in one binding
+        throw Error(ErrorCode::DeviceLimit,
+                    "density pass: " + std::to_string(tiles.size()) +
+                        " tiles' candidate headers exceed maxStorageBufferRange");
+    const std::uint64_t pool_words =
+        std::min({std::uint64_t{tiles.size()} * capacity, kPoolBudget / sizeof(std::uint32_t),
+                  range_words - header_words, pool_limit_});
 
     atoms_ = upload_buffer(ctx_, cmds, arena, bins.atoms.data(), bins.atoms.size() * sizeof(float),
                            "atoms");
@@ -64,12 +74,13 @@ void DensityPass::record(Commands& cmds, StagingArena& arena, const AtomBins& bi
     tiles_ = upload_buffer(ctx_, cmds, arena, tiles.empty() ? &none : tiles.data(),
                            std::max<std::size_t>(tiles.size(), 1) * sizeof(std::uint32_t),
                            "density_tiles");
-    candidates_ = Buffer(
-        ctx_, std::max<std::size_t>(tiles.size(), 1) * (capacity + 1) * sizeof(std::uint32_t),
-        MemoryUse::Device, "density_candidates");
+    candidates_ = Buffer(ctx_, (header_words + pool_words) * sizeof(std::uint32_t),
+                         MemoryUse::Device, "density_candidates");
     trace("density: tiles uploaded, candidate lists allocated");
-    // Boxes no atom reaches are 0; the dispatches below visit only the others.
+    // Boxes no atom reaches are 0; the dispatches below visit only the others. The pool starts
+    // empty.
     cmds.fill(field, 0);
+    cmds.fill(candidates_, (header_words - 1) * sizeof(std::uint32_t), sizeof(std::uint32_t), 0);
     cmds.barrier_compute();
 
     shader::DensityPush p{};
@@ -83,6 +94,7 @@ void DensityPass::record(Commands& cmds, StagingArena& arena, const AtomBins& bi
     p.boxes_y = (g.dims[1] + group[1] - 1) / group[1];
     p.tile_count = static_cast<std::uint32_t>(tiles.size());
     p.capacity = capacity;
+    p.pool_words = static_cast<std::uint32_t>(pool_words);
     if (!tiles.empty()) {
         // Workgroups folded into rows of at most maxComputeWorkGroupCount[0].
         std::initializer_list<BufferRange> buffers = {whole(field),  whole(atoms_),

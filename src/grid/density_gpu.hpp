@@ -1,5 +1,6 @@
 // The density pass on the GPU: the host bins the atoms and lists the boxes of grid points (tiles)
-// that some atom reaches; one dispatch finds each tile's candidate atoms, a second the density.
+// that some atom reaches; one dispatch finds each tile's candidate atoms (lists in a pool shared
+// by all tiles), a second the density.
 #pragma once
 
 #include <cstdint>
@@ -24,12 +25,16 @@ public:
     // Caps the candidate atoms stored per tile; tiles with more take the per-point search
     // (tests: a small cap exercises that fallback everywhere).
     void set_capacity_limit(std::uint32_t limit) { capacity_limit_ = limit; }
+    // Caps the candidates' pool, shared by all tiles, at `words` atom indices; the tiles that
+    // find it full take the per-point search (tests: lists and fallbacks in one dispatch).
+    void set_pool_limit(std::uint64_t words) { pool_limit_ = words; }
 
 private:
     Context& ctx_;
     ComputePipeline tiles_pipeline_, pipeline_;
     Buffer atoms_, start_, first_shell_, tiles_, candidates_;
     std::uint32_t capacity_limit_ = 0xffffffffu;
+    std::uint64_t pool_limit_ = ~std::uint64_t{0};
 };
 
 }  // namespace fdmsurf::detail

@@ -168,13 +168,18 @@ void Commands::copy(const Buffer& src, const Buffer& dst, VkDeviceSize bytes, Vk
 }
 
 void Commands::fill(const Buffer& dst, std::uint32_t value) {
+    fill(dst, 0, VK_WHOLE_SIZE, value);
+}
+
+void Commands::fill(const Buffer& dst, VkDeviceSize offset, VkDeviceSize bytes,
+                    std::uint32_t value) {
     VkMemoryBarrier b{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
     b.srcAccessMask =
         VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_HOST_WRITE_BIT;
     b.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
     vkCmdPipelineBarrier(cmd_, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_HOST_BIT,
                          VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &b, 0, nullptr, 0, nullptr);
-    vkCmdFillBuffer(cmd_, dst.handle(), 0, VK_WHOLE_SIZE, value);
+    vkCmdFillBuffer(cmd_, dst.handle(), offset, bytes, value);
 }
 
 void Commands::barrier_to_host() {

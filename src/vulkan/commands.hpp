@@ -48,6 +48,8 @@ public:
     // Sets every 32-bit word of `dst` to `value` (a transfer, after earlier compute and host
     // writes; follow it with barrier_compute() before a shader reads or writes `dst`).
     void fill(const Buffer& dst, std::uint32_t value);
+    // Fills `bytes` bytes (a multiple of 4) of `dst` from `offset` (a multiple of 4).
+    void fill(const Buffer& dst, VkDeviceSize offset, VkDeviceSize bytes, std::uint32_t value);
     void barrier_to_host();
     void barrier_host_to_compute();
     // Marks the end of a stage named `name` (GPU timestamp when the queue has them).

@@ -183,4 +183,15 @@ TEST_F(Density, MatchesCpuReferenceWhenCandidatesOverflow) {
     impl().density.set_capacity_limit(0xffffffffu);
 }
 
+// A pool of 4,000 atom indices holds the lists of the first few hundred tiles to claim it; the
+// others find it full and take the per-point search, in the same dispatch. The pool's top must
+// not be left over from one grid to the next either.
+TEST_F(Density, MatchesCpuReferenceWhenThePoolRunsOut) {
+    impl().density.set_pool_limit(4000);
+    const Atoms atoms = fdmsurf::read_structure(data_path("1crn.pdb")).atoms;
+    compare_whole_grid(atoms, SurfaceOptions{.surface = SurfaceKind::Ses, .spacing = 0.5f});
+    compare_whole_grid(atoms, SurfaceOptions{.surface = SurfaceKind::Ses, .spacing = 0.6f});
+    impl().density.set_pool_limit(~std::uint64_t{0});
+}
+
 }  // namespace
