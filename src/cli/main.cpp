@@ -22,6 +22,7 @@
 
 #include "cli/compare_command.hpp"
 #include "cli/prepare_command.hpp"
+#include "cli/huge_pages.hpp"
 #include "cli/interrupts.hpp"
 #include "cli/messages.hpp"
 #include "cli/msms_command.hpp"
@@ -879,6 +880,8 @@ int run_command(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    // Before anything is allocated: glibc reads its tunables at start-up (cli/huge_pages.hpp).
+    fdmsurf::cli::restart_with_huge_pages(argv);
     // A closed pipe on stdout is an error to report (EPIPE), not a signal that kills silently.
     std::signal(SIGPIPE, SIG_IGN);
     // Ctrl-C and SIGTERM: stop at once, remove the output being written (cli/interrupts.hpp).

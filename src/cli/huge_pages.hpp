@@ -1,0 +1,20 @@
+// Transparent huge pages for the command-line program's memory.
+//
+// Most of a large run's memory is written once, fresh: the density field, the FFT buffers and,
+// on lavapipe, every device buffer (host memory from malloc), the mesh's host arrays. Each 4 KiB
+// page costs a fault at first touch; on the 2-core VM of docs/performance.md that is about 7 us a
+// page, 2 s of system time in 1AON's 9 s. glibc (2.35 and later) marks its heap and its mmap'd
+// chunks for transparent huge pages when the tunable glibc.malloc.hugetlb=1 is set, one fault
+// per 2 MiB, but reads tunables only when the process starts.
+#pragma once
+
+namespace fdmsurf::cli {
+
+// When the kernel gives huge pages on request only (transparent_hugepage/enabled is
+// "madvise"), glibc has the tunable, GLIBC_TUNABLES does not mention it, and FDMSURF_HUGE_PAGES
+// is not "0": sets glibc.malloc.hugetlb=1 in GLIBC_TUNABLES and restarts the program in place
+// (execv of /proc/self/exe with the same arguments). Returns when it does not restart, also
+// when the restart fails (the run goes on with small pages). Call first thing in main.
+void restart_with_huge_pages(char** argv);
+
+}  // namespace fdmsurf::cli

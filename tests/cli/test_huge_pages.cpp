@@ -1,0 +1,100 @@
+// Tests of the program's restart with transparent huge pages (src/cli/huge_pages.cpp): when it
+// restarts, that it restarts once with the tunable added to the user's, that the user's choice
+// and FDMSURF_HUGE_PAGES=0 keep it from restarting, and that the surface is the same either way.
+#include <gtest/gtest.h>
+
+#if defined(__GLIBC__)
+#include <gnu/libc-version.h>
+#endif
+
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+#include "cli/cli_program.hpp"
+
+namespace {
+
+using fdmsurf_cli_test::CliProgram;
+using fdmsurf_cli_test::CliRun;
+using fdmsurf_cli_test::lines_of;
+using fdmsurf_cli_test::read_text;
+
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kSanitized = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(memory_sanitizer)
+constexpr bool kSanitized = true;
+#else
+constexpr bool kSanitized = false;
+#endif
+#else
+constexpr bool kSanitized = false;
+#endif
+
+// Whether this host is one where the program restarts: glibc 2.35 or later, the kernel's THP
+// mode "madvise", and the program not built with a sanitizer (tests and program share the build).
+bool host_restarts() {
+#if defined(__linux__) && defined(__GLIBC__)
+    int major = 0, minor = 0;
+    if (std::sscanf(gnu_get_libc_version(), "%d.%d", &major, &minor) != 2 ||
+        major * 100 + minor < 235)
+        return false;
+    std::ifstream in("/sys/kernel/mm/transparent_hugepage/enabled");
+    std::string line;
+    std::getline(in, line);
+    return !kSanitized && line.find("[madvise]") != std::string::npos;
+#else
+    return false;
+#endif
+}
+
+int count_lines(const std::string& text, const std::string& part) {
+    int n = 0;
+    for (const std::string& line : lines_of(text)) n += line.find(part) != std::string::npos;
+    return n;
+}
+
+class HugePages : public CliProgram {};
+
+TEST_F(HugePages, RestartsOnceWithTheTunableAddedToTheUsers) {
+    const CliRun r = run({"--version"}, "FDMSURF_TRACE=1 GLIBC_TUNABLES=glibc.malloc.perturb=0");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("fdmsurf"), std::string::npos) << r.out;
+    if (!host_restarts()) {
+        EXPECT_EQ(count_lines(r.err, "huge pages"), 0) << r.err;
+        GTEST_SKIP() << "no restart on this host (glibc < 2.35, THP mode not madvise, or a "
+                        "sanitizer build): checked that none happens";
+    }
+    // Once: the restarted program finds the tunable set and goes on.
+    EXPECT_EQ(count_lines(r.err,
+                          "huge pages: restarting with "
+                          "GLIBC_TUNABLES=glibc.malloc.perturb=0:glibc.malloc.hugetlb=1"),
+              1)
+        << r.err;
+    EXPECT_EQ(count_lines(r.err, "huge pages"), 1) << r.err;
+}
+
+TEST_F(HugePages, TheUsersChoiceAndTheOptOutKeepItFromRestarting) {
+    for (const std::string env : {"FDMSURF_TRACE=1 GLIBC_TUNABLES=glibc.malloc.hugetlb=0",
+                                  "FDMSURF_TRACE=1 FDMSURF_HUGE_PAGES=0"}) {
+        const CliRun r = run({"--version"}, env);
+        ASSERT_EQ(r.exit_code, 0) << r.err;
+        EXPECT_EQ(count_lines(r.err, "huge pages"), 0) << env << "\n" << r.err;
+    }
+}
+
+TEST_F(HugePages, TheSurfaceIsTheSameWithAndWithout) {
+    FDMSURF_REQUIRE_CLI_DEVICE();
+    const std::string input = std::string(fdmsurf_cli_test::kDataDir) + "/1crn.pdb";
+    const CliRun with = run({input, "-o", path("with.ply"), "--quiet"});
+    ASSERT_EQ(with.exit_code, 0) << with.err;
+    const CliRun without =
+        run({input, "-o", path("without.ply"), "--quiet"}, "FDMSURF_HUGE_PAGES=0");
+    ASSERT_EQ(without.exit_code, 0) << without.err;
+    const std::string a = read_text(path("with.ply")), b = read_text(path("without.ply"));
+    EXPECT_GT(a.size(), 100000u);
+    EXPECT_TRUE(a == b) << "the two runs' PLY files differ";
+}
+
+}  // namespace
