@@ -39,8 +39,13 @@ float shell_search(vec3 p) {
                     if (max(max(abs(x - c.x), abs(y - c.y)), abs(z - c.z)) != s) continue;
                     uint id = (uint(z) * pc.bin_ny + uint(y)) * pc.bin_nx + uint(x);
                     for (uint i = bin_start[id]; i < bin_start[id + 1]; ++i) {
-                        vec3 d = p - atoms[i].xyz;
-                        best = min(best, dot(d, d) - atoms[i].w);
+                        // The list path's expression, to the bit: which tiles take this path
+                        // can depend on scheduling (a full pool), the field must not.
+                        vec4 a = atoms[i];
+                        float dx = p.x - a.x;
+                        vec2 dyz = p.yz - a.yz;
+                        precise float pw = dx * dx + (dot(dyz, dyz) - a.w);
+                        best = min(best, pw);
                     }
                 }
     }
@@ -74,7 +79,8 @@ void main() {
             for (uint j = 0u; j < kQuads; ++j) {
                 vec2 dyz = pyz[j] - a.yz;
                 vec4 dx = px[j] - a.x;
-                best[j] = min(best[j], dx * dx + (dot(dyz, dyz) - a.w));
+                precise vec4 pw = dx * dx + (dot(dyz, dyz) - a.w);  // as in shell_search
+                best[j] = min(best[j], pw);
             }
         }
     } else {

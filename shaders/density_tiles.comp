@@ -18,8 +18,10 @@ vec3 box_gap(vec3 c, vec3 lo, vec3 hi) { return max(max(lo - c, c - hi), vec3(0.
 vec3 box_far(vec3 c, vec3 lo, vec3 hi) { return max(abs(c - lo), abs(c - hi)); }
 
 // Walks the bins within reach of the box and counts the atoms that can reach pi <= u somewhere in
-// it; with `write`, stores their indices from candidates[first] on.
-uint scan_candidates(Box box, float u, ivec3 b_lo, ivec3 b_hi, uint first, bool write) {
+// it; with `write`, stores their indices from candidates[first] on, at most `room` of them (the
+// count pass and the write pass evaluate the same exact tests, so they agree; the bound keeps a
+// disagreement from writing into another tile's run).
+uint scan_candidates(Box box, float u, ivec3 b_lo, ivec3 b_hi, uint first, bool write, uint room) {
     vec3 bin_origin = vec3(pc.bin_origin_x, pc.bin_origin_y, pc.bin_origin_z);
     uint count = 0u;
     for (int z = b_lo.z; z <= b_hi.z; ++z)
@@ -33,8 +35,9 @@ uint scan_candidates(Box box, float u, ivec3 b_lo, ivec3 b_hi, uint first, bool 
             for (uint i = bin_start[row + uint(b_lo.x)]; i < bin_start[row + uint(b_hi.x) + 1u]; ++i) {
                 vec4 a = atoms[i];
                 vec3 d = box_gap(a.xyz, box.lo, box.hi);
-                if (dot(d, d) - a.w > u) continue;
-                if (write) candidates[first + count] = i;
+                precise float gap2 = dot(d, d) - a.w;
+                if (gap2 > u) continue;
+                if (write && count < room) candidates[first + count] = i;
                 ++count;
             }
         }
@@ -70,15 +73,19 @@ void main() {
     float reach = sqrt(max(u + pc.r2_max, 0.0));
     b_lo = clamp(ivec3(floor((box.lo - reach - bin_origin) / pc.bin_size)), ivec3(0), dims - 1);
     b_hi = clamp(ivec3(floor((box.hi + reach - bin_origin) / pc.bin_size)), ivec3(0), dims - 1);
-    uint count = scan_candidates(box, u, b_lo, b_hi, 0u, false);
+    uint count = scan_candidates(box, u, b_lo, b_hi, 0u, false, 0u);
     uint first = 0u;
     // Once the pool is seen full no tile bumps its top further, which keeps the top far from
     // wrapping around (only the tiles running at that moment can overshoot).
-    if (count <= pc.capacity && count <= pc.pool_words &&
-        candidates[pool_top_word()] <= pc.pool_words - count) {
+    if (count == 0u) {
+        // nothing to claim: no atomic on the pool's top
+    } else if (count <= pc.capacity && count <= pc.pool_words &&
+               candidates[pool_top_word()] <= pc.pool_words - count) {
         first = atomicAdd(candidates[pool_top_word()], count);
         if (first <= pc.pool_words - count) {
-            scan_candidates(box, u, b_lo, b_hi, pool_first_word() + first, true);
+            // What the write pass found, were it ever fewer: no word of the list is left unwritten.
+            count = min(count, scan_candidates(box, u, b_lo, b_hi, pool_first_word() + first, true,
+                                               count));
         } else {
             count = kDensityOverflow;  // the pool is full: density.comp searches per point
         }

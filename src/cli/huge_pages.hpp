@@ -11,10 +11,13 @@
 namespace fdmsurf::cli {
 
 // When the kernel gives huge pages on request only (transparent_hugepage/enabled is
-// "madvise"), glibc has the tunable, GLIBC_TUNABLES does not mention it, and FDMSURF_HUGE_PAGES
-// is not "0": sets glibc.malloc.hugetlb=1 in GLIBC_TUNABLES and restarts the program in place
-// (execv of /proc/self/exe with the same arguments). Returns when it does not restart, also
-// when the restart fails (the run goes on with small pages). Call first thing in main.
+// "madvise"), glibc has the tunable, GLIBC_TUNABLES does not mention it, FDMSURF_HUGE_PAGES is
+// not "0", and neither a sanitizer, valgrind nor a secure-mode (setuid) start is in the way:
+// sets glibc.malloc.hugetlb=1 in GLIBC_TUNABLES (and FDMSURF_HUGE_PAGES_RESTARTED=1, so that the
+// restarted program never restarts again) and restarts the program in place (execv of
+// /proc/self/exe with the same arguments, argv[0] included). Returns when it does not restart,
+// also when the restart fails (the environment put back; the run goes on with small pages).
+// Call first thing in main.
 void restart_with_huge_pages(char** argv);
 
 }  // namespace fdmsurf::cli

@@ -32,9 +32,9 @@ bool progress_wanted(bool quiet) {
 }
 
 double Progress::fraction_after(std::string_view name) {
-    if (name.starts_with("field slab")) return 0.15 + 0.45 * std::max(0.0, ratio_at_end(name));
-    if (name.starts_with("marching cubes, z"))
-        return 0.60 + 0.15 * std::max(0.0, ratio_at_end(name));
+    // Slabs: each slab's field, then marching cubes on the core before it, one after the other.
+    if (name.starts_with("field slab") || name.starts_with("marching cubes, z"))
+        return 0.15 + 0.60 * std::max(0.0, ratio_at_end(name));
     struct Mark {
         std::string_view prefix;
         double done;

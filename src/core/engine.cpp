@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <memory>
 #include <numbers>
 #include <string>
@@ -233,8 +234,8 @@ Buffer EngineImpl::upload_attributes(const Mesh& mesh) {
 
 // A grid larger than one storage-buffer binding: the density and the filter run on overlapping
 // z-slabs (the overlap absorbs the truncation and the circular wrap of each slab's FFT), their
-// cores are assembled on the host, and marching cubes runs on z-slabs of that field, stitched by
-// shared-plane vertex identity.
+// cores come back to the host one after the other, and marching cubes runs on each core (with
+// a plane of its neighbours on both sides), the parts stitched by shared-plane vertex identity.
 SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions& options,
                                        GridPlan plan, SurfaceResult result) {
     const auto d = plan.info.dims;
@@ -262,16 +263,21 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
         std::uint32_t n = (d[2] + count - 1) / count + 2 * overlap;
         return plan.filtered ? fft_friendly_size(n, false) : n;
     };
+    // Marching cubes then reads a core with a plane under it and two above (pitch nx): that
+    // must fit one binding too (it decides for the exact SES, whose slabs have no overlap).
+    const std::uint64_t mc_plane_bytes = std::uint64_t(d[0]) * d[1] * sizeof(float);
     std::uint32_t slab_planes = 0;
     for (std::uint32_t count = 2; (d[2] + count - 1) / count >= 8; ++count) {
         const std::uint32_t n = planes_for(count);
-        if (n <= fit) {
+        const std::uint64_t mc_planes = n - 2 * overlap + 3;  // the core, as rounded for the FFT
+        if (n <= fit && mc_planes * mc_plane_bytes <= limit) {
             slab_planes = n;
             break;
         }
     }
     if (slab_planes == 0) {
-        const double need = double(plane_bytes) * (2 * overlap + 8);
+        const double need = std::max(double(plane_bytes) * (2 * overlap + 8),
+                                     double(mc_plane_bytes) * (8 + 3));
         throw Error(ErrorCode::DeviceLimit,
                     "the grid of " + std::to_string(d[0]) + " x " + std::to_string(d[1]) + " x " +
                         std::to_string(d[2]) + " points is too wide to be processed in z-slabs " +
@@ -280,9 +286,14 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
                         spacing_hint(need, double(limit), options.spacing) + " Å would fit" +
                         isolated_atoms_note(atoms));
     }
-    // The slabs' field is assembled on the host (marching cubes then reads it in parts): it
+    const std::uint32_t core = slab_planes - 2 * overlap;
+    // The host holds up to three cores at a time (the pending one, the one just read, the part
+    // being uploaded), or the whole field where refinement reads it (the filtered SES): that
     // must fit the machine's memory, with room for the mesh.
-    const double host_field = double(d[0]) * d[1] * d[2] * sizeof(float);
+    const bool gather_field = options.refine > 0 && plan.filtered && !plan.exact_ses;
+    const double host_field = gather_field
+                                  ? double(d[0]) * d[1] * d[2] * sizeof(float)
+                                  : 3.0 * double(core + 3) * double(mc_plane_bytes);
     const double host_memory = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
     if (host_memory > 0 && host_field > 0.5 * host_memory) {
         char figures[160];
@@ -295,12 +306,21 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
                         spacing_hint(host_field, 0.5 * host_memory, options.spacing) +
                         " Å would fit" + isolated_atoms_note(atoms));
     }
-    const std::uint32_t core = slab_planes - 2 * overlap;
     const std::uint32_t slabs = (d[2] + core - 1) / core;
     result.grid.slabs = slabs;
 
-    // Density and filter, slab by slab, into the host field (pitch nx).
-    std::vector<float> full(static_cast<std::size_t>(d[0]) * d[1] * d[2]);
+    // Density and filter, slab by slab. Each slab's core planes come back to the host, and
+    // marching cubes runs on the cells of slab k's core once slab k + 1's first planes are in:
+    // its top cells and the gradients there (one extra plane on both sides, so that the normals
+    // equal those of a single pass) need them. The host keeps only the core whose cells are
+    // pending (and the one just read), the plane under it, and the two planes of each seam for
+    // the stitch; the whole field is gathered only for refinement of the filtered SES, which
+    // reads it anywhere (1.3 GB for the 686³ grid of the 4YVS assembly). The slab buffer stays
+    // while marching cubes runs on the earlier cores (one more buffer of at most field_budget()
+    // beside marching cubes' own; released before the last).
+    const std::size_t plane_floats = std::size_t(d[0]) * d[1];
+    const std::size_t plane_bytes_host = plane_floats * sizeof(float);
+    std::vector<float> full(gather_field ? plane_floats * d[2] : 0);
     GridPlan sp = plan;
     sp.info.dims[2] = slab_planes;
     const std::size_t slab_bytes = sp.field_floats() * sizeof(float);
@@ -312,27 +332,71 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
         features = build_ses_features(atoms, options.probe);
         add_times(result.times, {{"ses-features", now_ms() - t0, false}});
     }
-    {  // the slab buffer is released before marching cubes allocates its parts
-        Buffer field(context, slab_bytes, MemoryUse::Device, "field_slab");
-        for (std::uint32_t k = 0; k < slabs; ++k) {
-            double t0 = now_ms();
-            const std::int64_t zc0 = std::int64_t(k) * core;
-            const std::int64_t zc1 = std::min<std::int64_t>(zc0 + core, d[2]);
-            const std::int64_t z0 = zc0 - overlap;
-            sp.info.origin[2] = static_cast<float>(plan.info.origin[2] + z0 * h);
-            StagingArena arena;
-            AtomBins bins;
-            if (!plan.exact_ses) {
-                Atoms near = atoms_near_planes(atoms, plan, double(z0), double(z0 + slab_planes));
-                if (near.empty()) {
-                    // Nothing reaches this slab: its density, and so its filtered field, is 0.
-                    std::fill(full.begin() + zc0 * d[0] * d[1], full.begin() + zc1 * d[0] * d[1],
-                              0.0f);
-                    continue;
-                }
+    std::vector<Mesh> parts;
+    std::vector<std::uint32_t> starts;
+    std::map<std::uint32_t, std::vector<float>> seams;  // plane z -> its values, for the stitch
+    std::vector<float> pending, below;  // the core of the slab whose cells are next; the plane under it
+    std::uint32_t pending_z0 = 0;
+    // Marching cubes on the cells of the pending core [a, b], from the plane under it, the core
+    // and the first planes of the next one (`next`, starting at plane b when b < d[2] - 1).
+    auto mc_part = [&](const std::vector<float>& next) {
+        const std::uint32_t core_planes = static_cast<std::uint32_t>(pending.size() / plane_floats);
+        const std::uint32_t a = pending_z0;
+        const std::uint32_t b = std::min(a + core_planes, d[2] - 1);
+        if (a + 1 >= d[2]) return;  // a last core of one plane: its cells belong to the part below
+        const std::uint32_t lo = a > 0 ? a - 1 : 0;
+        const std::uint32_t hi = std::min(b + 1, d[2] - 1);
+        const std::uint32_t from_next = hi >= a + core_planes ? hi - (a + core_planes) + 1 : 0;
+        McParams mc;
+        mc.origin[0] = plan.info.origin[0];
+        mc.origin[1] = plan.info.origin[1];
+        mc.origin[2] = static_cast<float>(plan.info.origin[2] + lo * h);
+        mc.spacing = plan.info.spacing;
+        mc.iso = plan.iso;
+        mc.z_begin = a - lo;
+        mc.z_end = b - lo;
+        set_interpolation(mc, plan);
+        StagingArena arena;
+        const double t_upload = now_ms();
+        commands.begin();
+        Buffer part_field = upload_pieces(
+            context, commands, arena,
+            {{below.data(), a > lo ? plane_bytes_host : 0},
+             {pending.data(), pending.size() * sizeof(float)},
+             {next.data(), from_next * plane_bytes_host}},
+            "field_part");
+        add_times(result.times, {{"upload-part", now_ms() - t_upload, false}});
+        commands.barrier_compute();
+        GpuMesh gpu =
+            marching_cubes.run(commands, arena, part_field, d[0], d[1], hi - lo + 1, d[0], mc);
+        add_times(result.times, marching_cubes.stage_times());
+        parts.push_back(marching_cubes.read_back(commands, gpu));
+        add_times(result.times, commands.stage_times());
+        add_times(result.times, {{"unpack-mesh", marching_cubes.unpack_ms(), false}});
+        report("marching cubes, z " + std::to_string(b) + "/" + std::to_string(d[2] - 1));
+        starts.push_back(a);
+    };
+    Buffer field(context, slab_bytes, MemoryUse::Device, "field_slab");
+    for (std::uint32_t k = 0; k < slabs; ++k) {
+        double t0 = now_ms();
+        const std::int64_t zc0 = std::int64_t(k) * core;
+        const std::int64_t zc1 = std::min<std::int64_t>(zc0 + core, d[2]);
+        const std::int64_t z0 = zc0 - overlap;
+        sp.info.origin[2] = static_cast<float>(plan.info.origin[2] + z0 * h);
+        // Nothing reaches an empty slab: its density, and so its filtered field, is 0.
+        std::vector<float> slab_core(std::size_t(zc1 - zc0) * plane_floats, 0.0f);
+        StagingArena arena;
+        AtomBins bins;
+        bool empty = false;
+        if (!plan.exact_ses) {
+            Atoms near = atoms_near_planes(atoms, plan, double(z0), double(z0 + slab_planes));
+            empty = near.empty();
+            if (!empty) {
                 bins = bin_atoms(near, sp);
                 add_times(result.times, {{"bin-atoms", now_ms() - t0, false}});
             }
+        }
+        if (!empty) {
             commands.begin();
             record_field(arena, sp, &bins, &features, options.filter, field);
             const Buffer& host =
@@ -347,57 +411,47 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
             const float* src = static_cast<const float*>(host.mapped());
             for (std::int64_t z = zc0; z < zc1; ++z)
                 for (std::uint32_t y = 0; y < d[1]; ++y)
-                    std::memcpy(&full[(std::size_t(z) * d[1] + y) * d[0]],
+                    std::memcpy(&slab_core[(std::size_t(z - zc0) * d[1] + y) * d[0]],
                                 src + (std::size_t(z - z0) * d[1] + y) * sp.pitch,
                                 d[0] * sizeof(float));
             add_times(result.times, {{"assemble-field", now_ms() - t_copy, false}});
         }
+        if (!full.empty())
+            std::copy(slab_core.begin(), slab_core.end(), full.begin() + zc0 * plane_floats);
+        // The slab buffer is released before marching cubes on the last cores allocates its
+        // buffers (the earlier parts run beside it).
+        if (k + 1 == slabs) field = Buffer();
+        if (k > 0) {
+            // The seam at zc0: the stitch reads planes zc0 and zc0 + 1 (both in this core, which
+            // has at least 8 planes unless it is the last, where zc0 + 1 may not exist).
+            for (std::int64_t z = zc0; z < std::min<std::int64_t>(zc0 + 2, zc1); ++z)
+                seams[std::uint32_t(z)].assign(slab_core.begin() + (z - zc0) * plane_floats,
+                                               slab_core.begin() + (z - zc0 + 1) * plane_floats);
+            mc_part(slab_core);
+            below.assign(pending.end() - plane_floats, pending.end());
+        }
+        pending = std::move(slab_core);
+        pending_z0 = std::uint32_t(zc0);
     }
-
-    // Marching cubes on z-slabs of the host field, each with one extra plane on both sides so
-    // that the gradients (normals) equal those of a single pass.
-    const FieldView view{full.data(), d[0], d[1], d[2], d[0]};
-    const std::uint64_t mc_plane_bytes = std::uint64_t(d[0]) * d[1] * sizeof(float);
-    const std::uint32_t mc_cells =
-        static_cast<std::uint32_t>(std::min<std::uint64_t>(limit / mc_plane_bytes - 3, d[2] - 1));
-    std::vector<Mesh> parts;
-    std::vector<std::uint32_t> starts;
-    for (std::uint32_t a = 0; a + 1 < d[2]; a += mc_cells) {
-        const std::uint32_t b = std::min(a + mc_cells, d[2] - 1);
-        const std::uint32_t lo = a > 0 ? a - 1 : 0;
-        const std::uint32_t hi = std::min(b + 1, d[2] - 1);
-        McParams mc;
-        mc.origin[0] = plan.info.origin[0];
-        mc.origin[1] = plan.info.origin[1];
-        mc.origin[2] = static_cast<float>(plan.info.origin[2] + lo * h);
-        mc.spacing = plan.info.spacing;
-        mc.iso = plan.iso;
-        mc.z_begin = a - lo;
-        mc.z_end = b - lo;
-        set_interpolation(mc, plan);
-        StagingArena arena;
-        const double t_upload = now_ms();
-        commands.begin();
-        Buffer part_field =
-            upload_buffer(context, commands, arena, full.data() + std::size_t(lo) * d[0] * d[1],
-                          std::size_t(hi - lo + 1) * mc_plane_bytes, "field_part");
-        add_times(result.times, {{"upload-part", now_ms() - t_upload, false}});
-        commands.barrier_compute();
-        GpuMesh gpu =
-            marching_cubes.run(commands, arena, part_field, d[0], d[1], hi - lo + 1, d[0], mc);
-        add_times(result.times, marching_cubes.stage_times());
-        parts.push_back(marching_cubes.read_back(commands, gpu));
-        add_times(result.times, commands.stage_times());
-        add_times(result.times, {{"unpack-mesh", marching_cubes.unpack_ms(), false}});
-        report("marching cubes, z " + std::to_string(b) + "/" + std::to_string(d[2] - 1));
-        starts.push_back(a);
-    }
+    mc_part({});
+    pending = {};
+    below = {};
     starts.push_back(d[2] - 1);
     double t1 = now_ms();
-    result.mesh = stitch_slabs(parts, view, plan.iso, starts);
+    const SlabPlanes seam_planes{d[0], d[1], d[2], [&](std::uint32_t z) -> const float* {
+                                     const auto it = seams.find(z);
+                                     if (it == seams.end())
+                                         throw Error(ErrorCode::Internal,
+                                                     "stitch: plane " + std::to_string(z) +
+                                                         " was not kept");
+                                     return it->second.data();
+                                 }};
+    result.mesh = stitch_slabs(parts, seam_planes, plan.iso, starts);
     result.times.push_back({"stitch", now_ms() - t1, false});
     report("stitch");
-    host_stages(result, atoms, options, plan, &features, nullptr, &view);
+    seams.clear();
+    const FieldView view{full.data(), d[0], d[1], d[2], d[0]};
+    host_stages(result, atoms, options, plan, &features, nullptr, full.empty() ? nullptr : &view);
     return result;
 }
 

@@ -49,7 +49,7 @@ void DensityPass::record(Commands& cmds, StagingArena& arena, const AtomBins& bi
     const std::vector<std::uint32_t> tiles = reached_boxes(bins, plan, group);
     trace("density: reached tiles listed");
     const GridInfo& g = plan.info;
-    const std::uint32_t capacity =
+    std::uint32_t capacity =
         static_cast<std::uint32_t>(std::min<std::uint64_t>(kMaxCapacity, capacity_limit_));
     // Per tile a count and a first word, then the pool's top, then the pool (density_common.glsl).
     const std::uint64_t header_words = 2 * std::uint64_t{tiles.size()} + 1;
@@ -61,6 +61,10 @@ void DensityPass::record(Commands& cmds, StagingArena& arena, const AtomBins& bi
     const std::uint64_t pool_words =
         std::min({std::uint64_t{tiles.size()} * capacity, kPoolBudget / sizeof(std::uint32_t),
                   range_words - header_words, pool_limit_});
+    // The pool's top may overshoot by what the tiles claim at once after it is full, at most
+    // every tile's capacity: that must stay below 2^32 for the top's 32-bit word.
+    capacity = static_cast<std::uint32_t>(std::min<std::uint64_t>(
+        capacity, (0xffffffffull - pool_words) / std::max<std::size_t>(tiles.size(), 1)));
 
     atoms_ = upload_buffer(ctx_, cmds, arena, bins.atoms.data(), bins.atoms.size() * sizeof(float),
                            "atoms");
@@ -74,6 +78,7 @@ void DensityPass::record(Commands& cmds, StagingArena& arena, const AtomBins& bi
     tiles_ = upload_buffer(ctx_, cmds, arena, tiles.empty() ? &none : tiles.data(),
                            std::max<std::size_t>(tiles.size(), 1) * sizeof(std::uint32_t),
                            "density_tiles");
+    tile_count_ = tiles.size();
     candidates_ = Buffer(ctx_, (header_words + pool_words) * sizeof(std::uint32_t),
                          MemoryUse::Device, "density_candidates");
     trace("density: tiles uploaded, candidate lists allocated");
@@ -115,6 +120,16 @@ void DensityPass::record(Commands& cmds, StagingArena& arena, const AtomBins& bi
     }
     cmds.mark("density");
     cmds.barrier_compute();
+}
+
+std::optional<DensityPass::ListOutcome> DensityPass::list_outcome() const {
+    if (!candidates_.host_visible()) return std::nullopt;
+    candidates_.invalidate();
+    const auto* words = static_cast<const std::uint32_t*>(candidates_.mapped());
+    ListOutcome out;
+    for (std::size_t t = 0; t < tile_count_; ++t)
+        ++(words[2 * t] == shader::kDensityOverflow ? out.overflowed : out.listed);
+    return out;
 }
 
 }  // namespace fdmsurf::detail

@@ -3,7 +3,9 @@
 // by all tiles), a second the density.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <optional>
 
 #include "grid/atom_bins.hpp"
 #include "grid/grid_plan.hpp"
@@ -28,6 +30,12 @@ public:
     // Caps the candidates' pool, shared by all tiles, at `words` atom indices; the tiles that
     // find it full take the per-point search (tests: lists and fallbacks in one dispatch).
     void set_pool_limit(std::uint64_t words) { pool_limit_ = words; }
+    // Test hook, once the recorded pass has run: the tiles that got a candidate list and those
+    // that overflowed; nullopt when the candidates' buffer is not host-visible.
+    struct ListOutcome {
+        std::uint64_t listed = 0, overflowed = 0;
+    };
+    std::optional<ListOutcome> list_outcome() const;
 
 private:
     Context& ctx_;
@@ -35,6 +43,7 @@ private:
     Buffer atoms_, start_, first_shell_, tiles_, candidates_;
     std::uint32_t capacity_limit_ = 0xffffffffu;
     std::uint64_t pool_limit_ = ~std::uint64_t{0};
+    std::size_t tile_count_ = 0;
 };
 
 }  // namespace fdmsurf::detail

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "fdmsurf/mesh.hpp"
@@ -9,12 +10,19 @@
 
 namespace fdmsurf::detail {
 
+// The planes of a field of nx × ny × nz points that the stitch reads: plane(z) returns plane z's
+// nx * ny values (x fastest, rows of nx) for every z = starts[j + 1] and starts[j + 1] + 1 < nz.
+struct SlabPlanes {
+    std::uint32_t nx = 0, ny = 0, nz = 0;
+    std::function<const float*(std::uint32_t z)> plane;
+};
+
 // parts[j] is the marching-cubes mesh of global planes [starts[j], starts[j+1]] of `field`
-// (with starts.back() + 1 == ... the last part ending at plane field.nz - 1), in the order of
+// (the last part ending at plane field.nz - 1), in the order of
 // marching_cubes_cpu. Plane starts[j+1] is the top plane of part j and the bottom plane of part
 // j+1: its x/y-edge vertices appear in both; part j's copies are dropped and its triangles
 // re-pointed at part j+1's. `starts` has parts.size() + 1 entries.
-Mesh stitch_slabs(std::vector<Mesh>& parts, const FieldView& field, float iso,
+Mesh stitch_slabs(std::vector<Mesh>& parts, const SlabPlanes& field, float iso,
                   const std::vector<std::uint32_t>& starts);
 
 }  // namespace fdmsurf::detail

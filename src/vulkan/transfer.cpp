@@ -26,6 +26,27 @@ Buffer upload_buffer(Context& ctx, Commands& cmds, StagingArena& arena, const vo
     return dst;
 }
 
+Buffer upload_pieces(Context& ctx, Commands& cmds, StagingArena& arena,
+                     std::initializer_list<UploadPiece> pieces, const char* name) {
+    std::size_t bytes = 0;
+    for (const UploadPiece& p : pieces) bytes += p.bytes;
+    Buffer dst(ctx, bytes, MemoryUse::Device, name);
+    if (bytes == 0) return dst;
+    Buffer* write = &dst;
+    if (!dst.host_visible()) {
+        arena.buffers.emplace_back(ctx, bytes, MemoryUse::Upload, name);
+        write = &arena.buffers.back();
+    }
+    auto* out = static_cast<unsigned char*>(write->mapped());
+    for (const UploadPiece& p : pieces) {
+        if (p.bytes > 0) std::memcpy(out, p.data, p.bytes);
+        out += p.bytes;
+    }
+    write->flush();
+    if (write != &dst) cmds.copy(*write, dst, bytes);
+    return dst;
+}
+
 const Buffer& readback_buffer(Context& ctx, Commands& cmds, StagingArena& arena, const Buffer& src,
                               std::size_t bytes, const char* name) {
     if (src.host_visible()) return src;

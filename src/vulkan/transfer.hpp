@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <memory>
 #include <deque>
+#include <initializer_list>
 
 #include "vulkan/buffer.hpp"
 
@@ -22,6 +23,16 @@ struct StagingArena {
 // host-visible, else through a staging buffer and a copy recorded into `cmds`.
 Buffer upload_buffer(Context& ctx, Commands& cmds, StagingArena& arena, const void* data,
                      std::size_t bytes, const char* name);
+
+// One piece of a gathered upload: `bytes` bytes from `data`.
+struct UploadPiece {
+    const void* data;
+    std::size_t bytes;
+};
+
+// As upload_buffer, the buffer holding `pieces` one after the other (no host copy of the whole).
+Buffer upload_pieces(Context& ctx, Commands& cmds, StagingArena& arena,
+                     std::initializer_list<UploadPiece> pieces, const char* name);
 
 // Records what is needed for reading `src` back after submission; returns the buffer to read
 // (src itself when host-visible, else a readback copy kept in `arena`).

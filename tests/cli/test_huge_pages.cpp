@@ -7,6 +7,8 @@
 #include <gnu/libc-version.h>
 #endif
 
+#include <sys/resource.h>
+
 #include <cstdio>
 #include <fstream>
 #include <string>
@@ -84,14 +86,32 @@ TEST_F(HugePages, TheUsersChoiceAndTheOptOutKeepItFromRestarting) {
     }
 }
 
+// Minor page faults of the children run since the last call.
+long child_faults() {
+    static long last = 0;
+    rusage u{};
+    getrusage(RUSAGE_CHILDREN, &u);
+    const long delta = u.ru_minflt - last;
+    last = u.ru_minflt;
+    return delta;
+}
+
+// The same mesh either way, and where the program restarts, the effect it is for: far fewer
+// first-touch page faults (1CRN on the 2-core VM: about 6,500 against 12,600).
 TEST_F(HugePages, TheSurfaceIsTheSameWithAndWithout) {
     FDMSURF_REQUIRE_CLI_DEVICE();
     const std::string input = std::string(fdmsurf_cli_test::kDataDir) + "/1crn.pdb";
+    child_faults();
     const CliRun with = run({input, "-o", path("with.ply"), "--quiet"});
     ASSERT_EQ(with.exit_code, 0) << with.err;
+    const long faults_with = child_faults();
     const CliRun without =
         run({input, "-o", path("without.ply"), "--quiet"}, "FDMSURF_HUGE_PAGES=0");
     ASSERT_EQ(without.exit_code, 0) << without.err;
+    const long faults_without = child_faults();
+    std::printf("  minor page faults: %ld with huge pages, %ld without\n", faults_with,
+                faults_without);
+    if (host_restarts()) EXPECT_LT(double(faults_with), 0.8 * double(faults_without));
     const std::string a = read_text(path("with.ply")), b = read_text(path("without.ply"));
     EXPECT_GT(a.size(), 100000u);
     EXPECT_TRUE(a == b) << "the two runs' PLY files differ";

@@ -19,9 +19,10 @@ TEST(Progress, StagesFillTheBarInPipelineOrder) {
     EXPECT_DOUBLE_EQ(Progress::fraction_after("parse"), 0.05);
     EXPECT_LT(Progress::fraction_after("bin-atoms"),
               Progress::fraction_after("density, filter, marching cubes"));
-    EXPECT_DOUBLE_EQ(Progress::fraction_after("field slab 1/3"), 0.15 + 0.15);
-    EXPECT_DOUBLE_EQ(Progress::fraction_after("field slab 3/3"), 0.60);
-    EXPECT_DOUBLE_EQ(Progress::fraction_after("marching cubes, z 200/400"), 0.675);
+    // Slabs: field and marching cubes interleave, along z.
+    EXPECT_DOUBLE_EQ(Progress::fraction_after("field slab 1/3"), 0.15 + 0.20);
+    EXPECT_DOUBLE_EQ(Progress::fraction_after("field slab 3/3"), 0.75);
+    EXPECT_DOUBLE_EQ(Progress::fraction_after("marching cubes, z 200/400"), 0.45);
     EXPECT_LT(Progress::fraction_after("cavities"), Progress::fraction_after("write"));
     EXPECT_DOUBLE_EQ(Progress::fraction_after("mesh-stats"), 1.0);
     EXPECT_DOUBLE_EQ(Progress::fraction_after("something else"), 0.0);

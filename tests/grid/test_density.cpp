@@ -184,14 +184,28 @@ TEST_F(Density, MatchesCpuReferenceWhenCandidatesOverflow) {
 }
 
 // A pool of 4,000 atom indices holds the lists of the first few hundred tiles to claim it; the
-// others find it full and take the per-point search, in the same dispatch. The pool's top must
-// not be left over from one grid to the next either.
+// others find it full and take the per-point search, in the same dispatch: both paths must have
+// run, and give the reference. The pool's top must not be left over from one grid to the next.
 TEST_F(Density, MatchesCpuReferenceWhenThePoolRunsOut) {
+    struct Restore {
+        ~Restore() { impl().density.set_pool_limit(~std::uint64_t{0}); }
+    } restore;
     impl().density.set_pool_limit(4000);
     const Atoms atoms = fdmsurf::read_structure(data_path("1crn.pdb")).atoms;
-    compare_whole_grid(atoms, SurfaceOptions{.surface = SurfaceKind::Ses, .spacing = 0.5f});
-    compare_whole_grid(atoms, SurfaceOptions{.surface = SurfaceKind::Ses, .spacing = 0.6f});
+    for (const float spacing : {0.5f, 0.6f}) {
+        compare_whole_grid(atoms, SurfaceOptions{.surface = SurfaceKind::Ses, .spacing = spacing});
+        if (const auto outcome = impl().density.list_outcome()) {
+            EXPECT_GT(outcome->listed, 100u) << "spacing " << spacing;
+            EXPECT_GT(outcome->overflowed, 100u) << "spacing " << spacing;
+        }
+    }
+    // Without the limit every tile of crambin gets its list.
     impl().density.set_pool_limit(~std::uint64_t{0});
+    compare_whole_grid(atoms, SurfaceOptions{.surface = SurfaceKind::Ses, .spacing = 0.5f});
+    if (const auto outcome = impl().density.list_outcome()) {
+        EXPECT_GT(outcome->listed, 1000u);
+        EXPECT_EQ(outcome->overflowed, 0u);
+    }
 }
 
 }  // namespace
