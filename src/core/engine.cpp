@@ -377,14 +377,14 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
         starts.push_back(a);
     };
     Buffer field(context, slab_bytes, MemoryUse::Device, "field_slab");
+    std::vector<float> slab_core;  // two core buffers, swapped: pages touched once, not per slab
     for (std::uint32_t k = 0; k < slabs; ++k) {
-        double t0 = now_ms();
         const std::int64_t zc0 = std::int64_t(k) * core;
         const std::int64_t zc1 = std::min<std::int64_t>(zc0 + core, d[2]);
         const std::int64_t z0 = zc0 - overlap;
         sp.info.origin[2] = static_cast<float>(plan.info.origin[2] + z0 * h);
-        // Nothing reaches an empty slab: its density, and so its filtered field, is 0.
-        std::vector<float> slab_core(std::size_t(zc1 - zc0) * plane_floats, 0.0f);
+        slab_core.resize(std::size_t(zc1 - zc0) * plane_floats);
+        double t0 = now_ms();
         StagingArena arena;
         AtomBins bins;
         bool empty = false;
@@ -396,7 +396,10 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
                 add_times(result.times, {{"bin-atoms", now_ms() - t0, false}});
             }
         }
-        if (!empty) {
+        if (empty) {
+            // Nothing reaches an empty slab: its density, and so its filtered field, is 0.
+            std::fill(slab_core.begin(), slab_core.end(), 0.0f);
+        } else {
             commands.begin();
             record_field(arena, sp, &bins, &features, options.filter, field);
             const Buffer& host =
@@ -430,11 +433,12 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
             mc_part(slab_core);
             below.assign(pending.end() - plane_floats, pending.end());
         }
-        pending = std::move(slab_core);
+        std::swap(pending, slab_core);
         pending_z0 = std::uint32_t(zc0);
     }
     mc_part({});
     pending = {};
+    slab_core = {};
     below = {};
     starts.push_back(d[2] - 1);
     double t1 = now_ms();
