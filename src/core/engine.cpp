@@ -339,6 +339,7 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
     std::uint32_t pending_z0 = 0;
     // Marching cubes on the cells of the pending core [a, b], from the plane under it, the core
     // and the first planes of the next one (`next`, starting at plane b when b < d[2] - 1).
+    Buffer part_field;
     auto mc_part = [&](const std::vector<float>& next) {
         const std::uint32_t core_planes = static_cast<std::uint32_t>(pending.size() / plane_floats);
         const std::uint32_t a = pending_z0;
@@ -359,8 +360,13 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
         StagingArena arena;
         const double t_upload = now_ms();
         commands.begin();
-        Buffer part_field = upload_pieces(
-            context, commands, arena,
+        // One buffer for every part (the largest: a full core and its three planes), written
+        // again for each: fresh pages for each part cost more than the copy.
+        if (part_field.size() == 0)
+            part_field = Buffer(context, (std::size_t(core) + 3) * plane_bytes_host,
+                                MemoryUse::Device, "field_part");
+        write_pieces(
+            context, commands, arena, part_field,
             {{below.data(), a > lo ? plane_bytes_host : 0},
              {pending.data(), pending.size() * sizeof(float)},
              {next.data(), from_next * plane_bytes_host}},
@@ -437,6 +443,7 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
         pending_z0 = std::uint32_t(zc0);
     }
     mc_part({});
+    part_field = Buffer();
     pending = {};
     slab_core = {};
     below = {};

@@ -3,7 +3,9 @@
 #include "vulkan/transfer.hpp"
 
 #include <cstring>
+#include <string>
 
+#include "fdmsurf/error.hpp"
 #include "vulkan/commands.hpp"
 #include "vulkan/context.hpp"
 
@@ -26,13 +28,14 @@ Buffer upload_buffer(Context& ctx, Commands& cmds, StagingArena& arena, const vo
     return dst;
 }
 
-Buffer upload_pieces(Context& ctx, Commands& cmds, StagingArena& arena,
-                     std::initializer_list<UploadPiece> pieces, const char* name) {
+void write_pieces(Context& ctx, Commands& cmds, StagingArena& arena, const Buffer& dst,
+                  std::initializer_list<UploadPiece> pieces, const char* name) {
     std::size_t bytes = 0;
     for (const UploadPiece& p : pieces) bytes += p.bytes;
-    Buffer dst(ctx, bytes, MemoryUse::Device, name);
-    if (bytes == 0) return dst;
-    Buffer* write = &dst;
+    if (bytes == 0) return;
+    if (bytes > dst.size())
+        throw Error(ErrorCode::Internal, std::string("write_pieces: ") + name + " too small");
+    const Buffer* write = &dst;
     if (!dst.host_visible()) {
         arena.buffers.emplace_back(ctx, bytes, MemoryUse::Upload, name);
         write = &arena.buffers.back();
@@ -44,7 +47,6 @@ Buffer upload_pieces(Context& ctx, Commands& cmds, StagingArena& arena,
     }
     write->flush();
     if (write != &dst) cmds.copy(*write, dst, bytes);
-    return dst;
 }
 
 const Buffer& readback_buffer(Context& ctx, Commands& cmds, StagingArena& arena, const Buffer& src,

@@ -30,9 +30,11 @@ struct UploadPiece {
     std::size_t bytes;
 };
 
-// As upload_buffer, the buffer holding `pieces` one after the other (no host copy of the whole).
-Buffer upload_pieces(Context& ctx, Commands& cmds, StagingArena& arena,
-                     std::initializer_list<UploadPiece> pieces, const char* name);
+// Writes `pieces` one after the other at the start of `dst` (a device buffer at least their
+// size): directly when it is host-visible, else through a staging buffer and a recorded copy.
+// No host copy of the whole.
+void write_pieces(Context& ctx, Commands& cmds, StagingArena& arena, const Buffer& dst,
+                  std::initializer_list<UploadPiece> pieces, const char* name);
 
 // Records what is needed for reading `src` back after submission; returns the buffer to read
 // (src itself when host-visible, else a readback copy kept in `arena`).
