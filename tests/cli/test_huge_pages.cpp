@@ -113,7 +113,9 @@ TEST_F(HugePages, TheSurfaceIsTheSameWithAndWithout) {
     const long faults_without = child_faults();
     std::printf("  minor page faults: %ld with huge pages, %ld without\n", faults_with,
                 faults_without);
-    if (host_restarts()) EXPECT_LT(double(faults_with), 0.8 * double(faults_without));
+    if (host_restarts()) {
+        EXPECT_LT(double(faults_with), 0.8 * double(faults_without));
+    }
     const std::string a = read_text(path("with.ply")), b = read_text(path("without.ply"));
     EXPECT_GT(a.size(), 100000u);
     EXPECT_TRUE(a == b) << "the two runs' PLY files differ";
