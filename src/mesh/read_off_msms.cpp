@@ -246,7 +246,7 @@ Mesh parse_off(std::string_view text, const std::string& path) {
     for (std::uint64_t f = 0; f < faces; ++f) {
         if (!lines.next_words(words)) fail(path, "OFF file ends inside its faces");
         const std::uint64_t n = parse_count(words[0], path, lines.number());
-        if (words.size() < n + 1) {
+        if (n >= words.size()) {  // not words.size() < n + 1: n may be 2^64 - 1
             fail(path, "line " + std::to_string(lines.number()) +
                            ": face lists fewer indices "
                            "than its count");
