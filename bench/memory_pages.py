@@ -25,17 +25,7 @@ import statistics
 import tempfile
 import time
 
-ROOT = pathlib.Path(__file__).resolve().parent.parent
-SHARED = pathlib.Path(os.environ.get("FDMSURF_SHARED", ROOT.parent / "shared"))
-
-
-def find(name):
-    for folder in (ROOT / "tests" / "data", SHARED / "data"):
-        for ext in (".pdb", ".pdb.gz", ".cif", ".cif.gz"):
-            p = folder / (name + ext)
-            if p.exists():
-                return p
-    return None
+from cold_start import ROOT, SHARED, find  # bench/cold_start.py: tests/data, then ../shared/data
 
 
 def run_case(exe, src, out, env, extra, tmp):

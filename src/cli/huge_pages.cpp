@@ -51,9 +51,23 @@ std::string thp_mode() {
 
 }  // namespace
 
+bool huge_pages_on_request() {
+#if defined(__linux__) && defined(__GLIBC__)
+    if (kOwnAllocator) return false;
+    int major = 0, minor = 0;
+    if (std::sscanf(gnu_get_libc_version(), "%d.%d", &major, &minor) != 2 ||
+        major * 100 + minor < 235)
+        return false;  // no such tunable before glibc 2.35
+    // "always": huge pages come without asking; "never" or no THP: asking gives nothing.
+    return thp_mode() == "madvise";
+#else
+    return false;
+#endif
+}
+
 void restart_with_huge_pages(char** argv) {
 #if defined(__linux__) && defined(__GLIBC__)
-    if (kOwnAllocator) return;
+    if (!huge_pages_on_request()) return;
     if (std::getenv(kRestarted) != nullptr) return;
     if (const char* off = std::getenv("FDMSURF_HUGE_PAGES"); off && std::strcmp(off, "0") == 0)
         return;
@@ -65,12 +79,6 @@ void restart_with_huge_pages(char** argv) {
         return;
     const char* tunables = std::getenv("GLIBC_TUNABLES");
     if (tunables && std::strstr(tunables, kTunable)) return;  // set already: the user's choice
-    int major = 0, minor = 0;
-    if (std::sscanf(gnu_get_libc_version(), "%d.%d", &major, &minor) != 2 ||
-        major * 100 + minor < 235)
-        return;  // no such tunable before glibc 2.35
-    // "always": huge pages come without asking; "never" or no THP: asking gives nothing.
-    if (thp_mode() != "madvise") return;
     const std::string before = tunables ? tunables : "";
     const std::string value = (before.empty() ? "" : before + ":") + kTunable + "=1";
     if (setenv("GLIBC_TUNABLES", value.c_str(), 1) != 0 || setenv(kRestarted, "1", 1) != 0)

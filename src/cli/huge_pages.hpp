@@ -10,9 +10,13 @@
 
 namespace fdmsurf::cli {
 
-// When the kernel gives huge pages on request only (transparent_hugepage/enabled is
-// "madvise"), glibc has the tunable, GLIBC_TUNABLES does not mention it, FDMSURF_HUGE_PAGES is
-// not "0", and neither a sanitizer, valgrind nor a secure-mode (setuid) start is in the way:
+// Whether this build on this host would ask for huge pages: glibc 2.35 or later (the tunable),
+// its allocator in use (no sanitizer's), and the kernel's THP mode "madvise" ("always" gives them
+// without asking, "never" not at all).
+bool huge_pages_on_request();
+
+// When huge_pages_on_request(), GLIBC_TUNABLES does not mention it, FDMSURF_HUGE_PAGES is
+// not "0", and neither valgrind nor a secure-mode (setuid) start is in the way:
 // sets glibc.malloc.hugetlb=1 in GLIBC_TUNABLES (and FDMSURF_HUGE_PAGES_RESTARTED=1, so that the
 // restarted program never restarts again) and restarts the program in place (execv of
 // /proc/self/exe with the same arguments, argv[0] included). Returns when it does not restart,

@@ -319,7 +319,6 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
     // while marching cubes runs on the earlier cores (one more buffer of at most field_budget()
     // beside marching cubes' own; released before the last).
     const std::size_t plane_floats = std::size_t(d[0]) * d[1];
-    const std::size_t plane_bytes_host = plane_floats * sizeof(float);
     std::vector<float> full(gather_field ? plane_floats * d[2] : 0);
     GridPlan sp = plan;
     sp.info.dims[2] = slab_planes;
@@ -363,13 +362,13 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
         // One buffer for every part (the largest: a full core and its three planes), written
         // again for each: fresh pages for each part cost more than the copy.
         if (part_field.size() == 0)
-            part_field = Buffer(context, (std::size_t(core) + 3) * plane_bytes_host,
+            part_field = Buffer(context, (std::size_t(core) + 3) * mc_plane_bytes,
                                 MemoryUse::Device, "field_part");
         write_pieces(
             context, commands, arena, part_field,
-            {{below.data(), a > lo ? plane_bytes_host : 0},
+            {{below.data(), a > lo ? mc_plane_bytes : 0},
              {pending.data(), pending.size() * sizeof(float)},
-             {next.data(), from_next * plane_bytes_host}},
+             {next.data(), from_next * mc_plane_bytes}},
             "field_part");
         add_times(result.times, {{"upload-part", now_ms() - t_upload, false}});
         commands.barrier_compute();

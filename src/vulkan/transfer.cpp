@@ -14,17 +14,7 @@ namespace fdmsurf::detail {
 Buffer upload_buffer(Context& ctx, Commands& cmds, StagingArena& arena, const void* data,
                      std::size_t bytes, const char* name) {
     Buffer dst(ctx, bytes, MemoryUse::Device, name);
-    if (bytes == 0) return dst;
-    if (dst.host_visible()) {
-        std::memcpy(dst.mapped(), data, bytes);
-        dst.flush();
-        return dst;
-    }
-    Buffer staging(ctx, bytes, MemoryUse::Upload, name);
-    std::memcpy(staging.mapped(), data, bytes);
-    staging.flush();
-    cmds.copy(staging, dst, bytes);
-    arena.buffers.push_back(std::move(staging));
+    write_pieces(ctx, cmds, arena, dst, {{data, bytes}}, name);
     return dst;
 }
 

@@ -3,17 +3,13 @@
 // and FDMSURF_HUGE_PAGES=0 keep it from restarting, and that the surface is the same either way.
 #include <gtest/gtest.h>
 
-#if defined(__GLIBC__)
-#include <gnu/libc-version.h>
-#endif
-
 #include <sys/resource.h>
 
 #include <cstdio>
-#include <fstream>
 #include <string>
 
 #include "cli/cli_program.hpp"
+#include "cli/huge_pages.hpp"
 
 namespace {
 
@@ -22,34 +18,9 @@ using fdmsurf_cli_test::CliRun;
 using fdmsurf_cli_test::lines_of;
 using fdmsurf_cli_test::read_text;
 
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kSanitized = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(memory_sanitizer)
-constexpr bool kSanitized = true;
-#else
-constexpr bool kSanitized = false;
-#endif
-#else
-constexpr bool kSanitized = false;
-#endif
-
-// Whether this host is one where the program restarts: glibc 2.35 or later, the kernel's THP
-// mode "madvise", and the program not built with a sanitizer (tests and program share the build).
-bool host_restarts() {
-#if defined(__linux__) && defined(__GLIBC__)
-    int major = 0, minor = 0;
-    if (std::sscanf(gnu_get_libc_version(), "%d.%d", &major, &minor) != 2 ||
-        major * 100 + minor < 235)
-        return false;
-    std::ifstream in("/sys/kernel/mm/transparent_hugepage/enabled");
-    std::string line;
-    std::getline(in, line);
-    return !kSanitized && line.find("[madvise]") != std::string::npos;
-#else
-    return false;
-#endif
-}
+// Whether the program restarts on this host (the program's own test of the host and the build,
+// which tests and program share).
+bool host_restarts() { return fdmsurf::cli::huge_pages_on_request(); }
 
 int count_lines(const std::string& text, const std::string& part) {
     int n = 0;
