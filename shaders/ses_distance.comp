@@ -1,13 +1,15 @@
 // Exact SES field (--method edt; ALGORITHM.md §7, the closing of the atoms by the probe):
 // d(p) = distance from p to the region E outside every ball of radius R_i = r_i + r_s, signed
-// (-dist(p, balls) outside the balls), clamped to [-d_max, d_max]. The SES is d = r_s.
+// (-dist(p, balls) outside the balls), clamped to [d_min, d_max] = [r_s - 2h, r_s + 2h]. The SES
+// is d = r_s; marching cubes reads exact values only within 2h of it (grid_plan.cpp).
 //
 // Inside the balls, the nearest point of E's boundary is (1) the radial projection of p onto a
 // sphere, if no other ball buries it, or (2) the nearest point of an exposed arc where two
 // spheres meet (its ends are the points where three meet); the arcs come from the host
 // (src/grid/ses_features.cpp). Each workgroup copies into shared memory the spheres and arcs
 // that can be within d_max of its box; every point then takes the least candidate distance.
-// CPU reference: src/grid/ses_distance_cpu.cpp.
+// A box that ses_boxes.comp found wholly outside the balls below d_min (its class, binding 5)
+// only writes d_min. CPU reference: src/grid/ses_distance_cpu.cpp.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "shader_interface.h"
@@ -21,11 +23,11 @@ layout(std430, binding = 3) readonly buffer Arcs {
     vec4 arcs[];
 };  // (m, rho), (e1, start), (e2, length)
 layout(std430, binding = 4) readonly buffer ArcStart { uint arc_start[]; };
+layout(std430, binding = 5) readonly buffer BoxClass { uint box_class[]; };  // ses_boxes.comp
 
 layout(push_constant) uniform Push { SesDistancePush pc; };
 
 const uint kGroupSize = kSesGroupX * kSesGroupY * kSesGroupZ;
-const float kTwoPi = 6.283185307179586;
 
 // The candidates' data itself, not indices: every point of the workgroup reads the same entries
 // in the same order, and shared memory spares lavapipe the bounds-checked per-lane loads of a
@@ -36,41 +38,7 @@ shared uint sphere_count;
 shared uint arc_count;
 shared uint deep;  // 1: one ball holds the whole box d_max deep, so d = d_max throughout
 
-vec3 box_gap(vec3 c, vec3 lo, vec3 hi) { return max(max(lo - c, c - hi), vec3(0.0)); }
-vec3 box_far(vec3 c, vec3 lo, vec3 hi) { return max(abs(c - lo), abs(c - hi)); }
-
-ivec3 bin_dims() { return ivec3(pc.bin_nx, pc.bin_ny, pc.bin_nz); }
-ivec3 bin_of(vec3 p) {
-    vec3 o = vec3(pc.bin_origin_x, pc.bin_origin_y, pc.bin_origin_z);
-    return clamp(ivec3(floor((p - o) / pc.bin_size)), ivec3(0), bin_dims() - 1);
-}
-uint bin_id(ivec3 b) { return (uint(b.z) * pc.bin_ny + uint(b.y)) * pc.bin_nx + uint(b.x); }
-
-// Distance from p to the exposed arc (m, e1, e2) (mirrors arc_distance in ses_features.cpp),
-// or a value >= `bound` when the arc is certainly not nearer than `bound` (cheap rejections
-// first).
-float arc_distance(vec4 m, vec4 e1, vec4 e2, vec3 p, float bound) {
-    vec3 v = p - m.xyz;
-    float height = dot(v, cross(e1.xyz, e2.xyz));
-    if (abs(height) >= bound) return bound;
-    float x = dot(v, e1.xyz), y = dot(v, e2.xyz);
-    float r = sqrt(x * x + y * y);
-    float rr = r - m.w;
-    if (abs(rr) >= bound) return bound;
-    float rel = r > 0.0 ? atan(y, x) - e1.w : 0.0;
-    rel -= kTwoPi * floor(rel / kTwoPi);
-    // Off the arc, the nearer end (in angle) is the nearer point.
-    float delta = rel <= e2.w ? 0.0 : min(rel - e2.w, kTwoPi - rel);
-    float s = sin(0.5 * delta);
-    return sqrt(height * height + rr * rr + 4.0 * r * m.w * s * s);
-}
-
-// Where the face distance |L - R| of sphere s is reached: the radial projection of p.
-vec3 projection(vec4 s, vec3 p) {
-    vec3 v = p - s.xyz;
-    float len = length(v);
-    return s.xyz + s.w * (len > 1e-6 ? v / len : vec3(1.0, 0.0, 0.0));
-}
+#include "ses_common.glsl"
 
 // Is q (a point of listed sphere `self`) inside another listed ball? A ball burying a point
 // within d_max of the box is within R + d_max of it: it is on the list.
@@ -114,70 +82,6 @@ float finish_shared(vec3 p, float lb, uint deepest, bool tie) {
     return best;
 }
 
-// Is q (a point of sphere `self`) inside another ball? From the bins around q.
-bool buried_global(vec3 q, uint self) {
-    ivec3 lo = bin_of(q - pc.r_max), hi = bin_of(q + pc.r_max);
-    for (int z = lo.z; z <= hi.z; ++z)
-        for (int y = lo.y; y <= hi.y; ++y)
-            for (int x = lo.x; x <= hi.x; ++x) {
-                uint b = bin_id(ivec3(x, y, z));
-                for (uint k = sphere_start[b]; k < sphere_start[b + 1u]; ++k) {
-                    if (k == self) continue;
-                    vec3 w = q - spheres[k].xyz;
-                    if (dot(w, w) < spheres[k].w * spheres[k].w) return true;
-                }
-            }
-    return false;
-}
-
-// The same from the bins, per point: boxes whose lists overflow shared memory.
-float evaluate_global(vec3 p) {
-    float reach = pc.r_max + pc.d_max;
-    ivec3 lo = bin_of(p - reach), hi = bin_of(p + reach);
-    float lb = -3.0e38;
-    uint deepest = 0u;
-    bool tie = false;
-    for (int z = lo.z; z <= hi.z; ++z)
-        for (int y = lo.y; y <= hi.y; ++y)
-            for (int x = lo.x; x <= hi.x; ++x) {
-                uint b = bin_id(ivec3(x, y, z));
-                for (uint i = sphere_start[b]; i < sphere_start[b + 1u]; ++i) {
-                    float depth = spheres[i].w - distance(p, spheres[i].xyz);
-                    tie = depth == lb || (tie && depth < lb);
-                    if (depth > lb) {
-                        lb = depth;
-                        deepest = i;
-                    }
-                }
-            }
-    if (lb <= 0.0) return max(lb, -pc.d_max);
-    if (lb >= pc.d_max) return pc.d_max;
-    if (!buried_global(projection(spheres[deepest], p), deepest)) return lb;
-    float best = pc.d_max;
-    ivec3 alo = bin_of(p - (pc.rho_max + pc.d_max)), ahi = bin_of(p + (pc.rho_max + pc.d_max));
-    for (int z = alo.z; z <= ahi.z; ++z)
-        for (int y = alo.y; y <= ahi.y; ++y)
-            for (int x = alo.x; x <= ahi.x; ++x) {
-                uint b = bin_id(ivec3(x, y, z));
-                for (uint k = arc_start[b]; k < arc_start[b + 1u]; ++k)
-                    best = min(best, arc_distance(arcs[3u * k], arcs[3u * k + 1u],
-                                                  arcs[3u * k + 2u], p, best));
-            }
-    if (tie && lb < best) {
-        for (int z = lo.z; z <= hi.z; ++z)
-            for (int y = lo.y; y <= hi.y; ++y)
-                for (int x = lo.x; x <= hi.x; ++x) {
-                    uint b = bin_id(ivec3(x, y, z));
-                    for (uint i = sphere_start[b]; i < sphere_start[b + 1u]; ++i) {
-                        vec4 s = spheres[i];
-                        if (i == deepest || s.w - distance(p, s.xyz) != lb) continue;
-                        if (!buried_global(projection(s, p), i)) return lb;
-                    }
-                }
-    }
-    return best;
-}
-
 void main() {
     uint t = gl_LocalInvocationIndex;
     vec3 origin = vec3(pc.origin_x, pc.origin_y, pc.origin_z);
@@ -185,6 +89,21 @@ void main() {
     // The box: points_z layers of the workgroup along z, one point of each per invocation.
     uvec3 span = uvec3(kSesGroupX, kSesGroupY, kSesGroupZ * pc.points_z);
     uvec3 first = gl_WorkGroupID * span;
+    // Wholly outside the balls below d_min (ses_boxes.comp): the whole workgroup writes d_min and
+    // leaves (the class is the same for every invocation: no barrier is skipped by some only).
+    uint box_index =
+        (gl_WorkGroupID.z * gl_NumWorkGroups.y + gl_WorkGroupID.y) * gl_NumWorkGroups.x +
+        gl_WorkGroupID.x;
+    uint cls = box_class[box_index];
+    if (cls == kSesBoxOutside) {
+        uvec3 g = first + gl_LocalInvocationID;
+        if (any(greaterThanEqual(g.xy, dims.xy))) return;
+        for (uint j = 0u; j < pc.points_z; ++j) {
+            uint z = g.z + j * kSesGroupZ;
+            if (z < pc.nz) field[(z * pc.ny + g.y) * pc.pitch + g.x] = pc.d_min;
+        }
+        return;
+    }
     uvec3 last = min(first + span, dims) - 1u;
     vec3 box_lo = origin + pc.spacing * vec3(first);
     vec3 box_hi = origin + pc.spacing * vec3(last);
@@ -269,7 +188,8 @@ void main() {
         for (uint j = 0u; j < pc.points_z; ++j) {
             uint z = g0.z + j * kSesGroupZ;
             if (z < pc.nz)
-                field[(z * pc.ny + g0.y) * pc.pitch + g0.x] = evaluate_global(p0 + float(j) * step);
+                field[(z * pc.ny + g0.y) * pc.pitch + g0.x] =
+                    max(evaluate_global(p0 + float(j) * step, pc.d_max), pc.d_min);
         }
         return;
     }
@@ -299,6 +219,6 @@ void main() {
         uint z = g0.z + j * kSesGroupZ;
         if (j < pc.points_z && z < pc.nz)
             field[(z * pc.ny + g0.y) * pc.pitch + g0.x] =
-                finish_shared(p0 + float(j) * step, lb[j], deepest[j], tie[j]);
+                max(finish_shared(p0 + float(j) * step, lb[j], deepest[j], tie[j]), pc.d_min);
     }
 }

@@ -40,6 +40,12 @@ FDM_CONST kSesPointsZ = 4;
 // more falls back to reading the bins per point. At 0.5 Å a box has about 60-100 spheres.
 FDM_CONST kSesSphereCapacity = 300;
 FDM_CONST kSesArcCapacity = 230;
+// ses_boxes.comp: one invocation per box of ses_distance.comp (a workgroup's points), flat
+// workgroups of kSesBoxGroup; each box's class: evaluated (kSesBoxBand), or wholly outside the
+// balls with d <= d_min (kSesBoxOutside: the field is d_min there).
+FDM_CONST kSesBoxGroup = 64;
+FDM_CONST kSesBoxBand = 0;
+FDM_CONST kSesBoxOutside = 1;
 
 // Spectral mask: one invocation per complex coefficient of the half spectrum.
 FDM_CONST kMaskGroupX = 64;
@@ -90,8 +96,22 @@ struct SesDistancePush {
     uint bin_nx, bin_ny, bin_nz, force_global;  // force_global != 0: tests of the fallback
     float r_max;    // largest inflated radius r + probe, Å
     float rho_max;  // largest arc circle radius, Å
-    float d_max;    // the field is clamped to [-d_max, d_max] (exact within)
+    float d_max;    // the field is clamped to [d_min, d_max] (exact within)
     uint points_z;  // points per invocation along z, 1 to kSesPointsZ (ses_points_z)
+    float d_min;
+};
+
+// ses_boxes.comp: the grid and sphere bins of SesDistancePush, and the boxes (workgroups of
+// ses_distance.comp) per axis.
+struct SesBoxesPush {
+    float origin_x, origin_y, origin_z, spacing;
+    uint nx, ny, nz, pitch;
+    float bin_origin_x, bin_origin_y, bin_origin_z, bin_size;
+    uint bin_nx, bin_ny, bin_nz, points_z;
+    float r_max;
+    float d_min;  // the field's lower clamp
+    uint boxes_x, boxes_y, boxes_z;
+    float slack;  // Å: the margin for float rounding in the box test
 };
 
 struct SpectralMaskPush {

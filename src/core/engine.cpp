@@ -485,13 +485,28 @@ std::vector<float> read_field(EngineImpl& e, StagingArena& arena, const Buffer& 
 }  // namespace
 
 std::vector<float> EngineImpl::compute_ses_field(const Atoms& atoms, const GridPlan& plan,
-                                                 float probe, bool force_global) {
+                                                 float probe, bool force_global, bool classify,
+                                                 std::vector<std::uint32_t>* box_classes) {
     const SesFeatures features = build_ses_features(atoms, probe);
     StagingArena arena;
     Buffer field(context, plan.field_floats() * sizeof(float), MemoryUse::Device, "field");
     commands.begin();
-    ses_distance.record(commands, arena, features, plan, field, force_global);
-    return read_field(*this, arena, field, plan.field_floats());
+    ses_distance.record(commands, arena, features, plan, field, force_global, classify);
+    const Buffer* classes = nullptr;
+    std::size_t boxes = 0;
+    if (box_classes) {
+        const auto b = ses_boxes(plan);
+        boxes = std::size_t(b[0]) * b[1] * b[2];
+        classes = &readback_buffer(context, commands, arena, ses_distance.box_classes(),
+                                   boxes * sizeof(std::uint32_t), "box_classes_readback");
+    }
+    std::vector<float> out = read_field(*this, arena, field, plan.field_floats());
+    if (box_classes) {
+        classes->invalidate();
+        const auto* words = static_cast<const std::uint32_t*>(classes->mapped());
+        box_classes->assign(words, words + boxes);
+    }
+    return out;
 }
 
 std::vector<float> EngineImpl::compute_field(const Atoms& atoms, const GridPlan& plan,

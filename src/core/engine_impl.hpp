@@ -93,8 +93,12 @@ struct EngineImpl {
                                      FilterShape shape = FilterShape::Ideal);
     // The exact SES field of `atoms` on `plan`'s grid (plan.exact_ses), read back;
     // force_global: the shader's per-point fallback everywhere.
+    // classify false: no box skipped (SesDistancePass::record); box_classes (may be null): the
+    // boxes' classes read back.
     std::vector<float> compute_ses_field(const Atoms& atoms, const GridPlan& plan,
-                                         float probe, bool force_global = false);
+                                         float probe, bool force_global = false,
+                                         bool classify = true,
+                                         std::vector<std::uint32_t>* box_classes = nullptr);
     // The spectral filter alone, on a host field in `plan`'s layout (in place).
     void filter_field(std::vector<float>& field, const GridPlan& plan, FilterShape shape);
     // GPU marching cubes on a host field; same contract as marching_cubes_cpu.

@@ -15,6 +15,7 @@
 #include "fdmsurf_generated/shaders/render_bounds.spv.h"
 #include "fdmsurf_generated/shaders/render_frag.spv.h"
 #include "fdmsurf_generated/shaders/render_vert.spv.h"
+#include "fdmsurf_generated/shaders/ses_boxes.spv.h"
 #include "fdmsurf_generated/shaders/ses_distance.spv.h"
 #include "fdmsurf_generated/shaders/spectral_mask.spv.h"
 #include "fdmsurf_generated/shaders/vertex_atoms.spv.h"
@@ -26,6 +27,7 @@ ShaderCode shader_code(Shader shader) {
         case Shader::DensityTiles:
             return {density_tiles_spv, sizeof(density_tiles_spv)};
         case Shader::Density: return {density_spv, sizeof(density_spv)};
+        case Shader::SesBoxes: return {ses_boxes_spv, sizeof(ses_boxes_spv)};
         case Shader::SesDistance: return {ses_distance_spv, sizeof(ses_distance_spv)};
         case Shader::SpectralMask: return {spectral_mask_spv, sizeof(spectral_mask_spv)};
         case Shader::McOccupancy: return {mc_occupancy_spv, sizeof(mc_occupancy_spv)};

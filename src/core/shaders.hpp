@@ -15,6 +15,7 @@ struct ShaderCode {
 enum class Shader {
     DensityTiles,
     Density,
+    SesBoxes,
     SesDistance,
     SpectralMask,
     McOccupancy,

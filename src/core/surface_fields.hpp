@@ -16,7 +16,8 @@ public:
         : features_(features), iso_(iso), d_max_(d_max) {}
     bool sample(const Vec3& p, double& value, Vec3& gradient) const override {
         double g[3];
-        value = ses_distance(features_, p.data(), d_max_, g);
+        // Only the faces that can be nearest (ses_distance_cpu.hpp): the same value.
+        value = ses_distance(features_, p.data(), d_max_, g, false);
         gradient = {g[0], g[1], g[2]};
         return std::abs(value) < d_max_ && (g[0] != 0.0 || g[1] != 0.0 || g[2] != 0.0);
     }

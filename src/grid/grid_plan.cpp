@@ -204,11 +204,13 @@ GridPlan plan_grid(const Atoms& atoms, const SurfaceOptions& options) {
     plan.density.radius_add = options.surface == SurfaceKind::Sas ? options.probe : 0.0f;
     plan.iso = effective_level(options) * plan.density.level_t;
     if (plan.exact_ses) {
-        // Exact up to two grid steps beyond the surface: every value the crossings and the
-        // central-difference normals read (a crossed edge's ends lie within h of the level r_s,
-        // d being 1-Lipschitz, and their neighbours within 2h). Farther points only need their
-        // side, which the clamp keeps; a smaller d_max also shrinks every box's candidates.
+        // Exact up to two grid steps on either side of the surface: every value the crossings
+        // and the central-difference normals read (a crossed edge's ends lie within h of the
+        // level r_s, d being 1-Lipschitz, and their neighbours within 2h). Farther points only
+        // need their side, which the clamps keep; a smaller d_max also shrinks every box's
+        // candidates, and boxes wholly beyond a clamp are not evaluated (ses_boxes.comp).
         plan.iso = options.probe;
+        plan.ses_d_min = options.probe - 2.0f * h;
         plan.ses_d_max = options.probe + 2.0f * h;
     }
     plan.info.spacing = h;

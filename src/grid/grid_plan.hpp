@@ -28,8 +28,10 @@ struct GridPlan {
     DensityParams density;
     float iso = 1.0f;  // iso-level of the field, absolute
     // --method edt: the field is the exact SES distance (ses_distance.comp), clamped to
-    // [-ses_d_max, ses_d_max], iso = probe; not filtered, linear interpolation.
+    // [ses_d_min, ses_d_max] = [probe - 2h, probe + 2h], iso = probe; not filtered, linear
+    // interpolation.
     bool exact_ses = false;
+    float ses_d_min = 0.0f;
     float ses_d_max = 0.0f;
     std::size_t points() const { return std::size_t(info.dims[0]) * info.dims[1] * info.dims[2]; }
     std::size_t field_floats() const { return std::size_t(pitch) * info.dims[1] * info.dims[2]; }

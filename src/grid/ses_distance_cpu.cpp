@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "grid/v3.hpp"
+#include "shader_interface.h"
 
 namespace fdmsurf::detail {
 
@@ -53,7 +54,8 @@ void for_bins(const SesFeatures& f, const BinRange& r, Fn&& fn) {
 
 }  // namespace
 
-double ses_distance(const SesFeatures& f, const double p_in[3], double d_max, double* gradient) {
+double ses_distance(const SesFeatures& f, const double p_in[3], double d_max, double* gradient,
+                    bool every_face) {
     const V3 p{p_in[0], p_in[1], p_in[2]};
     auto sphere = [&](std::uint32_t s, V3& c, double& R) {
         c = {f.spheres[4 * s], f.spheres[4 * s + 1], f.spheres[4 * s + 2]};
@@ -67,12 +69,14 @@ double ses_distance(const SesFeatures& f, const double p_in[3], double d_max, do
     V3 lb_centre{0, 0, 0};
     double lb_radius = 0.0;
     std::uint32_t deepest = 0;
+    bool tie = false;  // another ball exactly as deep as the deepest
     for_bins(f, near, [&](std::size_t b) {
         for (std::uint32_t s = f.sphere_start[b]; s < f.sphere_start[b + 1]; ++s) {
             V3 c;
             double R;
             sphere(s, c, R);
             const double v = R - norm(p - c);
+            tie = v == lb || (tie && v < lb);
             if (v > lb) lb = v, lb_centre = c, lb_radius = R, deepest = s;
         }
     });
@@ -118,14 +122,18 @@ double ses_distance(const SesFeatures& f, const double p_in[3], double d_max, do
     double best = d_max;
     V3 nearest{0, 0, 0};
     bool found = false;
+    // The nearest arc's point is only needed for the gradient, of the arc that ends nearest.
+    constexpr std::uint32_t kNoArc = std::numeric_limits<std::uint32_t>::max();
+    std::uint32_t best_arc = kNoArc;
     for_bins(f, bins_near(f, p, f.rho_max + d_max), [&](std::size_t b) {
         for (std::uint32_t a = f.arc_start[b]; a < f.arc_start[b + 1]; ++a) {
-            double q[3];
-            const double d = arc_distance(f.arcs[a], p_in, q, best);
-            if (d < best) best = d, nearest = {q[0], q[1], q[2]}, found = true;
+            const double d = arc_distance(f.arcs[a], p_in, nullptr, best);
+            if (d < best) best = d, best_arc = a, found = true;
         }
     });
-    for_bins(f, near, [&](std::size_t b) {
+    // The other faces: the reference tries every one; without every_face, as the shader, only
+    // a ball exactly as deep as the deepest can be nearer than the arcs (ses_distance.comp).
+    if (every_face || tie) for_bins(f, near, [&](std::size_t b) {
         for (std::uint32_t s = f.sphere_start[b]; s < f.sphere_start[b + 1]; ++s) {
             V3 c;
             double R;
@@ -135,9 +143,14 @@ double ses_distance(const SesFeatures& f, const double p_in[3], double d_max, do
             // ball holding p but the deepest, done above).
             if (s == deepest || face < lb || face >= best) continue;
             const V3 q = projection(c, R, p);
-            if (!buried(q, s)) best = face, nearest = q, found = true;
+            if (!buried(q, s)) best = face, nearest = q, found = true, best_arc = kNoArc;
         }
     });
+    if (best_arc != kNoArc && gradient) {
+        double q[3];
+        arc_distance(f.arcs[best_arc], p_in, q);
+        nearest = {q[0], q[1], q[2]};
+    }
     const double len = norm(p - nearest);
     if (found && len > 0.0)
         set_gradient((1.0 / len) * (p - nearest));
@@ -223,9 +236,44 @@ std::vector<float> ses_field_cpu(const SesFeatures& f, const GridPlan& plan) {
                 const double p[3] = {double(plan.info.origin[0] + plan.info.spacing * float(x)),
                                      double(plan.info.origin[1] + plan.info.spacing * float(y)),
                                      double(plan.info.origin[2] + plan.info.spacing * float(z))};
-                out[(std::size_t(z) * d[1] + y) * plan.pitch + x] =
-                    static_cast<float>(ses_distance(f, p, plan.ses_d_max));
+                out[(std::size_t(z) * d[1] + y) * plan.pitch + x] = std::max(
+                    static_cast<float>(ses_distance(f, p, plan.ses_d_max)), plan.ses_d_min);
             }
+    return out;
+}
+
+std::vector<std::uint32_t> ses_box_classes_cpu(const SesFeatures& f, const GridPlan& plan,
+                                               std::uint32_t points_z) {
+    const auto& d = plan.info.dims;
+    const std::uint32_t span[3] = {shader::kSesGroupX, shader::kSesGroupY,
+                                   shader::kSesGroupZ * points_z};
+    std::uint32_t boxes[3];
+    for (int a = 0; a < 3; ++a) boxes[a] = (d[a] + span[a] - 1) / span[a];
+    std::vector<std::uint32_t> out(static_cast<std::size_t>(boxes[0]) * boxes[1] * boxes[2]);
+    for (std::size_t box = 0; box < out.size(); ++box) {
+        const std::uint32_t b[3] = {std::uint32_t(box % boxes[0]),
+                                    std::uint32_t(box / boxes[0] % boxes[1]),
+                                    std::uint32_t(box / (std::size_t(boxes[0]) * boxes[1]))};
+        double centre[3], r2 = 0.0;
+        for (int a = 0; a < 3; ++a) {
+            const std::uint32_t first = b[a] * span[a];
+            const std::uint32_t last = std::min(first + span[a], d[a]) - 1;
+            // The corners as the shaders compute grid points: origin + spacing * index, in float.
+            const double lo = plan.info.origin[a] + plan.info.spacing * float(first);
+            const double hi = plan.info.origin[a] + plan.info.spacing * float(last);
+            centre[a] = 0.5 * (lo + hi);
+            r2 += (hi - lo) * (hi - lo);
+        }
+        const double r = 0.5 * std::sqrt(r2);
+        const double bound = std::min(double(plan.ses_d_min) - r, 0.0) - kSesBoxSlack;
+        bool outside = true;
+        for (std::size_t s = 0; s < f.sphere_count() && outside; ++s) {
+            const float* q = &f.spheres[4 * s];
+            const double dx = centre[0] - q[0], dy = centre[1] - q[1], dz = centre[2] - q[2];
+            outside = q[3] - std::sqrt(dx * dx + dy * dy + dz * dz) <= bound;
+        }
+        out[box] = outside ? shader::kSesBoxOutside : shader::kSesBoxBand;
+    }
     return out;
 }
 

@@ -166,6 +166,36 @@ TEST(SesFeatures, BinnedDistanceMatchesBruteForceOnCrambin) {
     EXPECT_GT(arcs_won, 200u);
 }
 
+TEST(SesFeatures, OnlyTiedFacesGiveTheSameDistanceAsEveryFace) {
+    // ses_distance without every_face (the snap and refine stages, as the shader) skips the
+    // faces of the balls not exactly as deep as the deepest: the same value and gradient, bit
+    // for bit, on hemoglobin's re-entrant band (where those faces would be tried).
+    const Atoms atoms = fdmsurf::read_structure(data_path("4hhb.xyzr")).atoms;
+    const float probe = 1.4f;
+    const SesFeatures f = build_ses_features(atoms, probe);
+    const double d_max = probe + 1.0;
+    std::mt19937 rng(4242);
+    std::uniform_int_distribution<std::size_t> pick(0, atoms.size() - 1);
+    std::normal_distribution<double> offset(0.0, 1.0);
+    std::size_t band = 0;
+    for (int n = 0; n < 20000; ++n) {
+        const std::size_t i = pick(rng);
+        double dir[3] = {offset(rng), offset(rng), offset(rng)};
+        const double len = std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+        const double r =
+            atoms.radius[i] + probe * std::uniform_real_distribution<double>(0.0, 1.6)(rng);
+        double p[3];
+        for (int k = 0; k < 3; ++k) p[k] = atoms.xyz[3 * i + k] + r * dir[k] / len;
+        double g_every[3], g_tied[3];
+        const double every = ses_distance(f, p, d_max, g_every, true);
+        const double tied = ses_distance(f, p, d_max, g_tied, false);
+        band += every > 0.0 && every < d_max;
+        ASSERT_EQ(every, tied) << "point " << p[0] << " " << p[1] << " " << p[2];
+        for (int k = 0; k < 3; ++k) ASSERT_EQ(g_every[k], g_tied[k]);
+    }
+    EXPECT_GT(band, 5000u);
+}
+
 TEST(SesFeatures, GradientIsTheUnitDirectionFromTheNearestPoint) {
     const Atoms atoms = fdmsurf::read_structure(data_path("1crn.xyzr")).atoms;
     const SesFeatures f = build_ses_features(atoms, 1.4f);
