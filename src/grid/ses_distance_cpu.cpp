@@ -127,7 +127,12 @@ double ses_distance(const SesFeatures& f, const double p_in[3], double d_max, do
     std::uint32_t best_arc = kNoArc;
     for_bins(f, bins_near(f, p, f.rho_max + d_max), [&](std::size_t b) {
         for (std::uint32_t a = f.arc_start[b]; a < f.arc_start[b + 1]; ++a) {
-            const double d = arc_distance(f.arcs[a], p_in, nullptr, best);
+            // No point of the circle is nearer than |p - m| - rho.
+            const SesArc& arc = f.arcs[a];
+            const V3 v = p - V3{arc.m[0], arc.m[1], arc.m[2]};
+            const double reach = arc.rho + best;
+            if (dot(v, v) >= reach * reach) continue;
+            const double d = arc_distance(arc, p_in, nullptr, best);
             if (d < best) best = d, best_arc = a, found = true;
         }
     });
