@@ -21,6 +21,10 @@ uint bin_id(ivec3 b) { return (uint(b.z) * pc.bin_ny + uint(b.y)) * pc.bin_nx + 
 // first).
 float arc_distance(vec4 m, vec4 e1, vec4 e2, vec3 p, float bound) {
     vec3 v = p - m.xyz;
+    // No point of the circle is nearer than |v| - rho: the cheapest test, and most arcs of a
+    // box's list fail it for any one of its points.
+    float reach = m.w + bound;
+    if (dot(v, v) >= reach * reach) return bound;
     float height = dot(v, cross(e1.xyz, e2.xyz));
     if (abs(height) >= bound) return bound;
     float x = dot(v, e1.xyz), y = dot(v, e2.xyz);

@@ -52,27 +52,24 @@ bool buried_shared(vec3 q, uint self, uint ns) {
     return false;
 }
 
-// d at p given lb = max_i (R_i - |p - c_i|) over the listed balls (> 0 inside the balls, a lower
-// bound of d), the first ball that deep, and whether another one is exactly as deep.
-float finish_shared(vec3 p, float lb, uint deepest, bool tie) {
-    uint ns = sphere_count, na = arc_count;
-    if (lb <= 0.0) return max(lb, -pc.d_max);
-    if (lb >= pc.d_max) return pc.d_max;
-    // The deepest ball's face is lb away, the least d can be: exposed, it is the answer (a
-    // contact patch, most of the surface).
-    if (!buried_shared(projection(sphere_list[deepest], p), deepest, ns)) return lb;
-    float best = pc.d_max;
-    for (uint k = 0u; k < na; ++k)
-        best = min(best, arc_distance(arc_list[3u * k], arc_list[3u * k + 1u], arc_list[3u * k + 2u],
-                                      p, best));
-    // The other faces. A ball B not holding p cannot offer the nearest point y of E on its face:
-    // y would be p's radial projection, the segment from p to y (inside the balls, E's
-    // complement, but at y) leaves B's sphere outwards at y, so its points just before y lie in
-    // another ball, whose closure holds y: y is buried, or on a circle (an arc above gives the
-    // same distance). The faces of the balls holding p are R - |p - c| <= lb away, and d >= lb:
-    // only a ball exactly as deep as the deepest can be nearer than the arcs. The CPU
-    // reference (ses_distance_cpu.cpp) still tries every face; the tests compare the two.
+// Whether the deepest ball's face, lb away, is exposed at p's radial projection: then d = lb, the
+// least d can be (a contact patch, most of the surface).
+bool face_exposed(vec3 p, uint deepest) {
+    return !buried_shared(projection(sphere_list[deepest], p), deepest, sphere_count);
+}
+
+// d at p where the deepest ball's face is buried and an arc or a tied face is nearer than d_max:
+// `best` is the least arc distance (the arcs loop in main). The other faces: a ball B not
+// holding p cannot offer the nearest point y of E on its face: y would be p's radial
+// projection, the segment from p to y (inside the balls, E's complement, but at y) leaves B's
+// sphere outwards at y, so its points just before y lie in another ball, whose closure holds y:
+// y is buried, or on a circle (an arc gives the same distance). The faces of the balls holding p
+// are R - |p - c| <= lb away, and d >= lb: only a ball exactly as deep as the deepest can be
+// nearer than the arcs. The CPU reference (ses_distance_cpu.cpp) still tries every face; the
+// tests compare the two.
+float finish_tied(vec3 p, float lb, uint deepest, bool tie, float best) {
     if (tie && lb < best) {
+        uint ns = sphere_count;
         for (uint i = 0u; i < ns; ++i) {
             vec4 s = sphere_list[i];
             if (i == deepest || s.w - distance(p, s.xyz) != lb) continue;
@@ -215,10 +212,43 @@ void main() {
             }
         }
     }
+    // d from lb where it can be (outside the balls, deep inside, or the deepest face exposed);
+    // the other points need the arcs, which one loop reads once for all of them (in the same
+    // order for each point, so each point's value is what a loop of its own would give).
+    float value[kSesPointsZ];
+    bool arcs_needed[kSesPointsZ];
+    bool any_arcs = false;
     for (uint j = 0u; j < kSesPointsZ; ++j) {
+        value[j] = pc.d_max;
+        arcs_needed[j] = false;
+        if (j >= pc.points_z) break;
+        float l = lb[j];
+        if (l <= 0.0)
+            value[j] = max(l, -pc.d_max);
+        else if (l >= pc.d_max)
+            value[j] = pc.d_max;
+        else if (face_exposed(p0 + float(j) * step, deepest[j]))
+            value[j] = l;
+        else
+            arcs_needed[j] = true;
+        any_arcs = any_arcs || arcs_needed[j];
+    }
+    if (any_arcs) {
+        uint na = arc_count;
+        for (uint k = 0u; k < na; ++k) {
+            vec4 m = arc_list[3u * k], e1 = arc_list[3u * k + 1u], e2 = arc_list[3u * k + 2u];
+            for (uint j = 0u; j < kSesPointsZ; ++j) {
+                if (j >= pc.points_z) break;
+                if (arcs_needed[j])
+                    value[j] = min(value[j], arc_distance(m, e1, e2, p0 + float(j) * step, value[j]));
+            }
+        }
+    }
+    for (uint j = 0u; j < kSesPointsZ; ++j) {
+        if (j >= pc.points_z) break;
         uint z = g0.z + j * kSesGroupZ;
-        if (j < pc.points_z && z < pc.nz)
-            field[(z * pc.ny + g0.y) * pc.pitch + g0.x] =
-                max(finish_shared(p0 + float(j) * step, lb[j], deepest[j], tie[j]), pc.d_min);
+        if (arcs_needed[j])
+            value[j] = finish_tied(p0 + float(j) * step, lb[j], deepest[j], tie[j], value[j]);
+        if (z < pc.nz) field[(z * pc.ny + g0.y) * pc.pitch + g0.x] = max(value[j], pc.d_min);
     }
 }
