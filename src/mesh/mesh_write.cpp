@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/parallel.hpp"
 #include "fdmsurf/error.hpp"
 #include "fdmsurf/fdmsurf.hpp"
 #include "fdmsurf/mesh.hpp"
@@ -19,6 +20,27 @@
 namespace fdmsurf {
 namespace detail {
 namespace {
+
+// Serialises items [0, count) on all threads, `block` items per task, and writes the bytes to
+// `file` in item order: rounds of one block per thread, so that memory stays at a round's bytes
+// whatever the mesh. serialise(first, last, out) appends the bytes of items [first, last).
+template <class Serialise>
+void write_in_blocks(ByteSink& file, std::size_t count, std::size_t block, Serialise&& serialise) {
+    const unsigned threads = thread_count();
+    std::vector<std::string> bytes(threads);
+    for (std::size_t first = 0; first < count; first += block * threads) {
+        const std::size_t blocks = std::min<std::size_t>(threads, (count - first + block - 1) / block);
+        parallel_chunks(blocks, threads, [&](std::size_t k) {
+            const std::size_t lo = first + k * block, hi = std::min(count, lo + block);
+            bytes[k].clear();
+            serialise(lo, hi, bytes[k]);
+        });
+        for (std::size_t k = 0; k < blocks; ++k) file.write(bytes[k]);
+    }
+}
+
+// Items per serialisation task: 65,536 vertices (about 2 MB of PLY) or triangles.
+constexpr std::size_t kWriteBlock = std::size_t{1} << 16;
 
 void write_ply(const Mesh& mesh, ByteSink& file) {
     const bool normals = !mesh.normals.empty();
@@ -38,28 +60,35 @@ void write_ply(const Mesh& mesh, ByteSink& file) {
     header += "property list uchar int vertex_indices\nend_header\n";
     file.write(header);
 
-    // One vertex record: 24 bytes of position and normal, 4 of atom, 3 of colour, 4 per scalar.
-    std::vector<char> record(24 + 4 + 3 + 4 * mesh.scalars.size());
-    for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
-        char* out = record.data();
-        for (int k = 0; k < 3; ++k) out = put_le(out, mesh.positions[3 * v + k]);
-        if (normals) {
-            for (int k = 0; k < 3; ++k) out = put_le(out, mesh.normals[3 * v + k]);
+    // One vertex record: 12 bytes of position, 12 of normal, 4 of atom, 3 of colour, 4 per
+    // scalar.
+    const std::size_t record =
+        12 + (normals ? 12 : 0) + (atoms ? 4 : 0) + (colors ? 3 : 0) + 4 * mesh.scalars.size();
+    write_in_blocks(file, mesh.vertex_count(), kWriteBlock,
+                    [&](std::size_t first, std::size_t last, std::string& bytes) {
+        bytes.resize((last - first) * record);
+        char* out = bytes.data();
+        for (std::size_t v = first; v < last; ++v) {
+            for (int k = 0; k < 3; ++k) out = put_le(out, mesh.positions[3 * v + k]);
+            if (normals) {
+                for (int k = 0; k < 3; ++k) out = put_le(out, mesh.normals[3 * v + k]);
+            }
+            if (atoms) out = put_le(out, mesh.atoms[v]);
+            if (colors) {
+                for (int k = 0; k < 3; ++k) *out++ = char(mesh.colors[3 * v + k]);
+            }
+            for (const VertexScalars& scalar : mesh.scalars) out = put_le(out, scalar.values[v]);
         }
-        if (atoms) out = put_le(out, mesh.atoms[v]);
-        if (colors) {
-            for (int k = 0; k < 3; ++k) *out++ = char(mesh.colors[3 * v + k]);
+    });
+    write_in_blocks(file, mesh.triangle_count(), kWriteBlock,
+                    [&](std::size_t first, std::size_t last, std::string& bytes) {
+        bytes.resize((last - first) * 13);
+        char* out = bytes.data();
+        for (std::size_t t = first; t < last; ++t) {
+            *out++ = 3;
+            for (int k = 0; k < 3; ++k) out = put_le(out, std::int32_t(mesh.indices[3 * t + k]));
         }
-        for (const VertexScalars& scalar : mesh.scalars) out = put_le(out, scalar.values[v]);
-        file.write(record.data(), std::size_t(out - record.data()));
-    }
-    char face[13];
-    for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
-        char* out = face;
-        *out++ = 3;
-        for (int k = 0; k < 3; ++k) out = put_le(out, std::int32_t(mesh.indices[3 * t + k]));
-        file.write(face, std::size_t(out - face));
-    }
+    });
 }
 
 // Six decimals: 1e-6 Å, far below any grid spacing, and exact enough for unit normals.
@@ -78,50 +107,65 @@ void write_obj(const Mesh& mesh, ByteSink& file) {
     file.write("# written by fdmsurf " + std::string(version()) + "\n# " +
                std::to_string(mesh.vertex_count()) + " vertices, " +
                std::to_string(mesh.triangle_count()) + " triangles\n");
-    // Fixed notation of a float needs at most 39 integer digits, so 6 numbers fit easily; the
-    // margin leaves room for the separators written after a number.
-    char line[384];
-    char* const end = line + sizeof line - 8;
-    auto start = [&](const char* tag) {
-        char* out = line;
-        for (const char* c = tag; *c; ++c) *out++ = *c;
+    // Fixed notation of a float needs at most 39 integer digits plus 7 for the sign, point and
+    // decimals, so a line of 6 numbers stays under kLine; the margin leaves room for the
+    // separators written after a number.
+    constexpr std::size_t kLine = 384;
+    // Lines of items [first, last) appended to `bytes`, each from put_line(out, end, i).
+    auto lines = [](std::size_t first, std::size_t last, std::string& bytes, auto&& put_line) {
+        bytes.resize((last - first) * kLine);
+        char* out = bytes.data();
+        for (std::size_t i = first; i < last; ++i) {
+            out = put_line(out, out + kLine - 8, i);
+            *out++ = '\n';
+        }
+        bytes.resize(std::size_t(out - bytes.data()));
+    };
+    auto tag = [](char* out, const char* t) {
+        for (const char* c = t; *c; ++c) *out++ = *c;
         return out;
     };
-    auto finish = [&](char* out) {
-        *out++ = '\n';
-        file.write(line, std::size_t(out - line));
-    };
-    for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
-        char* out = start("v");
-        for (int k = 0; k < 3; ++k) out = put_fixed(out, end, mesh.positions[3 * v + k]);
-        // Vertex colours as the common extension MeshLab and Blender read: v x y z r g b, each
-        // channel in [0, 1] (6 decimals: c / 255 reads back to the same byte).
-        if (colors) {
-            for (int k = 0; k < 3; ++k) out = put_fixed(out, end, mesh.colors[3 * v + k] / 255.0f);
-        }
-        finish(out);
-    }
-    if (normals) {
-        for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
-            char* out = start("vn");
-            for (int k = 0; k < 3; ++k) out = put_fixed(out, end, mesh.normals[3 * v + k]);
-            finish(out);
-        }
-    }
-    for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
-        char* out = start("f");
-        for (int k = 0; k < 3; ++k) {
-            const std::uint64_t i = std::uint64_t{mesh.indices[3 * t + k]} + 1;  // OBJ is 1-based
-            *out++ = ' ';
-            out = put_index(out, end, i);
-            if (normals) {
-                *out++ = '/';
-                *out++ = '/';
-                out = put_index(out, end, i);
+    write_in_blocks(file, mesh.vertex_count(), kWriteBlock,
+                    [&](std::size_t first, std::size_t last, std::string& bytes) {
+        lines(first, last, bytes, [&](char* out, char* end, std::size_t v) {
+            out = tag(out, "v");
+            for (int k = 0; k < 3; ++k) out = put_fixed(out, end, mesh.positions[3 * v + k]);
+            // Vertex colours as the common extension MeshLab and Blender read: v x y z r g b,
+            // each channel in [0, 1] (6 decimals: c / 255 reads back to the same byte).
+            if (colors) {
+                for (int k = 0; k < 3; ++k)
+                    out = put_fixed(out, end, mesh.colors[3 * v + k] / 255.0f);
             }
-        }
-        finish(out);
+            return out;
+        });
+    });
+    if (normals) {
+        write_in_blocks(file, mesh.vertex_count(), kWriteBlock,
+                        [&](std::size_t first, std::size_t last, std::string& bytes) {
+            lines(first, last, bytes, [&](char* out, char* end, std::size_t v) {
+                out = tag(out, "vn");
+                for (int k = 0; k < 3; ++k) out = put_fixed(out, end, mesh.normals[3 * v + k]);
+                return out;
+            });
+        });
     }
+    write_in_blocks(file, mesh.triangle_count(), kWriteBlock,
+                    [&](std::size_t first, std::size_t last, std::string& bytes) {
+        lines(first, last, bytes, [&](char* out, char* end, std::size_t t) {
+            out = tag(out, "f");
+            for (int k = 0; k < 3; ++k) {
+                const std::uint64_t i = std::uint64_t{mesh.indices[3 * t + k]} + 1;  // 1-based
+                *out++ = ' ';
+                out = put_index(out, end, i);
+                if (normals) {
+                    *out++ = '/';
+                    *out++ = '/';
+                    out = put_index(out, end, i);
+                }
+            }
+            return out;
+        });
+    });
 }
 
 // Every check a format needs, before anything is created or written.
