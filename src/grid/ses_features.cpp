@@ -3,6 +3,7 @@
 #include "grid/ses_features.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -120,6 +121,36 @@ SesFeatures build_ses_features(const Atoms& atoms, float probe) {
         for (int a = 0; a < 3; ++a) {
             lo[a] = std::min(lo[a], p[a]);
             hi[a] = std::max(hi[a], p[a]);
+        }
+    }
+
+    // Coincident balls (the same centre and radius: duplicated atoms) are one ball. Kept twice,
+    // each would bury the other's face wherever rounding puts the projection a hair inside it,
+    // and no circle joins them: d would jump there. The first of each is kept.
+    {
+        std::vector<std::uint32_t> by_ball(n);
+        for (std::size_t i = 0; i < n; ++i) by_ball[i] = static_cast<std::uint32_t>(i);
+        auto key = [&](std::uint32_t i) {
+            return std::array<float, 4>{atoms.xyz[3 * i], atoms.xyz[3 * i + 1],
+                                        atoms.xyz[3 * i + 2], atoms.radius[i]};
+        };
+        std::sort(by_ball.begin(), by_ball.end(), [&](std::uint32_t a, std::uint32_t b) {
+            const auto ka = key(a), kb = key(b);
+            return ka != kb ? ka < kb : a < b;
+        });
+        std::vector<std::uint8_t> duplicate(n, 0);
+        bool any = false;
+        for (std::size_t k = 1; k < n; ++k) {
+            if (key(by_ball[k]) == key(by_ball[k - 1])) duplicate[by_ball[k]] = 1, any = true;
+        }
+        if (any) {
+            Atoms unique;
+            for (std::size_t i = 0; i < n; ++i) {
+                if (duplicate[i]) continue;
+                unique.xyz.insert(unique.xyz.end(), &atoms.xyz[3 * i], &atoms.xyz[3 * i] + 3);
+                unique.radius.push_back(atoms.radius[i]);
+            }
+            return build_ses_features(unique, probe);
         }
     }
 

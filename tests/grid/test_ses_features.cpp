@@ -166,6 +166,33 @@ TEST(SesFeatures, BinnedDistanceMatchesBruteForceOnCrambin) {
     EXPECT_GT(arcs_won, 200u);
 }
 
+TEST(SesFeatures, CoincidentAtomsAreOneBall) {
+    // Duplicated atoms (the same centre and radius) make the same features as one: kept twice,
+    // each would bury the other's face where rounding puts a projection a hair inside, and the
+    // distance would jump there (a random set with coincident atoms grew 11% of spurious area).
+    const Atoms atoms = fdmsurf::read_structure(data_path("1crn.xyzr")).atoms;
+    Atoms doubled = atoms;
+    for (std::size_t i = 0; i < atoms.size(); i += 7) {
+        doubled.xyz.insert(doubled.xyz.end(), &atoms.xyz[3 * i], &atoms.xyz[3 * i] + 3);
+        doubled.radius.push_back(atoms.radius[i]);
+    }
+    const SesFeatures a = build_ses_features(atoms, 1.4f);
+    const SesFeatures b = build_ses_features(doubled, 1.4f);
+    EXPECT_EQ(a.sphere_count(), b.sphere_count());
+    EXPECT_EQ(a.spheres, b.spheres);
+    EXPECT_EQ(a.arcs.size(), b.arcs.size());
+    EXPECT_EQ(a.circles, b.circles);
+    std::mt19937 rng(99);
+    std::uniform_int_distribution<std::size_t> pick(0, atoms.size() - 1);
+    std::normal_distribution<double> offset(0.0, 1.0);
+    for (int n = 0; n < 2000; ++n) {
+        const std::size_t i = pick(rng);
+        double p[3];
+        for (int k = 0; k < 3; ++k) p[k] = atoms.xyz[3 * i + k] + 2.5 * offset(rng);
+        ASSERT_EQ(ses_distance(a, p, 3.0), ses_distance(b, p, 3.0));
+    }
+}
+
 TEST(SesFeatures, OnlyTiedFacesGiveTheSameDistanceAsEveryFace) {
     // ses_distance without every_face (the snap and refine stages, as the shader) skips the
     // faces of the balls not exactly as deep as the deepest: the same value and gradient, bit
