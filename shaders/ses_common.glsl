@@ -1,5 +1,6 @@
-// Shared by the exact SES passes (ses_boxes.comp, ses_distance.comp): the sphere and arc bins,
-// the distance to an exposed arc, and d evaluated from the bins at one point. The includer
+// The exact SES field's per-point pieces (ses_distance.comp; ses_boxes.comp needs only the sphere
+// bins and has its own depth loop): the sphere and arc bins, the distance to an exposed arc, and
+// d evaluated from the bins at one point. The includer
 // declares the buffers spheres (vec4: xyz, R), sphere_start, arcs (three vec4 per arc) and
 // arc_start, and a push constant `pc` with the bin grid (bin_origin_*, bin_size, bin_n*), r_max
 // and rho_max (shader_interface.h). CPU reference: src/grid/ses_distance_cpu.cpp.
@@ -63,7 +64,7 @@ bool buried_global(vec3 q, uint self) {
 }
 
 // d at p clamped to [-d_max, d_max], from the bins: the boxes of ses_distance.comp whose lists
-// overflow shared memory, and the box centres of ses_boxes.comp (with a larger d_max).
+// overflow shared memory.
 float evaluate_global(vec3 p, float d_max) {
     float reach = pc.r_max + d_max;
     ivec3 lo = bin_of(p - reach), hi = bin_of(p + reach);

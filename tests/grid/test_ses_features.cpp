@@ -121,6 +121,23 @@ TEST(SesFeatures, BadInputIsRefused) {
 // The binned evaluation from arcs against the brute force over faces, circles and three-sphere
 // points, at random points of crambin's surface band. Arcs are stored in float (1e-7 relative,
 // ~1e-5 Å at these coordinates), hence the tolerance.
+// Random points around random atoms, at their radius plus up to 1.6 probe radii: inside the
+// inflated balls and near their surface (the distributions keep their state from call to call).
+struct PointsNearAtoms {
+    const Atoms& atoms;
+    float probe;
+    std::uniform_int_distribution<std::size_t> pick{0, atoms.size() - 1};
+    std::normal_distribution<double> offset{0.0, 1.0};
+    void operator()(std::mt19937& rng, double p[3]) {
+        const std::size_t i = pick(rng);
+        double dir[3] = {offset(rng), offset(rng), offset(rng)};
+        const double len = std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+        const double r =
+            atoms.radius[i] + probe * std::uniform_real_distribution<double>(0.0, 1.6)(rng);
+        for (int k = 0; k < 3; ++k) p[k] = atoms.xyz[3 * i + k] + r * dir[k] / len;
+    }
+};
+
 TEST(SesFeatures, BinnedDistanceMatchesBruteForceOnCrambin) {
     const Atoms atoms = fdmsurf::read_structure(data_path("1crn.xyzr")).atoms;
     const float probe = 1.4f;
@@ -128,19 +145,13 @@ TEST(SesFeatures, BinnedDistanceMatchesBruteForceOnCrambin) {
     EXPECT_GT(f.arcs.size(), atoms.size());
     const double d_max = probe + 1.5;
     std::mt19937 rng(1310);
-    std::uniform_int_distribution<std::size_t> pick(0, atoms.size() - 1);
-    std::normal_distribution<double> offset(0.0, 1.0);
+    PointsNearAtoms near{atoms, probe};
     std::size_t compared = 0, band = 0, arcs_won = 0;
     double worst = 0.0;
     for (int n = 0; n < 3000; ++n) {
         // Around a random atom, about at its inflated radius: inside the balls, near their surface.
-        const std::size_t i = pick(rng);
-        double dir[3] = {offset(rng), offset(rng), offset(rng)};
-        const double len = std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
-        const double r =
-            atoms.radius[i] + probe * std::uniform_real_distribution<double>(0.0, 1.6)(rng);
         double p[3];
-        for (int k = 0; k < 3; ++k) p[k] = atoms.xyz[3 * i + k] + r * dir[k] / len;
+        near(rng, p);
         const double fast = ses_distance(f, p, d_max);
         const double brute = ses_distance_brute(atoms, probe, p, d_max);
         worst = std::max(worst, std::abs(fast - brute));
@@ -202,17 +213,11 @@ TEST(SesFeatures, OnlyTiedFacesGiveTheSameDistanceAsEveryFace) {
     const SesFeatures f = build_ses_features(atoms, probe);
     const double d_max = probe + 1.0;
     std::mt19937 rng(4242);
-    std::uniform_int_distribution<std::size_t> pick(0, atoms.size() - 1);
-    std::normal_distribution<double> offset(0.0, 1.0);
+    PointsNearAtoms near{atoms, probe};
     std::size_t band = 0;
     for (int n = 0; n < 20000; ++n) {
-        const std::size_t i = pick(rng);
-        double dir[3] = {offset(rng), offset(rng), offset(rng)};
-        const double len = std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
-        const double r =
-            atoms.radius[i] + probe * std::uniform_real_distribution<double>(0.0, 1.6)(rng);
         double p[3];
-        for (int k = 0; k < 3; ++k) p[k] = atoms.xyz[3 * i + k] + r * dir[k] / len;
+        near(rng, p);
         double g_every[3], g_tied[3];
         const double every = ses_distance(f, p, d_max, g_every, true);
         const double tied = ses_distance(f, p, d_max, g_tied, false);
