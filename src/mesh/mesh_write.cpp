@@ -111,15 +111,17 @@ void write_obj(const Mesh& mesh, ByteSink& file) {
     // decimals, so a line of 6 numbers stays under kLine; the margin leaves room for the
     // separators written after a number.
     constexpr std::size_t kLine = 384;
-    // Lines of items [first, last) appended to `bytes`, each from put_line(out, end, i).
+    // Lines of items [first, last) appended to `bytes`, each formatted by put_line(out, end, i)
+    // into a line buffer of the worst case's size and appended at its real length (a typical
+    // line is 30-70 bytes: the block is reserved for 64 per line).
     auto lines = [](std::size_t first, std::size_t last, std::string& bytes, auto&& put_line) {
-        bytes.resize((last - first) * kLine);
-        char* out = bytes.data();
+        bytes.reserve((last - first) * 64);
+        char line[kLine];
         for (std::size_t i = first; i < last; ++i) {
-            out = put_line(out, out + kLine - 8, i);
+            char* out = put_line(line, line + kLine - 8, i);
             *out++ = '\n';
+            bytes.append(line, std::size_t(out - line));
         }
-        bytes.resize(std::size_t(out - bytes.data()));
     };
     auto tag = [](char* out, const char* t) {
         for (const char* c = t; *c; ++c) *out++ = *c;

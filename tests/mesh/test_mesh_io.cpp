@@ -3,11 +3,13 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <string>
 #include <vector>
 
+#include "core/parallel.hpp"
 #include "fdmsurf/error.hpp"
 #include "fdmsurf/mesh.hpp"
 #include "mesh/mesh_shapes.hpp"
@@ -146,6 +148,62 @@ TEST_F(MeshFiles, ObjRoundTripIsWithinAMicroAngstrom) {
                                    std::to_string(b) + "//" + std::to_string(b) + " " +
                                    std::to_string(c) + "//" + std::to_string(c) + "\n";
     EXPECT_NE(text.find(first_face), std::string::npos);
+}
+
+// The writers serialise blocks of 65,536 vertices or triangles on all threads, one block per
+// thread per round; a mesh of more than one round on this machine (whatever its thread count)
+// must read back in order: every vertex at its own index, every triangle its own.
+Mesh strip_of_rounds() {
+    const std::size_t threads = detail::thread_count();
+    const std::size_t n = (std::size_t{1} << 16) * (threads + 1) + 777;
+    Mesh mesh;
+    mesh.positions.resize(3 * n);
+    mesh.normals.resize(3 * n);
+    mesh.atoms.resize(n);
+    mesh.colors.resize(3 * n);
+    for (std::size_t i = 0; i < n; ++i) {
+        // Distinct positions (a helix of pitch 0.01 A per vertex) and colours per vertex.
+        const double a = 0.05 * double(i);
+        mesh.positions[3 * i + 0] = float(20.0 * std::cos(a));
+        mesh.positions[3 * i + 1] = float(20.0 * std::sin(a));
+        mesh.positions[3 * i + 2] = float(0.01 * double(i % 100000));
+        mesh.normals[3 * i + 0] = float(std::cos(a));
+        mesh.normals[3 * i + 1] = float(std::sin(a));
+        mesh.atoms[i] = std::uint32_t(i % 4099);
+        for (int k = 0; k < 3; ++k) mesh.colors[3 * i + k] = std::uint8_t((i >> (4 * k)) & 255);
+    }
+    for (std::size_t i = 0; i + 2 < n; ++i) {
+        const bool odd = i % 2;
+        mesh.indices.insert(mesh.indices.end(),
+                            {std::uint32_t(i), std::uint32_t(i + (odd ? 2 : 1)),
+                             std::uint32_t(i + (odd ? 1 : 2))});
+    }
+    return mesh;
+}
+
+TEST_F(MeshFiles, WritersKeepTheOrderAcrossBlocksAndRounds) {
+    const Mesh mesh = strip_of_rounds();
+    ASSERT_GT(mesh.triangle_count(), (std::size_t{1} << 16) * detail::thread_count());
+    write_mesh(mesh, path("strip.ply"));
+    const Mesh ply = read_mesh(path("strip.ply"));
+    EXPECT_EQ(ply.positions, mesh.positions);
+    EXPECT_EQ(ply.normals, mesh.normals);
+    EXPECT_EQ(ply.atoms, mesh.atoms);
+    EXPECT_EQ(ply.colors, mesh.colors);
+    EXPECT_EQ(ply.indices, mesh.indices);
+
+    write_mesh(mesh, path("strip.obj"));
+    const Mesh obj = read_mesh(path("strip.obj"));
+    ASSERT_EQ(obj.positions.size(), mesh.positions.size());
+    ASSERT_EQ(obj.normals.size(), mesh.normals.size());
+    std::size_t far = 0;
+    for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+        far += std::abs(obj.positions[i] - mesh.positions[i]) > 1e-5f ||
+               std::abs(obj.normals[i] - mesh.normals[i]) > 1e-5f;
+    }
+    EXPECT_EQ(far, 0u) << "coordinates out of place in the OBJ";
+    EXPECT_EQ(obj.colors, mesh.colors);
+    EXPECT_EQ(obj.indices, mesh.indices);
 }
 
 TEST_F(MeshFiles, ObjWithoutNormalsWritesPlainFaces) {
