@@ -15,7 +15,9 @@ namespace fdmsurf::detail {
 // distance to the balls outside them, clamped to [-d_max, d_max] (Å, double precision). The SES
 // is d = probe. With `gradient` not null, also d's gradient (unit length; zero where clamped).
 // every_face false: the other sphere faces are tried only where a ball ties with the deepest,
-// as shaders/ses_distance.comp does (the snap and refine stages; the same value, tested).
+// as shaders/ses_distance.comp does (the snap and refine stages): the nearest point of any other
+// face is buried or lies on an arc, so the value is the same in exact arithmetic (bit for bit
+// where tested).
 // Mirrors shaders/ses_distance.comp.
 double ses_distance(const SesFeatures& f, const double p[3], double d_max,
                     double* gradient = nullptr, bool every_face = true);

@@ -126,13 +126,15 @@ SesFeatures build_ses_features(const Atoms& atoms, float probe) {
 
     // Coincident balls (the same centre and radius: duplicated atoms) are one ball. Kept twice,
     // each would bury the other's face wherever rounding puts the projection a hair inside it,
-    // and no circle joins them: d would jump there. The first of each is kept.
+    // and no circle joins them: d would jump there. The first of each is kept. Balls are the
+    // same when their stored float spheres are (centre and float(r + probe), as the shaders read
+    // them), so that two radii that round to one inflated radius are one ball there too.
     {
         std::vector<std::uint32_t> by_ball(n);
         for (std::size_t i = 0; i < n; ++i) by_ball[i] = static_cast<std::uint32_t>(i);
         auto key = [&](std::uint32_t i) {
             return std::array<float, 4>{atoms.xyz[3 * i], atoms.xyz[3 * i + 1],
-                                        atoms.xyz[3 * i + 2], atoms.radius[i]};
+                                        atoms.xyz[3 * i + 2], static_cast<float>(R[i])};
         };
         std::sort(by_ball.begin(), by_ball.end(), [&](std::uint32_t a, std::uint32_t b) {
             const auto ka = key(a), kb = key(b);

@@ -58,7 +58,10 @@ FieldDiff compare(const std::vector<float>& gpu, const std::vector<float>& cpu,
     return r;
 }
 
-class SesDistanceGpu : public GpuTest {};
+class SesDistanceGpu : public GpuTest {
+protected:
+    void check_box_skipping(float spacing);
+};
 
 TEST_F(SesDistanceGpu, MatchesCpuReferenceOnCrambin) {
     const Atoms atoms = fdmsurf::read_structure(data_path("1crn.xyzr")).atoms;
@@ -128,14 +131,13 @@ TEST_F(SesDistanceGpu, CoarseGridsOverflowIntoTheFallbackAndStayExact) {
     EXPECT_EQ(r.bad, 0u) << "max |gpu - cpu| " << r.max_diff;
 }
 
-TEST_F(SesDistanceGpu, BoxesOutsideTheBallsAreSkippedExactly) {
-    // ses_boxes.comp against its CPU reference (all spheres, not the bins), on hemoglobin at
-    // 0.5 Å: the same class for every box but those whose centre is within float rounding of
-    // the threshold; every point of a box classed outside has, in the CPU reference field,
-    // exactly d_min; and the field with those boxes skipped is the field with every box
-    // evaluated, bit for bit.
+// ses_boxes.comp against its CPU reference (all spheres, not the bins), on hemoglobin: the same
+// class for every box but those whose centre is within float rounding of the threshold; every
+// point of a box classed outside has, in the CPU reference field, exactly d_min; and the field
+// with those boxes skipped is the field with every box evaluated, bit for bit.
+void SesDistanceGpu::check_box_skipping(float spacing) {
     const Atoms atoms = fdmsurf::read_structure(data_path("4hhb.xyzr")).atoms;
-    const SurfaceOptions options{.method = SesMethod::Edt, .spacing = 0.5f};
+    const SurfaceOptions options{.method = SesMethod::Edt, .spacing = spacing};
     const GridPlan plan = plan_grid(atoms, options);
     const auto features = fdmsurf::detail::build_ses_features(atoms, options.probe);
     const std::uint32_t points_z = fdmsurf::detail::ses_points_z(plan.info.spacing);
@@ -188,6 +190,13 @@ TEST_F(SesDistanceGpu, BoxesOutsideTheBallsAreSkippedExactly) {
     std::size_t mismatched = 0;
     for (std::size_t i = 0; i < skipped.size(); ++i) mismatched += skipped[i] != every[i];
     EXPECT_EQ(mismatched, 0u);
+}
+
+// The default spacing, and 1 Å, where a box spans twice the length and more of them cross the
+// surface (another points_z too).
+TEST_F(SesDistanceGpu, BoxesOutsideTheBallsAreSkippedExactly) { check_box_skipping(0.5f); }
+TEST_F(SesDistanceGpu, BoxesOutsideTheBallsAreSkippedExactlyAtOneAngstrom) {
+    check_box_skipping(1.0f);
 }
 
 }  // namespace

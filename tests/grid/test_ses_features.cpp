@@ -9,7 +9,10 @@
 #include <string>
 
 #include "fdmsurf/error.hpp"
+#include "fdmsurf/surface.hpp"
+#include "isosurface/marching_cubes_cpu.hpp"
 #include "fdmsurf/structure.hpp"
+#include "grid/grid_plan.hpp"
 #include "grid/ses_distance_cpu.hpp"
 #include "grid/ses_features.hpp"
 #include "support/test_atoms.hpp"
@@ -187,6 +190,17 @@ TEST(SesFeatures, CoincidentAtomsAreOneBall) {
         doubled.xyz.insert(doubled.xyz.end(), &atoms.xyz[3 * i], &atoms.xyz[3 * i] + 3);
         doubled.radius.push_back(atoms.radius[i]);
     }
+    // Balls are the same when their float spheres are: a radius one ulp away whose r + probe
+    // rounds to the same float is the same ball (the shaders could not tell them apart).
+    std::size_t nudged = 0;
+    for (std::size_t i = 3; i < atoms.size(); i += 7) {
+        const float r = std::nextafter(atoms.radius[i], 10.0f);
+        if (float(double(r) + 1.4f) != float(double(atoms.radius[i]) + 1.4f)) continue;
+        doubled.xyz.insert(doubled.xyz.end(), &atoms.xyz[3 * i], &atoms.xyz[3 * i] + 3);
+        doubled.radius.push_back(r);
+        ++nudged;
+    }
+    EXPECT_GT(nudged, 3u);
     const SesFeatures a = build_ses_features(atoms, 1.4f);
     const SesFeatures b = build_ses_features(doubled, 1.4f);
     EXPECT_EQ(a.sphere_count(), b.sphere_count());
@@ -226,6 +240,77 @@ TEST(SesFeatures, OnlyTiedFacesGiveTheSameDistanceAsEveryFace) {
         for (int k = 0; k < 3; ++k) ASSERT_EQ(g_every[k], g_tied[k]);
     }
     EXPECT_GT(band, 5000u);
+}
+
+TEST(SesFeatures, ExactDepthTiesGiveTheSameDistanceAsEveryFace) {
+    // Points exactly as deep in two balls take the tie path of ses_distance without every_face:
+    // two equal balls and points on their mid-plane (depths equal bit for bit by symmetry), and
+    // a ball inside another touching it at one point, with points on the axis between the
+    // centres (2 - x both, exact). Value and gradient as with every face tried.
+    const float probe = 0.1f;
+    Atoms pair;
+    pair.xyz = {-1.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f};
+    pair.radius = {1.9f, 1.9f};
+    Atoms tangent;
+    tangent.xyz = {0.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f};
+    tangent.radius = {1.9f, 0.9f};
+    const SesFeatures fp = build_ses_features(pair, probe), ft = build_ses_features(tangent, probe);
+    const double d_max = 3.0;
+    std::size_t inside = 0;
+    auto same = [&](const SesFeatures& f, const double p[3]) {
+        double g_every[3], g_tied[3];
+        const double every = ses_distance(f, p, d_max, g_every, true);
+        const double tied = ses_distance(f, p, d_max, g_tied, false);
+        inside += every > 0.0;
+        EXPECT_EQ(every, tied) << p[0] << " " << p[1] << " " << p[2];
+        for (int k = 0; k < 3; ++k) EXPECT_EQ(g_every[k], g_tied[k]);
+    };
+    for (int i = -12; i <= 12; ++i) {
+        for (int j = -12; j <= 12; ++j) {
+            const double p[3] = {0.0, 0.25 * i, 0.25 * j};
+            same(fp, p);
+        }
+    }
+    for (int i = 1; i < 16; ++i) {
+        const double p[3] = {1.0 + i / 16.0, 0.0, 0.0};
+        same(ft, p);
+        EXPECT_DOUBLE_EQ(ses_distance(ft, p, d_max, nullptr, false), 2.0 - p[0]);
+    }
+    EXPECT_GT(inside, 60u);
+}
+
+TEST(SesField, LowerClampLeavesTheMeshUnchanged) {
+    // The field is clamped to [r_s - 2h, r_s + 2h] (it was +-(r_s + 2h)): marching cubes reads
+    // the values at the ends of a crossed edge (within h of the level, d being 1-Lipschitz) and
+    // their neighbours for the normals (within 2h), so the mesh of crambin at 0.5 A is the same,
+    // positions, normals and indices, with either lower clamp.
+    const Atoms atoms = fdmsurf::read_structure(data_path("1crn.xyzr")).atoms;
+    const fdmsurf::SurfaceOptions options{.method = fdmsurf::SesMethod::Edt, .spacing = 0.5f};
+    const fdmsurf::detail::GridPlan plan = fdmsurf::detail::plan_grid(atoms, options);
+    ASSERT_TRUE(plan.exact_ses);
+    ASSERT_FLOAT_EQ(plan.ses_d_min, options.probe - 2.0f * plan.info.spacing);
+    fdmsurf::detail::GridPlan wide = plan;
+    wide.ses_d_min = -plan.ses_d_max;
+    const SesFeatures f = build_ses_features(atoms, options.probe);
+    const std::vector<float> tight = fdmsurf::detail::ses_field_cpu(f, plan);
+    const std::vector<float> old = fdmsurf::detail::ses_field_cpu(f, wide);
+    std::size_t clamped = 0;
+    for (std::size_t i = 0; i < tight.size(); ++i) clamped += tight[i] != old[i];
+    EXPECT_GT(clamped, tight.size() / 10) << "the two clamps differ at few points";
+    auto mesh = [&](const std::vector<float>& field) {
+        const auto& d = plan.info.dims;
+        fdmsurf::detail::McParams mc;
+        for (int a = 0; a < 3; ++a) mc.origin[a] = plan.info.origin[a];
+        mc.spacing = plan.info.spacing;
+        mc.iso = plan.iso;
+        mc.z_end = d[2] - 1;
+        return fdmsurf::detail::marching_cubes_cpu({field.data(), d[0], d[1], d[2], plan.pitch}, mc);
+    };
+    const fdmsurf::Mesh a = mesh(tight), b = mesh(old);
+    EXPECT_GT(a.triangle_count(), 10000u);
+    EXPECT_EQ(a.positions, b.positions);
+    EXPECT_EQ(a.normals, b.normals);
+    EXPECT_EQ(a.indices, b.indices);
 }
 
 TEST(SesFeatures, GradientIsTheUnitDirectionFromTheNearestPoint) {
