@@ -20,6 +20,10 @@ rm -rf "$stage/bin" "$stage/lib" "$stage/layers" "$stage/data" "$stage/debs"
 mkdir -p "$stage/bin" "$stage/lib" "$stage/layers" "$stage/data" "$stage/debs" "$stage/ref"
 cp "$root/build/fdmsurf" "$root/build/tests/fdmsurf_tests" "$stage/bin/"
 strip "$stage/bin/fdmsurf" "$stage/bin/fdmsurf_tests" 2>/dev/null || true
+# The FFT multi-buffer benchmark (run.sh fft), when it was built.
+[ -x "$root/build/fdmsurf_bench_fft_multibuffer" ] && \
+    cp "$root/build/fdmsurf_bench_fft_multibuffer" "$stage/bin/" && \
+    { strip "$stage/bin/fdmsurf_bench_fft_multibuffer" 2>/dev/null || true; }
 # A baseline CLI for before/after runs (run.sh ab), when one was put at .gpu/fdmsurf-base.
 [ -x "$root/.gpu/fdmsurf-base" ] && cp "$root/.gpu/fdmsurf-base" "$stage/bin/fdmsurf-base"
 libdir=/usr/lib/x86_64-linux-gnu

@@ -7,8 +7,9 @@
 #   3. compares the GPU meshes of 1CRN and 4HHB with lavapipe's (fdmsurf compare);
 #   4. runs the whole GoogleTest suite on the GPU with the validation layer (sharded).
 # Results go to $OUT (or ./gpu-out): info.txt, bench.jsonl, compare.jsonl, tests.log,
-# and a table from summarize.py at the end. Steps can be chosen: run.sh [bench] [ab] [trace] [tests]
-# (ab: before/after against the bundle's baseline CLI, interleaved, and FDMSURF_TRACE runs).
+# and a table from summarize.py at the end. Steps can be chosen: run.sh [bench] [ab] [trace] [fft]
+# [tests] (ab: before/after against the bundle's baseline CLI, interleaved, and FDMSURF_TRACE
+# runs; fft: bench/fft_multibuffer.cpp, VkFFT's multi-buffer mode against slabs).
 set -u
 root=$(cd "$(dirname "$0")/../.." && pwd)
 out=${OUT:-$root/gpu-out}; mkdir -p "$out"
@@ -156,6 +157,18 @@ if [[ " $steps " == *" trace "* ]]; then
     done
     rm -f /tmp/m.ply
     grep -E -- "^--|filter|structure read|read back|cavities|mesh written|statistics|vertex properties" "$out/trace.txt"
+fi
+
+if [[ " $steps " == *" fft "* ]] && [ -x "$B/bin/fdmsurf_bench_fft_multibuffer" ]; then
+    # VkFFT's multi-buffer mode against the slab mode's FFTs, with its round-trip check (wrong
+    # transforms on llvmpipe: docs/performance.md); one buffer where the device's binding
+    # range holds the whole grid.
+    echo "== VkFFT multi-buffer against slabs (1AON's grid, 4HHB's)"
+    for args in "--buffers 2 384x343x448 245 2" "--buffers 1 384x343x448 245 2" \
+                "--buffers 2 192x168x168 96 2"; do
+        echo "-- $args"
+        timeout ${RUN_TIMEOUT:-120} "$B/bin/fdmsurf_bench_fft_multibuffer" --reps ${REPS:-3} $args
+    done 2>&1 | tee "$out/fft_multibuffer.txt"
 fi
 
 if [[ " $steps " == *" tests "* ]]; then
