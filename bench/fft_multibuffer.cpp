@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_common.hpp"
 #include "core/engine_impl.hpp"
 #include "fdmsurf/error.hpp"
 #include "filter/vkfft_compat.hpp"
@@ -25,19 +26,10 @@
 
 using namespace fdmsurf;
 using namespace fdmsurf::detail;
+using fdmsurf::bench::median;
+using fdmsurf::bench::stage;
 
 namespace {
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v.empty() ? 0.0 : v[v.size() / 2];
-}
-
-double stage(const std::vector<StageTime>& times, const char* name) {
-    for (const StageTime& t : times)
-        if (t.name == name) return t.ms;
-    return 0.0;
-}
 
 // One VkFFT R2C plan of `dims` over `buffers` (equal sizes, planes split evenly).
 struct Plan {
@@ -93,9 +85,8 @@ struct Plan {
     }
 };
 
-// Round trip (forward, inverse) of the field held in `bufs`; returns the two stage times.
-std::pair<double, double> round_trip(Context& ctx, Commands& cmds, Plan& plan) {
-    (void)ctx;
+// Round trip (forward, inverse) of the plan's field; returns the two stage times.
+std::pair<double, double> round_trip(Commands& cmds, Plan& plan) {
     cmds.begin();
     plan.record(cmds, -1);
     cmds.mark("forward");
@@ -164,10 +155,10 @@ int main(int argc, char** argv) {
         Plan ps(e.context, ds, slab);
         std::vector<double> mf, mi, sf, si;
         for (int r = 0; r <= reps; ++r) {
-            const auto m = round_trip(e.context, e.commands, pm);
+            const auto m = round_trip(e.commands, pm);
             double f = 0, v = 0;
             for (unsigned k = 0; k < slabs; ++k) {
-                const auto s = round_trip(e.context, e.commands, ps);
+                const auto s = round_trip(e.commands, ps);
                 f += s.first, v += s.second;
             }
             if (r == 0) continue;
@@ -186,7 +177,7 @@ int main(int argc, char** argv) {
             const float* p = static_cast<const float*>(b.mapped());
             before.insert(before.end(), p, p + b.size() / sizeof(float));
         }
-        round_trip(e.context, e.commands, pm);
+        round_trip(e.commands, pm);
         double worst = 0.0;
         std::size_t i = 0;
         const std::uint32_t pitch = 2 * (d[0] / 2 + 1);

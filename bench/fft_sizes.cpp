@@ -10,26 +10,14 @@
 #include <string>
 #include <vector>
 
+#include "bench_common.hpp"
 #include "core/engine_impl.hpp"
 #include "fdmsurf/error.hpp"
 
 using namespace fdmsurf;
 using namespace fdmsurf::detail;
-
-namespace {
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v.empty() ? 0.0 : v[v.size() / 2];
-}
-
-double stage(const std::vector<StageTime>& times, const char* name) {
-    for (const StageTime& t : times)
-        if (t.name == name) return t.ms;
-    return 0.0;
-}
-
-}  // namespace
+using fdmsurf::bench::median;
+using fdmsurf::bench::stage;
 
 int main(int argc, char** argv) {
     int reps = 3;

@@ -121,9 +121,6 @@ TEST(SesFeatures, BadInputIsRefused) {
     EXPECT_THROW(build_ses_features(make_atoms({{0, NAN, 0, 1.0f}}), 1.4f), fdmsurf::Error);
 }
 
-// The binned evaluation from arcs against the brute force over faces, circles and three-sphere
-// points, at random points of crambin's surface band. Arcs are stored in float (1e-7 relative,
-// ~1e-5 Å at these coordinates), hence the tolerance.
 // Random points around random atoms, at their radius plus up to 1.6 probe radii: inside the
 // inflated balls and near their surface (the distributions keep their state from call to call).
 struct PointsNearAtoms {
@@ -141,6 +138,9 @@ struct PointsNearAtoms {
     }
 };
 
+// The binned evaluation from arcs against the brute force over faces, circles and three-sphere
+// points, at random points of crambin's surface band. Arcs are stored in float (1e-7 relative,
+// ~1e-5 Å at these coordinates), hence the tolerance.
 TEST(SesFeatures, BinnedDistanceMatchesBruteForceOnCrambin) {
     const Atoms atoms = fdmsurf::read_structure(data_path("1crn.xyzr")).atoms;
     const float probe = 1.4f;
