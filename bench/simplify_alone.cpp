@@ -4,6 +4,7 @@
 // src/simplify/ can be timed without the surface's noise (docs/performance.md, simplification).
 //
 //   build/fdmsurf_bench_simplify MESH [--ratio 0.1] [--reps 3] [--no-distance]
+//                                [--simplifier collapse|meshopt]
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -33,7 +34,8 @@ double cpu_seconds() {
 
 int main(int argc, char** argv) try {
     if (argc < 2) {
-        std::fprintf(stderr, "usage: %s MESH [--ratio R] [--reps N] [--no-distance]\n", argv[0]);
+        std::fprintf(stderr, "usage: %s MESH [--ratio R] [--reps N] [--no-distance] "
+                     "[--simplifier collapse|meshopt]\n", argv[0]);
         return 2;
     }
     SimplifyOptions options;
@@ -45,6 +47,9 @@ int main(int argc, char** argv) try {
             options.measure_distance = false;
         else if (!std::strcmp(argv[i], "--ratio") && i + 1 < argc)
             options.ratio = std::strtod(argv[++i], nullptr);
+        else if (!std::strcmp(argv[i], "--simplifier") && i + 1 < argc)
+            options.simplifier = std::strcmp(argv[++i], "meshopt") ? Simplifier::kCollapse
+                                                                   : Simplifier::kMeshopt;
         else if (!std::strcmp(argv[i], "--reps") && i + 1 < argc)
             reps = std::max(1, std::atoi(argv[++i]));
         else {

@@ -62,6 +62,7 @@ enum class Opt {
     Method,
     Simplify,
     MaxTriangles,
+    Simplifier,
     Optimize,
     Areas,
     Relative,
@@ -84,7 +85,7 @@ struct OptionSpec {
     bool numeric;  // a value that may start with '-' (a negative number, rejected later)
 };
 
-constexpr std::array<OptionSpec, 53> kOptions{{
+constexpr std::array<OptionSpec, 54> kOptions{{
     {"--output", "-o", Opt::Output, true, false},
     {"--output-format", "", Opt::OutputFormat, true, false},
     {"--surface", "", Opt::Surface, true, false},
@@ -125,6 +126,7 @@ constexpr std::array<OptionSpec, 53> kOptions{{
     {"--patch", "", Opt::Patch, true, false},
     {"--simplify", "", Opt::Simplify, true, true},
     {"--max-triangles", "", Opt::MaxTriangles, true, true},
+    {"--simplifier", "", Opt::Simplifier, true, false},
     {"--optimize", "", Opt::Optimize, false, false},
     {"--areas", "", Opt::Areas, true, false},
     {"--relative", "", Opt::Relative, true, false},
@@ -325,6 +327,9 @@ constexpr std::array<std::pair<std::string_view, SurfaceKind>, 3> kSurfaces{
     {{"ses", SurfaceKind::Ses}, {"vdw", SurfaceKind::Vdw}, {"sas", SurfaceKind::Sas}}};
 constexpr std::array<std::pair<std::string_view, FilterShape>, 2> kFilters{
     {{"ideal", FilterShape::Ideal}, {"gaussian", FilterShape::Gaussian}}};
+constexpr std::array<std::pair<std::string_view, Simplifier>, 2> kSimplifiers{
+    {{"collapse", Simplifier::kCollapse}, {"meshopt", Simplifier::kMeshopt}}};
+
 constexpr std::array<std::pair<std::string_view, SesMethod>, 2> kMethods{
     {{"fdm", SesMethod::Fdm}, {"edt", SesMethod::Edt}}};
 constexpr std::array<std::pair<std::string_view, StructureFormat>, 6> kFormats{
@@ -625,6 +630,11 @@ void apply_value(CliOptions& o, const OptionSpec& spec, std::string_view name,
             o.simplify_requested = true;
             break;
         }
+        case Opt::Simplifier:
+            o.simplify.simplifier =
+                parse_choice(name, text, kSimplifiers, "simplifier", "collapse or meshopt");
+            o.simplifier_given = true;
+            break;
         case Opt::Areas:
             areas_format_for_path(text);  // .csv or .json, before any work
             o.areas = text;
@@ -808,6 +818,8 @@ CliOptions parse_args(const std::vector<std::string>& args) {
         if (!o.output.empty() && o.output != kStdio && o.output == o.areas)
             fail("--areas and -o name the same file '" + o.areas + "'");
     }
+    if (o.simplifier_given && !o.simplify_requested)
+        fail("--simplifier chooses how --simplify or --max-triangles simplify: give one of them");
     if (o.output.empty() && !o.areas.empty()) {
         // Areas only: the exact sphere patches, no mesh and no device.
         if (o.simplify_requested || o.optimize || !o.patch.empty() || o.surface.refine != 0)
@@ -969,13 +981,17 @@ Colours and per-vertex properties (docs/properties.md):
 
 Mesh size and order (docs/mesh.md, "Simplification"):
   --simplify RATIO       keep about RATIO of the triangles (0 < RATIO <= 1), by
-                         meshoptimizer's edge collapses; the mesh stays closed
-                         (where a collapse would break it, the surface around is
-                         kept as it was) and every vertex keeps its atom, colour
-                         and properties; the distance to the full mesh
-                         (Hausdorff, RMSD) is in the summary
+                         edge collapses in quadric-error order; the mesh keeps
+                         its topology (closed, the same pieces and holes) and
+                         every vertex keeps its atom, colour and properties;
+                         the distance to the full mesh (Hausdorff, RMSD) is in
+                         the summary
   --max-triangles N      simplify to at most about N triangles (N >= 1); with
                          --simplify too, the smaller of the two targets
+  --simplifier NAME      collapse (default: fdmsurf's collapses, each tested so
+                         that it keeps the topology) or meshopt (meshoptimizer's
+                         meshopt_simplify; where it breaks the mesh, the surface
+                         around is kept as it was and the rest redone)
   --optimize             reorder triangles and vertices for the GPU's vertex
                          cache and fetch (the same triangles); after --simplify
 

@@ -36,6 +36,7 @@ struct CliOptions {
     // when either was given.
     fdmsurf::SimplifyOptions simplify;
     bool simplify_requested = false;
+    bool simplifier_given = false;  // --simplifier: only with --simplify or --max-triangles
     bool optimize = false;  // --optimize: vertex-cache and vertex-fetch order
     // --areas FILE (.csv or .json): areas per atom, per residue and in total; with no -o, the
     // areas alone (vdw and sas: exact, no mesh, no device).

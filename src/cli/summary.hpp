@@ -295,8 +295,10 @@ inline std::string text_summary(const RunReport& r) {
         }
         s += "\n";
         s += "  deviation    Hausdorff " + format_general(q.hausdorff) + " Å, RMSD " +
-             format_general(q.rmsd) + " Å from the full mesh; meshoptimizer's estimate " +
-             format_general(q.error) + " Å\n";
+             format_general(q.rmsd) + " Å from the full mesh; " +
+             (r.simplify_options.simplifier == Simplifier::kMeshopt ? "meshoptimizer's"
+                                                                     : "the collapses'") +
+             " estimate " + format_general(q.error) + " Å\n";
     }
     if (r.optimized) s += "  order        optimised for the vertex cache and vertex fetch\n";
     s += areas_lines(r);
@@ -381,6 +383,9 @@ inline std::string json_summary(const RunReport& r) {
         const SimplifyReport& q = r.simplify;
         w.member("ratio", r.simplify_options.ratio);
         w.member("max_triangles", r.simplify_options.max_triangles);
+        w.member("simplifier", r.simplify_options.simplifier == Simplifier::kMeshopt
+                                   ? "meshopt"
+                                   : "collapse");
         w.member("target_triangles", q.target_triangles);
         w.member("triangles_in", q.triangles_in);
         w.member("vertices_in", q.vertices_in);

@@ -196,7 +196,7 @@ inline constexpr double kOutlierFactor = 1.5;
 PassResult run_pass(const std::vector<float>& positions, const std::vector<Index>& indices,
                     const Grid& grid, double ratio, double total, double cap,
                     const std::vector<std::uint8_t>* keep, unsigned threads,
-                    CellPassStats& stats) {
+                    Simplifier simplifier, CellPassStats& stats) {
     constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
     constexpr std::uint32_t kCut = kNone - 1;
     const std::size_t triangles = indices.size() / 3, nv = positions.size() / 3;
@@ -321,7 +321,8 @@ PassResult run_pass(const std::vector<float>& positions, const std::vector<Index
                     static_cast<std::size_t>(std::round(ratio * reducible + double(fixed)));
                 const int before = results[i].attempts;  // a rerun counts the first run too
                 results[i] = simplify_region(region.positions, region.own, region.context, target,
-                                             region_cap, keep ? &region.keep : nullptr);
+                                             region_cap, keep ? &region.keep : nullptr,
+                                             simplifier);
                 results[i].attempts += before;
                 for (Index& v : results[i].indices) v = region.vertices[v];
             }
@@ -399,12 +400,14 @@ std::vector<std::size_t> counts(const std::vector<float>& p, const std::vector<I
 
 std::vector<Index> simplify_in_cells(const std::vector<float>& positions,
                                      const std::vector<Index>& indices, std::size_t target,
-                                     double max_error, unsigned threads, CellPassStats* stats) {
+                                     double max_error, unsigned threads, CellPassStats* stats,
+                                     Simplifier simplifier) {
     CellPassStats s;
     const std::size_t triangles = indices.size() / 3;
     std::vector<Index> out;
     if (triangles <= 2 * kCellTriangles) {
-        RegionResult r = simplify_region(positions, indices, {}, target, max_error);
+        RegionResult r =
+            simplify_region(positions, indices, {}, target, max_error, nullptr, simplifier);
         s.regions = 1;
         s.frozen = r.frozen;
         s.gave_up = r.gave_up;
@@ -467,7 +470,7 @@ std::vector<Index> simplify_in_cells(const std::vector<float>& positions,
 
         // First pass: each cell at the ratio, its band and fans left for the second pass.
         const PassResult first = run_pass(positions, indices, make_grid(lo, hi, cell, 0.0), ratio,
-                                          0.0, max_error, nullptr, threads, s);
+                                          0.0, max_error, nullptr, threads, simplifier, s);
         // Second pass: the first's bands and fans, still at full density, inside its cells.
         // Its input has about ratio times the triangles, so its cubes are twice as wide (the
         // bands are then as narrow a share as in the first pass), and its faces lie half a
@@ -478,7 +481,7 @@ std::vector<Index> simplify_in_cells(const std::vector<float>& positions,
         // 47 of its 62 cells on 1AON at 10%, each then run twice).
         const PassResult second =
             run_pass(positions, first.indices, make_grid(lo, hi, 2.0 * cell, 0.25), 0.0,
-                     double(target), max_error, &first.frozen, threads, s);
+                     double(target), max_error, &first.frozen, threads, simplifier, s);
         out = second.indices;
         s.frozen = std::size_t(std::count(second.frozen.begin(), second.frozen.end(), 1));
         s.error = first.error + second.error;

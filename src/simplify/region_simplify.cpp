@@ -1,4 +1,5 @@
-// One region simplified by meshopt_simplify without breaking its topology. meshoptimizer 0.18
+// One region simplified by fdmsurf's own collapses (edge_collapse.cpp), or by meshopt_simplify
+// without breaking its topology. meshoptimizer 0.18
 // collapses edges without testing the link condition (T. K. Dey, H. Edelsbrunner, S. Guha and
 // D. V. Nekhayev, "Topology preserving edge contraction", 1999), so on molecular surfaces, with
 // their narrow necks and tunnels, a few collapses fold triangles onto each other: non-manifold
@@ -414,11 +415,28 @@ std::vector<Index> new_defects(const std::vector<Index>& in, const std::vector<I
 
 RegionResult simplify_region(const std::vector<float>& positions, const std::vector<Index>& indices,
                              const std::vector<Index>& context, std::size_t target,
-                             double max_error, const std::vector<std::uint8_t>* keep) {
+                             double max_error, const std::vector<std::uint8_t>* keep,
+                             Simplifier simplifier) {
     const std::size_t nv = positions.size() / 3, triangles = indices.size() / 3;
     RegionResult r;
     if (target >= triangles) {
         r.indices = indices;
+        return r;
+    }
+    if (simplifier == Simplifier::kCollapse) {
+        // The kept triangles stay as they are, with the context, and come last.
+        std::vector<Index> open, fixed = context, kept;
+        for (std::size_t t = 0; t < triangles; ++t) {
+            const bool stays = keep && (*keep)[t];
+            for (std::vector<Index>* to : {stays ? &fixed : &open, stays ? &kept : nullptr}) {
+                if (to) to->insert(to->end(), &indices[3 * t], &indices[3 * t] + 3);
+            }
+        }
+        r.frozen = kept.size() / 3;
+        r.attempts = 1;
+        r.indices = collapse_edges(positions, open, fixed, target - std::min(target, r.frozen),
+                                   max_error, &r.error);
+        r.indices.insert(r.indices.end(), kept.begin(), kept.end());
         return r;
     }
     std::vector<std::uint8_t> frozen(triangles, 0);

@@ -224,7 +224,7 @@ Mesh simplify_mesh(const Mesh& mesh, const SimplifyOptions& options, SimplifyRep
     } else {
         CellPassStats cells;
         out = compact(in, simplify_in_cells(in.positions, in.indices, r.target_triangles,
-                                            options.max_error, 0, &cells));
+                                            options.max_error, 0, &cells, options.simplifier));
         r.regions = cells.regions;
         r.frozen_triangles = cells.frozen;
         r.regions_kept_whole = cells.gave_up;

@@ -58,16 +58,32 @@ std::vector<std::uint32_t> new_defects(const std::vector<std::uint32_t>& in,
 std::vector<std::uint32_t> piece_labels(const std::vector<std::uint32_t>& indices,
                                         std::size_t vertex_count);
 
+// Half-edge collapses of `indices` (into `positions`: 3 floats per vertex, Å) in order of
+// quadric error towards `target` triangles, each tested for the link condition and for
+// triangles turned over, so that the result has the input's topology: no collapse pinches a
+// neck, folds a piece flat or turns a triangle by more than 75 degrees. Only vertices inside the
+// surface (one closed fan) move, into a neighbour that is inside or on a border with one open
+// fan: borders and non-manifold vertices stay. Stops at the target, when no valid collapse is
+// left, or before a collapse whose error (root of the quadric error over its area) exceeds
+// `max_error` (Å; infinity for none). `error` (may be null): the largest error of a collapse
+// made, Å. Returns the triangles left, in input order, with their vertices moved.
+std::vector<std::uint32_t> collapse_edges(const std::vector<float>& positions,
+                                          const std::vector<std::uint32_t>& indices,
+                                          const std::vector<std::uint32_t>& fixed,
+                                          std::size_t target, double max_error, double* error);
+
 struct RegionResult {
     std::vector<std::uint32_t> indices;  // the simplified region, into the region's vertices
-    double error = 0.0;                  // meshoptimizer's estimate, Å
+    double error = 0.0;                  // the simplifier's estimate, Å
     std::size_t frozen = 0;              // input triangles kept as they were for the topology
-    int attempts = 0;                    // meshopt_simplify runs
+    int attempts = 0;                    // simplifier runs
     bool gave_up = false;                // defects remained: the region was kept whole
 };
 
 // One region (positions: 3 floats per vertex, Å; indices: 3 per triangle) simplified towards
-// `target` triangles by meshopt_simplify with its border locked, then checked by new_defects
+// `target` triangles. With Simplifier::kCollapse by collapse_edges, with `context` and the kept
+// triangles fixed (one run, no guard needed). With kMeshopt by meshopt_simplify with its border
+// locked, then checked by new_defects
 // together with `context`, triangles around the region that stay as they are (their corners
 // are locked as the region's border, and they are checked with it, not returned). While a run
 // leaves a defect, the input triangles within a growing distance of the defects are frozen
@@ -79,13 +95,14 @@ inline constexpr int kMaxRegionAttempts = 8;
 RegionResult simplify_region(const std::vector<float>& positions,
                              const std::vector<std::uint32_t>& indices,
                              const std::vector<std::uint32_t>& context, std::size_t target,
-                             double max_error, const std::vector<std::uint8_t>* keep = nullptr);
+                             double max_error, const std::vector<std::uint8_t>* keep = nullptr,
+                             Simplifier simplifier = Simplifier::kCollapse);
 
 struct CellPassStats {
     std::size_t regions = 0;  // regions (cells) run, over both passes
     std::size_t frozen = 0;   // triangles of the result kept as they were for the topology
     std::size_t gave_up = 0;  // regions kept whole
-    int attempts = 0;         // meshopt_simplify runs, over all regions
+    int attempts = 0;         // simplifier runs, over all regions
     double error = 0.0;       // the largest estimate of each pass, summed over passes (Å)
 };
 
@@ -105,6 +122,7 @@ inline constexpr std::size_t kCellTriangles = 32768;
 std::vector<std::uint32_t> simplify_in_cells(const std::vector<float>& positions,
                                              const std::vector<std::uint32_t>& indices,
                                              std::size_t target, double max_error, unsigned threads,
-                                             CellPassStats* stats);
+                                             CellPassStats* stats,
+                                             Simplifier simplifier = Simplifier::kCollapse);
 
 }  // namespace fdmsurf::detail

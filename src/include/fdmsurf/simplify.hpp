@@ -1,5 +1,6 @@
-// Fewer triangles, and an order GPUs draw faster: mesh simplification and reordering through
-// meshoptimizer (docs/mesh.md, "Simplification ... and reordering").
+// Fewer triangles, and an order GPUs draw faster: mesh simplification (fdmsurf's own edge
+// collapses or meshoptimizer's) and reordering through meshoptimizer (docs/mesh.md,
+// "Simplification ... and reordering").
 #pragma once
 
 #include <cstddef>
@@ -11,14 +12,27 @@
 
 namespace fdmsurf {
 
+// How the collapses are chosen (docs/mesh.md, "Simplification").
+enum class Simplifier {
+    // fdmsurf's own half-edge collapses in quadric-error order, each tested for the link
+    // condition: the result has the input's topology (pieces, genus, no new non-manifold edge
+    // or vertex) by construction.
+    kCollapse,
+    // meshoptimizer's meshopt_simplify, with a guard that finds the non-manifold edges and
+    // vertices its collapses leave and simplifies again with the input kept around them.
+    kMeshopt,
+};
+
 struct SimplifyOptions {
     // Fraction of the triangles to keep, in (0, 1]; 1 keeps them all.
     double ratio = 1.0;
     // At most this many triangles (0: no cap). With ratio < 1 as well, the smaller target wins.
     std::size_t max_triangles = 0;
-    // Largest deviation meshoptimizer may introduce, Å, by its own estimate (infinity: none;
-    // the target decides). A finite bound can stop the simplifier above the target.
+    // Largest deviation the simplifier may introduce, Å, by its own estimate (the root of the
+    // collapsed vertex's mean squared distance to its planes; infinity: none, the target
+    // decides). A finite bound can stop the simplifier above the target.
     double max_error = std::numeric_limits<double>::infinity();
+    Simplifier simplifier = Simplifier::kCollapse;
     // Measure the Hausdorff distance and the RMSD to the input mesh (compare_meshes).
     bool measure_distance = true;
 };
@@ -28,11 +42,13 @@ struct SimplifyReport {
     std::size_t target_triangles = 0;                 // from ratio and max_triangles
     std::size_t triangles_out = 0, vertices_out = 0;  // the result
     std::size_t welded = 0;            // input vertices merged into another at the same position
-    std::size_t regions = 0;           // regions meshopt_simplify ran on (cells, over both passes)
-    std::size_t frozen_triangles = 0;  // kept as they were where a collapse broke the topology
-    std::size_t regions_kept_whole = 0;  // regions whose defects outlived every retry
-    int attempts = 0;                    // meshopt_simplify runs, over all regions
-    double error = 0.0;  // meshoptimizer's estimate of the deviation, Å (largest per pass, summed)
+    std::size_t regions = 0;           // regions simplified (cells, over both passes)
+    // kMeshopt only (0 with kCollapse, which needs neither): triangles kept as they were where
+    // a collapse broke the topology, and regions whose defects outlived every retry.
+    std::size_t frozen_triangles = 0;
+    std::size_t regions_kept_whole = 0;
+    int attempts = 0;    // simplifier runs over all regions (kMeshopt: with the guard's reruns)
+    double error = 0.0;  // the simplifier's estimate of the deviation, Å (largest per pass, summed)
     // compare_meshes(input, result): the input's vertices to the result's triangles, since the
     // result's vertices are input vertices (Å; NaN unless measure_distance).
     double hausdorff = std::numeric_limits<double>::quiet_NaN();
@@ -46,15 +62,18 @@ struct SimplifyReport {
 };
 
 // A copy of `mesh` with about target = min(round(ratio · triangles), max_triangles) triangles
-// (at least 1), by meshoptimizer's edge collapses (meshopt_simplify, quadric error, borders
+// (at least 1), by half-edge collapses in quadric-error order (borders and non-manifold vertices
 // locked: an open patch keeps its outline). Vertices at bit-identical positions are welded
 // first. Meshes of more than 65,536 triangles are simplified in cells, in parallel on all
-// hardware threads. Where collapses leave non-manifold edges or vertices (meshoptimizer 0.18
-// does not prevent them), the input around them is kept as it was and the rest simplified
-// again: the result has no defect the input did not have (it may still close a tunnel or pinch
-// a neck narrower than its edges), and may keep more triangles than the target (docs/mesh.md,
-// "Keeping the mesh closed"). Its vertices are a subset of the input's, in the input's order,
-// each with its normal, atom, colour and scalars. A target at or above the input's count
+// hardware threads. With Simplifier::kCollapse every collapse is tested for the link condition,
+// so the result has the input's topology (the same pieces and genus, no new boundary or
+// non-manifold edge or vertex); it stops above the target only where no valid collapse is left
+// or at max_error. With kMeshopt, where meshopt_simplify's collapses leave non-manifold edges or
+// vertices (meshoptimizer 0.18 does not prevent them), the input around them is kept as it was
+// and the rest simplified again: the result has no defect the input did not have (it may still
+// close a tunnel or pinch a neck narrower than its edges), and may keep more triangles than the
+// target (docs/mesh.md, "Keeping the mesh closed"). The result's vertices are a subset of the
+// input's, in the input's order, each with its normal, atom, colour and scalars. A target at or above the input's count
 // returns the welded input, less unused vertices. Throws Error(InvalidArgument) for a ratio
 // outside (0, 1], a negative or NaN max_error, or malformed arrays (as write_mesh does).
 Mesh simplify_mesh(const Mesh& mesh, const SimplifyOptions& options,
