@@ -34,8 +34,10 @@ double cpu_seconds() {
 
 int main(int argc, char** argv) try {
     if (argc < 2) {
-        std::fprintf(stderr, "usage: %s MESH [--ratio R] [--reps N] [--no-distance] "
-                     "[--simplifier collapse|meshopt]\n", argv[0]);
+        std::fprintf(stderr,
+                     "usage: %s MESH [--ratio R] [--reps N] [--no-distance] "
+                     "[--simplifier collapse|meshopt]\n",
+                     argv[0]);
         return 2;
     }
     SimplifyOptions options;
@@ -48,8 +50,8 @@ int main(int argc, char** argv) try {
         else if (!std::strcmp(argv[i], "--ratio") && i + 1 < argc)
             options.ratio = std::strtod(argv[++i], nullptr);
         else if (!std::strcmp(argv[i], "--simplifier") && i + 1 < argc)
-            options.simplifier = std::strcmp(argv[++i], "meshopt") ? Simplifier::kCollapse
-                                                                   : Simplifier::kMeshopt;
+            options.simplifier =
+                std::strcmp(argv[++i], "meshopt") ? Simplifier::kCollapse : Simplifier::kMeshopt;
         else if (!std::strcmp(argv[i], "--reps") && i + 1 < argc)
             reps = std::max(1, std::atoi(argv[++i]));
         else {

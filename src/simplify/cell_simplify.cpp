@@ -116,8 +116,7 @@ struct LocalRegion {
 void localise(const std::vector<float>& positions, const std::vector<Index>& indices,
               const Index* own, std::size_t own_count, const Index* context,
               std::size_t context_count, const std::vector<std::uint8_t>& fan,
-              const std::vector<std::uint8_t>* keep, std::vector<Index>& map,
-              LocalRegion& region) {
+              const std::vector<std::uint8_t>* keep, std::vector<Index>& map, LocalRegion& region) {
     constexpr Index kNone = std::numeric_limits<Index>::max();
     region.vertices.clear();
     region.own.clear();
@@ -175,8 +174,8 @@ double typical_error(const std::vector<double>& errors, const std::vector<std::s
 struct PassResult {
     std::vector<Index> indices;
     std::vector<std::uint8_t> frozen;  // per triangle: kept as it was for the topology
-    double error = 0.0;    // the largest over the regions, Å
-    double typical = 0.0;  // typical_error, Å
+    double error = 0.0;                // the largest over the regions, Å
+    double typical = 0.0;              // typical_error, Å
 };
 
 // How far a region may go beyond the pass's typical error before it is capped there.
@@ -195,8 +194,8 @@ inline constexpr double kOutlierFactor = 1.5;
 // order, then the band.
 PassResult run_pass(const std::vector<float>& positions, const std::vector<Index>& indices,
                     const Grid& grid, double ratio, double total, double cap,
-                    const std::vector<std::uint8_t>* keep, unsigned threads,
-                    Simplifier simplifier, CellPassStats& stats) {
+                    const std::vector<std::uint8_t>* keep, unsigned threads, Simplifier simplifier,
+                    CellPassStats& stats) {
     constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
     constexpr std::uint32_t kCut = kNone - 1;
     const std::size_t triangles = indices.size() / 3, nv = positions.size() / 3;
@@ -321,8 +320,7 @@ PassResult run_pass(const std::vector<float>& positions, const std::vector<Index
                     static_cast<std::size_t>(std::round(ratio * reducible + double(fixed)));
                 const int before = results[i].attempts;  // a rerun counts the first run too
                 results[i] = simplify_region(region.positions, region.own, region.context, target,
-                                             region_cap, keep ? &region.keep : nullptr,
-                                             simplifier);
+                                             region_cap, keep ? &region.keep : nullptr, simplifier);
                 results[i].attempts += before;
                 for (Index& v : results[i].indices) v = region.vertices[v];
             }

@@ -63,8 +63,8 @@ inline Index bucket_of(double cost) {
 struct Collapser {
     const float* pos = nullptr;
     std::vector<Index> tri;  // 3 per triangle: the current vertices of corners 3t, 3t+1, 3t+2
-    std::vector<std::uint8_t> dead;  // per triangle
-    std::vector<Index> arena;        // corner lists
+    std::vector<std::uint8_t> dead;   // per triangle
+    std::vector<Index> arena;         // corner lists
     std::vector<Index> first, count;  // per vertex: its corner list in the arena
     std::vector<Kind> kind;
     std::vector<std::uint8_t> stuck;  // no valid collapse when last tried
@@ -398,8 +398,8 @@ std::vector<Index> collapse_edges(const std::vector<float>& positions,
     for (Index u = 0; u < nv; ++u) {
         if (s.kind[u] == Kind::kInterior) s.queue(u, s.best[u], s.best_cost[u]);
     }
-    const double limit = std::isinf(max_error) ? std::numeric_limits<double>::infinity()
-                                               : max_error * max_error;
+    const double limit =
+        std::isinf(max_error) ? std::numeric_limits<double>::infinity() : max_error * max_error;
     double worst = 0.0;
     std::size_t live = own;
     while (live > target && s.queued > 0) {

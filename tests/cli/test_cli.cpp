@@ -364,6 +364,16 @@ TEST_F(CliProgram, SimplifiedMeshIsClosedAndItsDeviationReported) {
     EXPECT_NE(text.out.find("  simplified   "), std::string::npos) << text.out;
     EXPECT_NE(text.out.find("target 100), topology kept"), std::string::npos) << text.out;
     EXPECT_NE(text.out.find("  deviation    Hausdorff "), std::string::npos) << text.out;
+    EXPECT_NE(text.out.find("the collapses' estimate"), std::string::npos) << text.out;
+    // meshoptimizer's collapses instead: also closed, and said so.
+    const CliRun m = run({input, "-o", path("meshopt.ply"), "--stats", "json", "--simplify", "0.2",
+                          "--simplifier", "meshopt"});
+    ASSERT_EQ(m.exit_code, 0) << m.err;
+    const auto mj = parse_json(lines_of(m.out).at(0));
+    ASSERT_TRUE(mj) << m.out;
+    EXPECT_EQ(mj->find("simplify")->find("simplifier")->string, "meshopt");
+    EXPECT_EQ(mj->find("closed_manifold")->boolean, true) << m.out;
+    EXPECT_EQ(s.find("simplifier")->string, "collapse");
 }
 
 TEST_F(CliProgram, SimplifyRatioOutsideZeroOneIsAUsageError) {

@@ -1,4 +1,5 @@
-// Tests of --simplify, --max-triangles and --optimize: parsing, ranges and messages, help text.
+// Tests of --simplify, --max-triangles, --simplifier and --optimize: parsing, ranges and messages,
+// help text.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -92,10 +93,30 @@ TEST(CliSimplify, MaxTrianglesMustBeAPositiveWholeNumber) {
     EXPECT_TRUE(contains(parse_error_with({"--max-triangles", "99999999999"}), "out of range"));
 }
 
+TEST(CliSimplify, SimplifierIsCollapseUnlessMeshoptIsAsked) {
+    EXPECT_EQ(parse_with({"--simplify", "0.1"}).simplify.simplifier,
+              fdmsurf::Simplifier::kCollapse);
+    EXPECT_EQ(parse_with({"--simplify", "0.1", "--simplifier", "meshopt"}).simplify.simplifier,
+              fdmsurf::Simplifier::kMeshopt);
+    EXPECT_EQ(parse_with({"--max-triangles", "10", "--simplifier=collapse"}).simplify.simplifier,
+              fdmsurf::Simplifier::kCollapse);
+    std::string message = parse_error_with({"--simplify", "0.1", "--simplifier", "qem"});
+    EXPECT_TRUE(contains(message, "--simplifier")) << message;
+    EXPECT_TRUE(contains(message, "collapse or meshopt")) << message;
+    EXPECT_TRUE(contains(parse_error_with({"--simplify", "0.1", "--simplifier"}),
+                         "--simplifier needs a value"));
+    message = parse_error_with({"--simplifier", "meshopt"});
+    EXPECT_TRUE(contains(message,
+                         "--simplifier chooses how --simplify or --max-triangles "
+                         "simplify"))
+        << message;
+}
+
 TEST(CliSimplify, HelpDescribesTheOptions) {
     const std::string help = fdmsurf::cli::usage_text();
     for (const char* part : {"--simplify RATIO", "0 < RATIO <= 1", "--max-triangles N",
-                             "the smaller of the two targets", "--optimize", "Hausdorff"}) {
+                             "the smaller of the two targets", "--optimize", "Hausdorff",
+                             "--simplifier NAME", "collapse (default", "meshopt"}) {
         EXPECT_TRUE(contains(help, part)) << part;
     }
     EXPECT_TRUE(contains(parse_error_with({"--simplfy", "0.5"}), "did you mean --simplify?"));

@@ -8,6 +8,7 @@
 
 namespace {
 
+using fdmsurf::Simplifier;
 using fdmsurf::StageTime;
 using fdmsurf::cli::format_grouped;
 using fdmsurf::cli::RunReport;
@@ -138,6 +139,7 @@ TEST(CliSummary, SimplificationIsReportedInTextAndJson) {
               JsonValue::Type::Null);
     r.simplified = true;
     r.simplify_options.ratio = 0.1;
+    r.simplify_options.simplifier = Simplifier::kMeshopt;
     r.simplify.triangles_in = 824640;
     r.simplify.target_triangles = 82464;
     r.simplify.triangles_out = 82500;
@@ -166,7 +168,17 @@ TEST(CliSummary, SimplificationIsReportedInTextAndJson) {
     EXPECT_EQ(s.find("hausdorff")->number, 0.5);
     EXPECT_EQ(s.find("rmsd")->number, 0.0625);
     EXPECT_EQ(s.find("error")->number, 0.25);
+    EXPECT_EQ(s.find("simplifier")->string, "meshopt");
     EXPECT_EQ(value->find("optimized")->boolean, true);
+    // fdmsurf's own collapses (the default): their estimate, no frozen triangles.
+    r.simplify_options.simplifier = Simplifier::kCollapse;
+    r.simplify.frozen_triangles = 0;
+    text = fdmsurf::cli::text_summary(r);
+    EXPECT_TRUE(contains(text, "(10.0%; target 82,464), topology kept\n")) << text;
+    EXPECT_TRUE(contains(text, "from the full mesh; the collapses' estimate 0.25 Å\n")) << text;
+    EXPECT_EQ(
+        parse_json(fdmsurf::cli::json_summary(r))->find("simplify")->find("simplifier")->string,
+        "collapse");
     // A result that lost its closedness says so, with the counts.
     r.simplify.topology_kept = false;
     r.simplify.stats_out.nonmanifold_edges = 3;

@@ -53,7 +53,8 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> outline(const std::vector<s
 // corners (each vertex's the sum of its triangles' area vectors in m).
 std::size_t turned_over(const Mesh& m, const std::vector<std::uint32_t>& out) {
     auto area_vector = [&m](const std::uint32_t* t) {
-        const float* p[3] = {&m.positions[3 * std::size_t{t[0]}], &m.positions[3 * std::size_t{t[1]}],
+        const float* p[3] = {&m.positions[3 * std::size_t{t[0]}],
+                             &m.positions[3 * std::size_t{t[1]}],
                              &m.positions[3 * std::size_t{t[2]}]};
         const double u[3] = {p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
         const double w[3] = {p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
@@ -94,14 +95,14 @@ void ExpectSameTopology(const Mesh& in, const std::vector<std::uint32_t>& out) {
 }
 
 TEST(CollapseEdges, SphereAndTorusKeepTheirTopologyDownToTheTarget) {
-    const Mesh sphere = icosphere(10.0, 5);       // 20,480 triangles, genus 0
+    const Mesh sphere = icosphere(10.0, 5);      // 20,480 triangles, genus 0
     const Mesh ring = torus(8.0, 3.0, 160, 64);  // 20,480 triangles, genus 1
     for (const Mesh* m : {&sphere, &ring}) {
         for (std::size_t target : {2048u, 200u}) {
             SCOPED_TRACE(std::to_string(target));
             double error = -1.0;
-            const auto out = detail::collapse_edges(m->positions, m->indices, {}, target, kNoBound,
-                                                    &error);
+            const auto out =
+                detail::collapse_edges(m->positions, m->indices, {}, target, kNoBound, &error);
             EXPECT_LE(out.size() / 3, target);
             EXPECT_GE(out.size() / 3, target - 2);  // two triangles per collapse
             ExpectSameTopology(*m, out);
@@ -115,8 +116,8 @@ TEST(CollapseEdges, EveryTriangleKeepsItsSide) {
     // No triangle turns over: the volume stays positive and close to the full mesh's, and the
     // triangles keep the input's orientation (no inconsistent edge, checked above as well).
     const Mesh sphere = icosphere(10.0, 5);
-    const auto out = detail::collapse_edges(sphere.positions, sphere.indices, {}, 500, kNoBound,
-                                            nullptr);
+    const auto out =
+        detail::collapse_edges(sphere.positions, sphere.indices, {}, 500, kNoBound, nullptr);
     const MeshStats full = compute_stats(sphere), s = compute_stats(with_indices(sphere, out));
     EXPECT_GT(s.volume, 0.95 * full.volume);
     EXPECT_LT(s.volume, full.volume);  // chords of a sphere lie inside it
@@ -145,8 +146,8 @@ TEST(CollapseEdges, FixedTrianglesAndBordersStayWhereTheyAre) {
     EXPECT_TRUE(IsClosedManifold(with_indices(sphere, whole)));
     // The same half open (no fixed triangles): its outline is kept edge for edge.
     Mesh cap = with_indices(sphere, upper);
-    const auto open = detail::collapse_edges(sphere.positions, upper, {}, upper.size() / 30,
-                                             kNoBound, nullptr);
+    const auto open =
+        detail::collapse_edges(sphere.positions, upper, {}, upper.size() / 30, kNoBound, nullptr);
     const auto edges = outline(upper);
     ASSERT_FALSE(edges.empty());
     EXPECT_EQ(outline(open), edges);
@@ -184,11 +185,11 @@ TEST(CollapseEdges, SmallPiecesAndPinchedVerticesSurvive) {
 TEST(CollapseEdges, StopsBeforeAnErrorAboveTheBound) {
     const Mesh sphere = icosphere(10.0, 5);
     double unbounded = 0.0, bounded = 0.0;
-    const auto all = detail::collapse_edges(sphere.positions, sphere.indices, {}, 100, kNoBound,
-                                            &unbounded);
+    const auto all =
+        detail::collapse_edges(sphere.positions, sphere.indices, {}, 100, kNoBound, &unbounded);
     const double bound = 0.25 * unbounded;
-    const auto some = detail::collapse_edges(sphere.positions, sphere.indices, {}, 100, bound,
-                                             &bounded);
+    const auto some =
+        detail::collapse_edges(sphere.positions, sphere.indices, {}, 100, bound, &bounded);
     EXPECT_LE(bounded, bound);
     EXPECT_GT(some.size(), all.size());  // it stopped above the target
     ExpectSameTopology(sphere, some);
@@ -201,8 +202,8 @@ TEST_F(CollapseSurface, HemoglobinKeepsItsTopologyWhereMeshoptimizerBreaksIt) {
     // pinched vertices (its collapses do not test the link condition); collapse_edges leaves
     // the same pieces, the same genus and no defect.
     SurfaceOptions o;
-    const Mesh full = engine().make_surface(read_structure(test::data_path("4hhb.pdb.gz")).atoms, o)
-                          .mesh;
+    const Mesh full =
+        engine().make_surface(read_structure(test::data_path("4hhb.pdb.gz")).atoms, o).mesh;
     const MeshStats before = compute_stats(full);
     ASSERT_TRUE(before.is_closed_manifold());
     const std::size_t target = full.triangle_count() / 10;
@@ -213,8 +214,8 @@ TEST_F(CollapseSurface, HemoglobinKeepsItsTopologyWhereMeshoptimizerBreaksIt) {
                                    meshopt_SimplifyLockBorder, nullptr));
     EXPECT_FALSE(detail::new_defects(full.indices, theirs, full.vertex_count()).empty());
     double error = 0.0;
-    const auto ours = detail::collapse_edges(full.positions, full.indices, {}, target, kNoBound,
-                                             &error);
+    const auto ours =
+        detail::collapse_edges(full.positions, full.indices, {}, target, kNoBound, &error);
     EXPECT_LE(ours.size() / 3, target);
     ExpectSameTopology(full, ours);
     EXPECT_TRUE(IsClosedManifold(with_indices(full, ours)));

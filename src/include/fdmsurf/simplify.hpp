@@ -41,8 +41,8 @@ struct SimplifyReport {
     std::size_t triangles_in = 0, vertices_in = 0;    // after welding
     std::size_t target_triangles = 0;                 // from ratio and max_triangles
     std::size_t triangles_out = 0, vertices_out = 0;  // the result
-    std::size_t welded = 0;            // input vertices merged into another at the same position
-    std::size_t regions = 0;           // regions simplified (cells, over both passes)
+    std::size_t welded = 0;   // input vertices merged into another at the same position
+    std::size_t regions = 0;  // regions simplified (cells, over both passes)
     // kMeshopt only (0 with kCollapse, which needs neither): triangles kept as they were where
     // a collapse broke the topology, and regions whose defects outlived every retry.
     std::size_t frozen_triangles = 0;
@@ -73,9 +73,10 @@ struct SimplifyReport {
 // and the rest simplified again: the result has no defect the input did not have (it may still
 // close a tunnel or pinch a neck narrower than its edges), and may keep more triangles than the
 // target (docs/mesh.md, "Keeping the mesh closed"). The result's vertices are a subset of the
-// input's, in the input's order, each with its normal, atom, colour and scalars. A target at or above the input's count
-// returns the welded input, less unused vertices. Throws Error(InvalidArgument) for a ratio
-// outside (0, 1], a negative or NaN max_error, or malformed arrays (as write_mesh does).
+// input's, in the input's order, each with its normal, atom, colour and scalars. A target at or
+// above the input's count returns the welded input, less unused vertices. Throws
+// Error(InvalidArgument) for a ratio outside (0, 1], a negative or NaN max_error, or malformed
+// arrays (as write_mesh does).
 Mesh simplify_mesh(const Mesh& mesh, const SimplifyOptions& options,
                    SimplifyReport* report = nullptr);
 
