@@ -15,6 +15,10 @@ also compared by `fdmsurf compare`, the independent check of the distances.
 
   bench/simplify.py [--reps 3] [--structures 1aon] [--ratio 0.1] [--spacing 0.5]
                     [--exe build/fdmsurf] [--baseline OTHER_FDMSURF]
+                    [--simplifiers collapse,meshopt]
+
+--simplifiers runs the simplified run once per simplifier (--simplifier NAME) in each round,
+after the same full run, its rows labelled by the simplifier.
 
 With --baseline, a second binary (another branch's build) runs in the same rounds, alternating
 with --exe (full and simplified runs of each in turn), so that before and after see the same
@@ -62,7 +66,9 @@ def main():
     ap.add_argument("--spacing", type=float, default=0.5)
     ap.add_argument("--exe", default=os.path.join(ROOT, "build", "fdmsurf"))
     ap.add_argument("--baseline", help="a second fdmsurf binary, run alternating with --exe")
+    ap.add_argument("--simplifiers", help="comma-separated --simplifier values, each run in every round")
     args = ap.parse_args()
+    simplifiers = args.simplifiers.split(",") if args.simplifiers else [None]
     exes = [("after", args.exe)] if args.baseline else [("", args.exe)]
     if args.baseline:
         exes.insert(0, ("before", args.baseline))
@@ -83,18 +89,22 @@ def main():
                       file=sys.stderr)
                 continue
             base = [path, "--spacing", str(args.spacing), "--stats", "json"]
-            runs = {label: ([], []) for label, _ in exes}
-            mesh = lambda label, kind: os.path.join(tmp, f"{kind}-{label or 'x'}.ply")
+            variants = [(" ".join(x for x in (label, which) if x), label, exe, which)
+                        for label, exe in exes for which in simplifiers]
+            fulls = {label: [] for label, _ in exes}
+            simples = {v[0]: [] for v in variants}
+            mesh = lambda label, kind: os.path.join(tmp, f"{kind}-{label or 'x'}.ply".replace(" ", "-"))
             for _ in range(args.reps):
                 loads.append(os.getloadavg()[0])
                 for label, exe in exes:
-                    full, simple = runs[label]
-                    full.append(run(exe, base + ["-o", mesh(label, "full")])[1])
-                    simple.append(run(exe, base + ["-o", mesh(label, "simplified"), "--simplify",
-                                                   str(args.ratio), "--optimize"])[1])
-            for label, exe in exes:
-                full, simple = runs[label]
-                _, check = run(exe, ["compare", mesh(label, "full"), mesh(label, "simplified"),
+                    fulls[label].append(run(exe, base + ["-o", mesh(label, "full")])[1])
+                    for vlabel, _, _, which in (v for v in variants if v[1] == label):
+                        extra = ["--simplifier", which] if which else []
+                        simples[vlabel].append(run(exe, base + ["-o", mesh(vlabel, "simplified"), "--simplify",
+                                                                str(args.ratio), "--optimize"] + extra)[1])
+            for vlabel, label, exe, _ in variants:
+                full, simple = fulls[label], simples[vlabel]
+                _, check = run(exe, ["compare", mesh(label, "full"), mesh(vlabel, "simplified"),
                                      "--spacing", str(args.spacing), "--stats", "json"])
                 device = full[0]["device"]
                 med = lambda runs, f: statistics.median(f(s) for s in runs)
@@ -102,7 +112,7 @@ def main():
                 q = simple[-1]["simplify"]
                 surf = med(simple, surface_ms)
                 rows.append(dict(
-                    name=(f"{name} {label}" if label else name), tri_in=q["triangles_in"], tri_out=q["triangles_out"], target=q["target_triangles"],
+                    name=(f"{name} {vlabel}" if vlabel else name), tri_in=q["triangles_in"], tri_out=q["triangles_out"], target=q["target_triangles"],
                     full_total=med(full, lambda s: s["total_ms"]), full_surface=med(full, surface_ms),
                     surface=surf, simplify=stage("simplify"),
                     share=med(simple, lambda s: s["times"]["simplify"] / surface_ms(s)),
@@ -121,7 +131,7 @@ def main():
           f"device: {device}; spacing {args.spacing} Å, --simplify {args.ratio} --optimize, "
           f"median of {args.reps} alternating rounds, ms\n")
     print("| structure | triangles | simplified (target) | surface | simplify | simplify ÷ surface | "
-          "simplify-compare | optimize | Hausdorff (Å) | RMSD (Å) | meshopt estimate (Å) | dA | dV | "
+          "simplify-compare | optimize | Hausdorff (Å) | RMSD (Å) | simplifier's estimate (Å) | dA | dV | "
           "closed manifold | frozen triangles | regions (runs) |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
