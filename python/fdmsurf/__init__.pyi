@@ -15,6 +15,7 @@ Source = Union[PathLike, "Structure", ArrayLike, Tuple[ArrayLike, ArrayLike]]
 SurfaceKind = Literal["ses", "vdw", "sas"]
 Method = Literal["fdm", "edt"]
 Filter = Literal["gaussian", "ideal"]
+Simplifier = Literal["collapse", "meshopt"]
 InputFormat = Optional[Literal["pdb", "cif", "mmcif", "pqr", "xyzr", "xyzrn"]]
 
 class Error(Exception):
@@ -140,7 +141,8 @@ class Engine:
                 chord_tolerance: Optional[float] = None,
                 color: Color = None, properties: Names = None,
                 patch: Optional[str] = None, simplify: Optional[float] = None,
-                max_triangles: Optional[int] = None, optimize: bool = False,
+                max_triangles: Optional[int] = None, simplifier: Simplifier = "collapse",
+                optimize: bool = False,
                 density_cut: float = 0.01,
                 min_grid: Optional[Tuple[int, int, int]] = None,
                 format: InputFormat = None, model: int = 1, assembly: int = 0,
@@ -157,7 +159,8 @@ class Engine:
                        chord_tolerance: Optional[float] = None, color: Color = None,
                        properties: Names = None, patch: Optional[str] = None,
                        simplify: Optional[float] = None,
-                       max_triangles: Optional[int] = None, optimize: bool = False,
+                       max_triangles: Optional[int] = None,
+                       simplifier: Simplifier = "collapse", optimize: bool = False,
                        density_cut: float = 0.01,
                        min_grid: Optional[Tuple[int, int, int]] = None,
                        format: InputFormat = None, assembly: int = 0, chains: Names = None,
@@ -183,7 +186,7 @@ def surface(source: Source, radii: Optional[ArrayLike] = None, *,
             chord_tolerance: Optional[float] = None, color: Color = None,
             properties: Names = None, patch: Optional[str] = None,
             simplify: Optional[float] = None, max_triangles: Optional[int] = None,
-            optimize: bool = False, density_cut: float = 0.01,
+            simplifier: Simplifier = "collapse", optimize: bool = False, density_cut: float = 0.01,
             min_grid: Optional[Tuple[int, int, int]] = None, format: InputFormat = None,
             model: int = 1, assembly: int = 0, chains: Names = None,
             select: Optional[str] = None, waters: bool = False, hydrogens: bool = False,

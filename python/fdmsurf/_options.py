@@ -78,13 +78,17 @@ SURFACE = (
             "compute the surface of every atom, then keep only the triangles whose three "
             "vertices belong to atoms this gemmi selection matches: an open patch"),
     Keyword("simplify", None, "float", "--simplify",
-            "keep about this fraction of the triangles, in (0, 1], by meshoptimizer's edge "
-            "collapses, after patch; the mesh stays closed (where a collapse would break it, the "
-            "surface around is kept as it was) and every vertex keeps its atom, colour and "
-            "properties; SurfaceResult.simplify reports the result (None: no simplification)"),
+            "keep about this fraction of the triangles, in (0, 1], by edge collapses in "
+            "quadric-error order, after patch; the mesh keeps its topology (closed, the same "
+            "pieces and holes) and every vertex keeps its atom, colour and properties; "
+            "SurfaceResult.simplify reports the result (None: no simplification)"),
     Keyword("max_triangles", None, "int", "--max-triangles",
             "simplify to at most about this many triangles (>= 1); with simplify too, the "
             "smaller of the two targets (None: no cap)"),
+    Keyword("simplifier", "collapse", "choice", "--simplifier",
+            "'collapse' (fdmsurf's collapses, each tested so that it keeps the topology) or "
+            "'meshopt' (meshoptimizer's, behind a guard that redoes the regions it breaks); with "
+            "simplify or max_triangles only"),
     Keyword("optimize", False, "flag", "--optimize",
             "reorder triangles and vertices for the GPU's vertex cache and fetch (the same "
             "triangles), after simplification"),

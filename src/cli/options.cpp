@@ -63,6 +63,7 @@ enum class Opt {
     Simplify,
     MaxTriangles,
     Simplifier,
+    HostFilter,
     Optimize,
     Areas,
     Relative,
@@ -85,7 +86,7 @@ struct OptionSpec {
     bool numeric;  // a value that may start with '-' (a negative number, rejected later)
 };
 
-constexpr std::array<OptionSpec, 54> kOptions{{
+constexpr std::array<OptionSpec, 55> kOptions{{
     {"--output", "-o", Opt::Output, true, false},
     {"--output-format", "", Opt::OutputFormat, true, false},
     {"--surface", "", Opt::Surface, true, false},
@@ -127,6 +128,7 @@ constexpr std::array<OptionSpec, 54> kOptions{{
     {"--simplify", "", Opt::Simplify, true, true},
     {"--max-triangles", "", Opt::MaxTriangles, true, true},
     {"--simplifier", "", Opt::Simplifier, true, false},
+    {"--host-filter", "", Opt::HostFilter, true, false},
     {"--optimize", "", Opt::Optimize, false, false},
     {"--areas", "", Opt::Areas, true, false},
     {"--relative", "", Opt::Relative, true, false},
@@ -327,6 +329,10 @@ constexpr std::array<std::pair<std::string_view, SurfaceKind>, 3> kSurfaces{
     {{"ses", SurfaceKind::Ses}, {"vdw", SurfaceKind::Vdw}, {"sas", SurfaceKind::Sas}}};
 constexpr std::array<std::pair<std::string_view, FilterShape>, 2> kFilters{
     {{"ideal", FilterShape::Ideal}, {"gaussian", FilterShape::Gaussian}}};
+constexpr std::array<std::pair<std::string_view, GaussianFilterPlace>, 3> kFilterPlaces{
+    {{"auto", GaussianFilterPlace::Auto},
+     {"off", GaussianFilterPlace::Device},
+     {"on", GaussianFilterPlace::Host}}};
 constexpr std::array<std::pair<std::string_view, Simplifier>, 2> kSimplifiers{
     {{"collapse", Simplifier::kCollapse}, {"meshopt", Simplifier::kMeshopt}}};
 
@@ -630,6 +636,10 @@ void apply_value(CliOptions& o, const OptionSpec& spec, std::string_view name,
             o.simplify_requested = true;
             break;
         }
+        case Opt::HostFilter:
+            o.engine.gaussian_filter =
+                parse_choice(name, text, kFilterPlaces, "host filter setting", "auto, on or off");
+            break;
         case Opt::Simplifier:
             o.simplify.simplifier =
                 parse_choice(name, text, kSimplifiers, "simplifier", "collapse or meshopt");
@@ -1002,6 +1012,10 @@ Device:
                          not, then exit (no INPUT needed)
   --validation           enable the Vulkan validation layer; any message it
                          reports makes the run fail (exit code 5, no output)
+  --host-filter auto|on|off  the Gaussian filter of grids in slabs as a separable
+                         convolution on the host (the same low-pass) instead of
+                         VkFFT: auto (default) does so when the device is a CPU
+                         (lavapipe), where the FFTs share the host's cores
 
 Output:
   -o, --output OUTPUT    the mesh file to write: .ply (binary), .obj, .glb

@@ -12,6 +12,7 @@
 #include <unistd.h>
 #include "core/trace.hpp"
 #include "fdmsurf/fdmsurf.hpp"
+#include "filter/spatial_gaussian.hpp"
 #include "filter/spectral_filter.hpp"
 #include "grid/atom_bins.hpp"
 #include "grid/density_gpu.hpp"
@@ -381,6 +382,17 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
         report("marching cubes, z " + std::to_string(b) + "/" + std::to_string(d[2] - 1));
         starts.push_back(a);
     };
+    // The Gaussian filter on the host (EngineOptions::gaussian_filter): the slab's density comes
+    // back and its core is convolved there, with a kernel as wide as the overlap (6 sigma).
+    const GaussianFilterPlace place = gaussian_filter;
+    const bool host_gaussian =
+        plan.filtered && !plan.exact_ses && options.filter == FilterShape::Gaussian &&
+        (place == GaussianFilterPlace::Host ||
+         (place == GaussianFilterPlace::Auto && context.info().type == "CPU"));
+    std::vector<float> gaussian_taps_;
+    if (host_gaussian)
+        gaussian_taps_ = gaussian_taps(gaussian_sigma_points(plan.info.cutoff, h), overlap);
+    result.grid.host_filter = host_gaussian;
     Buffer field(context, slab_bytes, MemoryUse::Device, "field_slab");
     std::vector<float> slab_core;  // two core buffers, swapped: pages touched once, not per slab
     for (std::uint32_t k = 0; k < slabs; ++k) {
@@ -406,7 +418,10 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
             std::fill(slab_core.begin(), slab_core.end(), 0.0f);
         } else {
             commands.begin();
-            record_field(arena, sp, &bins, &features, options.filter, field);
+            if (host_gaussian)
+                density.record(commands, arena, bins, sp, field);  // filtered below, on the host
+            else
+                record_field(arena, sp, &bins, &features, options.filter, field);
             const Buffer& host =
                 readback_buffer(context, commands, arena, field, slab_bytes, "field_readback");
             commands.barrier_to_host();
@@ -417,12 +432,19 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
             host.invalidate();
             const double t_copy = now_ms();
             const float* src = static_cast<const float*>(host.mapped());
-            for (std::int64_t z = zc0; z < zc1; ++z)
-                for (std::uint32_t y = 0; y < d[1]; ++y)
-                    std::memcpy(&slab_core[(std::size_t(z - zc0) * d[1] + y) * d[0]],
-                                src + (std::size_t(z - z0) * d[1] + y) * sp.pitch,
-                                d[0] * sizeof(float));
-            add_times(result.times, {{"assemble-field", now_ms() - t_copy, false}});
+            if (host_gaussian) {
+                gaussian_filter_planes(src, d[0], d[1], slab_planes, sp.pitch, gaussian_taps_,
+                                       std::uint32_t(zc0 - z0), std::uint32_t(zc1 - z0),
+                                       slab_core.data());
+                add_times(result.times, {{"filter-host", now_ms() - t_copy, false}});
+            } else {
+                for (std::int64_t z = zc0; z < zc1; ++z)
+                    for (std::uint32_t y = 0; y < d[1]; ++y)
+                        std::memcpy(&slab_core[(std::size_t(z - zc0) * d[1] + y) * d[0]],
+                                    src + (std::size_t(z - z0) * d[1] + y) * sp.pitch,
+                                    d[0] * sizeof(float));
+                add_times(result.times, {{"assemble-field", now_ms() - t_copy, false}});
+            }
         }
         if (!full.empty())
             std::copy(slab_core.begin(), slab_core.end(), full.begin() + zc0 * plane_floats);

@@ -35,7 +35,8 @@ struct EngineImpl {
     explicit EngineImpl(const EngineOptions& options)
         : glslang(), context(options), commands(context), density(context),
           ses_distance(context), filter(context), marching_cubes(context),
-          vertex_properties(context), progress(options.progress) {}
+          vertex_properties(context), progress(options.progress),
+          gaussian_filter(options.gaussian_filter) {}
 
     // Holds glslang for VkFFT from before the first plan to after the last.
     struct GlslangGuard {
@@ -50,6 +51,7 @@ struct EngineImpl {
     MarchingCubesPass marching_cubes;
     VertexPropertiesPass vertex_properties;
     ProgressCallback progress;  // EngineOptions::progress; may be empty
+    GaussianFilterPlace gaussian_filter;  // EngineOptions::gaussian_filter
 
     // Tells the progress callback that `stage` has ended.
     void report(std::string_view stage) const {

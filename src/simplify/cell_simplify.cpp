@@ -1,6 +1,6 @@
-// Large meshes simplified cell by cell, in parallel: meshopt_simplify runs on one thread and
-// its cost grows with the mesh, and the topology guard of region_simplify.cpp must be able to
-// redo a small region rather than the whole surface. Two passes over grids of cubes, the
+// Large meshes simplified cell by cell, in parallel: a simplifier runs on one thread and its
+// cost grows with the mesh, and meshoptimizer's topology guard (region_simplify.cpp) must be
+// able to redo a small region rather than the whole surface. Passes over grids of cubes, the
 // second's cubes twice as wide and its faces half a first cube away from the first's, as in
 // clustered level-of-detail builders (B. Karis, "Nanite", SIGGRAPH 2021 course): what the
 // first pass locked along its cube faces lies inside the second pass's cubes.
@@ -186,9 +186,10 @@ inline constexpr int kMaxPasses = 4;
 // One pass: the band (triangles at a vertex whose triangles lie in more than one cell) is
 // kept; the rest of each cell is simplified, with the band triangles it touches as context,
 // in parallel, largest cells first. A cell's fan (its triangles at a corner of the context,
-// whose vertices are locked) is left for the next pass too, and the rest of each cell goes to
-// `ratio` of its count, or, with ratio = 0, to the one ratio that makes `total` triangles with
-// the band and the fans. meshopt_simplify stops at `cap` (Å). A small cell at a corner of the
+// which is locked) is counted as left for the next pass (meshoptimizer locks its whole outline;
+// fdmsurf's collapses may still move the fan's other corners), and the rest of each cell goes
+// to `ratio` of its count, or, with ratio = 0, to the one ratio that makes `total` triangles
+// with the band and the fans. The simplifier stops at `cap` (Å). A small cell at a corner of the
 // grid can still be mostly outline and meet its count only by coarse collapses: cells whose
 // error exceeds kOutlierFactor times the pass's typical error are run again with that as their
 // cap. `keep` (may be null): per triangle, frozen from the first run on (the previous pass's
@@ -485,9 +486,9 @@ std::vector<Index> simplify_in_cells(const std::vector<float>& positions,
         s.error = first.error + last.error;
         // At low ratios the second pass's band and fans (coarse triangles now, and many of them
         // against the target) can hold more than the target (1AON at 2%: 1.7 times it): further
-        // passes over cubes twice as wide each time, their faces a quarter of the previous
-        // offset from the first's (never on an earlier pass's faces), while the count is more
-        // than 2% above the target. fdmsurf's collapses only: meshoptimizer's, over triangles
+        // passes over cubes twice as wide each time, their faces offset from the first's by half
+        // the previous pass's offset (0.5, 0.25, 0.125 first cube: never on an earlier pass's
+        // faces), while the count is more than 2% above the target. fdmsurf's collapses only: meshoptimizer's, over triangles
         // that coarse, went far from the surface (4HHB at 2%: RMSD 2.1 Å against 0.37 Å).
         double width = 2.0 * cell, offset = 0.5 * cell;
         const int passes = simplifier == Simplifier::kCollapse ? kMaxPasses : 2;

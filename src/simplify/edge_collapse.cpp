@@ -47,9 +47,16 @@ struct Quadric {
 };
 
 // kInterior: one closed fan, may move. kBorder: one open fan, or a corner of a fixed triangle:
-// stays, may be collapsed into. kLocked: anything else (non-manifold, unused): stays, never a
-// target.
+// stays, may be collapsed into. kLocked: anything else (non-manifold, unused, more than 64
+// corners): stays, never a target.
 enum class Kind : std::uint8_t { kInterior, kBorder, kLocked };
+
+// (b - a) x (c - a), in double.
+std::array<double, 3> cross(const float* a, const float* b, const float* c) {
+    const double u[3] = {double(b[0]) - a[0], double(b[1]) - a[1], double(b[2]) - a[2]};
+    const double w[3] = {double(c[0]) - a[0], double(c[1]) - a[1], double(c[2]) - a[2]};
+    return {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+}
 
 // Costs in buckets an eighth of an octave wide (a float's exponent and its first three mantissa
 // bits); within one bucket, the order is the last queued first.
@@ -189,18 +196,7 @@ struct Collapser {
             const Index c = list[i];
             const Index a = tri[after_corner(c)], b = tri[before_corner(c)];
             if (a == v || b == v) continue;
-            const float *pa = p(a), *pb = p(b);
-            double e[2][3], f[2][3];
-            for (int k = 0; k < 3; ++k) {
-                e[0][k] = double(pa[k]) - pu[k], e[1][k] = double(pb[k]) - pu[k];
-                f[0][k] = double(pa[k]) - pv[k], f[1][k] = double(pb[k]) - pv[k];
-            }
-            const double n0[3] = {e[0][1] * e[1][2] - e[0][2] * e[1][1],
-                                  e[0][2] * e[1][0] - e[0][0] * e[1][2],
-                                  e[0][0] * e[1][1] - e[0][1] * e[1][0]};
-            const double n1[3] = {f[0][1] * f[1][2] - f[0][2] * f[1][1],
-                                  f[0][2] * f[1][0] - f[0][0] * f[1][2],
-                                  f[0][0] * f[1][1] - f[0][1] * f[1][0]};
+            const auto n0 = cross(pu, p(a), p(b)), n1 = cross(pv, p(a), p(b));
             const double d = n0[0] * n1[0] + n0[1] * n1[1] + n0[2] * n1[2];
             const double l0 = n0[0] * n0[0] + n0[1] * n0[1] + n0[2] * n0[2];
             const double l1 = n1[0] * n1[0] + n1[1] * n1[1] + n1[2] * n1[2];
@@ -357,10 +353,7 @@ std::vector<Index> collapse_edges(const std::vector<float>& positions,
     s.normal.assign(nv, {0.0f, 0.0f, 0.0f});
     for (std::size_t t = 0; t < triangles; ++t) {
         const float *a = s.p(s.tri[3 * t]), *b = s.p(s.tri[3 * t + 1]), *c = s.p(s.tri[3 * t + 2]);
-        const double e0[3] = {double(b[0]) - a[0], double(b[1]) - a[1], double(b[2]) - a[2]};
-        const double e1[3] = {double(c[0]) - a[0], double(c[1]) - a[1], double(c[2]) - a[2]};
-        const double n[3] = {e0[1] * e1[2] - e0[2] * e1[1], e0[2] * e1[0] - e0[0] * e1[2],
-                             e0[0] * e1[1] - e0[1] * e1[0]};
+        const auto n = cross(a, b, c);
         const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
         if (!(len > 0)) continue;
         // The area (len / 2) times the plane's quadric for the unit normal n / len.

@@ -427,9 +427,12 @@ RegionResult simplify_region(const std::vector<float>& positions, const std::vec
         // The kept triangles stay as they are, with the context, and come last.
         std::vector<Index> open, fixed = context, kept;
         for (std::size_t t = 0; t < triangles; ++t) {
-            const bool stays = keep && (*keep)[t];
-            for (std::vector<Index>* to : {stays ? &fixed : &open, stays ? &kept : nullptr}) {
-                if (to) to->insert(to->end(), &indices[3 * t], &indices[3 * t] + 3);
+            const Index* tri = &indices[3 * t];
+            if (keep && (*keep)[t]) {
+                fixed.insert(fixed.end(), tri, tri + 3);
+                kept.insert(kept.end(), tri, tri + 3);
+            } else {
+                open.insert(open.end(), tri, tri + 3);
             }
         }
         r.frozen = kept.size() / 3;

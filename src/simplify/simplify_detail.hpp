@@ -1,5 +1,5 @@
 // Internals of simplify_mesh, exposed for the tests: the target, exact welding, the guarded
-// simplification of one region, and the two passes over cells that run regions in parallel.
+// simplification of one region, and the passes over cells that run regions in parallel.
 #pragma once
 
 #include <cstddef>
@@ -83,9 +83,9 @@ struct RegionResult {
 // One region (positions: 3 floats per vertex, Å; indices: 3 per triangle) simplified towards
 // `target` triangles. With Simplifier::kCollapse by collapse_edges, with `context` and the kept
 // triangles fixed (one run, no guard needed). With kMeshopt by meshopt_simplify with its border
-// locked, then checked by new_defects
-// together with `context`, triangles around the region that stay as they are (their corners
-// are locked as the region's border, and they are checked with it, not returned). While a run
+// locked, then checked by new_defects together with `context`, triangles around the region
+// that stay as they are (their corners are locked as the region's border, and they are checked
+// with it, not returned). While a run
 // leaves a defect, the input triangles within a growing distance of the defects are frozen
 // (kept as they are) and the rest simplified again at the same ratio; after kMaxRegionAttempts
 // runs the region is kept whole. `max_error`: Å, infinity for none. `keep` (may be null; one
@@ -110,15 +110,17 @@ struct CellPassStats {
 inline constexpr std::size_t kCellTriangles = 32768;
 
 // Simplifies `indices` (into `positions`) towards `target` triangles: a mesh of up to
-// 2 kCellTriangles triangles as one region; a larger one in two passes over grids of cubic
-// cells, in parallel on `threads` threads (0: all). In each pass the triangles at a vertex
+// 2 kCellTriangles triangles as one region; a larger one in two or more passes over grids of
+// cubic cells, in parallel on `threads` threads (0: all). In each pass the triangles at a vertex
 // shared by two cells (the band along the cell faces) stay as they are and are every adjacent
 // cell's context, so that no two cells share a vertex they may move or an edge they may
 // create: defects cannot arise between cells. The first pass's cells hold about
 // kCellTriangles triangles each and go to the ratio, leaving their band and the triangles at
-// their locked outline (fans) for the second; the second pass's cells are twice as wide, its
-// faces half a first cell away from the first's, and all its cells go to the one ratio that
-// meets the target. Returns the indices into `positions`; the same whatever the thread count.
+// their locked outline (fans: with kCollapse only the fan's corners on the band stay) for the
+// second; the second pass's cells are twice as wide, its faces half a first cell away from the
+// first's, and all its cells go to the one ratio that meets the target. With kCollapse, while
+// the count is more than 2% above the target, up to two more passes over cells twice as wide
+// each time. Returns the indices into `positions`; the same whatever the thread count.
 std::vector<std::uint32_t> simplify_in_cells(const std::vector<float>& positions,
                                              const std::vector<std::uint32_t>& indices,
                                              std::size_t target, double max_error, unsigned threads,

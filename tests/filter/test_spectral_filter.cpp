@@ -13,6 +13,7 @@
 
 #include "fdmsurf/structure.hpp"
 #include "fdmsurf/surface.hpp"
+#include "filter/spatial_gaussian.hpp"
 #include "grid/grid_plan.hpp"
 #include "support/gpu_fixture.hpp"
 #include "support/test_data.hpp"
@@ -147,6 +148,32 @@ TEST_F(SpectralFilter, GaussianMatchesFftwOnCrambinAtHalfAngstrom) {
 
 TEST_F(SpectralFilter, GaussianMatchesFftwOnCrambinAtOneAngstrom) {
     check_crambin(1.0f, FilterShape::Gaussian);
+}
+
+TEST_F(SpectralFilter, HostGaussianInSpaceMatchesFftwOnCrambin) {
+    // The Gaussian filter as a separable convolution on the host (spatial_gaussian.cpp, what
+    // slabs use on a CPU device) against FFTW's spectral mask on the same density: zero rather
+    // than periodic outside the grid, a sampled kernel cut at 6 sigma. Measured: relative L2
+    // 1e-7 at 0.5 Å.
+    const Atoms atoms = fdmsurf::read_structure(data_path("1crn.pdb")).atoms;
+    const GridPlan plan = plan_grid(atoms, SurfaceOptions{.spacing = 0.5f});
+    const std::vector<float> density = impl().compute_field(atoms, plan, false);
+    const Reference ref = fftw_filter(density, plan, FilterShape::Gaussian);
+    const auto& d = plan.info.dims;
+    const double sigma =
+        fdmsurf::detail::gaussian_sigma_points(plan.info.cutoff, plan.info.spacing);
+    const auto taps = fdmsurf::detail::gaussian_taps(sigma, std::uint32_t(std::ceil(6.0 * sigma)));
+    std::vector<float> host(std::size_t(d[0]) * d[1] * d[2]);
+    fdmsurf::detail::gaussian_filter_planes(density.data(), d[0], d[1], d[2], plan.pitch, taps, 0,
+                                            d[2], host.data());
+    double num = 0.0, den = 0.0;
+    for (std::size_t i = 0; i < host.size(); ++i) {
+        num += (host[i] - ref.field[i]) * (host[i] - ref.field[i]);
+        den += ref.field[i] * ref.field[i];
+    }
+    const double rel = std::sqrt(num / den);
+    std::printf("  host gaussian, h 0.50: relative L2 %.3g against FFTW\n", rel);
+    EXPECT_LT(rel, 1e-5);
 }
 
 // A synthetic grid: 64 x 48 x 40 points at 0.5 Å (fx step 1/32, fy 1/24, fz 1/20 per Å), the

@@ -86,7 +86,7 @@ void ExpectSameTopology(const Mesh& in, const std::vector<std::uint32_t>& out) {
     const MeshStats a = compute_stats(in), b = compute_stats(with_indices(in, out));
     EXPECT_EQ(b.pieces, a.pieces);
     EXPECT_EQ(b.euler_characteristic, a.euler_characteristic);
-    EXPECT_EQ(b.boundary_edges <= a.boundary_edges, true) << b.boundary_edges;
+    EXPECT_LE(b.boundary_edges, a.boundary_edges);
     EXPECT_EQ(b.nonmanifold_edges, a.nonmanifold_edges);
     EXPECT_EQ(b.nonmanifold_vertices, a.nonmanifold_vertices);
     EXPECT_EQ(b.inconsistent_edges, a.inconsistent_edges);
@@ -113,15 +113,19 @@ TEST(CollapseEdges, SphereAndTorusKeepTheirTopologyDownToTheTarget) {
 }
 
 TEST(CollapseEdges, EveryTriangleKeepsItsSide) {
-    // No triangle turns over: the volume stays positive and close to the full mesh's, and the
-    // triangles keep the input's orientation (no inconsistent edge, checked above as well).
+    // No triangle turns over: each faces the way the input surface does at its corners (on a
+    // thin torus, 13 triangles do not when the collapses' turn tests are left out), and the
+    // sphere's volume stays positive and close to the full mesh's.
+    const Mesh ring = torus(8.0, 3.0, 160, 64);
+    const auto coarse =
+        detail::collapse_edges(ring.positions, ring.indices, {}, 2048, kNoBound, nullptr);
+    EXPECT_EQ(turned_over(ring, coarse), 0u);
     const Mesh sphere = icosphere(10.0, 5);
     const auto out =
         detail::collapse_edges(sphere.positions, sphere.indices, {}, 500, kNoBound, nullptr);
     const MeshStats full = compute_stats(sphere), s = compute_stats(with_indices(sphere, out));
     EXPECT_GT(s.volume, 0.95 * full.volume);
     EXPECT_LT(s.volume, full.volume);  // chords of a sphere lie inside it
-    EXPECT_EQ(s.inconsistent_edges, 0u);
 }
 
 TEST(CollapseEdges, FixedTrianglesAndBordersStayWhereTheyAre) {
@@ -129,13 +133,11 @@ TEST(CollapseEdges, FixedTrianglesAndBordersStayWhereTheyAre) {
     // that touched them still meets them along the same edges (their corners did not move).
     const Mesh sphere = icosphere(6.0, 5);
     std::vector<std::uint32_t> upper, lower;
-    std::set<std::uint32_t> fixed_corners;
     for (std::size_t t = 0; t < sphere.triangle_count(); ++t) {
         const std::uint32_t* tri = &sphere.indices[3 * t];
         bool up = true;
         for (int k = 0; k < 3; ++k) up = up && sphere.positions[3 * std::size_t{tri[k]} + 2] > 0;
         (up ? upper : lower).insert((up ? upper : lower).end(), tri, tri + 3);
-        if (!up) fixed_corners.insert(tri, tri + 3);
     }
     const auto out = detail::collapse_edges(sphere.positions, upper, lower, upper.size() / 30,
                                             kNoBound, nullptr);
@@ -222,7 +224,7 @@ TEST_F(CollapseSurface, HemoglobinKeepsItsTopologyWhereMeshoptimizerBreaksIt) {
     // Measured: 0.12 Å (the root of the largest mean squared distance of a collapse).
     EXPECT_LT(error, 0.5);
     // No triangle turned over: each faces the way the surface does at its corners, but for
-    // input triangles that did not already (measured: 89 of meshopt_simplify's do not).
+    // input triangles that did not already (measured: 93 of meshopt_simplify's do not).
     EXPECT_EQ(turned_over(full, ours), turned_over(full, full.indices))
         << turned_over(full, theirs) << " of meshoptimizer's";
 }

@@ -67,8 +67,8 @@ struct SimplifyReport {
 // first. Meshes of more than 65,536 triangles are simplified in cells, in parallel on all
 // hardware threads. With Simplifier::kCollapse every collapse is tested for the link condition,
 // so the result has the input's topology (the same pieces and genus, no new boundary or
-// non-manifold edge or vertex); it stops above the target only where no valid collapse is left
-// or at max_error. With kMeshopt, where meshopt_simplify's collapses leave non-manifold edges or
+// non-manifold edge or vertex); it stops above the target only where no valid collapse is left,
+// at max_error, or, in cells, up to 2% above it after its last pass. With kMeshopt, where meshopt_simplify's collapses leave non-manifold edges or
 // vertices (meshoptimizer 0.18 does not prevent them), the input around them is kept as it was
 // and the rest simplified again: the result has no defect the input did not have (it may still
 // close a tunnel or pinch a neck narrower than its edges), and may keep more triangles than the

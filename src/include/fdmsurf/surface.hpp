@@ -100,6 +100,7 @@ struct GridInfo {
     float spacing = 0.0f;
     std::array<std::uint32_t, 3> dims{};  // points along x, y, z
     std::uint32_t slabs = 1;              // > 1 when processed in overlapping parts
+    bool host_filter = false;  // the slabs' Gaussian filter ran on the host (gaussian_filter)
     float cutoff = 0.0f;                  // filter cut-off used (1/Å), 0 for vdw, sas and edt
 };
 
@@ -135,6 +136,13 @@ struct DeviceInfo {
 // progress display. An exception it throws ends make_surface with that exception.
 using ProgressCallback = std::function<void(std::string_view stage)>;
 
+// Where the default Gaussian filter of a grid processed in slabs runs.
+enum class GaussianFilterPlace {
+    Auto,    // the host when the device is a CPU implementation (lavapipe), else the device
+    Device,  // VkFFT forward, the spectral mask, VkFFT inverse
+    Host,    // a separable convolution in space on the host's threads, the same low-pass
+};
+
 struct EngineOptions {
     // Device: empty = the first usable one (discrete GPU first); a number = that index; else a
     // case-insensitive substring of the device name.
@@ -148,6 +156,10 @@ struct EngineOptions {
     // one; `device` and `validation` are then ignored. Not owned; must outlive the Engine.
     const ExternalDevice* external = nullptr;
     ProgressCallback progress;  // empty: none
+    // The Gaussian filter of grids in slabs (the ideal filter and grids in one binding always
+    // go through VkFFT). On a CPU device the FFTs share the host's cores with everything else,
+    // and three passes of a 21-tap kernel cost a fraction of them (docs/performance.md).
+    GaussianFilterPlace gaussian_filter = GaussianFilterPlace::Auto;
 };
 
 namespace detail { struct EngineImpl; }

@@ -1,0 +1,30 @@
+// The default Gaussian filter as a separable convolution in space, on the host: the same
+// low-pass as VkFFT forward, the mask 2^-(f/F)^2 and VkFFT inverse (a Gaussian of
+// sigma = sqrt(ln 2 / 2) / (pi F) in space), for devices whose FFTs run on the same CPU cores
+// (VK_PHYSICAL_DEVICE_TYPE_CPU: lavapipe), where three passes of a short kernel cost a fraction
+// of the transforms (docs/performance.md).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+namespace fdmsurf::detail {
+
+// The spatial sigma of the Gaussian filter of cut-off `cutoff` (1/Å), in grid points of
+// `spacing` Å.
+double gaussian_sigma_points(double cutoff, double spacing);
+
+// Taps of the sampled Gaussian of `sigma` points over [-radius, radius], summing to 1.
+std::vector<float> gaussian_taps(double sigma, std::uint32_t radius);
+
+// Filters planes [core_begin, core_end) of a field of nx x ny x planes points (x fastest, rows
+// `pitch` floats apart, so the R2C layout of the device's field reads as it is), with zero
+// outside it, into `out` (nx x ny per plane, no padding, core planes in order), on `threads`
+// threads (0: all). The radius is the taps' (taps.size() = 2 radius + 1): planes within it of
+// the core must be in the field for the core to be exact.
+void gaussian_filter_planes(const float* field, std::uint32_t nx, std::uint32_t ny,
+                            std::uint32_t planes, std::uint32_t pitch,
+                            const std::vector<float>& taps, std::uint32_t core_begin,
+                            std::uint32_t core_end, float* out, unsigned threads = 0);
+
+}  // namespace fdmsurf::detail
