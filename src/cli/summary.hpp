@@ -246,6 +246,7 @@ inline std::string text_summary(const RunReport& r) {
          std::to_string(g.dims[2]) + " points, spacing " + format_general(g.spacing) + " Å, ";
     s += g.cutoff > 0.0f ? "cut-off " + format_general(g.cutoff) + " 1/Å" : "no filter";
     if (g.slabs > 1) s += ", " + std::to_string(g.slabs) + " slabs";
+    if (g.host_filter) s += " (Gaussian filter on the host)";
     s += "\n";
 
     const MeshStats& m = r.stats;
@@ -360,6 +361,7 @@ inline std::string json_summary(const RunReport& r) {
     w.end_array();
     w.member("cutoff", r.grid.cutoff);
     w.member("slabs", r.grid.slabs);
+    w.member("host_filter", r.grid.host_filter);
     w.end_object();
 
     const MeshStats& m = r.stats;

@@ -100,7 +100,13 @@ TEST(CliSummary, TextShowsWhatIsMissingFromAnOpenMesh) {
     r.model = 2;
     const std::string text = fdmsurf::cli::text_summary(r);
     EXPECT_TRUE(contains(text, "vdw surface of")) << text;
-    EXPECT_TRUE(contains(text, "no filter, 3 slabs")) << text;
+    EXPECT_TRUE(contains(text, "no filter, 3 slabs\n")) << text;
+    // The default Gaussian filter of slabs run on the host says so.
+    RunReport g = example_report();
+    g.grid.slabs = 2;
+    g.grid.host_filter = true;
+    EXPECT_TRUE(contains(fdmsurf::cli::text_summary(g), ", 2 slabs (Gaussian filter on the host)\n"))
+        << fdmsurf::cli::text_summary(g);
     EXPECT_TRUE(contains(text,
                          "3 piece(s) (2 closed), closed manifold: no (12 boundary edges, "
                          "0 non-manifold edges)"))
@@ -233,9 +239,10 @@ TEST(CliSummary, JsonIsOneValidObjectWithEveryKey) {
     EXPECT_DOUBLE_EQ(value->find("area")->number, 2312.44);
 
     const JsonValue& grid = *value->find("grid");
-    for (const char* key : {"dims", "spacing", "origin", "cutoff", "slabs"}) {
+    for (const char* key : {"dims", "spacing", "origin", "cutoff", "slabs", "host_filter"}) {
         EXPECT_NE(grid.find(key), nullptr) << key;
     }
+    EXPECT_EQ(grid.find("host_filter")->boolean, false);
     ASSERT_EQ(grid.find("dims")->array.size(), 3u);
     EXPECT_EQ(grid.find("dims")->array[2].number, 84);
     EXPECT_EQ(grid.find("origin")->array[2].number, 3.25);
