@@ -4,15 +4,15 @@ docs/performance.md).
 
 Runs build/fdmsurf on each structure with `--host-filter off` (VkFFT forward, mask, inverse)
 and `--host-filter on` (a separable convolution on the host), alternating within each round,
-and prints the medians of fdmsurf's own total and of the filter stages, the triangle count and
-area of each (the surfaces should agree to float rounding), and the peak RSS.
+and prints the slab count, the medians of fdmsurf's own total and of the filter stages, and the
+triangle count and area of each (the surfaces should agree to float rounding).
 
   bench/host_filter.py [--reps 3] [--structures 1aon,4yvs] [--spacing 0.5] [--assembly]
 
 Structures are read from tests/data, else ../shared/data (FDMSURF_SHARED moves it); 1AON is
 only in ../shared/data: without it the script says so and measures what it finds.
 """
-import argparse, json, os, platform, resource, statistics, subprocess, sys, tempfile
+import argparse, json, os, platform, statistics, subprocess, sys, tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SHARED = os.environ.get("FDMSURF_SHARED", os.path.join(ROOT, "..", "shared"))
@@ -29,12 +29,10 @@ def find(name):
 
 
 def run(exe, args):
-    before = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
     r = subprocess.run([exe] + args, capture_output=True, text=True)
     if r.returncode != 0:
         sys.exit(f"fdmsurf {' '.join(args)} failed ({r.returncode}): {r.stderr.strip()}")
-    peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
-    return json.loads(r.stdout), peak if peak > before else None
+    return json.loads(r.stdout)
 
 
 def main():
@@ -60,7 +58,7 @@ def main():
             for _ in range(args.reps):
                 loads.append(os.getloadavg()[0])
                 for mode in ("off", "on"):
-                    runs[mode].append(run(args.exe, base + ["--host-filter", mode])[0])
+                    runs[mode].append(run(args.exe, base + ["--host-filter", mode]))
             for mode in ("off", "on"):
                 stats = runs[mode]
                 device = stats[0]["device"]
@@ -76,10 +74,11 @@ def main():
     loads.append(os.getloadavg()[0])
     print(f"machine: {platform.machine()}, {os.cpu_count()} cores, 1-minute load {min(loads):.1f}-{max(loads):.1f}; "
           f"device: {device}; spacing {args.spacing} Å, median of {args.reps} alternating rounds, ms\n")
-    print("| structure, host filter | total | filter stages | density | triangles | area (Å²) |")
-    print("|---|---|---|---|---|---|")
+    print("| structure, host filter | slabs | total | filter stages | density | triangles | area (Å²) |")
+    print("|---|---|---|---|---|---|---|")
     for r in rows:
-        print(f"| {r['name']} | {r['total']:,.0f} | {r['filt']:,.0f} | {r['density']:,.0f} | {r['tri']:,} | {r['area']:,.2f} |")
+        print(f"| {r['name']} | {r['slabs']} | {r['total']:,.0f} | {r['filt']:,.0f} | {r['density']:,.0f} | "
+              f"{r['tri']:,} | {r['area']:,.2f} |")
     print("\n'filter stages': fft-forward + mask + fft-inverse (off) or filter-host (on); 'total': fdmsurf's own "
           "total_ms of --stats json.")
 

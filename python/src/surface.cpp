@@ -33,6 +33,7 @@ py::dict grid_dict(const GridInfo& g) {
     d["origin"] = py::make_tuple(g.origin[0], g.origin[1], g.origin[2]);
     d["cutoff"] = g.cutoff;
     d["slabs"] = g.slabs;
+    d["host_filter"] = g.host_filter;
     return d;
 }
 
@@ -380,7 +381,8 @@ max_triangles= did), optimized, total_ms.)")
         .def_property_readonly(
             "grid", [](const PySurface& s) { return grid_dict(s.grid); },
             "The grid: dims (points along x, y, z), spacing (Å), origin (Å), cutoff (1/Å, 0 for "
-            "vdw, sas and edt), slabs (> 1 when processed in parts).")
+            "vdw, sas and edt), slabs (> 1 when processed in parts), host_filter (the slabs' "
+            "Gaussian filter ran on the host).")
         .def_property_readonly(
             "times", [](const PySurface& s) { return times_dict(s.times); },
             "Milliseconds per stage ('density', 'fft-forward', ...), in order of execution.")

@@ -1015,7 +1015,8 @@ Device:
   --host-filter auto|on|off  the Gaussian filter of grids in slabs as a separable
                          convolution on the host (the same low-pass) instead of
                          VkFFT: auto (default) does so when the device is a CPU
-                         (lavapipe), where the FFTs share the host's cores
+                         (lavapipe), where the FFTs share the host's cores, at
+                         spacings up to about 0.54 Å (the default cut-off)
 
 Output:
   -o, --output OUTPUT    the mesh file to write: .ply (binary), .obj, .glb

@@ -384,14 +384,17 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
     };
     // The Gaussian filter on the host (EngineOptions::gaussian_filter): the slab's density comes
     // back and its core is convolved there, with a kernel as wide as the overlap (6 sigma).
-    const GaussianFilterPlace place = gaussian_filter;
+    // Auto: on a CPU device, and where the sampled kernel is the mask's low-pass (sigma of at
+    // least kMinHostSigma points: 0.54 Å at the default cut-off; coarser grids keep VkFFT).
+    const double sigma =
+        plan.filtered ? gaussian_sigma_points(plan.info.cutoff, h) : 0.0;
     const bool host_gaussian =
         plan.filtered && !plan.exact_ses && options.filter == FilterShape::Gaussian &&
-        (place == GaussianFilterPlace::Host ||
-         (place == GaussianFilterPlace::Auto && context.info().type == "CPU"));
-    std::vector<float> gaussian_taps_;
-    if (host_gaussian)
-        gaussian_taps_ = gaussian_taps(gaussian_sigma_points(plan.info.cutoff, h), overlap);
+        (gaussian_filter == GaussianFilterPlace::Host ||
+         (gaussian_filter == GaussianFilterPlace::Auto && context.cpu_device() &&
+          sigma >= kMinHostSigma));
+    std::vector<float> taps, filter_scratch;
+    if (host_gaussian) taps = gaussian_taps(sigma, overlap);
     result.grid.host_filter = host_gaussian;
     Buffer field(context, slab_bytes, MemoryUse::Device, "field_slab");
     std::vector<float> slab_core;  // two core buffers, swapped: pages touched once, not per slab
@@ -433,9 +436,9 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
             const double t_copy = now_ms();
             const float* src = static_cast<const float*>(host.mapped());
             if (host_gaussian) {
-                gaussian_filter_planes(src, d[0], d[1], slab_planes, sp.pitch, gaussian_taps_,
+                gaussian_filter_planes(src, d[0], d[1], slab_planes, sp.pitch, taps,
                                        std::uint32_t(zc0 - z0), std::uint32_t(zc1 - z0),
-                                       slab_core.data());
+                                       slab_core.data(), filter_scratch);
                 add_times(result.times, {{"filter-host", now_ms() - t_copy, false}});
             } else {
                 for (std::int64_t z = zc0; z < zc1; ++z)

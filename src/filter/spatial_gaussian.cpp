@@ -32,14 +32,16 @@ std::vector<float> gaussian_taps(double sigma, std::uint32_t radius) {
 void gaussian_filter_planes(const float* field, std::uint32_t nx, std::uint32_t ny,
                             std::uint32_t planes, std::uint32_t pitch,
                             const std::vector<float>& taps, std::uint32_t core_begin,
-                            std::uint32_t core_end, float* out, unsigned threads) {
+                            std::uint32_t core_end, float* out, std::vector<float>& scratch,
+                            unsigned threads) {
     const auto radius = static_cast<std::int64_t>(taps.size() / 2);
     if (core_end <= core_begin) return;
     // The planes the core's z pass reads.
     const std::int64_t z0 = std::max<std::int64_t>(0, std::int64_t(core_begin) - radius);
     const std::int64_t z1 = std::min<std::int64_t>(planes, std::int64_t(core_end) + radius);
     const std::size_t plane = std::size_t(nx) * ny;
-    std::vector<float> xy(std::size_t(z1 - z0) * plane);
+    std::vector<float>& xy = scratch;
+    if (xy.size() < std::size_t(z1 - z0) * plane) xy.resize(std::size_t(z1 - z0) * plane);
     threads = thread_count(threads);
     // x, then y, plane by plane.
     parallel_chunks(std::size_t(z1 - z0), threads, [&](std::size_t p) {

@@ -488,8 +488,9 @@ std::vector<Index> simplify_in_cells(const std::vector<float>& positions,
         // against the target) can hold more than the target (1AON at 2%: 1.7 times it): further
         // passes over cubes twice as wide each time, their faces offset from the first's by half
         // the previous pass's offset (0.5, 0.25, 0.125 first cube: never on an earlier pass's
-        // faces), while the count is more than 2% above the target. fdmsurf's collapses only: meshoptimizer's, over triangles
-        // that coarse, went far from the surface (4HHB at 2%: RMSD 2.1 Å against 0.37 Å).
+        // faces), while the count is more than 2% above the target. fdmsurf's collapses only:
+        // meshoptimizer's, over triangles that coarse, went far from the surface (4HHB at 2%:
+        // RMSD 2.1 Å against 0.37 Å).
         double width = 2.0 * cell, offset = 0.5 * cell;
         const int passes = simplifier == Simplifier::kCollapse ? kMaxPasses : 2;
         for (int pass = 3; pass <= passes && last.indices.size() / 3 > target * 51 / 50; ++pass) {

@@ -42,6 +42,13 @@ public:
     const DeviceLimits& limits() const { return limits_; }
     const DeviceInfo& info() const { return info_; }
     const VkPhysicalDeviceMemoryProperties& memory_properties() const { return memory_; }
+    // VkPhysicalDeviceProperties::deviceType is VK_PHYSICAL_DEVICE_TYPE_CPU (lavapipe,
+    // SwiftShader): the device's work runs on the host's cores.
+    bool cpu_device() const {
+        VkPhysicalDeviceProperties p;
+        vkGetPhysicalDeviceProperties(physical_, &p);
+        return p.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+    }
 
     // Device-local memory a new allocation can still get: with VK_EXT_memory_budget (enabled
     // when the device has it), the largest device-local heap's budget less what is in use now,

@@ -8,6 +8,8 @@
 #include <cstdint>
 #include <numbers>
 #include <random>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "fdmsurf/compare.hpp"
@@ -45,35 +47,72 @@ TEST(SpatialGaussian, TapsAreTheMasksGaussianInSpace) {
 }
 
 TEST(SpatialGaussian, MatchesADirectConvolutionOfTheCorePlanes) {
-    // A random field with padded rows; planes 3..8 of 12 filtered, zero outside the field.
-    const std::uint32_t nx = 13, ny = 9, planes = 12, pitch = 16, radius = 3;
+    // A random field with padded rows, zero outside it; cores that start at the first plane,
+    // more than a radius in (the z pass then reads the scratch from a plane offset) and less
+    // than a radius in (the kernel cut at the field's first planes), one scratch for all.
+    const std::uint32_t nx = 13, ny = 9, planes = 12, pitch = 16;
+    const int radius = 3;
     std::mt19937 rng(7);
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
     std::vector<float> field(std::size_t(pitch) * ny * planes);
     for (float& v : field) v = u(rng);
     const auto taps = gaussian_taps(1.2, radius);
-    const std::uint32_t c0 = 3, c1 = 9;
-    std::vector<float> out(std::size_t(nx) * ny * (c1 - c0), -1.0f);
-    gaussian_filter_planes(field.data(), nx, ny, planes, pitch, taps, c0, c1, out.data(), 2);
-    double worst = 0.0;
-    for (std::uint32_t z = c0; z < c1; ++z)
-        for (std::uint32_t y = 0; y < ny; ++y)
-            for (std::uint32_t x = 0; x < nx; ++x) {
-                double s = 0.0;
-                for (int k = -3; k <= 3; ++k)
-                    for (int j = -3; j <= 3; ++j)
-                        for (int i = -3; i <= 3; ++i) {
-                            const int xx = int(x) + i, yy = int(y) + j, zz = int(z) + k;
-                            if (xx < 0 || yy < 0 || zz < 0 || xx >= int(nx) || yy >= int(ny) ||
-                                zz >= int(planes))
-                                continue;
-                            s += double(taps[i + 3]) * taps[j + 3] * taps[k + 3] *
-                                 field[(std::size_t(zz) * ny + yy) * pitch + xx];
-                        }
-                const double got = out[(std::size_t(z - c0) * ny + y) * nx + x];
-                worst = std::max(worst, std::abs(got - s));
-            }
-    EXPECT_LT(worst, 1e-6);
+    std::vector<float> scratch;
+    for (const auto& [c0, c1] : {std::pair{0u, 12u}, std::pair{3u, 9u}, std::pair{5u, 8u},
+                                 std::pair{1u, 4u}, std::pair{10u, 12u}}) {
+        SCOPED_TRACE(std::to_string(c0) + ".." + std::to_string(c1));
+        std::vector<float> out(std::size_t(nx) * ny * (c1 - c0), -1.0f);
+        gaussian_filter_planes(field.data(), nx, ny, planes, pitch, taps, c0, c1, out.data(),
+                               scratch, 2);
+        double worst = 0.0;
+        for (std::uint32_t z = c0; z < c1; ++z)
+            for (std::uint32_t y = 0; y < ny; ++y)
+                for (std::uint32_t x = 0; x < nx; ++x) {
+                    double sum = 0.0;
+                    for (int k = -radius; k <= radius; ++k)
+                        for (int j = -radius; j <= radius; ++j)
+                            for (int i = -radius; i <= radius; ++i) {
+                                const int xx = int(x) + i, yy = int(y) + j, zz = int(z) + k;
+                                if (xx < 0 || yy < 0 || zz < 0 || xx >= int(nx) || yy >= int(ny) ||
+                                    zz >= int(planes))
+                                    continue;
+                                sum += double(taps[i + radius]) * taps[j + radius] *
+                                       taps[k + radius] *
+                                       field[(std::size_t(zz) * ny + yy) * pitch + xx];
+                            }
+                    const double got = out[(std::size_t(z - c0) * ny + y) * nx + x];
+                    worst = std::max(worst, std::abs(got - sum));
+                }
+        EXPECT_LT(worst, 1e-6);
+    }
+}
+
+TEST(SpatialGaussian, ResponseIsTheMaskFromOneAndAHalfPointsOfSigma) {
+    // The taps' frequency response against the mask 2^-(f/F)^2, f in cycles per point up to
+    // Nyquist: the sampled kernel adds the mask's aliases, exp(-pi^2 sigma^2 / 2) at Nyquist.
+    // At 0.5 Å (sigma 1.62 points) and at kMinHostSigma they are below 2e-5; at 1 Å (0.81
+    // points), where Auto keeps VkFFT, they are not.
+    const double cutoff = 0.232;
+    auto worst = [cutoff](double spacing) {
+        const double sigma = gaussian_sigma_points(cutoff, spacing);
+        const auto taps = gaussian_taps(sigma, std::uint32_t(std::ceil(6.0 * sigma)));
+        const int r = int(taps.size() / 2);
+        double e = 0.0;
+        for (int step = 0; step <= 100; ++step) {
+            const double nu = 0.5 * step / 100.0;  // cycles per point
+            double response = 0.0;
+            for (int k = -r; k <= r; ++k)
+                response += taps[std::size_t(k + r)] * std::cos(2.0 * std::numbers::pi * nu * k);
+            const double q = nu / (cutoff * spacing);
+            e = std::max(e, std::abs(response - std::exp2(-q * q)));
+        }
+        return e;
+    };
+    EXPECT_LT(worst(0.5), 2e-5);
+    const double at_limit = std::sqrt(std::log(2.0) / 2.0) /
+                            (std::numbers::pi * cutoff * fdmsurf::detail::kMinHostSigma);
+    EXPECT_LT(worst(at_limit), 2e-5);
+    EXPECT_GT(worst(1.0), 1e-3);
 }
 
 TEST(SpatialGaussian, ResultDoesNotDependOnTheThreadCount) {
@@ -81,9 +120,11 @@ TEST(SpatialGaussian, ResultDoesNotDependOnTheThreadCount) {
     std::vector<float> field(std::size_t(pitch) * ny * planes);
     for (std::size_t i = 0; i < field.size(); ++i) field[i] = float((i * 2654435761u) % 997);
     const auto taps = gaussian_taps(1.6, 10);
-    std::vector<float> one(std::size_t(nx) * ny * 10), four(one.size());
-    gaussian_filter_planes(field.data(), nx, ny, planes, pitch, taps, 5, 15, one.data(), 1);
-    gaussian_filter_planes(field.data(), nx, ny, planes, pitch, taps, 5, 15, four.data(), 4);
+    std::vector<float> one(std::size_t(nx) * ny * 10), four(one.size()), scratch;
+    gaussian_filter_planes(field.data(), nx, ny, planes, pitch, taps, 5, 15, one.data(), scratch,
+                           1);
+    gaussian_filter_planes(field.data(), nx, ny, planes, pitch, taps, 5, 15, four.data(), scratch,
+                           4);
     EXPECT_EQ(one, four);
 }
 
@@ -129,6 +170,13 @@ TEST_F(HostFilterSlabs, AutoFiltersOnTheHostExactlyOnACpuDevice) {
     const SurfaceResult r = e.make_surface(atoms, o);
     ASSERT_GT(r.grid.slabs, 1u);
     EXPECT_EQ(r.grid.host_filter, e.device().type == "CPU") << e.device().type;
+    // At 1 Å the sampled kernel is not quite the mask's low-pass (sigma 0.81 points): VkFFT.
+    Engine narrow(EngineOptions{.max_buffer_range = 512u << 10});
+    o.spacing = 1.0f;
+    const SurfaceResult coarse = narrow.make_surface(atoms, o);
+    ASSERT_GT(coarse.grid.slabs, 1u);
+    EXPECT_FALSE(coarse.grid.host_filter);
+    o.spacing = 0.5f;
     // The ideal filter has no compact kernel: always VkFFT (its slabs overlap more, so they
     // need wider bindings).
     Engine wide(EngineOptions{.max_buffer_range = 4u << 20});

@@ -164,8 +164,9 @@ TEST_F(SpectralFilter, HostGaussianInSpaceMatchesFftwOnCrambin) {
         fdmsurf::detail::gaussian_sigma_points(plan.info.cutoff, plan.info.spacing);
     const auto taps = fdmsurf::detail::gaussian_taps(sigma, std::uint32_t(std::ceil(6.0 * sigma)));
     std::vector<float> host(std::size_t(d[0]) * d[1] * d[2]);
+    std::vector<float> scratch;
     fdmsurf::detail::gaussian_filter_planes(density.data(), d[0], d[1], d[2], plan.pitch, taps, 0,
-                                            d[2], host.data());
+                                            d[2], host.data(), scratch);
     double num = 0.0, den = 0.0;
     for (std::size_t i = 0; i < host.size(); ++i) {
         num += (host[i] - ref.field[i]) * (host[i] - ref.field[i]);

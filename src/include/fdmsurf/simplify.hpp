@@ -48,7 +48,8 @@ struct SimplifyReport {
     std::size_t frozen_triangles = 0;
     std::size_t regions_kept_whole = 0;
     int attempts = 0;    // simplifier runs over all regions (kMeshopt: with the guard's reruns)
-    double error = 0.0;  // the simplifier's estimate of the deviation, Å (largest per pass, summed)
+    // The simplifier's estimate of the deviation, Å (largest per pass, summed).
+    double error = 0.0;
     // compare_meshes(input, result): the input's vertices to the result's triangles, since the
     // result's vertices are input vertices (Å; NaN unless measure_distance).
     double hausdorff = std::numeric_limits<double>::quiet_NaN();
@@ -68,11 +69,12 @@ struct SimplifyReport {
 // hardware threads. With Simplifier::kCollapse every collapse is tested for the link condition,
 // so the result has the input's topology (the same pieces and genus, no new boundary or
 // non-manifold edge or vertex); it stops above the target only where no valid collapse is left,
-// at max_error, or, in cells, up to 2% above it after its last pass. With kMeshopt, where meshopt_simplify's collapses leave non-manifold edges or
-// vertices (meshoptimizer 0.18 does not prevent them), the input around them is kept as it was
-// and the rest simplified again: the result has no defect the input did not have (it may still
-// close a tunnel or pinch a neck narrower than its edges), and may keep more triangles than the
-// target (docs/mesh.md, "Keeping the mesh closed"). The result's vertices are a subset of the
+// at max_error, or, in cells, up to 2% above it after its last pass. With kMeshopt, where
+// meshopt_simplify's collapses leave non-manifold edges or vertices (meshoptimizer 0.18 does
+// not prevent them), the input around them is kept as it was and the rest simplified again:
+// the result has no defect the input did not have (it may still close a tunnel or pinch a neck
+// narrower than its edges), and may keep more triangles than the target (docs/mesh.md,
+// "Keeping the mesh closed"). The result's vertices are a subset of the
 // input's, in the input's order, each with its normal, atom, colour and scalars. A target at or
 // above the input's count returns the welded input, less unused vertices. Throws
 // Error(InvalidArgument) for a ratio outside (0, 1], a negative or NaN max_error, or malformed

@@ -100,7 +100,7 @@ struct GridInfo {
     float spacing = 0.0f;
     std::array<std::uint32_t, 3> dims{};  // points along x, y, z
     std::uint32_t slabs = 1;              // > 1 when processed in overlapping parts
-    bool host_filter = false;  // the slabs' Gaussian filter ran on the host (gaussian_filter)
+    bool host_filter = false;             // the slabs' Gaussian filter ran on the host
     float cutoff = 0.0f;                  // filter cut-off used (1/Å), 0 for vdw, sas and edt
 };
 
@@ -158,7 +158,10 @@ struct EngineOptions {
     ProgressCallback progress;  // empty: none
     // The Gaussian filter of grids in slabs (the ideal filter and grids in one binding always
     // go through VkFFT). On a CPU device the FFTs share the host's cores with everything else,
-    // and three passes of a 21-tap kernel cost a fraction of them (docs/performance.md).
+    // and three passes of a kernel of 2 ceil(6 sigma) + 1 taps (21 at the defaults) cost a
+    // fraction of them (docs/performance.md). Auto keeps VkFFT where sigma is below 1.5 grid
+    // points (spacings above 0.54 Å at the default cut-off), where the sampled kernel's
+    // aliases would make it a slightly different low-pass; Host uses it there too.
     GaussianFilterPlace gaussian_filter = GaussianFilterPlace::Auto;
 };
 
