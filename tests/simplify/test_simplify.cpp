@@ -133,6 +133,13 @@ constexpr std::array<Simplifier, 2> kSimplifiers{Simplifier::kCollapse, Simplifi
 
 const char* name_of(Simplifier s) { return s == Simplifier::kCollapse ? "collapse" : "meshopt"; }
 
+SimplifyOptions options(Simplifier simplifier, double ratio) {
+    SimplifyOptions o;
+    o.ratio = ratio;
+    o.simplifier = simplifier;
+    return o;
+}
+
 // Largest distance of the analytic sphere's points (the input's vertices lie on it) from the
 // simplified mesh's triangles: the sagitta of a triangle of circumradius ρ is ρ²/(2R) to first
 // order. `spacing` is the edge of an equilateral triangle of the simplified mesh's mean area.
@@ -314,9 +321,7 @@ TEST(SimplifyMesh, SphereKeepsItsShapeAndTopology) {
     const MeshStats full = compute_stats(sphere);
     for (Simplifier simplifier : kSimplifiers) {
         SCOPED_TRACE(name_of(simplifier));
-        SimplifyOptions o;
-        o.ratio = 0.1;
-        o.simplifier = simplifier;
+        const SimplifyOptions o = options(simplifier, 0.1);
         SimplifyReport r;
         const Mesh out = simplify_mesh(sphere, o, &r);
         EXPECT_EQ(r.target_triangles, 2048u);
@@ -359,9 +364,7 @@ TEST(SimplifyMesh, LargeSphereGoesThroughCellsInParallelAndDeterministically) {
     ASSERT_GT(sphere.triangle_count(), 2 * detail::kCellTriangles);
     for (Simplifier simplifier : kSimplifiers) {
         SCOPED_TRACE(name_of(simplifier));
-        SimplifyOptions o;
-        o.ratio = 0.1;
-        o.simplifier = simplifier;
+        const SimplifyOptions o = options(simplifier, 0.1);
         SimplifyReport r;
         const Mesh out = simplify_mesh(sphere, o, &r);
         EXPECT_GT(r.regions, 2u);
@@ -393,9 +396,7 @@ TEST(SimplifyMesh, TorusKeepsItsHole) {
     for (Simplifier simplifier : kSimplifiers) {
         for (double ratio : {0.2, 0.05}) {
             SCOPED_TRACE(name_of(simplifier));
-            SimplifyOptions o;
-            o.ratio = ratio;
-            o.simplifier = simplifier;
+            const SimplifyOptions o = options(simplifier, ratio);
             SimplifyReport r;
             const Mesh out = simplify_mesh(ring, o, &r);
             EXPECT_TRUE(IsClosedManifold(out)) << ratio;
@@ -423,9 +424,7 @@ TEST(SimplifyMesh, OpenPatchKeepsItsOutline) {
     ASSERT_FALSE(outline.empty());
     for (Simplifier simplifier : kSimplifiers) {
         SCOPED_TRACE(name_of(simplifier));
-        SimplifyOptions o;
-        o.ratio = 0.2;
-        o.simplifier = simplifier;
+        const SimplifyOptions o = options(simplifier, 0.2);
         SimplifyReport r;
         const Mesh out = simplify_mesh(cap, o, &r);
         EXPECT_TRUE(r.topology_kept);
@@ -465,9 +464,7 @@ TEST(SimplifyMesh, TinyAndEmptyMeshesStayValid) {
     ASSERT_TRUE(IsClosedManifold(tetra));
     for (Simplifier simplifier : kSimplifiers) {
         SCOPED_TRACE(name_of(simplifier));
-        SimplifyOptions o;
-        o.ratio = 0.1;
-        o.simplifier = simplifier;
+        const SimplifyOptions o = options(simplifier, 0.1);
         SimplifyReport r;
         const Mesh out = simplify_mesh(tetra, o, &r);
         EXPECT_TRUE(IsClosedManifold(out));
@@ -545,9 +542,7 @@ TEST_F(SimplifySurface, CrambinAtTenPercentStaysClosedWithItsAtoms) {
     ASSERT_TRUE(full.is_closed_manifold());
     for (Simplifier simplifier : kSimplifiers) {
         SCOPED_TRACE(name_of(simplifier));
-        SimplifyOptions o;
-        o.ratio = 0.1;
-        o.simplifier = simplifier;
+        const SimplifyOptions o = options(simplifier, 0.1);
         SimplifyReport r;
         const Mesh out = simplify_mesh(s.mesh, o, &r);
         EXPECT_EQ(r.welded, 0u);  // marching cubes shares its vertices already
@@ -588,9 +583,7 @@ TEST_F(SimplifySurface, HemoglobinInCellsStaysClosed) {
     ASSERT_GT(s.mesh.triangle_count(), 2 * detail::kCellTriangles);
     for (Simplifier simplifier : kSimplifiers) {
         SCOPED_TRACE(name_of(simplifier));
-        SimplifyOptions o;
-        o.ratio = 0.1;
-        o.simplifier = simplifier;
+        const SimplifyOptions o = options(simplifier, 0.1);
         SimplifyReport r;
         const Mesh out = simplify_mesh(s.mesh, o, &r);
         EXPECT_GT(r.regions, 2u);
