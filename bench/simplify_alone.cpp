@@ -49,9 +49,12 @@ int main(int argc, char** argv) try {
             options.measure_distance = false;
         else if (!std::strcmp(argv[i], "--ratio") && i + 1 < argc)
             options.ratio = std::strtod(argv[++i], nullptr);
-        else if (!std::strcmp(argv[i], "--simplifier") && i + 1 < argc)
-            options.simplifier =
-                std::strcmp(argv[++i], "meshopt") ? Simplifier::kCollapse : Simplifier::kMeshopt;
+        else if (!std::strcmp(argv[i], "--simplifier") && i + 1 < argc &&
+                 (!std::strcmp(argv[i + 1], to_string(Simplifier::kCollapse)) ||
+                  !std::strcmp(argv[i + 1], to_string(Simplifier::kMeshopt))))
+            options.simplifier = std::strcmp(argv[++i], to_string(Simplifier::kMeshopt))
+                                     ? Simplifier::kCollapse
+                                     : Simplifier::kMeshopt;
         else if (!std::strcmp(argv[i], "--reps") && i + 1 < argc)
             reps = std::max(1, std::atoi(argv[++i]));
         else {

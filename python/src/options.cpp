@@ -84,8 +84,7 @@ py::dict describe(const PyOptions& o) {
     d["max_triangles"] = o.simplify.max_triangles == 0
                              ? py::object(py::none())
                              : py::object(py::int_(o.simplify.max_triangles));
-    d["simplifier"] =
-        o.simplify.simplifier == Simplifier::kMeshopt ? "meshopt" : "collapse";
+    d["simplifier"] = to_string(o.simplify.simplifier);
     d["optimize"] = o.optimize;
     d["format"] = to_string(o.read.format);
     d["model"] = o.read.model == kAllModels ? py::object(py::str("all"))

@@ -385,9 +385,7 @@ inline std::string json_summary(const RunReport& r) {
         const SimplifyReport& q = r.simplify;
         w.member("ratio", r.simplify_options.ratio);
         w.member("max_triangles", r.simplify_options.max_triangles);
-        w.member("simplifier", r.simplify_options.simplifier == Simplifier::kMeshopt
-                                   ? "meshopt"
-                                   : "collapse");
+        w.member("simplifier", to_string(r.simplify_options.simplifier));
         w.member("target_triangles", q.target_triangles);
         w.member("triangles_in", q.triangles_in);
         w.member("vertices_in", q.vertices_in);

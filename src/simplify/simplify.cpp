@@ -203,6 +203,10 @@ void measure_distance(const Mesh& full, const Mesh& simplified, double& hausdorf
 
 }  // namespace detail
 
+const char* to_string(Simplifier simplifier) noexcept {
+    return simplifier == Simplifier::kMeshopt ? "meshopt" : "collapse";
+}
+
 Mesh simplify_mesh(const Mesh& mesh, const SimplifyOptions& options, SimplifyReport* report) {
     using namespace detail;
     validate_mesh(mesh, "simplify", true);

@@ -131,8 +131,6 @@ std::vector<std::array<std::uint32_t, 6>> boundary_edges(const Mesh& m) {
 // Both simplifiers, for the tests that hold for each.
 constexpr std::array<Simplifier, 2> kSimplifiers{Simplifier::kCollapse, Simplifier::kMeshopt};
 
-const char* name_of(Simplifier s) { return s == Simplifier::kCollapse ? "collapse" : "meshopt"; }
-
 SimplifyOptions options(Simplifier simplifier, double ratio) {
     SimplifyOptions o;
     o.ratio = ratio;
@@ -254,7 +252,7 @@ TEST(SimplifyRegion, KeptTrianglesStayAsTheyAreAndCountInTheTarget) {
     ASSERT_GT(kept.size(), 100u);
     const std::size_t target = triangles / 10;
     for (Simplifier simplifier : kSimplifiers) {
-        SCOPED_TRACE(name_of(simplifier));
+        SCOPED_TRACE(to_string(simplifier));
         const detail::RegionResult r =
             detail::simplify_region(sphere.positions, sphere.indices, {}, target,
                                     std::numeric_limits<double>::infinity(), &keep, simplifier);
@@ -320,7 +318,7 @@ TEST(SimplifyMesh, SphereKeepsItsShapeAndTopology) {
     decorate(sphere);
     const MeshStats full = compute_stats(sphere);
     for (Simplifier simplifier : kSimplifiers) {
-        SCOPED_TRACE(name_of(simplifier));
+        SCOPED_TRACE(to_string(simplifier));
         const SimplifyOptions o = options(simplifier, 0.1);
         SimplifyReport r;
         const Mesh out = simplify_mesh(sphere, o, &r);
@@ -363,7 +361,7 @@ TEST(SimplifyMesh, LargeSphereGoesThroughCellsInParallelAndDeterministically) {
     decorate(sphere);
     ASSERT_GT(sphere.triangle_count(), 2 * detail::kCellTriangles);
     for (Simplifier simplifier : kSimplifiers) {
-        SCOPED_TRACE(name_of(simplifier));
+        SCOPED_TRACE(to_string(simplifier));
         const SimplifyOptions o = options(simplifier, 0.1);
         SimplifyReport r;
         const Mesh out = simplify_mesh(sphere, o, &r);
@@ -395,7 +393,7 @@ TEST(SimplifyMesh, TorusKeepsItsHole) {
     ASSERT_TRUE(IsClosedManifold(ring));
     for (Simplifier simplifier : kSimplifiers) {
         for (double ratio : {0.2, 0.05}) {
-            SCOPED_TRACE(name_of(simplifier));
+            SCOPED_TRACE(to_string(simplifier));
             const SimplifyOptions o = options(simplifier, ratio);
             SimplifyReport r;
             const Mesh out = simplify_mesh(ring, o, &r);
@@ -423,7 +421,7 @@ TEST(SimplifyMesh, OpenPatchKeepsItsOutline) {
     const auto outline = boundary_edges(cap);
     ASSERT_FALSE(outline.empty());
     for (Simplifier simplifier : kSimplifiers) {
-        SCOPED_TRACE(name_of(simplifier));
+        SCOPED_TRACE(to_string(simplifier));
         const SimplifyOptions o = options(simplifier, 0.2);
         SimplifyReport r;
         const Mesh out = simplify_mesh(cap, o, &r);
@@ -463,7 +461,7 @@ TEST(SimplifyMesh, TinyAndEmptyMeshesStayValid) {
     tetra.indices = {0, 1, 2, 0, 2, 3, 0, 3, 1, 1, 3, 2};
     ASSERT_TRUE(IsClosedManifold(tetra));
     for (Simplifier simplifier : kSimplifiers) {
-        SCOPED_TRACE(name_of(simplifier));
+        SCOPED_TRACE(to_string(simplifier));
         const SimplifyOptions o = options(simplifier, 0.1);
         SimplifyReport r;
         const Mesh out = simplify_mesh(tetra, o, &r);
@@ -541,7 +539,7 @@ TEST_F(SimplifySurface, CrambinAtTenPercentStaysClosedWithItsAtoms) {
     const MeshStats full = compute_stats(s.mesh);
     ASSERT_TRUE(full.is_closed_manifold());
     for (Simplifier simplifier : kSimplifiers) {
-        SCOPED_TRACE(name_of(simplifier));
+        SCOPED_TRACE(to_string(simplifier));
         const SimplifyOptions o = options(simplifier, 0.1);
         SimplifyReport r;
         const Mesh out = simplify_mesh(s.mesh, o, &r);
@@ -582,7 +580,7 @@ TEST_F(SimplifySurface, HemoglobinInCellsStaysClosed) {
     ASSERT_TRUE(full.is_closed_manifold());
     ASSERT_GT(s.mesh.triangle_count(), 2 * detail::kCellTriangles);
     for (Simplifier simplifier : kSimplifiers) {
-        SCOPED_TRACE(name_of(simplifier));
+        SCOPED_TRACE(to_string(simplifier));
         const SimplifyOptions o = options(simplifier, 0.1);
         SimplifyReport r;
         const Mesh out = simplify_mesh(s.mesh, o, &r);

@@ -23,6 +23,9 @@ enum class Simplifier {
     kMeshopt,
 };
 
+// "collapse" or "meshopt", as --simplifier spells them.
+const char* to_string(Simplifier simplifier) noexcept;
+
 struct SimplifyOptions {
     // Fraction of the triangles to keep, in (0, 1]; 1 keeps them all.
     double ratio = 1.0;
