@@ -34,6 +34,7 @@ py::dict grid_dict(const GridInfo& g) {
     d["cutoff"] = g.cutoff;
     d["slabs"] = g.slabs;
     d["host_filter"] = g.host_filter;
+    d["host_marching_cubes"] = g.host_marching_cubes;
     return d;
 }
 
@@ -382,7 +383,8 @@ max_triangles= did), optimized, total_ms.)")
             "grid", [](const PySurface& s) { return grid_dict(s.grid); },
             "The grid: dims (points along x, y, z), spacing (Å), origin (Å), cutoff (1/Å, 0 for "
             "vdw, sas and edt), slabs (> 1 when processed in parts), host_filter (the slabs' "
-            "Gaussian filter ran on the host).")
+            "Gaussian filter ran on the host), host_marching_cubes (the slabs' marching cubes "
+            "ran on the host).")
         .def_property_readonly(
             "times", [](const PySurface& s) { return times_dict(s.times); },
             "Milliseconds per stage ('density', 'fft-forward', ...), in order of execution.")

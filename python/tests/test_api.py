@@ -246,8 +246,10 @@ def test_snap_and_chord_tolerance_change_the_mesh(engine):
 
 def test_result_describes_the_run(engine, data):
     result = engine.surface(data / "1crn.pdb", spacing=1.0)
-    assert set(result.grid) == {"dims", "spacing", "origin", "cutoff", "slabs", "host_filter"}
-    assert result.grid["host_filter"] is False  # one binding: VkFFT
+    assert set(result.grid) == {"dims", "spacing", "origin", "cutoff", "slabs", "host_filter",
+                                "host_marching_cubes"}
+    # One binding: VkFFT and the device's marching cubes.
+    assert result.grid["host_filter"] is False and result.grid["host_marching_cubes"] is False
     assert result.grid["spacing"] == 1.0 and result.grid["cutoff"] == pytest.approx(0.232, 1e-2)
     assert "density" in result.times and all(ms >= 0 for ms in result.times.values())
     assert ("density", result.times["density"], True) in result.stages

@@ -64,6 +64,7 @@ enum class Opt {
     MaxTriangles,
     Simplifier,
     HostFilter,
+    HostMc,
     Optimize,
     Areas,
     Relative,
@@ -86,7 +87,7 @@ struct OptionSpec {
     bool numeric;  // a value that may start with '-' (a negative number, rejected later)
 };
 
-constexpr std::array<OptionSpec, 55> kOptions{{
+constexpr std::array<OptionSpec, 56> kOptions{{
     {"--output", "-o", Opt::Output, true, false},
     {"--output-format", "", Opt::OutputFormat, true, false},
     {"--surface", "", Opt::Surface, true, false},
@@ -129,6 +130,7 @@ constexpr std::array<OptionSpec, 55> kOptions{{
     {"--max-triangles", "", Opt::MaxTriangles, true, true},
     {"--simplifier", "", Opt::Simplifier, true, false},
     {"--host-filter", "", Opt::HostFilter, true, false},
+    {"--host-mc", "", Opt::HostMc, true, false},
     {"--optimize", "", Opt::Optimize, false, false},
     {"--areas", "", Opt::Areas, true, false},
     {"--relative", "", Opt::Relative, true, false},
@@ -329,10 +331,8 @@ constexpr std::array<std::pair<std::string_view, SurfaceKind>, 3> kSurfaces{
     {{"ses", SurfaceKind::Ses}, {"vdw", SurfaceKind::Vdw}, {"sas", SurfaceKind::Sas}}};
 constexpr std::array<std::pair<std::string_view, FilterShape>, 2> kFilters{
     {{"ideal", FilterShape::Ideal}, {"gaussian", FilterShape::Gaussian}}};
-constexpr std::array<std::pair<std::string_view, GaussianFilterPlace>, 3> kFilterPlaces{
-    {{"auto", GaussianFilterPlace::Auto},
-     {"off", GaussianFilterPlace::Device},
-     {"on", GaussianFilterPlace::Host}}};
+constexpr std::array<std::pair<std::string_view, StagePlace>, 3> kStagePlaces{
+    {{"auto", StagePlace::Auto}, {"off", StagePlace::Device}, {"on", StagePlace::Host}}};
 constexpr std::array<std::pair<std::string_view, Simplifier>, 2> kSimplifiers{
     {{"collapse", Simplifier::kCollapse}, {"meshopt", Simplifier::kMeshopt}}};
 
@@ -638,7 +638,11 @@ void apply_value(CliOptions& o, const OptionSpec& spec, std::string_view name,
         }
         case Opt::HostFilter:
             o.engine.gaussian_filter =
-                parse_choice(name, text, kFilterPlaces, "host filter setting", "auto, on or off");
+                parse_choice(name, text, kStagePlaces, "host filter setting", "auto, on or off");
+            break;
+        case Opt::HostMc:
+            o.engine.marching_cubes = parse_choice(name, text, kStagePlaces,
+                                                   "host marching cubes setting", "auto, on or off");
             break;
         case Opt::Simplifier:
             o.simplify.simplifier =
@@ -1017,6 +1021,9 @@ Device:
                          VkFFT: auto (default) does so when the device is a CPU
                          (lavapipe), where the FFTs share the host's cores, at
                          spacings up to about 0.54 Å (the default cut-off)
+  --host-mc auto|on|off  marching cubes of grids in slabs on the host's threads
+                         (the same mesh) instead of the device's passes: auto
+                         (default) does so when the device is a CPU (lavapipe)
 
 Output:
   -o, --output OUTPUT    the mesh file to write: .ply (binary), .obj, .glb

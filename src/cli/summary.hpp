@@ -246,7 +246,12 @@ inline std::string text_summary(const RunReport& r) {
          std::to_string(g.dims[2]) + " points, spacing " + format_general(g.spacing) + " Å, ";
     s += g.cutoff > 0.0f ? "cut-off " + format_general(g.cutoff) + " 1/Å" : "no filter";
     if (g.slabs > 1) s += ", " + std::to_string(g.slabs) + " slabs";
-    if (g.host_filter) s += " (Gaussian filter on the host)";
+    if (g.host_filter && g.host_marching_cubes)
+        s += " (Gaussian filter and marching cubes on the host)";
+    else if (g.host_filter)
+        s += " (Gaussian filter on the host)";
+    else if (g.host_marching_cubes)
+        s += " (marching cubes on the host)";
     s += "\n";
 
     const MeshStats& m = r.stats;
@@ -362,6 +367,7 @@ inline std::string json_summary(const RunReport& r) {
     w.member("cutoff", r.grid.cutoff);
     w.member("slabs", r.grid.slabs);
     w.member("host_filter", r.grid.host_filter);
+    w.member("host_marching_cubes", r.grid.host_marching_cubes);
     w.end_object();
 
     const MeshStats& m = r.stats;

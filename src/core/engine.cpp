@@ -19,6 +19,7 @@
 #include "grid/grid_plan.hpp"
 #include "grid/ses_features.hpp"
 #include "isosurface/marching_cubes_gpu.hpp"
+#include "isosurface/marching_cubes_host.hpp"
 #include "isosurface/slab_stitch.hpp"
 #include "mesh/cavities.hpp"
 #include "mesh/refine.hpp"
@@ -334,6 +335,8 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
     }
     std::vector<Mesh> parts;
     std::vector<std::uint32_t> starts;
+    const bool host_mc = on_host(marching_cubes_place);
+    result.grid.host_marching_cubes = host_mc;
     std::map<std::uint32_t, std::vector<float>> seams;  // plane z -> its values, for the stitch
     std::vector<float> pending, below;  // the core of the slab whose cells are next; the plane under it
     std::uint32_t pending_z0 = 0;
@@ -357,6 +360,21 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
         mc.z_begin = a - lo;
         mc.z_end = b - lo;
         set_interpolation(mc, plan);
+        if (host_mc) {
+            // The planes where they are: the one under the core, the core, the next core's first.
+            const double t_mc = now_ms();
+            PlaneStack planes{{}, d[0], d[1], hi - lo + 1};
+            if (a > lo) planes.planes.push_back(below.data());
+            for (std::uint32_t z = 0; z < core_planes; ++z)
+                planes.planes.push_back(pending.data() + std::size_t(z) * plane_floats);
+            for (std::uint32_t z = 0; z < from_next; ++z)
+                planes.planes.push_back(next.data() + std::size_t(z) * plane_floats);
+            parts.push_back(marching_cubes_host(planes, mc));
+            add_times(result.times, {{"mc-host", now_ms() - t_mc, false}});
+            report("marching cubes, z " + std::to_string(b) + "/" + std::to_string(d[2] - 1));
+            starts.push_back(a);
+            return;
+        }
         StagingArena arena;
         const double t_upload = now_ms();
         commands.begin();
@@ -391,8 +409,7 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
     const bool host_gaussian =
         plan.filtered && !plan.exact_ses && options.filter == FilterShape::Gaussian &&
         (gaussian_filter == GaussianFilterPlace::Host ||
-         (gaussian_filter == GaussianFilterPlace::Auto && context.cpu_device() &&
-          sigma >= kMinHostSigma));
+         (on_host(gaussian_filter) && sigma >= kMinHostSigma));
     std::vector<float> taps, filter_scratch;
     if (host_gaussian) taps = gaussian_taps(sigma, overlap);
     result.grid.host_filter = host_gaussian;

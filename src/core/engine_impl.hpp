@@ -36,7 +36,7 @@ struct EngineImpl {
         : glslang(), context(options), commands(context), density(context),
           ses_distance(context), filter(context), marching_cubes(context),
           vertex_properties(context), progress(options.progress),
-          gaussian_filter(options.gaussian_filter) {}
+          gaussian_filter(options.gaussian_filter), marching_cubes_place(options.marching_cubes) {}
 
     // Holds glslang for VkFFT from before the first plan to after the last.
     struct GlslangGuard {
@@ -52,6 +52,12 @@ struct EngineImpl {
     VertexPropertiesPass vertex_properties;
     ProgressCallback progress;  // EngineOptions::progress; may be empty
     GaussianFilterPlace gaussian_filter;  // EngineOptions::gaussian_filter
+    StagePlace marching_cubes_place;      // EngineOptions::marching_cubes
+
+    // Whether a stage placed at `place` runs on the host: Host, or Auto on a CPU device.
+    bool on_host(StagePlace place) const {
+        return place == StagePlace::Host || (place == StagePlace::Auto && context.cpu_device());
+    }
 
     // Tells the progress callback that `stage` has ended.
     void report(std::string_view stage) const {

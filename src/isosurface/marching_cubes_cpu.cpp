@@ -27,28 +27,6 @@ Point step(Point q, int axis) {
 
 float value(const FieldView& f, Point q) { return f.at(q.c[0], q.c[1], q.c[2]); }
 
-// Central differences inside, one-sided at the buffer border, so the normal exists everywhere the
-// field does; a slab's border planes are interior points of the buffer and use central ones.
-void gradient(const FieldView& f, Point q, float h, float g[3]) {
-    const std::uint32_t size[3] = {f.nx, f.ny, f.nz};
-    for (int a = 0; a < 3; ++a) {
-        const std::uint32_t c = q.c[a];
-        if (size[a] < 2) {
-            g[a] = 0.0f;
-        } else if (c == 0) {
-            g[a] = (value(f, step(q, a)) - value(f, q)) / h;
-        } else if (c + 1 == size[a]) {
-            Point m = q;
-            --m.c[a];
-            g[a] = (value(f, q) - value(f, m)) / h;
-        } else {
-            Point m = q;
-            --m.c[a];
-            g[a] = (value(f, step(q, a)) - value(f, m)) / (2.0f * h);
-        }
-    }
-}
-
 void check_arguments(const FieldView& f, const McParams& p) {
     auto fail = [](const std::string& why) {
         throw Error(ErrorCode::InvalidArgument, "marching cubes: " + why);
@@ -67,7 +45,6 @@ void check_arguments(const FieldView& f, const McParams& p) {
 Mesh marching_cubes_cpu(const FieldView& f, const McParams& p) {
     check_arguments(f, p);
     const float iso = p.iso;
-    const float h = p.spacing;
     const std::uint32_t planes = p.z_end - p.z_begin + 1;
     const std::size_t point_count = std::size_t(f.nx) * f.ny * planes;
     auto point_id = [&](Point q) {
@@ -103,32 +80,10 @@ Mesh marching_cubes_cpu(const FieldView& f, const McParams& p) {
                     if ((v0 >= iso) == (v1 >= iso)) continue;
                     mask |= std::uint8_t(1u << a);
                     ++vertex_count;
-
-                    // The clamp keeps vertices of edges that share a corner apart, so that no
-                    // triangle collapses when the iso value hits a grid value exactly.
-                    const float t = edge_crossing(v0, v1, p);
-                    for (int k = 0; k < 3; ++k) {
-                        float c = float(q.c[k]);
-                        if (k == a) c = c + t;
-                        mesh.positions.push_back(p.origin[k] + h * c);
-                    }
-
-                    float g0[3], g1[3], g[3];
-                    gradient(f, q, h, g0);
-                    gradient(f, r, h, g1);
-                    for (int k = 0; k < 3; ++k) g[k] = (1.0f - t) * g0[k] + t * g1[k];
-                    const float len = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
-                    for (int k = 0; k < 3; ++k) {
-                        // Density rises into the molecule, so -g points out of it. Without a
-                        // gradient, the edge itself says which way is out: from its inside end.
-                        float n;
-                        if (len < 1e-20f) {
-                            n = k != a ? 0.0f : (v0 >= iso ? 1.0f : -1.0f);
-                        } else {
-                            n = -g[k] / len;
-                        }
-                        mesh.normals.push_back(n);
-                    }
+                    float position[3], normal[3];
+                    mc_vertex(f, q.c, a, p, position, normal);
+                    mesh.positions.insert(mesh.positions.end(), position, position + 3);
+                    mesh.normals.insert(mesh.normals.end(), normal, normal + 3);
                 }
                 crossed_mask[id] = mask;
             }

@@ -4,6 +4,7 @@
 // mc_tablegen.cpp (ambiguous faces always separate the inside corners, so the mesh is closed).
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 
@@ -42,6 +43,62 @@ struct McParams {
 // Where along the edge from v0 (t = 0) to v1 (t = 1) the field crosses `iso`, clamped to
 // [0.001, 0.999]; shared by the CPU reference and mirrored by shaders/mc_vertices.comp.
 float edge_crossing(float v0, float v1, const McParams& p);
+
+// The gradient at point q by central differences, one-sided at the buffer's borders, zero along
+// an axis of size 1. Field: FieldView, or any type with nx, ny, nz and at(x, y, z).
+template <class Field>
+void mc_gradient(const Field& f, const std::uint32_t q[3], float h, float g[3]) {
+    const std::uint32_t size[3] = {f.nx, f.ny, f.nz};
+    for (int a = 0; a < 3; ++a) {
+        std::uint32_t up[3] = {q[0], q[1], q[2]}, down[3] = {q[0], q[1], q[2]};
+        ++up[a];
+        --down[a];
+        const std::uint32_t c = q[a];
+        if (size[a] < 2) {
+            g[a] = 0.0f;
+        } else if (c == 0) {
+            g[a] = (f.at(up[0], up[1], up[2]) - f.at(q[0], q[1], q[2])) / h;
+        } else if (c + 1 == size[a]) {
+            g[a] = (f.at(q[0], q[1], q[2]) - f.at(down[0], down[1], down[2])) / h;
+        } else {
+            g[a] = (f.at(up[0], up[1], up[2]) - f.at(down[0], down[1], down[2])) / (2.0f * h);
+        }
+    }
+}
+
+// The vertex on the crossed edge from point q along `axis`: its position and unit normal, as
+// marching_cubes_cpu documents them (every implementation on the host calls this one).
+template <class Field>
+void mc_vertex(const Field& f, const std::uint32_t q[3], int axis, const McParams& p,
+               float position[3], float normal[3]) {
+    std::uint32_t r[3] = {q[0], q[1], q[2]};
+    ++r[axis];
+    const float v0 = f.at(q[0], q[1], q[2]);
+    const float v1 = f.at(r[0], r[1], r[2]);
+    // The clamp keeps vertices of edges that share a corner apart, so that no triangle
+    // collapses when the iso value hits a grid value exactly.
+    const float t = edge_crossing(v0, v1, p);
+    const float h = p.spacing;
+    for (int k = 0; k < 3; ++k) {
+        float c = float(q[k]);
+        if (k == axis) c = c + t;
+        position[k] = p.origin[k] + h * c;
+    }
+    float g0[3], g1[3], g[3];
+    mc_gradient(f, q, h, g0);
+    mc_gradient(f, r, h, g1);
+    for (int k = 0; k < 3; ++k) g[k] = (1.0f - t) * g0[k] + t * g1[k];
+    const float len = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+    for (int k = 0; k < 3; ++k) {
+        // Density rises into the molecule, so -g points out of it. Without a gradient, the edge
+        // itself says which way is out: from its inside end.
+        if (len < 1e-20f) {
+            normal[k] = k != axis ? 0.0f : (v0 >= p.iso ? 1.0f : -1.0f);
+        } else {
+            normal[k] = -g[k] / len;
+        }
+    }
+}
 
 // Order and values, which the GPU version reproduces:
 // - Points (x, y, z), z_begin <= z <= z_end, in linear order (x fastest). A point owns its +x edge

@@ -180,6 +180,26 @@ TEST(CliOptions, DeviceByIndexOrName) {
     EXPECT_EQ(parse_with({"--device", "NVIDIA GeForce"}).engine.device, "NVIDIA GeForce");
 }
 
+TEST(CliOptions, HostStagesAutoOnOrOff) {
+    using fdmsurf::StagePlace;
+    const CliOptions none = parse_with({});
+    EXPECT_EQ(none.engine.gaussian_filter, StagePlace::Auto);
+    EXPECT_EQ(none.engine.marching_cubes, StagePlace::Auto);
+    EXPECT_EQ(parse_with({"--host-filter", "on"}).engine.gaussian_filter, StagePlace::Host);
+    EXPECT_EQ(parse_with({"--host-filter=off"}).engine.gaussian_filter, StagePlace::Device);
+    EXPECT_EQ(parse_with({"--host-mc", "on"}).engine.marching_cubes, StagePlace::Host);
+    EXPECT_EQ(parse_with({"--host-mc=OFF"}).engine.marching_cubes, StagePlace::Device);
+    EXPECT_EQ(parse_with({"--host-mc", "off", "--host-mc", "auto"}).engine.marching_cubes,
+              StagePlace::Auto);
+    const std::string message = parse_error_with({"--host-mc", "gpu"});
+    EXPECT_TRUE(contains(message, "--host-mc")) << message;
+    EXPECT_TRUE(contains(message, "auto, on or off")) << message;
+    EXPECT_TRUE(contains(parse_error_with({"--host-mc"}), "--host-mc needs a value"));
+    const std::string help = fdmsurf::cli::usage_text();
+    EXPECT_TRUE(contains(help, "--host-filter auto|on|off")) << help;
+    EXPECT_TRUE(contains(help, "--host-mc auto|on|off")) << help;
+}
+
 TEST(CliOptions, OutputFlags) {
     const CliOptions o = parse_with({"--stats", "json", "--quiet", "--validation"});
     EXPECT_TRUE(o.json);

@@ -107,6 +107,13 @@ TEST(CliSummary, TextShowsWhatIsMissingFromAnOpenMesh) {
     g.grid.host_filter = true;
     const std::string on_host = fdmsurf::cli::text_summary(g);
     EXPECT_TRUE(contains(on_host, ", 2 slabs (Gaussian filter on the host)\n")) << on_host;
+    g.grid.host_marching_cubes = true;
+    const std::string both = fdmsurf::cli::text_summary(g);
+    EXPECT_TRUE(contains(both, ", 2 slabs (Gaussian filter and marching cubes on the host)\n"))
+        << both;
+    g.grid.host_filter = false;
+    const std::string mc = fdmsurf::cli::text_summary(g);
+    EXPECT_TRUE(contains(mc, ", 2 slabs (marching cubes on the host)\n")) << mc;
     EXPECT_TRUE(contains(text,
                          "3 piece(s) (2 closed), closed manifold: no (12 boundary edges, "
                          "0 non-manifold edges)"))
@@ -239,10 +246,12 @@ TEST(CliSummary, JsonIsOneValidObjectWithEveryKey) {
     EXPECT_DOUBLE_EQ(value->find("area")->number, 2312.44);
 
     const JsonValue& grid = *value->find("grid");
-    for (const char* key : {"dims", "spacing", "origin", "cutoff", "slabs", "host_filter"}) {
+    for (const char* key :
+         {"dims", "spacing", "origin", "cutoff", "slabs", "host_filter", "host_marching_cubes"}) {
         EXPECT_NE(grid.find(key), nullptr) << key;
     }
     EXPECT_EQ(grid.find("host_filter")->boolean, false);
+    EXPECT_EQ(grid.find("host_marching_cubes")->boolean, false);
     ASSERT_EQ(grid.find("dims")->array.size(), 3u);
     EXPECT_EQ(grid.find("dims")->array[2].number, 84);
     EXPECT_EQ(grid.find("origin")->array[2].number, 3.25);

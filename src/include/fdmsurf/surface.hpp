@@ -101,6 +101,7 @@ struct GridInfo {
     std::array<std::uint32_t, 3> dims{};  // points along x, y, z
     std::uint32_t slabs = 1;              // > 1 when processed in overlapping parts
     bool host_filter = false;             // the slabs' Gaussian filter ran on the host
+    bool host_marching_cubes = false;     // the slabs' marching cubes ran on the host
     float cutoff = 0.0f;                  // filter cut-off used (1/Å), 0 for vdw, sas and edt
 };
 
@@ -136,12 +137,14 @@ struct DeviceInfo {
 // progress display. An exception it throws ends make_surface with that exception.
 using ProgressCallback = std::function<void(std::string_view stage)>;
 
-// Where the default Gaussian filter of a grid processed in slabs runs.
-enum class GaussianFilterPlace {
+// Where a stage of a grid processed in slabs runs, when the host can run it instead of the
+// device (EngineOptions::gaussian_filter, EngineOptions::marching_cubes).
+enum class StagePlace {
     Auto,    // the host when the device is a CPU implementation (lavapipe), else the device
-    Device,  // VkFFT forward, the spectral mask, VkFFT inverse
-    Host,    // a separable convolution in space on the host's threads, the same low-pass
+    Device,  // the device's compute passes
+    Host,    // the host's threads
 };
+using GaussianFilterPlace = StagePlace;
 
 struct EngineOptions {
     // Device: empty = the first usable one (discrete GPU first); a number = that index; else a
@@ -161,8 +164,15 @@ struct EngineOptions {
     // and three passes of a kernel of 2 ceil(6 sigma) + 1 taps (21 at the defaults) cost a
     // fraction of them (docs/performance.md). Auto keeps VkFFT where sigma is below 1.5 grid
     // points (spacings above 0.54 Å at the default cut-off), where the sampled kernel's
-    // aliases would make it a slightly different low-pass; Host uses it there too.
+    // aliases would make it a slightly different low-pass; Host uses it there too. On the
+    // host: a separable convolution in space, the same low-pass.
     GaussianFilterPlace gaussian_filter = GaussianFilterPlace::Auto;
+    // Marching cubes of grids in slabs. On the host it walks rows of inside bits packed 64 to a
+    // word on all threads and reads the slabs' planes where they already are (no upload, no
+    // read-back, no unpacking): on a CPU device it costs a fraction of the compute passes
+    // (docs/performance.md). The mesh is the CPU reference's bit for bit, which the device's
+    // passes match to float rounding.
+    StagePlace marching_cubes = StagePlace::Auto;
 };
 
 namespace detail { struct EngineImpl; }

@@ -1,0 +1,291 @@
+// Tests of marching cubes on the host (src/isosurface/marching_cubes_host.cpp): the mesh of the
+// CPU reference marching_cubes_cpu, bit for bit (the same arithmetic in the same order), on
+// crambin's filtered and unfiltered fields, on noise at the 64-point word boundaries, with the
+// planes in separate buffers as the slab pipeline holds them, on any thread count.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "fdmsurf/error.hpp"
+#include "fdmsurf/structure.hpp"
+#include "fdmsurf/surface.hpp"
+#include "filter/spatial_gaussian.hpp"
+#include "grid/density_cpu.hpp"
+#include "grid/grid_plan.hpp"
+#include "isosurface/marching_cubes_cpu.hpp"
+#include "isosurface/marching_cubes_host.hpp"
+#include "support/gpu_fixture.hpp"
+#include "support/mesh_checks.hpp"
+#include "support/test_data.hpp"
+
+namespace {
+
+using fdmsurf::Error;
+using fdmsurf::ErrorCode;
+using fdmsurf::Mesh;
+using fdmsurf::SurfaceKind;
+using fdmsurf::SurfaceOptions;
+using fdmsurf::detail::FieldView;
+using fdmsurf::detail::GridPlan;
+using fdmsurf::detail::marching_cubes_cpu;
+using fdmsurf::detail::marching_cubes_host;
+using fdmsurf::detail::McParams;
+using fdmsurf::detail::PlaneStack;
+
+// A field of nx x ny x nz points, x fastest, no padding, with the parameters of its whole range.
+struct Field {
+    std::vector<float> values;
+    std::uint32_t nx = 0, ny = 0, nz = 0;
+    McParams params;
+    FieldView view() const { return FieldView{values.data(), nx, ny, nz, nx}; }
+    // Planes [0, split) and [split, nz) from two separate copies, as the slab pipeline's pending
+    // core and the next core's first planes are.
+    PlaneStack stack(std::vector<float>& copy, std::uint32_t split) const {
+        copy.assign(values.begin() + std::ptrdiff_t(std::size_t(split) * nx * ny), values.end());
+        PlaneStack s{{}, nx, ny, nz};
+        for (std::uint32_t z = 0; z < nz; ++z) {
+            s.planes.push_back(z < split ? values.data() + std::size_t(z) * nx * ny
+                                         : copy.data() + std::size_t(z - split) * nx * ny);
+        }
+        return s;
+    }
+};
+
+void expect_identical(const Mesh& host, const Mesh& cpu) {
+    EXPECT_EQ(host.vertex_count(), cpu.vertex_count());
+    EXPECT_EQ(host.triangle_count(), cpu.triangle_count());
+    // Bit for bit: the same float expressions (mc_vertex) in the same order.
+    EXPECT_TRUE(host.positions == cpu.positions);
+    EXPECT_TRUE(host.normals == cpu.normals);
+    EXPECT_TRUE(host.indices == cpu.indices);
+}
+
+// Crambin at 0.5 Å: the density of the CPU reference, filtered by the host Gaussian (the field
+// the slab pipeline's marching cubes reads on a CPU device) or left unfiltered (vdw, with the
+// power distance's interpolation along edges).
+Field crambin(bool filtered) {
+    const fdmsurf::Atoms atoms =
+        fdmsurf::read_structure(fdmsurf::test::data_path("1crn.pdb")).atoms;
+    SurfaceOptions o{.spacing = 0.5f};
+    if (!filtered) o.surface = SurfaceKind::Vdw;
+    const GridPlan plan = fdmsurf::detail::plan_grid(atoms, o);
+    Field f;
+    f.nx = plan.info.dims[0];
+    f.ny = plan.info.dims[1];
+    f.nz = plan.info.dims[2];
+    const std::vector<float> density = fdmsurf::detail::density_cpu(atoms, plan);
+    f.values.resize(std::size_t(f.nx) * f.ny * f.nz);
+    if (filtered) {
+        const double sigma = fdmsurf::detail::gaussian_sigma_points(plan.info.cutoff, 0.5);
+        const std::vector<float> taps =
+            fdmsurf::detail::gaussian_taps(sigma, std::uint32_t(std::ceil(6 * sigma)));
+        std::vector<float> scratch;
+        fdmsurf::detail::gaussian_filter_planes(density.data(), f.nx, f.ny, f.nz, plan.pitch, taps,
+                                                0, f.nz, f.values.data(), scratch);
+    } else {
+        for (std::size_t row = 0; row < std::size_t(f.ny) * f.nz; ++row)
+            std::copy_n(&density[row * plan.pitch], f.nx, &f.values[row * f.nx]);
+        f.params.power_sigma2 = plan.density.sigma * plan.density.sigma;
+        f.params.power_t = plan.density.level_t;
+    }
+    for (int a = 0; a < 3; ++a) f.params.origin[a] = plan.info.origin[a];
+    f.params.spacing = plan.info.spacing;
+    f.params.iso = plan.iso;
+    f.params.z_end = f.nz - 1;
+    return f;
+}
+
+TEST(MarchingCubesHost, FilteredCrambinIsTheReferenceMesh) {
+    const Field f = crambin(true);
+    std::vector<float> copy;
+    const Mesh host = marching_cubes_host(f.stack(copy, f.nz / 2), f.params);
+    const Mesh cpu = marching_cubes_cpu(f.view(), f.params);
+    expect_identical(host, cpu);
+    EXPECT_GT(host.triangle_count(), 10000u);
+    EXPECT_TRUE(IsClosedManifold(host));
+    // A slab's cells: planes z_begin .. z_end of a buffer with a plane under and above them.
+    McParams slab = f.params;
+    slab.z_begin = f.nz / 3;
+    slab.z_end = 2 * f.nz / 3;
+    const Mesh part = marching_cubes_host(f.stack(copy, slab.z_end), slab);
+    expect_identical(part, marching_cubes_cpu(f.view(), slab));
+    EXPECT_GT(part.triangle_count(), 0u);
+}
+
+TEST(MarchingCubesHost, UnfilteredCrambinWithPowerInterpolationIsTheReferenceMesh) {
+    const Field f = crambin(false);
+    ASSERT_GT(f.params.power_sigma2, 0.0f);
+    std::vector<float> copy;
+    const Mesh host = marching_cubes_host(f.stack(copy, 1), f.params);
+    expect_identical(host, marching_cubes_cpu(f.view(), f.params));
+    EXPECT_GT(host.triangle_count(), 10000u);
+}
+
+// Noise about the level: nearly every cell crossed, every bit of the words used. Rows on, just
+// past and just short of the 64-point words, the shortest rows, and a single row or column.
+Field noise(std::uint32_t nx, std::uint32_t ny, std::uint32_t nz, std::uint32_t seed) {
+    Field f;
+    f.nx = nx;
+    f.ny = ny;
+    f.nz = nz;
+    f.params.spacing = 0.5f;
+    f.params.origin[0] = -3.0f;
+    f.params.iso = 0.5f;
+    f.params.z_end = nz - 1;
+    std::uint32_t state = seed;
+    f.values.resize(std::size_t(nx) * ny * nz);
+    for (float& v : f.values) {
+        state = state * 1664525u + 1013904223u;
+        v = float(state >> 8) / float(1u << 24);
+        // Some values exactly at the level: the clamp keeps their vertices apart.
+        if ((state >> 4) % 23 == 0) v = 0.5f;
+    }
+    return f;
+}
+
+TEST(MarchingCubesHost, NoiseAtWordBoundariesIsTheReferenceMesh) {
+    for (std::uint32_t nx : {64u, 65u, 63u, 128u, 129u, 127u, 200u, 2u, 3u, 1u}) {
+        for (std::uint32_t ny : {1u, 2u, 17u}) {
+            SCOPED_TRACE("nx " + std::to_string(nx) + ", ny " + std::to_string(ny));
+            const Field f = noise(nx, ny, 7, 777u + nx * 31u + ny);
+            std::vector<float> copy;
+            const Mesh host = marching_cubes_host(f.stack(copy, 3), f.params);
+            expect_identical(host, marching_cubes_cpu(f.view(), f.params));
+            if (nx > 1 && ny > 1) {
+                EXPECT_GT(host.triangle_count(), 0u);
+            }
+        }
+    }
+}
+
+TEST(MarchingCubesHost, SameMeshOnAnyThreadCountAndOnOnePlane) {
+    const Field f = noise(150, 40, 30, 4242u);
+    std::vector<float> copy;
+    const PlaneStack s = f.stack(copy, 11);
+    const Mesh one = marching_cubes_host(s, f.params, 1);
+    expect_identical(marching_cubes_host(s, f.params, 3), one);
+    expect_identical(marching_cubes_host(s, f.params, 16), one);
+    expect_identical(one, marching_cubes_cpu(f.view(), f.params));
+    // A single plane: its x and y edges' vertices, no cells.
+    McParams plane = f.params;
+    plane.z_begin = plane.z_end = 29;
+    const Mesh flat = marching_cubes_host(s, plane);
+    expect_identical(flat, marching_cubes_cpu(f.view(), plane));
+    EXPECT_GT(flat.vertex_count(), 0u);
+    EXPECT_EQ(flat.triangle_count(), 0u);
+}
+
+TEST(MarchingCubesHost, EmptyFieldGivesAnEmptyMesh) {
+    Field f = noise(70, 9, 8, 1u);
+    std::fill(f.values.begin(), f.values.end(), 0.25f);
+    std::vector<float> copy;
+    const Mesh host = marching_cubes_host(f.stack(copy, 4), f.params);
+    EXPECT_EQ(host.vertex_count(), 0u);
+    EXPECT_EQ(host.triangle_count(), 0u);
+}
+
+TEST(MarchingCubesHost, RejectsBadGridsAndRanges) {
+    const Field f = noise(9, 8, 7, 5u);
+    std::vector<float> copy;
+    const PlaneStack good = f.stack(copy, 3);
+    auto expect_invalid = [](const PlaneStack& s, const McParams& p, const char* what) {
+        try {
+            marching_cubes_host(s, p);
+            ADD_FAILURE() << "no error for " << what;
+        } catch (const Error& e) {
+            EXPECT_EQ(e.code(), ErrorCode::InvalidArgument) << what;
+            EXPECT_NE(std::string(e.what()).find("marching cubes"), std::string::npos) << what;
+        }
+    };
+    McParams p = f.params;
+    p.z_end = 7;
+    expect_invalid(good, p, "z_end past the planes");
+    p = f.params;
+    p.z_begin = 5;
+    p.z_end = 4;
+    expect_invalid(good, p, "z_begin after z_end");
+    p = f.params;
+    p.spacing = 0.0f;
+    expect_invalid(good, p, "zero spacing");
+    PlaneStack missing = good;
+    missing.planes[2] = nullptr;
+    expect_invalid(missing, f.params, "a missing plane");
+    PlaneStack short_stack = good;
+    short_stack.planes.pop_back();
+    expect_invalid(short_stack, f.params, "fewer planes than nz");
+    expect_invalid(PlaneStack{}, McParams{}, "an empty grid");
+}
+
+// The slab pipeline with marching cubes on the host and on the device: the same mesh, index for
+// index, positions and normals to the device's float rounding (tests/isosurface/
+// test_marching_cubes_gpu.cpp's tolerances), for the FDM surface, vdw (the power distance's
+// interpolation) and the exact SES. Auto runs it on the host exactly when the device is a CPU.
+class HostMarchingCubesSlabs : public GpuTest {};
+
+TEST_F(HostMarchingCubesSlabs, CrambinInSlabsGivesTheDevicePassesMesh) {
+    using fdmsurf::Engine;
+    using fdmsurf::EngineOptions;
+    using fdmsurf::StagePlace;
+    const fdmsurf::Atoms atoms =
+        fdmsurf::read_structure(fdmsurf::test::data_path("1crn.pdb")).atoms;
+    SurfaceOptions vdw, edt;
+    vdw.surface = SurfaceKind::Vdw;
+    vdw.snap = false;
+    edt.method = fdmsurf::SesMethod::Edt;
+    edt.snap = false;
+    // Bindings narrow enough for slabs: the FDM field's overlap needs the wider one.
+    const std::pair<SurfaceOptions, std::uint64_t> cases[] = {
+        {SurfaceOptions{}, 2u << 20}, {vdw, 1u << 20}, {edt, 1u << 20}};
+    for (const auto& [o, range] : cases) {
+        SCOPED_TRACE(o.surface == SurfaceKind::Vdw         ? "vdw"
+                     : o.method == fdmsurf::SesMethod::Edt ? "edt"
+                                                           : "fdm");
+        Mesh mesh[2];
+        for (int host = 0; host < 2; ++host) {
+            Engine e(EngineOptions{.validation = true,
+                                   .max_buffer_range = range,
+                                   .marching_cubes = host ? StagePlace::Host : StagePlace::Device});
+            const fdmsurf::SurfaceResult r = e.make_surface(atoms, o);
+            EXPECT_GT(r.grid.slabs, 1u);
+            EXPECT_EQ(r.grid.host_marching_cubes, host == 1);
+            bool device_passes = false, on_host = false;
+            for (const fdmsurf::StageTime& t : r.times) {
+                device_passes = device_passes || t.name == "mc-triangles";
+                on_host = on_host || t.name == "mc-host";
+            }
+            EXPECT_EQ(device_passes, host == 0);
+            EXPECT_EQ(on_host, host == 1);
+            EXPECT_TRUE(e.take_validation_messages().empty());
+            mesh[host] = r.mesh;
+        }
+        ASSERT_EQ(mesh[1].vertex_count(), mesh[0].vertex_count());
+        EXPECT_TRUE(mesh[1].indices == mesh[0].indices);
+        double position = 0.0, normal = 0.0;
+        for (std::size_t i = 0; i < mesh[0].positions.size(); ++i) {
+            position =
+                std::max(position, double(std::abs(mesh[1].positions[i] - mesh[0].positions[i])));
+            normal = std::max(normal, double(std::abs(mesh[1].normals[i] - mesh[0].normals[i])));
+        }
+        EXPECT_LE(position, 1e-4);
+        EXPECT_LE(normal, 1e-3);
+        EXPECT_GT(mesh[1].triangle_count(), 10000u);
+        EXPECT_TRUE(IsClosedManifold(mesh[1]));
+    }
+}
+
+TEST_F(HostMarchingCubesSlabs, AutoRunsOnTheHostExactlyOnACpuDevice) {
+    const fdmsurf::Atoms atoms =
+        fdmsurf::read_structure(fdmsurf::test::data_path("1crn.pdb")).atoms;
+    fdmsurf::Engine e(fdmsurf::EngineOptions{.max_buffer_range = 2u << 20});
+    const fdmsurf::SurfaceResult r = e.make_surface(atoms, SurfaceOptions{});
+    ASSERT_GT(r.grid.slabs, 1u);
+    EXPECT_EQ(r.grid.host_marching_cubes, e.device().type == "CPU") << e.device().type;
+    // A grid in one binding keeps the device's passes.
+    fdmsurf::Engine whole;
+    EXPECT_FALSE(whole.make_surface(atoms, SurfaceOptions{}).grid.host_marching_cubes);
+}
+
+}  // namespace
