@@ -60,6 +60,34 @@ Atoms atoms_near_planes(const Atoms& atoms, const GridPlan& plan, double z0, dou
     return out;
 }
 
+// Ends the recording (begun by the caller, who recorded the passes that fill `field`) with a
+// read-back of `field`, submits, waits and copies the values out.
+std::vector<float> read_field(EngineImpl& e, StagingArena& arena, const Buffer& field,
+                              std::size_t floats) {
+    const std::size_t bytes = floats * sizeof(float);
+    const Buffer& host =
+        readback_buffer(e.context, e.commands, arena, field, bytes, "field_readback");
+    e.commands.barrier_to_host();
+    e.commands.submit_and_wait();
+    host.invalidate();
+    std::vector<float> out(floats);
+    std::memcpy(out.data(), host.mapped(), bytes);
+    return out;
+}
+
+// Planes that the filter's kernel reaches on each side of a point, enough that what lies beyond
+// them is below float rounding: for the Gaussian filter 2^-(f/F)^2, whose kernel is a Gaussian
+// of sigma = sqrt(ln 2 / 2) / (pi F), 6 sigma (1D tail 2e-9); for the ideal filter, whose kernel
+// decays slowly, two wavelengths 2/F. None without a filter (every point is exact on its own).
+std::uint32_t filter_reach_planes(const SurfaceOptions& options, const GridPlan& plan) {
+    if (!plan.filtered) return 0;
+    const double reach =
+        options.filter == FilterShape::Gaussian
+            ? 6.0 * std::sqrt(std::log(2.0) / 2.0) / (std::numbers::pi * plan.info.cutoff)
+            : 2.0 / plan.info.cutoff;
+    return static_cast<std::uint32_t>(std::ceil(reach / plan.info.spacing));
+}
+
 // The unfiltered density (vdw, sas) is T exp(-pi/sigma^2): its crossings are found on pi. The
 // filtered density and the SES distance are interpolated linearly.
 void set_interpolation(McParams& mc, const GridPlan& plan) {
@@ -80,6 +108,13 @@ void add_times(std::vector<StageTime>& into, const std::vector<StageTime>& times
 }
 
 }  // namespace
+
+bool EngineImpl::gaussian_on_host(const SurfaceOptions& options, const GridPlan& plan) const {
+    if (!plan.filtered || plan.exact_ses || options.filter != FilterShape::Gaussian) return false;
+    return gaussian_filter == StagePlace::Host ||
+           (on_host(gaussian_filter) &&
+            gaussian_sigma_points(plan.info.cutoff, plan.info.spacing) >= kMinHostSigma);
+}
 
 SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
                               GpuMesh* on_device) {
@@ -121,9 +156,6 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
     StagingArena arena;
     Buffer field(context, static_cast<VkDeviceSize>(field_bytes), MemoryUse::Device, "field");
     trace("engine: field allocated");
-    commands.begin();
-    record_field(arena, plan, &bins, &features, options.filter, field);
-    trace("engine: field recorded (staging, FFT plan)");
     McParams mc;
     for (int a = 0; a < 3; ++a) mc.origin[a] = plan.info.origin[a];
     mc.spacing = plan.info.spacing;
@@ -131,6 +163,50 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
     mc.z_begin = 0;
     mc.z_end = d[2] - 1;
     set_interpolation(mc, plan);
+    // Marching cubes on the host (EngineOptions::marching_cubes; not for a mesh left on the
+    // device): the field comes back, and the Gaussian filter runs on the host too where
+    // gaussian_on_host says so (the host's field then holds the filtered values, which
+    // refinement reads there).
+    if (!on_device && on_host(marching_cubes_place)) {
+        const bool host_gaussian = gaussian_on_host(options, plan);
+        commands.begin();
+        if (host_gaussian)
+            density.record(commands, arena, bins, plan, field);
+        else
+            record_field(arena, plan, &bins, &features, options.filter, field);
+        commands.mark("read-field");
+        std::vector<float> values = read_field(*this, arena, field, plan.field_floats());
+        add_times(result.times, commands.stage_times());
+        std::uint32_t pitch = plan.pitch;
+        if (host_gaussian) {
+            const double t_filter = now_ms();
+            std::vector<float> filtered(plan.points()), scratch;
+            gaussian_filter_planes(
+                values.data(), d[0], d[1], d[2], plan.pitch,
+                gaussian_taps(gaussian_sigma_points(plan.info.cutoff, plan.info.spacing),
+                              filter_reach_planes(options, plan)),
+                0, d[2], filtered.data(), scratch);
+            values = std::move(filtered);
+            pitch = d[0];
+            add_times(result.times, {{"filter-host", now_ms() - t_filter, false}});
+        }
+        const double t_mc = now_ms();
+        PlaneStack planes{{}, d[0], d[1], d[2], pitch};
+        for (std::uint32_t z = 0; z < d[2]; ++z)
+            planes.planes.push_back(values.data() + std::size_t(z) * d[1] * pitch);
+        result.mesh = marching_cubes_host(planes, mc);
+        add_times(result.times, {{"mc-host", now_ms() - t_mc, false}});
+        result.grid.host_filter = host_gaussian;
+        result.grid.host_marching_cubes = true;
+        report(plan.exact_ses ? "ses-distance, marching cubes" : "density, filter, marching cubes");
+        const FieldView view{values.data(), d[0], d[1], d[2], pitch};
+        host_stages(result, atoms, options, plan, &features, host_gaussian ? nullptr : &field,
+                    host_gaussian ? &view : nullptr);
+        return result;
+    }
+    commands.begin();
+    record_field(arena, plan, &bins, &features, options.filter, field);
+    trace("engine: field recorded (staging, FFT plan)");
     GpuMesh gpu = marching_cubes.run(commands, arena, field, d[0], d[1], d[2], plan.pitch, mc);
     trace("engine: field and marching cubes done");
     add_times(result.times, marching_cubes.stage_times());
@@ -245,18 +321,8 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
     const std::uint64_t limit = field_budget();
     const std::uint64_t plane_bytes = std::uint64_t(plan.pitch) * d[1] * sizeof(float);
     // Overlap on each side, enough that the filter kernel's reach from outside the slab (and
-    // the circular wrap of the slab's FFT) is below float rounding in the core: for the
-    // Gaussian filter 2^-(f/F)^2, whose kernel is a Gaussian of sigma = sqrt(ln 2 / 2) / (pi F),
-    // 6 sigma (1D tail 2e-9); for the ideal filter, whose kernel decays slowly, two wavelengths
-    // 2/F. None without a filter (every point is exact on its own).
-    std::uint32_t overlap = 0;
-    if (plan.filtered) {
-        const double reach =
-            options.filter == FilterShape::Gaussian
-                ? 6.0 * std::sqrt(std::log(2.0) / 2.0) / (std::numbers::pi * plan.info.cutoff)
-                : 2.0 / plan.info.cutoff;
-        overlap = static_cast<std::uint32_t>(std::ceil(reach / h));
-    }
+    // the circular wrap of the slab's FFT) is below float rounding in the core.
+    const std::uint32_t overlap = filter_reach_planes(options, plan);
     // The fewest slabs whose planes fit one binding, each as thin as they allow (FFT sizes of
     // 2, 3, 5 and 7 only): every plane beyond the grid's is FFT work for nothing.
     const std::uint64_t fit =
@@ -363,7 +429,7 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
         if (host_mc) {
             // The planes where they are: the one under the core, the core, the next core's first.
             const double t_mc = now_ms();
-            PlaneStack planes{{}, d[0], d[1], hi - lo + 1};
+            PlaneStack planes{{}, d[0], d[1], hi - lo + 1, d[0]};
             if (a > lo) planes.planes.push_back(below.data());
             for (std::uint32_t z = 0; z < core_planes; ++z)
                 planes.planes.push_back(pending.data() + std::size_t(z) * plane_floats);
@@ -400,18 +466,12 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
         report("marching cubes, z " + std::to_string(b) + "/" + std::to_string(d[2] - 1));
         starts.push_back(a);
     };
-    // The Gaussian filter on the host (EngineOptions::gaussian_filter): the slab's density comes
-    // back and its core is convolved there, with a kernel as wide as the overlap (6 sigma).
-    // Auto: on a CPU device, and where the sampled kernel is the mask's low-pass (sigma of at
-    // least kMinHostSigma points: 0.54 Å at the default cut-off; coarser grids keep VkFFT).
-    const double sigma =
-        plan.filtered ? gaussian_sigma_points(plan.info.cutoff, h) : 0.0;
-    const bool host_gaussian =
-        plan.filtered && !plan.exact_ses && options.filter == FilterShape::Gaussian &&
-        (gaussian_filter == GaussianFilterPlace::Host ||
-         (on_host(gaussian_filter) && sigma >= kMinHostSigma));
+    // The Gaussian filter on the host (gaussian_on_host): the slab's density comes back and its
+    // core is convolved there, with a kernel as wide as the overlap (6 sigma).
+    const bool host_gaussian = gaussian_on_host(options, plan);
     std::vector<float> taps, filter_scratch;
-    if (host_gaussian) taps = gaussian_taps(sigma, overlap);
+    if (host_gaussian)
+        taps = gaussian_taps(gaussian_sigma_points(plan.info.cutoff, h), overlap);
     result.grid.host_filter = host_gaussian;
     Buffer field(context, slab_bytes, MemoryUse::Device, "field_slab");
     std::vector<float> slab_core;  // two core buffers, swapped: pages touched once, not per slab
@@ -507,24 +567,6 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
     return result;
 }
 
-namespace {
-
-// Ends the recording (begun by the caller, who recorded the passes that fill `field`) with a
-// read-back of `field`, submits, waits and copies the values out.
-std::vector<float> read_field(EngineImpl& e, StagingArena& arena, const Buffer& field,
-                              std::size_t floats) {
-    const std::size_t bytes = floats * sizeof(float);
-    const Buffer& host =
-        readback_buffer(e.context, e.commands, arena, field, bytes, "field_readback");
-    e.commands.barrier_to_host();
-    e.commands.submit_and_wait();
-    host.invalidate();
-    std::vector<float> out(floats);
-    std::memcpy(out.data(), host.mapped(), bytes);
-    return out;
-}
-
-}  // namespace
 
 std::vector<float> EngineImpl::compute_ses_field(const Atoms& atoms, const GridPlan& plan,
                                                  float probe, bool force_global, bool classify,

@@ -58,6 +58,11 @@ struct EngineImpl {
     bool on_host(StagePlace place) const {
         return place == StagePlace::Host || (place == StagePlace::Auto && context.cpu_device());
     }
+    // Whether the Gaussian filter of `plan` runs on the host (EngineOptions::gaussian_filter):
+    // the FDM's Gaussian filter only; Auto on a CPU device where the sampled kernel is the mask's
+    // low-pass (sigma of at least kMinHostSigma points: 0.54 Å at the default cut-off; coarser
+    // grids keep VkFFT).
+    bool gaussian_on_host(const SurfaceOptions& options, const GridPlan& plan) const;
 
     // Tells the progress callback that `stage` has ended.
     void report(std::string_view stage) const {

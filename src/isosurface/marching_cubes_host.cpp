@@ -28,6 +28,7 @@ void check_arguments(const PlaneStack& f, const McParams& p) {
         throw Error(ErrorCode::InvalidArgument, "marching cubes: " + why);
     };
     if (f.nx == 0 || f.ny == 0 || f.nz == 0 || f.planes.size() != f.nz) fail("empty grid");
+    if (f.pitch < f.nx) fail("row pitch smaller than nx");
     for (const float* plane : f.planes) {
         if (plane == nullptr) fail("empty grid");
     }
@@ -61,7 +62,7 @@ Mesh marching_cubes_host(const PlaneStack& f, const McParams& p, unsigned thread
     parallel_chunks(planes, threads, [&](std::size_t zi) {
         const float* plane = f.planes[p.z_begin + zi];
         for (std::uint32_t y = 0; y < ny; ++y) {
-            const float* row = plane + std::size_t(y) * nx;
+            const float* row = plane + std::size_t(y) * f.pitch;
             Word* out = &inside[row_of(zi, y) * words];
             for (std::size_t k = 0; k < words; ++k) {
                 const std::uint32_t end = std::uint32_t(std::min<std::size_t>(nx, 64 * k + 64));
@@ -173,7 +174,7 @@ Mesh marching_cubes_host(const PlaneStack& f, const McParams& p, unsigned thread
                 }
             }
             if (zi + 1 >= planes || y + 1 >= ny) continue;
-            std::uint32_t* out = &mesh.indices[3 * first_triangle[row]];
+            std::uint32_t* out = mesh.indices.data() + 3 * first_triangle[row];
             for_cells(zi, y, [&](std::size_t k, int j, unsigned cube) {
                 const std::uint32_t x = std::uint32_t(64 * k) + std::uint32_t(j);
                 for (int c = 0; c < 3 * mc::kTriCount[cube]; ++c) {

@@ -14,14 +14,16 @@
 
 namespace fdmsurf::detail {
 
-// A field given plane by plane, x fastest within a plane: value(x, y, z) = planes[z][y * nx + x]
-// (the slab pipeline's planes are in several host buffers).
+// A field given plane by plane, x fastest within a plane, rows `pitch` >= nx floats apart:
+// value(x, y, z) = planes[z][y * pitch + x] (the slab pipeline's planes are in several host
+// buffers; a field read back from the device has the FFT's padded rows).
 struct PlaneStack {
     std::vector<const float*> planes;
     std::uint32_t nx = 0, ny = 0, nz = 0;  // nz = planes.size()
+    std::uint32_t pitch = 0;
 
     float at(std::uint32_t x, std::uint32_t y, std::uint32_t z) const {
-        return planes[z][std::size_t(y) * nx + x];
+        return planes[z][std::size_t(y) * pitch + x];
     }
 };
 

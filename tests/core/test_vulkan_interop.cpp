@@ -167,7 +167,11 @@ TEST(VulkanInterop, SurfaceOnTheApplicationsDeviceStaysInDeviceBuffers) {
     fdmsurf::SurfaceOptions options;
     options.min_cavity_volume = 0.0f;  // the device path keeps every piece; compare like with like
     {
-        fdmsurf::Engine engine(fdmsurf::EngineOptions{.external = &ext});
+        // The device's filter and marching cubes for the host mesh too (a CPU device would run
+        // them on the host, the same surface to float rounding): compared bit for bit.
+        fdmsurf::Engine engine(fdmsurf::EngineOptions{.external = &ext,
+                                                      .gaussian_filter = fdmsurf::StagePlace::Device,
+                                                      .marching_cubes = fdmsurf::StagePlace::Device});
         const fdmsurf::SurfaceResult host = engine.make_surface(s.atoms, options);
         const fdmsurf::DeviceSurfaceResult dev = engine.make_device_surface(s.atoms, options);
         ASSERT_NE(dev.mesh.vertex_buffer(), VK_NULL_HANDLE);

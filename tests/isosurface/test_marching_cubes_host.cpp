@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "fdmsurf/compare.hpp"
 #include "fdmsurf/error.hpp"
 #include "fdmsurf/structure.hpp"
 #include "fdmsurf/surface.hpp"
@@ -45,7 +46,7 @@ struct Field {
     // core and the next core's first planes are.
     PlaneStack stack(std::vector<float>& copy, std::uint32_t split) const {
         copy.assign(values.begin() + std::ptrdiff_t(std::size_t(split) * nx * ny), values.end());
-        PlaneStack s{{}, nx, ny, nz};
+        PlaneStack s{{}, nx, ny, nz, nx};
         for (std::uint32_t z = 0; z < nz; ++z) {
             s.planes.push_back(z < split ? values.data() + std::size_t(z) * nx * ny
                                          : copy.data() + std::size_t(z - split) * nx * ny);
@@ -178,6 +179,19 @@ TEST(MarchingCubesHost, SameMeshOnAnyThreadCountAndOnOnePlane) {
     EXPECT_EQ(flat.triangle_count(), 0u);
 }
 
+TEST(MarchingCubesHost, RowPitchPaddingIsIgnored) {
+    // The layout of a field read back from the device: rows padded for the FFT, garbage there.
+    const Field f = noise(77, 13, 9, 99u);
+    const std::uint32_t pitch = 80;
+    std::vector<float> padded(std::size_t(pitch) * f.ny * f.nz, 1e30f);
+    for (std::size_t row = 0; row < std::size_t(f.ny) * f.nz; ++row)
+        std::copy_n(&f.values[row * f.nx], f.nx, &padded[row * pitch]);
+    PlaneStack s{{}, f.nx, f.ny, f.nz, pitch};
+    for (std::uint32_t z = 0; z < f.nz; ++z)
+        s.planes.push_back(padded.data() + std::size_t(z) * f.ny * pitch);
+    expect_identical(marching_cubes_host(s, f.params), marching_cubes_cpu(f.view(), f.params));
+}
+
 TEST(MarchingCubesHost, EmptyFieldGivesAnEmptyMesh) {
     Field f = noise(70, 9, 8, 1u);
     std::fill(f.values.begin(), f.values.end(), 0.25f);
@@ -213,6 +227,9 @@ TEST(MarchingCubesHost, RejectsBadGridsAndRanges) {
     PlaneStack missing = good;
     missing.planes[2] = nullptr;
     expect_invalid(missing, f.params, "a missing plane");
+    PlaneStack narrow = good;
+    narrow.pitch = good.nx - 1;
+    expect_invalid(narrow, f.params, "a pitch smaller than nx");
     PlaneStack short_stack = good;
     short_stack.planes.pop_back();
     expect_invalid(short_stack, f.params, "fewer planes than nz");
@@ -282,10 +299,64 @@ TEST_F(HostMarchingCubesSlabs, AutoRunsOnTheHostExactlyOnACpuDevice) {
     fdmsurf::Engine e(fdmsurf::EngineOptions{.max_buffer_range = 2u << 20});
     const fdmsurf::SurfaceResult r = e.make_surface(atoms, SurfaceOptions{});
     ASSERT_GT(r.grid.slabs, 1u);
-    EXPECT_EQ(r.grid.host_marching_cubes, e.device().type == "CPU") << e.device().type;
-    // A grid in one binding keeps the device's passes.
+    const bool cpu = e.device().type == "CPU";
+    EXPECT_EQ(r.grid.host_marching_cubes, cpu) << e.device().type;
+    // A grid in one binding too, and the filter with it at 0.5 Å.
     fdmsurf::Engine whole;
-    EXPECT_FALSE(whole.make_surface(atoms, SurfaceOptions{}).grid.host_marching_cubes);
+    const fdmsurf::SurfaceResult one = whole.make_surface(atoms, SurfaceOptions{});
+    EXPECT_EQ(one.grid.slabs, 1u);
+    EXPECT_EQ(one.grid.host_marching_cubes, cpu);
+    EXPECT_EQ(one.grid.host_filter, cpu);
+    // A mesh left on the device for a renderer keeps the device's passes.
+    const fdmsurf::DeviceSurfaceResult kept = whole.make_device_surface(atoms, SurfaceOptions{});
+    EXPECT_FALSE(kept.grid.host_marching_cubes);
+}
+
+// A grid in one binding: density on the device, read back, the Gaussian filter and marching
+// cubes on the host, against VkFFT and the device's passes: the same surface but for float
+// rounding at a few crossings (the FFT's circular wrap against the host's zeros beyond the grid,
+// where the density is nil anyway), also refined (refinement then reads the host's field). The
+// exact SES's field is the device's either way: the same mesh index for index.
+TEST_F(HostMarchingCubesSlabs, CrambinInOneBindingGivesTheDevicePathsSurface) {
+    using fdmsurf::StagePlace;
+    const fdmsurf::Atoms atoms =
+        fdmsurf::read_structure(fdmsurf::test::data_path("1crn.pdb")).atoms;
+    SurfaceOptions refined;
+    refined.refine = 1;
+    SurfaceOptions edt;
+    edt.method = fdmsurf::SesMethod::Edt;
+    edt.snap = false;
+    for (const SurfaceOptions& o : {SurfaceOptions{}, refined, edt}) {
+        const bool exact = o.method == fdmsurf::SesMethod::Edt;
+        SCOPED_TRACE(exact ? "edt" : o.refine ? "refined" : "fdm");
+        Mesh mesh[2];
+        for (int host = 0; host < 2; ++host) {
+            const StagePlace place = host ? StagePlace::Host : StagePlace::Device;
+            fdmsurf::Engine e(fdmsurf::EngineOptions{
+                .validation = true, .gaussian_filter = place, .marching_cubes = place});
+            const fdmsurf::SurfaceResult r = e.make_surface(atoms, o);
+            EXPECT_EQ(r.grid.slabs, 1u);
+            EXPECT_EQ(r.grid.host_marching_cubes, host == 1);
+            EXPECT_EQ(r.grid.host_filter, host == 1 && !exact);
+            bool fft = false;
+            for (const fdmsurf::StageTime& t : r.times) fft = fft || t.name == "fft-forward";
+            EXPECT_EQ(fft, host == 0 && !exact);
+            EXPECT_TRUE(e.take_validation_messages().empty());
+            mesh[host] = r.mesh;
+        }
+        EXPECT_TRUE(IsClosedManifold(mesh[1]));
+        if (exact) {
+            EXPECT_TRUE(mesh[1].indices == mesh[0].indices);
+            continue;
+        }
+        const fdmsurf::MeshStats a = fdmsurf::compute_stats(mesh[0]);
+        const fdmsurf::MeshStats b = fdmsurf::compute_stats(mesh[1]);
+        EXPECT_NEAR(double(b.triangles), double(a.triangles), 1e-4 * double(a.triangles));
+        EXPECT_NEAR(b.area, a.area, 1e-5 * a.area);
+        EXPECT_NEAR(b.volume, a.volume, 1e-5 * a.volume);
+        EXPECT_LT(fdmsurf::compare_meshes(mesh[0], mesh[1], fdmsurf::CompareOptions{}).hausdorff,
+                  0.01);
+    }
 }
 
 }  // namespace
