@@ -382,9 +382,8 @@ max_triangles= did), optimized, total_ms.)")
         .def_property_readonly(
             "grid", [](const PySurface& s) { return grid_dict(s.grid); },
             "The grid: dims (points along x, y, z), spacing (Å), origin (Å), cutoff (1/Å, 0 for "
-            "vdw, sas and edt), slabs (> 1 when processed in parts), host_filter (the slabs' "
-            "Gaussian filter ran on the host), host_marching_cubes (the slabs' marching cubes "
-            "ran on the host).")
+            "vdw, sas and edt), slabs (> 1 when processed in parts), host_filter (the Gaussian "
+            "filter ran on the host), host_marching_cubes (marching cubes ran on the host).")
         .def_property_readonly(
             "times", [](const PySurface& s) { return times_dict(s.times); },
             "Milliseconds per stage ('density', 'fft-forward', ...), in order of execution.")

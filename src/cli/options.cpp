@@ -1016,14 +1016,15 @@ Device:
                          not, then exit (no INPUT needed)
   --validation           enable the Vulkan validation layer; any message it
                          reports makes the run fail (exit code 5, no output)
-  --host-filter auto|on|off  the Gaussian filter of grids in slabs as a separable
-                         convolution on the host (the same low-pass) instead of
-                         VkFFT: auto (default) does so when the device is a CPU
-                         (lavapipe), where the FFTs share the host's cores, at
-                         spacings up to about 0.54 Å (the default cut-off)
-  --host-mc auto|on|off  marching cubes of grids in slabs on the host's threads
-                         (the same mesh) instead of the device's passes: auto
-                         (default) does so when the device is a CPU (lavapipe)
+  --host-filter auto|on|off  the Gaussian filter as a separable convolution on
+                         the host (the same low-pass) instead of VkFFT, for
+                         grids in slabs and grids whose marching cubes runs on
+                         the host: auto (default) does so when the device is a
+                         CPU (lavapipe), where the FFTs share the host's cores,
+                         at spacings up to about 0.54 Å (the default cut-off)
+  --host-mc auto|on|off  marching cubes on the host's threads (the same mesh)
+                         instead of the device's passes: auto (default) does so
+                         when the device is a CPU (lavapipe)
 
 Output:
   -o, --output OUTPUT    the mesh file to write: .ply (binary), .obj, .glb

@@ -156,7 +156,10 @@ void add_vertex_properties(VertexPropertiesPass& pass, Commands& cmds, const Ato
     const double t_atoms = now_ms();
     const std::vector<std::uint32_t> words =
         pass.vertex_atoms(cmds, mesh, atoms, vertex_radius_add(options), attributes, per_atom);
-    add_device_times(result, cmds, "vertex-atoms-host", now_ms() - t_atoms, nv > 0);
+    if (pass.on_host())  // the search itself on the host: nothing submitted
+        add_time(result, "vertex-atoms", now_ms() - t_atoms, false);
+    else
+        add_device_times(result, cmds, "vertex-atoms-host", now_ms() - t_atoms, nv > 0);
     mesh.atoms.resize(nv);
     for (std::size_t v = 0; v < nv; ++v) mesh.atoms[v] = words[stride * v];
     if (atom_colored) unpack_colors(words, stride, 1, mesh.colors);

@@ -9,6 +9,7 @@
 #include <deque>
 #include <limits>
 
+#include "core/parallel.hpp"
 #include "core/shaders.hpp"
 #include "fdmsurf/error.hpp"
 #include "shader_interface.h"
@@ -209,8 +210,74 @@ Buffer upload_vector(Context& ctx, Commands& cmds, StagingArena& arena, const st
 
 }  // namespace
 
+// The atom of least power distance to p over `cells` (ties: the lower index), by the search of
+// vertex_atoms.comp, step for step and in the same float arithmetic.
+std::uint32_t nearest_atom(const AtomCells& cells, const float p[3]) {
+    const CellGrid& g = cells.grid;
+    const int dims[3] = {int(g.dims[0]), int(g.dims[1]), int(g.dims[2])};
+    int home[3];
+    for (int a = 0; a < 3; ++a)
+        home[a] = std::clamp(int(std::floor((p[a] - g.origin[a]) / g.size)), 0, dims[a] - 1);
+    float best = 3.0e38f;
+    std::uint32_t best_atom = 0xffffffffu;
+    auto scan = [&](int x, int y, int z) {
+        const std::size_t b = (std::size_t(z) * g.dims[1] + std::size_t(y)) * g.dims[0] + x;
+        for (std::uint32_t k = cells.start[b]; k < cells.start[b + 1]; ++k) {
+            const float* a = &cells.atoms[4 * std::size_t(k)];
+            const float d0 = p[0] - a[0], d1 = p[1] - a[1], d2 = p[2] - a[2];
+            const float pw = (d0 * d0 + d1 * d1 + d2 * d2) - a[3];
+            const std::uint32_t idx = cells.index[k];
+            if (pw < best || (pw == best && idx < best_atom)) best = pw, best_atom = idx;
+        }
+    };
+    // A first candidate from rings of cells around home, then every cell within reach of a
+    // better atom that rings did not cover, skipped when too far for its largest atom.
+    const int max_shell = std::max({dims[0], dims[1], dims[2]});
+    int scanned = -1;
+    for (int s = 0; s <= max_shell && best_atom == 0xffffffffu; ++s) {
+        scanned = s;
+        for (int z = -s; z <= s; ++z)
+            for (int y = -s; y <= s; ++y) {
+                const bool face = std::abs(z) == s || std::abs(y) == s;
+                const int step = face ? 1 : std::max(2 * s, 1);
+                for (int x = -s; x <= s; x += step) {
+                    const int c[3] = {home[0] + x, home[1] + y, home[2] + z};
+                    if (c[0] < 0 || c[1] < 0 || c[2] < 0 || c[0] >= dims[0] || c[1] >= dims[1] ||
+                        c[2] >= dims[2])
+                        continue;
+                    scan(c[0], c[1], c[2]);
+                }
+            }
+    }
+    const float reach = std::sqrt(std::max(best + cells.r2_max, 0.0f));
+    int lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = std::clamp(int(std::floor((p[a] - reach - g.origin[a]) / g.size)), 0, dims[a] - 1);
+        hi[a] = std::clamp(int(std::floor((p[a] + reach - g.origin[a]) / g.size)), 0, dims[a] - 1);
+    }
+    for (int z = lo[2]; z <= hi[2]; ++z)
+        for (int y = lo[1]; y <= hi[1]; ++y)
+            for (int x = lo[0]; x <= hi[0]; ++x) {
+                if (std::max({std::abs(x - home[0]), std::abs(y - home[1]), std::abs(z - home[2])}) <=
+                    scanned)
+                    continue;
+                const int c[3] = {x, y, z};
+                float gap2 = 0.0f;
+                for (int a = 0; a < 3; ++a) {
+                    const float cell_lo = g.origin[a] + float(c[a]) * g.size;
+                    const float gap =
+                        std::max(std::max(cell_lo - p[a], p[a] - (cell_lo + g.size)), 0.0f);
+                    gap2 += gap * gap;
+                }
+                const std::size_t b = (std::size_t(z) * g.dims[1] + std::size_t(y)) * g.dims[0] + x;
+                if (gap2 - cells.cell_r2[b] > best) continue;
+                scan(x, y, z);
+            }
+    return best_atom;
+}
+
 VertexPropertiesPass::VertexPropertiesPass(Context& ctx)
-    : ctx_(ctx), sort_vertices_(ctx.info().type == "CPU") {
+    : ctx_(ctx), sort_vertices_(ctx.info().type == "CPU"), on_host_(ctx.info().type == "CPU") {
     ShaderCode a = shader_code(Shader::VertexAtoms);
     atoms_pipeline_ = ComputePipeline(ctx, a.words, a.bytes, 7, sizeof(shader::VertexAtomsPush),
                                       "vertex_atoms");
@@ -239,6 +306,21 @@ std::vector<std::uint32_t> VertexPropertiesPass::vertex_atoms(
     }
     const float* positions = sort_vertices_ ? sorted.data() : mesh.positions.data();
     trace("vertex atoms: atoms binned, vertices sorted");
+    if (on_host_) {
+        // Blocks of vertices in order (sorted by cell: neighbours search the same cells).
+        constexpr std::size_t kBlock = 4096;
+        parallel_chunks((nv + kBlock - 1) / kBlock, thread_count(0), [&](std::size_t block) {
+            for (std::size_t i = block * kBlock; i < std::min(nv, (block + 1) * kBlock); ++i) {
+                const std::size_t v = order.empty() ? i : order[i];
+                const std::uint32_t atom = nearest_atom(cells, positions + 3 * i);
+                std::uint32_t* w = &out[v * stride];
+                w[0] = atom;
+                for (std::uint32_t k = 0; k < per_atom; ++k)
+                    w[1 + k] = attributes[std::size_t(per_atom) * atom + k];
+            }
+        });
+        return out;
+    }
 
     StagingArena arena;
     cmds.begin();

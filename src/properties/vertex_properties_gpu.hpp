@@ -58,10 +58,19 @@ public:
     // the default is on for CPU devices only. The result is the same either way (tested).
     void set_sort_vertices(bool sort) { sort_vertices_ = sort; }
 
+    // Whether vertex_atoms runs the shader's search in C++ on the host's threads instead of the
+    // device (the same cells, order of visits and float arithmetic: the same atoms but where
+    // rounding decides a near-tie). A CPU device runs the pass on the same cores, where the
+    // host's loop costs less (1AON: docs/performance.md); the default is on for CPU devices.
+    // Nothing is then submitted (no "vertex-atoms" device stage).
+    void set_on_host(bool on_host) { on_host_ = on_host; }
+    bool on_host() const { return on_host_; }
+
 private:
     Context& ctx_;
     ComputePipeline atoms_pipeline_, coulomb_pipeline_;
     bool sort_vertices_;
+    bool on_host_;
 };
 
 }  // namespace fdmsurf::detail

@@ -100,8 +100,8 @@ struct GridInfo {
     float spacing = 0.0f;
     std::array<std::uint32_t, 3> dims{};  // points along x, y, z
     std::uint32_t slabs = 1;              // > 1 when processed in overlapping parts
-    bool host_filter = false;             // the slabs' Gaussian filter ran on the host
-    bool host_marching_cubes = false;     // the slabs' marching cubes ran on the host
+    bool host_filter = false;             // the Gaussian filter ran on the host
+    bool host_marching_cubes = false;     // marching cubes ran on the host
     float cutoff = 0.0f;                  // filter cut-off used (1/Å), 0 for vdw, sas and edt
 };
 
@@ -159,19 +159,20 @@ struct EngineOptions {
     // one; `device` and `validation` are then ignored. Not owned; must outlive the Engine.
     const ExternalDevice* external = nullptr;
     ProgressCallback progress;  // empty: none
-    // The Gaussian filter of grids in slabs (the ideal filter and grids in one binding always
-    // go through VkFFT). On a CPU device the FFTs share the host's cores with everything else,
-    // and three passes of a kernel of 2 ceil(6 sigma) + 1 taps (21 at the defaults) cost a
-    // fraction of them (docs/performance.md). Auto keeps VkFFT where sigma is below 1.5 grid
-    // points (spacings above 0.54 Å at the default cut-off), where the sampled kernel's
-    // aliases would make it a slightly different low-pass; Host uses it there too. On the
-    // host: a separable convolution in space, the same low-pass.
+    // The Gaussian filter of grids in slabs, and of a grid in one binding whose marching cubes
+    // runs on the host (the ideal filter always goes through VkFFT). On the host: a separable
+    // convolution in space, the same low-pass. On a CPU device the FFTs share the host's cores
+    // with everything else, and three passes of a kernel of 2 ceil(6 sigma) + 1 taps (21 at the
+    // defaults) cost a fraction of them (docs/performance.md). Auto keeps VkFFT where sigma is
+    // below 1.5 grid points (spacings above 0.54 Å at the default cut-off), where the sampled
+    // kernel's aliases would make it a slightly different low-pass; Host uses it there too.
     GaussianFilterPlace gaussian_filter = GaussianFilterPlace::Auto;
-    // Marching cubes of grids in slabs. On the host it walks rows of inside bits packed 64 to a
-    // word on all threads and reads the slabs' planes where they already are (no upload, no
-    // read-back, no unpacking): on a CPU device it costs a fraction of the compute passes
-    // (docs/performance.md). The mesh is the CPU reference's bit for bit, which the device's
-    // passes match to float rounding.
+    // Marching cubes (not for make_device_surface's mesh, left on the device). On the host it
+    // walks rows of inside bits packed 64 to a word on all threads and reads the slabs' planes
+    // where they already are (no upload, no read-back, no unpacking); a grid in one binding
+    // comes back after the density (or the exact SES's pass). On a CPU device it costs a
+    // fraction of the compute passes (docs/performance.md). The mesh is the CPU reference's bit
+    // for bit, which the device's passes match to float rounding.
     StagePlace marching_cubes = StagePlace::Auto;
 };
 
