@@ -3,13 +3,15 @@
 4; docs/performance.md).
 
 Runs build/fdmsurf on each structure in several modes, alternating within each round:
-  device  --host-filter off --host-mc off   VkFFT forward, mask, inverse; the marching-cubes passes
-  filter  --host-filter auto --host-mc off  the Gaussian filter on the host (27 November, third
-                                            session: bench/host_filter.py then)
-  host    --host-filter auto --host-mc auto the default: the filter and marching cubes on the host
+  device  --host-filter off --host-mc off --host-atoms off   VkFFT forward, mask, inverse; the
+                                           marching-cubes passes; the vertex-atoms pass
+  filter  --host-filter auto, the others off   the Gaussian filter on the host (27 November,
+                                           third session: bench/host_filter.py then)
+  host    all three auto                   the default: the filter, marching cubes and the
+                                           vertex atoms on the host
 and prints the slab count, the medians of fdmsurf's own total, of the filter stages, of the
-marching-cubes stages and of the density, and the triangle count and area of each mode (the
-surfaces should agree to float rounding). `auto` hands a stage to the host only on a CPU device
+marching-cubes stages, of the vertex atoms and of the density, and the triangle count and area
+of each mode (the surfaces should agree to float rounding). `auto` hands a stage to the host only on a CPU device
 (lavapipe): on a GPU the modes are the same but for `device`'s explicit off.
 
   bench/host_vs_device.py [--reps 3] [--structures 1aon,4yvs] [--spacing 0.5] [--assembly]
@@ -25,9 +27,10 @@ from benchlib import ROOT, SHARED, find, run_json
 FILTER_STAGES = ("fft-forward", "mask", "fft-inverse", "filter-host")
 MC_STAGES = ("upload-part", "mc-occupancy", "mc-count", "mc-scan", "mc-vertices", "mc-triangles",
              "read-back", "unpack-mesh", "mc-host")
-MODES = {"device": ["--host-filter", "off", "--host-mc", "off"],
-         "filter": ["--host-filter", "auto", "--host-mc", "off"],
-         "host": ["--host-filter", "auto", "--host-mc", "auto"]}
+ATOM_STAGES = ("vertex-atoms", "vertex-atoms-host")
+MODES = {"device": ["--host-filter", "off", "--host-mc", "off", "--host-atoms", "off"],
+         "filter": ["--host-filter", "auto", "--host-mc", "off", "--host-atoms", "off"],
+         "host": ["--host-filter", "auto", "--host-mc", "auto", "--host-atoms", "auto"]}
 
 
 def main():
@@ -72,6 +75,7 @@ def main():
                                  total=med(lambda s: s["total_ms"]),
                                  filt=med(lambda s: stages(s, FILTER_STAGES)),
                                  mc=med(lambda s: stages(s, MC_STAGES)),
+                                 atoms=med(lambda s: stages(s, ATOM_STAGES)),
                                  density=med(lambda s: s["times"].get("density", 0.0)),
                                  tri=stats[-1]["triangles"], area=stats[-1]["area"]))
     if not rows:
@@ -80,13 +84,15 @@ def main():
     print(f"machine: {platform.machine()}, {os.cpu_count()} cores, 1-minute load {min(loads):.1f}-{max(loads):.1f}; "
           f"device: {device}; spacing {args.spacing} Å{' ' + args.extra if args.extra else ''}, "
           f"median of {args.reps} alternating rounds, ms\n")
-    print("| structure | mode | slabs | total | filter stages | marching cubes | density | triangles | area (Å²) |")
-    print("|---|---|---|---|---|---|---|---|---|")
+    print("| structure | mode | slabs | total | filter stages | marching cubes | vertex atoms | density | "
+          "triangles | area (Å²) |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
-        print(f"| {r['name']} | {r['mode']} | {r['slabs']} | {r['total']:,.0f} | {r['filt']:,.0f} | {r['mc']:,.0f} | "
+        print(f"| {r['name']} | {r['mode']} | {r['slabs']} | {r['total']:,.0f} | {r['filt']:,.0f} | {r['mc']:,.0f} | {r['atoms']:,.0f} | "
               f"{r['density']:,.0f} | {r['tri']:,} | {r['area']:,.2f} |")
     print("\n'filter stages': fft-forward + mask + fft-inverse, or filter-host; 'marching cubes': the device's "
-          "passes with the part's upload, read-back and unpacking, or mc-host; 'total': fdmsurf's own total_ms "
+          "passes with the part's upload, read-back and unpacking, or mc-host; 'vertex atoms': the pass and "
+          "its host work, or the search on the host; 'total': fdmsurf's own total_ms "
           "of --stats json.")
 
 

@@ -65,6 +65,7 @@ enum class Opt {
     Simplifier,
     HostFilter,
     HostMc,
+    HostAtoms,
     Optimize,
     Areas,
     Relative,
@@ -87,7 +88,7 @@ struct OptionSpec {
     bool numeric;  // a value that may start with '-' (a negative number, rejected later)
 };
 
-constexpr std::array<OptionSpec, 56> kOptions{{
+constexpr std::array<OptionSpec, 57> kOptions{{
     {"--output", "-o", Opt::Output, true, false},
     {"--output-format", "", Opt::OutputFormat, true, false},
     {"--surface", "", Opt::Surface, true, false},
@@ -131,6 +132,7 @@ constexpr std::array<OptionSpec, 56> kOptions{{
     {"--simplifier", "", Opt::Simplifier, true, false},
     {"--host-filter", "", Opt::HostFilter, true, false},
     {"--host-mc", "", Opt::HostMc, true, false},
+    {"--host-atoms", "", Opt::HostAtoms, true, false},
     {"--optimize", "", Opt::Optimize, false, false},
     {"--areas", "", Opt::Areas, true, false},
     {"--relative", "", Opt::Relative, true, false},
@@ -644,6 +646,10 @@ void apply_value(CliOptions& o, const OptionSpec& spec, std::string_view name,
             o.engine.marching_cubes = parse_choice(name, text, kStagePlaces,
                                                    "host marching cubes setting", "auto, on or off");
             break;
+        case Opt::HostAtoms:
+            o.engine.vertex_atoms = parse_choice(name, text, kStagePlaces,
+                                                 "host vertex atoms setting", "auto, on or off");
+            break;
         case Opt::Simplifier:
             o.simplify.simplifier =
                 parse_choice(name, text, kSimplifiers, "simplifier", "collapse or meshopt");
@@ -1025,6 +1031,9 @@ Device:
   --host-mc auto|on|off  marching cubes on the host's threads (the same mesh)
                          instead of the device's passes: auto (default) does so
                          when the device is a CPU (lavapipe)
+  --host-atoms auto|on|off  each vertex's atom searched on the host's threads
+                         (the same atoms) instead of the device's pass: auto
+                         (default) does so when the device is a CPU (lavapipe)
 
 Output:
   -o, --output OUTPUT    the mesh file to write: .ply (binary), .obj, .glb

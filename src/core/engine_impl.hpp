@@ -36,7 +36,9 @@ struct EngineImpl {
         : glslang(), context(options), commands(context), density(context),
           ses_distance(context), filter(context), marching_cubes(context),
           vertex_properties(context), progress(options.progress),
-          gaussian_filter(options.gaussian_filter), marching_cubes_place(options.marching_cubes) {}
+          gaussian_filter(options.gaussian_filter), marching_cubes_place(options.marching_cubes) {
+        vertex_properties.set_on_host(on_host(options.vertex_atoms));
+    }
 
     // Holds glslang for VkFFT from before the first plan to after the last.
     struct GlslangGuard {

@@ -61,8 +61,9 @@ public:
     // Whether vertex_atoms runs the shader's search in C++ on the host's threads instead of the
     // device (the same cells, order of visits and float arithmetic: the same atoms but where
     // rounding decides a near-tie). A CPU device runs the pass on the same cores, where the
-    // host's loop costs less (1AON: docs/performance.md); the default is on for CPU devices.
-    // Nothing is then submitted (no "vertex-atoms" device stage).
+    // host's loop costs less (1AON: docs/performance.md); the default is on for CPU devices
+    // (the engine sets it from EngineOptions::vertex_atoms). Nothing is then submitted (no
+    // "vertex-atoms" device stage).
     void set_on_host(bool on_host) { on_host_ = on_host; }
     bool on_host() const { return on_host_; }
 

@@ -231,9 +231,12 @@ TEST_F(Interrupts, DeviceLostIsExit6AndNothingWritten) {
 
 // A later wait fails (the second submission: the device is lost in the middle of the run).
 TEST_F(Interrupts, DeviceLostLaterInTheRunIsExit6Too) {
+    // The device's marching cubes and vertex atoms: a CPU device would run them on the host,
+    // and the density's would be the run's only submission.
     const FaultRun r = run_with_fault(dir_, "device-lost:2",
                                       {std::string(FDMSURF_TEST_DATA_DIR) + "/1crn.pdb", "-o",
-                                       (dir_ / "out" / "1crn.ply").string()});
+                                       (dir_ / "out" / "1crn.ply").string(), "--host-mc", "off",
+                                       "--host-atoms", "off"});
     EXPECT_EQ(r.exit_code, 6) << r.err;
     EXPECT_TRUE(outputs(dir_).empty());
 }

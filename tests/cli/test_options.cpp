@@ -191,6 +191,10 @@ TEST(CliOptions, HostStagesAutoOnOrOff) {
     EXPECT_EQ(parse_with({"--host-mc=OFF"}).engine.marching_cubes, StagePlace::Device);
     EXPECT_EQ(parse_with({"--host-mc", "off", "--host-mc", "auto"}).engine.marching_cubes,
               StagePlace::Auto);
+    EXPECT_EQ(none.engine.vertex_atoms, StagePlace::Auto);
+    EXPECT_EQ(parse_with({"--host-atoms", "off"}).engine.vertex_atoms, StagePlace::Device);
+    EXPECT_EQ(parse_with({"--host-atoms=on"}).engine.vertex_atoms, StagePlace::Host);
+    EXPECT_TRUE(contains(parse_error_with({"--host-atoms", "maybe"}), "auto, on or off"));
     const std::string message = parse_error_with({"--host-mc", "gpu"});
     EXPECT_TRUE(contains(message, "--host-mc")) << message;
     EXPECT_TRUE(contains(message, "auto, on or off")) << message;
@@ -198,6 +202,7 @@ TEST(CliOptions, HostStagesAutoOnOrOff) {
     const std::string help = fdmsurf::cli::usage_text();
     EXPECT_TRUE(contains(help, "--host-filter auto|on|off")) << help;
     EXPECT_TRUE(contains(help, "--host-mc auto|on|off")) << help;
+    EXPECT_TRUE(contains(help, "--host-atoms auto|on|off")) << help;
 }
 
 TEST(CliOptions, OutputFlags) {

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <utility>
+#include <vector>
 
 #include "fdmsurf/fdmsurf.hpp"
 #include "properties/atom_tables.hpp"
@@ -273,6 +275,12 @@ TEST_F(VertexProperties, HostSearchGivesTheDevicePassesAtoms) {
     detail::EngineImpl& e = impl();
     const bool default_place = e.vertex_properties.on_host();
     EXPECT_EQ(default_place, e.context.info().type == "CPU");
+    // EngineOptions::vertex_atoms sets it.
+    for (const auto& [place, host] : {std::pair{fdmsurf::StagePlace::Device, false},
+                                      std::pair{fdmsurf::StagePlace::Host, true}}) {
+        Engine placed(EngineOptions{.vertex_atoms = place});
+        EXPECT_EQ(placed.impl().vertex_properties.on_host(), host);
+    }
     for (const char* name : {"4hhb.pdb.gz", "1crn.pdb"}) {
         const Atoms atoms = read_structure(data_path(name)).atoms;
         const SurfaceKind kind = name[0] == '4' ? SurfaceKind::Ses : SurfaceKind::Sas;

@@ -174,6 +174,10 @@ struct EngineOptions {
     // fraction of the compute passes (docs/performance.md). The mesh is the CPU reference's bit
     // for bit, which the device's passes match to float rounding.
     StagePlace marching_cubes = StagePlace::Auto;
+    // The search for each vertex's atom of a mesh on the host (make_device_surface's mesh keeps
+    // the device's pass): on the host the shader's search in C++ on all threads, the same atoms
+    // (docs/performance.md).
+    StagePlace vertex_atoms = StagePlace::Auto;
 };
 
 namespace detail { struct EngineImpl; }
