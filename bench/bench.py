@@ -62,9 +62,9 @@ LABEL = {"fdmsurf": "fdmsurf (SES 0.5 Å)", "fdmsurf-edt": "fdmsurf --method edt
          "pymol-q0": "PyMOL (surface_quality 0)", "pymol-q1": "PyMOL (surface_quality 1)",
          "edtsurf": "EDTSurf (-f 4)"}
 STAGE_ORDER = ["parse", "init", "bin-atoms", "density", "fft-forward", "mask", "fft-inverse",
-               "read-field", "assemble-field", "upload-part", "mc-occupancy", "mc-count", "mc-scan",
-               "mc-vertices", "mc-triangles", "mc-emit", "read-back", "unpack-mesh", "stitch",
-               "cavities", "write", "mesh-stats"]
+               "read-field", "filter-host", "assemble-field", "upload-part", "mc-occupancy", "mc-count",
+               "mc-scan", "mc-vertices", "mc-triangles", "mc-emit", "read-back", "unpack-mesh", "mc-host",
+               "stitch", "cavities", "vertex-atoms", "vertex-atoms-host", "write", "mesh-stats"]
 
 LOG = None
 
@@ -768,10 +768,12 @@ class Bench:
                 vox = grid[0] * grid[1] * grid[2]
                 t = {k: med([r["times"].get(k) for r in runs]) for k in runs[0]["times"]}
                 d = t.get("density") or 0.0
-                fft = (t.get("fft-forward") or 0) + (t.get("fft-inverse") or 0)
+                # The filter's transforms, or (on a CPU device) its convolution on the host.
+                fft = (t.get("fft-forward") or 0) + (t.get("fft-inverse") or 0) + (t.get("filter-host") or 0)
                 # Marching cubes up to the sizes (occupancy words and counts), then the output.
                 mc = (t.get("mc-occupancy") or 0) + (t.get("mc-count") or 0)
-                emit = (t.get("mc-emit") or 0) + (t.get("mc-vertices") or 0) + (t.get("mc-triangles") or 0)
+                emit = ((t.get("mc-emit") or 0) + (t.get("mc-vertices") or 0) + (t.get("mc-triangles") or 0)
+                        + (t.get("mc-host") or 0))
                 tri = med([r.get("triangles") for r in runs])
                 rows.append([label + mark, f"{atoms:,}", "×".join(map(str, grid)), f"{vox / 1e6:.2f}",
                              f"{d:.0f}", f"{d * 1e6 / vox:.0f}", f"{d * 1e3 / atoms:.1f}",
@@ -785,9 +787,9 @@ class Bench:
                     fit_rows.append((vox / 1e6, atoms / 1e3))
                     fit_y.append(d)
             md.append(table(["case", "atoms", "grid", "Mvoxels", "density (ms)", "density ns/voxel",
-                             "density µs/atom", "FFT fwd+inv (ms)", "FFT ns/voxel", "mask (ms)",
-                             "mc occupancy+count (ms)", "mc occupancy+count ns/voxel",
-                             "mc vertices+triangles (ms)", "triangles",
+                             "density µs/atom", "filter: FFT fwd+inv or host (ms)", "filter ns/voxel",
+                             "mask (ms)", "mc occupancy+count (ms)", "mc occupancy+count ns/voxel",
+                             "mc vertices+triangles or mc-host (ms)", "triangles",
                              "total (ms)", "wall (s)"], rows))
             if len(fit_rows) >= 4:
                 md.append(f"\nLeast-squares fits of the density time over the {len(fit_y)} single-slab rows "

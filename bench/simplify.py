@@ -29,30 +29,11 @@ average is sampled at each round and its range printed.
 Structures are read from tests/data, else ../shared/data (FDMSURF_SHARED moves it); 1AON is
 only in ../shared/data: without it the script says so and measures nothing.
 """
-import argparse, json, os, platform, statistics, subprocess, sys, tempfile, time
+import argparse, os, platform, statistics, sys, tempfile
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-SHARED = os.environ.get("FDMSURF_SHARED", os.path.join(ROOT, "..", "shared"))
+from benchlib import ROOT, SHARED, find, run_json as run
+
 OTHER_STAGES = ("parse", "init", "simplify", "simplify-compare", "optimize", "write", "mesh-stats")
-
-
-def find(name):
-    for folder, names in ((os.path.join(ROOT, "tests", "data"), (name + ".pdb", name + ".pdb.gz")),
-                          (os.path.join(SHARED, "data"), (name + ".pdb", name + ".pdb.gz", name + ".cif.gz"))):
-        for n in names:
-            p = os.path.join(folder, n)
-            if os.path.exists(p):
-                return p
-    return None
-
-
-def run(exe, args):
-    t0 = time.perf_counter()
-    r = subprocess.run([exe] + args, capture_output=True, text=True)
-    wall = time.perf_counter() - t0
-    if r.returncode != 0:
-        sys.exit(f"fdmsurf {' '.join(args)} failed ({r.returncode}): {r.stderr.strip()}")
-    return wall, json.loads(r.stdout)
 
 
 def surface_ms(stats):
