@@ -15,10 +15,9 @@ and prints a Markdown table of median whole-process times and the stage times (-
 Structures are read from tests/data, else ../shared/data (FDMSURF_SHARED moves it); a
 structure found in neither is left out with a note.
 """
-import argparse, json, os, platform, statistics, subprocess, sys, tempfile, time
+import argparse, os, platform, statistics, sys, tempfile
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-SHARED = os.environ.get("FDMSURF_SHARED", os.path.join(ROOT, "..", "shared"))
+from benchlib import ROOT, SHARED, find, run_json
 VARIANTS = {
     "plain": [],
     "chain": ["--color", "chain"],
@@ -28,25 +27,8 @@ VARIANTS = {
 }
 
 
-def find(name):
-    for folder, names in ((os.path.join(ROOT, "tests", "data"), (name + ".pdb", name + ".pdb.gz")),
-                          (os.path.join(SHARED, "data"), (name + ".pdb", name + ".pdb.gz", name + ".cif.gz"))):
-        for n in names:
-            p = os.path.join(folder, n)
-            if os.path.exists(p):
-                return p
-    return None
-
-
 def run(exe, path, extra, spacing, out):
-    t0 = time.perf_counter()
-    r = subprocess.run([exe, path, "-o", out, "--spacing", str(spacing), "--stats", "json"] + extra,
-                       capture_output=True, text=True)
-    wall = time.perf_counter() - t0
-    if r.returncode != 0:
-        sys.exit(f"fdmsurf failed on {path} {' '.join(extra)}: {r.stderr.strip()}")
-    stats = json.loads(r.stdout)
-    return wall, stats
+    return run_json(exe, [path, "-o", out, "--spacing", str(spacing), "--stats", "json"] + extra)
 
 
 def main():

@@ -19,29 +19,15 @@ with the render stages apart (GPU timestamps on lavapipe).
 
 Structures are read from tests/data, else ../shared/data (FDMSURF_SHARED moves it).
 """
-import argparse, json, os, platform, statistics, subprocess, sys, tempfile, time
+import argparse, os, platform, statistics, sys, tempfile
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-SHARED = os.environ.get("FDMSURF_SHARED", os.path.join(ROOT, "..", "shared"))
+from benchlib import ROOT, SHARED, find, run_json
 RENDER = ("render-bounds", "render-scene", "render-shade", "render-read", "render-host")
 NOT_SURFACE = ("parse", "init", "png", "write", "mesh-stats") + RENDER
 
 
-def find(name):
-    for folder, names in ((os.path.join(ROOT, "tests", "data"), (name + ".pdb", name + ".pdb.gz")),
-                          (os.path.join(SHARED, "data"), (name + ".pdb", name + ".pdb.gz", name + ".cif.gz"))):
-        for n in names:
-            p = os.path.join(folder, n)
-            if os.path.exists(p):
-                return p
-    return None
-
-
 def run(exe, args):
-    r = subprocess.run([exe] + args, capture_output=True, text=True)
-    if r.returncode != 0:
-        sys.exit(f"fdmsurf {' '.join(args)} failed ({r.returncode}): {r.stderr.strip()}")
-    return json.loads(r.stdout)
+    return run_json(exe, args)[1]
 
 
 def surface_ms(stats):
