@@ -62,11 +62,13 @@ Atoms atoms_near_planes(const Atoms& atoms, const GridPlan& plan, double z0, dou
 
 // Ends the recording (begun by the caller, who recorded the passes that fill `field`) with a
 // read-back of `field`, submits, waits and copies the values out.
+// `mark` (may be null): a stage mark recorded after the copy.
 std::vector<float> read_field(EngineImpl& e, StagingArena& arena, const Buffer& field,
-                              std::size_t floats) {
+                              std::size_t floats, const char* mark = nullptr) {
     const std::size_t bytes = floats * sizeof(float);
     const Buffer& host =
         readback_buffer(e.context, e.commands, arena, field, bytes, "field_readback");
+    if (mark) e.commands.mark(mark);
     e.commands.barrier_to_host();
     e.commands.submit_and_wait();
     host.invalidate();
@@ -174,11 +176,15 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
             density.record(commands, arena, bins, plan, field);
         else
             record_field(arena, plan, &bins, &features, options.filter, field);
-        commands.mark("read-field");
-        std::vector<float> values = read_field(*this, arena, field, plan.field_floats());
+        std::vector<float> values =
+            read_field(*this, arena, field, plan.field_floats(), "read-field");
         add_times(result.times, commands.stage_times());
         std::uint32_t pitch = plan.pitch;
         if (host_gaussian) {
+            // Nothing reads the device's (unfiltered) field again: its memory goes before the
+            // filter's.
+            field = Buffer();
+            arena.clear();
             const double t_filter = now_ms();
             std::vector<float> filtered(plan.points()), scratch;
             gaussian_filter_planes(

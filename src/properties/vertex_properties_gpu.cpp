@@ -292,9 +292,6 @@ std::vector<std::uint32_t> VertexPropertiesPass::vertex_atoms(
     std::vector<std::uint32_t> out(nv * stride);
     if (nv == 0 || atoms.empty()) return out;
     const AtomCells cells = bin_for_vertices(atoms, mesh, radius_add);
-    check_fits(ctx_, cells.atoms.size() * sizeof(float), "binned atoms");
-    check_fits(ctx_, attributes.size() * sizeof(std::uint32_t), "atom attributes");
-    const std::size_t chunk = chunk_vertices(ctx_, stride * sizeof(std::uint32_t) + 12);
     // Vertices in cell order: neighbours in a dispatch then search the same cells, so the
     // lanes of a SIMD group run alike (on 1AON the pass took 0.6 of the time of mesh order).
     // (set_sort_vertices: on CPU devices only; `order` stays empty for mesh order.)
@@ -315,12 +312,17 @@ std::vector<std::uint32_t> VertexPropertiesPass::vertex_atoms(
                 const std::uint32_t atom = nearest_atom(cells, positions + 3 * i);
                 std::uint32_t* w = &out[v * stride];
                 w[0] = atom;
+                // No atom only for a vertex that is not a number: its attributes stay 0.
+                if (atom >= atoms.size()) continue;
                 for (std::uint32_t k = 0; k < per_atom; ++k)
                     w[1 + k] = attributes[std::size_t(per_atom) * atom + k];
             }
         });
         return out;
     }
+    check_fits(ctx_, cells.atoms.size() * sizeof(float), "binned atoms");
+    check_fits(ctx_, attributes.size() * sizeof(std::uint32_t), "atom attributes");
+    const std::size_t chunk = chunk_vertices(ctx_, stride * sizeof(std::uint32_t) + 12);
 
     StagingArena arena;
     cmds.begin();

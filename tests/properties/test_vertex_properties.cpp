@@ -321,11 +321,16 @@ TEST_F(VertexProperties, ChunkedDispatchesAndRepeatedRunsGiveIdenticalWords) {
     const Mesh mesh = surface(engine(), atoms, SurfaceKind::Ses, SesMethod::Fdm).mesh;
     const std::vector<float> q = detail::atom_charges(atoms).q;
     detail::EngineImpl& one = impl();
+    // The device's pass (a CPU device would search on the host: HostSearchGivesTheDevicePassesAtoms).
+    const bool one_on_host = one.vertex_properties.on_host();
+    one.vertex_properties.set_on_host(false);
     const auto atoms_one = one.vertex_properties.vertex_atoms(one.commands, mesh, atoms, 0.0f, {}, 0);
     const auto phi_one = one.vertex_properties.coulombic(one.commands, mesh, atoms, q, 1.4f, true);
     EXPECT_EQ(phi_one, one.vertex_properties.coulombic(one.commands, mesh, atoms, q, 1.4f, true));
 
-    Engine small(EngineOptions{.validation = true, .max_buffer_range = 1u << 20});
+    Engine small(EngineOptions{.validation = true,
+                               .max_buffer_range = 1u << 20,
+                               .vertex_atoms = fdmsurf::StagePlace::Device});
     detail::EngineImpl& many = small.impl();
     EXPECT_EQ(atoms_one, many.vertex_properties.vertex_atoms(many.commands, mesh, atoms, 0.0f, {}, 0));
     // Vertices in mesh order (a GPU's default) and sorted by cell (a CPU device's), one chunk
@@ -343,6 +348,7 @@ TEST_F(VertexProperties, ChunkedDispatchesAndRepeatedRunsGiveIdenticalWords) {
         for (std::size_t v = 0; v < mesh.vertex_count(); ++v) ASSERT_EQ(words[0][2 * v], atoms_one[v]);
     }
     EXPECT_EQ(phi_one, many.vertex_properties.coulombic(many.commands, mesh, atoms, q, 1.4f, true));
+    one.vertex_properties.set_on_host(one_on_host);
     const std::vector<std::string> messages = small.take_validation_messages();
     EXPECT_TRUE(messages.empty()) << fdmsurf_test::join_messages(messages);
 }

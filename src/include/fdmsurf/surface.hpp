@@ -137,8 +137,8 @@ struct DeviceInfo {
 // progress display. An exception it throws ends make_surface with that exception.
 using ProgressCallback = std::function<void(std::string_view stage)>;
 
-// Where a stage of a grid processed in slabs runs, when the host can run it instead of the
-// device (EngineOptions::gaussian_filter, EngineOptions::marching_cubes).
+// Where a stage runs when the host can run it instead of the device
+// (EngineOptions::gaussian_filter, marching_cubes, vertex_atoms).
 enum class StagePlace {
     Auto,    // the host when the device is a CPU implementation (lavapipe), else the device
     Device,  // the device's compute passes
