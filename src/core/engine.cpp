@@ -111,6 +111,16 @@ void add_times(std::vector<StageTime>& into, const std::vector<StageTime>& times
 
 }  // namespace
 
+namespace {
+
+// The host Gaussian filter's taps for `plan`: its sigma in points, over the filter's reach.
+std::vector<float> host_gaussian_taps(const SurfaceOptions& options, const GridPlan& plan) {
+    return gaussian_taps(gaussian_sigma_points(plan.info.cutoff, plan.info.spacing),
+                         filter_reach_planes(options, plan));
+}
+
+}  // namespace
+
 bool EngineImpl::gaussian_on_host(const SurfaceOptions& options, const GridPlan& plan) const {
     if (!plan.filtered || plan.exact_ses || options.filter != FilterShape::Gaussian) return false;
     return gaussian_filter == StagePlace::Host ||
@@ -187,11 +197,9 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
             arena.clear();
             const double t_filter = now_ms();
             std::vector<float> filtered(plan.points()), scratch;
-            gaussian_filter_planes(
-                values.data(), d[0], d[1], d[2], plan.pitch,
-                gaussian_taps(gaussian_sigma_points(plan.info.cutoff, plan.info.spacing),
-                              filter_reach_planes(options, plan)),
-                0, d[2], filtered.data(), scratch);
+            gaussian_filter_planes(values.data(), d[0], d[1], d[2], plan.pitch,
+                                   host_gaussian_taps(options, plan), 0, d[2], filtered.data(),
+                                   scratch);
             values = std::move(filtered);
             pitch = d[0];
             add_times(result.times, {{"filter-host", now_ms() - t_filter, false}});
@@ -476,8 +484,7 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
     // core is convolved there, with a kernel as wide as the overlap (6 sigma).
     const bool host_gaussian = gaussian_on_host(options, plan);
     std::vector<float> taps, filter_scratch;
-    if (host_gaussian)
-        taps = gaussian_taps(gaussian_sigma_points(plan.info.cutoff, h), overlap);
+    if (host_gaussian) taps = host_gaussian_taps(options, plan);
     result.grid.host_filter = host_gaussian;
     Buffer field(context, slab_bytes, MemoryUse::Device, "field_slab");
     std::vector<float> slab_core;  // two core buffers, swapped: pages touched once, not per slab

@@ -27,23 +27,24 @@ Point step(Point q, int axis) {
 
 float value(const FieldView& f, Point q) { return f.at(q.c[0], q.c[1], q.c[2]); }
 
-void check_arguments(const FieldView& f, const McParams& p) {
+}  // namespace
+
+void check_mc_arguments(bool has_data, std::uint32_t nx, std::uint32_t ny, std::uint32_t nz,
+                        std::uint32_t pitch, const McParams& p) {
     auto fail = [](const std::string& why) {
         throw Error(ErrorCode::InvalidArgument, "marching cubes: " + why);
     };
-    if (f.data == nullptr || f.nx == 0 || f.ny == 0 || f.nz == 0) fail("empty grid");
-    if (f.pitch < f.nx) fail("row pitch smaller than nx");
-    if (p.z_begin > p.z_end || p.z_end >= f.nz) {
+    if (!has_data || nx == 0 || ny == 0 || nz == 0) fail("empty grid");
+    if (pitch < nx) fail("row pitch smaller than nx");
+    if (p.z_begin > p.z_end || p.z_end >= nz) {
         fail("z range [" + std::to_string(p.z_begin) + ", " + std::to_string(p.z_end) +
-             "] outside the grid's " + std::to_string(f.nz) + " planes");
+             "] outside the grid's " + std::to_string(nz) + " planes");
     }
     if (!(p.spacing > 0.0f) || !std::isfinite(p.spacing)) fail("spacing must be positive");
 }
 
-}  // namespace
-
 Mesh marching_cubes_cpu(const FieldView& f, const McParams& p) {
-    check_arguments(f, p);
+    check_mc_arguments(f.data != nullptr, f.nx, f.ny, f.nz, f.pitch, p);
     const float iso = p.iso;
     const std::uint32_t planes = p.z_end - p.z_begin + 1;
     const std::size_t point_count = std::size_t(f.nx) * f.ny * planes;

@@ -40,6 +40,12 @@ struct McParams {
     float power_t = 1.0f;       // T of the density
 };
 
+// Throws Error(InvalidArgument, "marching cubes: ...") for a grid without data or with a size
+// of 0, a row pitch below nx, a z range of p outside the nz planes, or a spacing that is not
+// positive; shared by every implementation on the host.
+void check_mc_arguments(bool has_data, std::uint32_t nx, std::uint32_t ny, std::uint32_t nz,
+                        std::uint32_t pitch, const McParams& p);
+
 // Where along the edge from v0 (t = 0) to v1 (t = 1) the field crosses `iso`, clamped to
 // [0.001, 0.999]; shared by the CPU reference and mirrored by shaders/mc_vertices.comp.
 float edge_crossing(float v0, float v1, const McParams& p);

@@ -6,10 +6,9 @@
 // visited only when its eight corners are not all on one side, which the words tell 64 at a time.
 #include "isosurface/marching_cubes_host.hpp"
 
+#include <algorithm>
 #include <bit>
-#include <cmath>
 #include <limits>
-#include <string>
 
 #include "core/parallel.hpp"
 #include "fdmsurf/error.hpp"
@@ -23,26 +22,19 @@ using Word = std::uint64_t;
 // w shifted down by one bit, the next word's lowest bit on top: bit j says point j + 1.
 inline Word next_bits(Word w, Word following) { return (w >> 1) | (following << 63); }
 
-void check_arguments(const PlaneStack& f, const McParams& p) {
-    auto fail = [](const std::string& why) {
-        throw Error(ErrorCode::InvalidArgument, "marching cubes: " + why);
-    };
-    if (f.nx == 0 || f.ny == 0 || f.nz == 0 || f.planes.size() != f.nz) fail("empty grid");
-    if (f.pitch < f.nx) fail("row pitch smaller than nx");
+// Every plane there and given.
+bool has_planes(const PlaneStack& f) {
+    if (f.planes.size() != f.nz) return false;
     for (const float* plane : f.planes) {
-        if (plane == nullptr) fail("empty grid");
+        if (plane == nullptr) return false;
     }
-    if (p.z_begin > p.z_end || p.z_end >= f.nz) {
-        fail("z range [" + std::to_string(p.z_begin) + ", " + std::to_string(p.z_end) +
-             "] outside the grid's " + std::to_string(f.nz) + " planes");
-    }
-    if (!(p.spacing > 0.0f) || !std::isfinite(p.spacing)) fail("spacing must be positive");
+    return true;
 }
 
 }  // namespace
 
 Mesh marching_cubes_host(const PlaneStack& f, const McParams& p, unsigned threads) {
-    check_arguments(f, p);
+    check_mc_arguments(has_planes(f), f.nx, f.ny, f.nz, f.pitch, p);
     threads = thread_count(threads);
     const std::uint32_t nx = f.nx, ny = f.ny;
     const std::uint32_t planes = p.z_end - p.z_begin + 1;
