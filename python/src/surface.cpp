@@ -35,6 +35,7 @@ py::dict grid_dict(const GridInfo& g) {
     d["slabs"] = g.slabs;
     d["host_filter"] = g.host_filter;
     d["host_marching_cubes"] = g.host_marching_cubes;
+    d["host_ses_distance"] = g.host_ses_distance;
     return d;
 }
 
@@ -383,7 +384,8 @@ max_triangles= did), optimized, total_ms.)")
             "grid", [](const PySurface& s) { return grid_dict(s.grid); },
             "The grid: dims (points along x, y, z), spacing (Å), origin (Å), cutoff (1/Å, 0 for "
             "vdw, sas and edt), slabs (> 1 when processed in parts), host_filter (the Gaussian "
-            "filter ran on the host), host_marching_cubes (marching cubes ran on the host).")
+            "filter ran on the host), host_marching_cubes (marching cubes ran on the host), "
+            "host_ses_distance (the exact SES field was computed on the host).")
         .def_property_readonly(
             "times", [](const PySurface& s) { return times_dict(s.times); },
             "Milliseconds per stage ('density', 'fft-forward', ...), in order of execution.")

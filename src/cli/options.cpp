@@ -66,6 +66,7 @@ enum class Opt {
     HostFilter,
     HostMc,
     HostAtoms,
+    HostSes,
     Optimize,
     Areas,
     Relative,
@@ -88,7 +89,7 @@ struct OptionSpec {
     bool numeric;  // a value that may start with '-' (a negative number, rejected later)
 };
 
-constexpr std::array<OptionSpec, 57> kOptions{{
+constexpr std::array<OptionSpec, 58> kOptions{{
     {"--output", "-o", Opt::Output, true, false},
     {"--output-format", "", Opt::OutputFormat, true, false},
     {"--surface", "", Opt::Surface, true, false},
@@ -133,6 +134,7 @@ constexpr std::array<OptionSpec, 57> kOptions{{
     {"--host-filter", "", Opt::HostFilter, true, false},
     {"--host-mc", "", Opt::HostMc, true, false},
     {"--host-atoms", "", Opt::HostAtoms, true, false},
+    {"--host-ses", "", Opt::HostSes, true, false},
     {"--optimize", "", Opt::Optimize, false, false},
     {"--areas", "", Opt::Areas, true, false},
     {"--relative", "", Opt::Relative, true, false},
@@ -650,6 +652,10 @@ void apply_value(CliOptions& o, const OptionSpec& spec, std::string_view name,
             o.engine.vertex_atoms = parse_choice(name, text, kStagePlaces,
                                                  "host vertex atoms setting", "auto, on or off");
             break;
+        case Opt::HostSes:
+            o.engine.ses_distance = parse_choice(name, text, kStagePlaces,
+                                                 "host SES field setting", "auto, on or off");
+            break;
         case Opt::Simplifier:
             o.simplify.simplifier =
                 parse_choice(name, text, kSimplifiers, "simplifier", "collapse or meshopt");
@@ -1034,6 +1040,11 @@ Device:
   --host-atoms auto|on|off  each vertex's atom searched on the host's threads
                          (the same atoms) instead of the device's pass: auto
                          (default) does so when the device is a CPU (lavapipe)
+  --host-ses auto|on|off  the exact SES field (--method edt) computed on the
+                         host's threads (each ball and arc scattered over the
+                         points it reaches; the same values to float rounding)
+                         instead of the device's pass: auto (default) does so
+                         when the device is a CPU (lavapipe)
 
 Output:
   -o, --output OUTPUT    the mesh file to write: .ply (binary), .obj, .glb

@@ -246,12 +246,13 @@ inline std::string text_summary(const RunReport& r) {
          std::to_string(g.dims[2]) + " points, spacing " + format_general(g.spacing) + " Å, ";
     s += g.cutoff > 0.0f ? "cut-off " + format_general(g.cutoff) + " 1/Å" : "no filter";
     if (g.slabs > 1) s += ", " + std::to_string(g.slabs) + " slabs";
-    if (g.host_filter && g.host_marching_cubes)
-        s += " (Gaussian filter and marching cubes on the host)";
-    else if (g.host_filter)
-        s += " (Gaussian filter on the host)";
-    else if (g.host_marching_cubes)
-        s += " (marching cubes on the host)";
+    std::vector<std::string> on_host;
+    if (g.host_ses_distance) on_host.push_back("exact SES field");
+    if (g.host_filter) on_host.push_back("Gaussian filter");
+    if (g.host_marching_cubes) on_host.push_back("marching cubes");
+    for (std::size_t k = 0; k < on_host.size(); ++k)
+        s += (k == 0 ? " (" : k + 1 == on_host.size() ? " and " : ", ") + on_host[k] +
+             (k + 1 == on_host.size() ? " on the host)" : "");
     s += "\n";
 
     const MeshStats& m = r.stats;
@@ -368,6 +369,7 @@ inline std::string json_summary(const RunReport& r) {
     w.member("slabs", r.grid.slabs);
     w.member("host_filter", r.grid.host_filter);
     w.member("host_marching_cubes", r.grid.host_marching_cubes);
+    w.member("host_ses_distance", r.grid.host_ses_distance);
     w.end_object();
 
     const MeshStats& m = r.stats;

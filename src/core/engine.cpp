@@ -17,6 +17,7 @@
 #include "grid/atom_bins.hpp"
 #include "grid/density_gpu.hpp"
 #include "grid/grid_plan.hpp"
+#include "grid/ses_distance_host.hpp"
 #include "grid/ses_features.hpp"
 #include "isosurface/marching_cubes_gpu.hpp"
 #include "isosurface/marching_cubes_host.hpp"
@@ -165,9 +166,24 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
     }
     report(plan.exact_ses ? "ses-features" : "bin-atoms");
     trace(plan.exact_ses ? "engine: ses features" : "engine: atoms binned");
+    // The exact SES field on the host (EngineOptions::ses_distance; not for a mesh left on the
+    // device): computed here, uploaded only where marching cubes runs on the device.
+    const bool host_mc = !on_device && on_host(marching_cubes_place);
+    const bool host_ses = plan.exact_ses && !on_device && on_host(ses_distance_place);
+    result.grid.host_ses_distance = host_ses;
+    std::vector<float> host_values;
+    if (host_ses) {
+        const double t_ses = now_ms();
+        host_values = SesHostField(features).field(plan);
+        add_times(result.times, {{"ses-host", now_ms() - t_ses, false}});
+        report("ses-host");
+    }
     StagingArena arena;
-    Buffer field(context, static_cast<VkDeviceSize>(field_bytes), MemoryUse::Device, "field");
-    trace("engine: field allocated");
+    Buffer field;
+    if (!(host_ses && host_mc)) {
+        field = Buffer(context, static_cast<VkDeviceSize>(field_bytes), MemoryUse::Device, "field");
+        trace("engine: field allocated");
+    }
     McParams mc;
     for (int a = 0; a < 3; ++a) mc.origin[a] = plan.info.origin[a];
     mc.spacing = plan.info.spacing;
@@ -179,16 +195,20 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
     // device): the field comes back, and the Gaussian filter runs on the host too where
     // gaussian_on_host says so (the host's field then holds the filtered values, which
     // refinement reads there).
-    if (!on_device && on_host(marching_cubes_place)) {
+    if (host_mc) {
         const bool host_gaussian = gaussian_on_host(options, plan);
-        commands.begin();
-        if (host_gaussian)
-            density.record(commands, arena, bins, plan, field);
-        else
-            record_field(arena, plan, &bins, &features, options.filter, field);
-        std::vector<float> values =
-            read_field(*this, arena, field, plan.field_floats(), "read-field");
-        add_times(result.times, commands.stage_times());
+        std::vector<float> values;
+        if (host_ses) {
+            values = std::move(host_values);
+        } else {
+            commands.begin();
+            if (host_gaussian)
+                density.record(commands, arena, bins, plan, field);
+            else
+                record_field(arena, plan, &bins, &features, options.filter, field);
+            values = read_field(*this, arena, field, plan.field_floats(), "read-field");
+            add_times(result.times, commands.stage_times());
+        }
         std::uint32_t pitch = plan.pitch;
         if (host_gaussian) {
             // Nothing reads the device's (unfiltered) field again: its memory goes before the
@@ -214,12 +234,20 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
         result.grid.host_marching_cubes = true;
         report(plan.exact_ses ? "ses-distance, marching cubes" : "density, filter, marching cubes");
         const FieldView view{values.data(), d[0], d[1], d[2], pitch};
-        host_stages(result, atoms, options, plan, &features, host_gaussian ? nullptr : &field,
+        host_stages(result, atoms, options, plan, &features,
+                    host_gaussian || host_ses ? nullptr : &field,
                     host_gaussian ? &view : nullptr);
         return result;
     }
     commands.begin();
-    record_field(arena, plan, &bins, &features, options.filter, field);
+    if (host_ses) {
+        write_pieces(context, commands, arena, field,
+                     {{host_values.data(), host_values.size() * sizeof(float)}}, "field");
+        commands.barrier_compute();
+        commands.mark("upload-field");
+    } else {
+        record_field(arena, plan, &bins, &features, options.filter, field);
+    }
     trace("engine: field recorded (staging, FFT plan)");
     GpuMesh gpu = marching_cubes.run(commands, arena, field, d[0], d[1], d[2], plan.pitch, mc);
     trace("engine: field and marching cubes done");
@@ -408,11 +436,14 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
     // The exact SES is evaluated per point from the features of all atoms (binned once); the
     // density of each slab from the atoms that reach it.
     SesFeatures features;
+    std::unique_ptr<SesHostField> host_ses;  // EngineOptions::ses_distance
     if (plan.exact_ses) {
         const double t0 = now_ms();
         features = build_ses_features(atoms, options.probe);
         add_times(result.times, {{"ses-features", now_ms() - t0, false}});
+        if (on_host(ses_distance_place)) host_ses = std::make_unique<SesHostField>(features);
     }
+    result.grid.host_ses_distance = host_ses != nullptr;
     std::vector<Mesh> parts;
     std::vector<std::uint32_t> starts;
     const bool host_mc = on_host(marching_cubes_place);
@@ -486,7 +517,8 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
     std::vector<float> taps, filter_scratch;
     if (host_gaussian) taps = host_gaussian_taps(options, plan);
     result.grid.host_filter = host_gaussian;
-    Buffer field(context, slab_bytes, MemoryUse::Device, "field_slab");
+    Buffer field;
+    if (!host_ses) field = Buffer(context, slab_bytes, MemoryUse::Device, "field_slab");
     std::vector<float> slab_core;  // two core buffers, swapped: pages touched once, not per slab
     for (std::uint32_t k = 0; k < slabs; ++k) {
         const std::int64_t zc0 = std::int64_t(k) * core;
@@ -509,6 +541,12 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
         if (empty) {
             // Nothing reaches an empty slab: its density, and so its filtered field, is 0.
             std::fill(slab_core.begin(), slab_core.end(), 0.0f);
+        } else if (host_ses) {
+            // The exact SES has no overlap: the core's planes straight into the core.
+            host_ses->evaluate(plan, std::uint32_t(zc0), std::uint32_t(zc1), slab_core.data(),
+                               d[0]);
+            add_times(result.times, {{"ses-host", now_ms() - t0, false}});
+            report("field slab " + std::to_string(k + 1) + "/" + std::to_string(slabs));
         } else {
             commands.begin();
             if (host_gaussian)

@@ -36,7 +36,8 @@ struct EngineImpl {
         : glslang(), context(options), commands(context), density(context),
           ses_distance(context), filter(context), marching_cubes(context),
           vertex_properties(context), progress(options.progress),
-          gaussian_filter(options.gaussian_filter), marching_cubes_place(options.marching_cubes) {
+          gaussian_filter(options.gaussian_filter), marching_cubes_place(options.marching_cubes),
+          ses_distance_place(options.ses_distance) {
         vertex_properties.set_on_host(on_host(options.vertex_atoms));
     }
 
@@ -55,6 +56,7 @@ struct EngineImpl {
     ProgressCallback progress;  // EngineOptions::progress; may be empty
     GaussianFilterPlace gaussian_filter;  // EngineOptions::gaussian_filter
     StagePlace marching_cubes_place;      // EngineOptions::marching_cubes
+    StagePlace ses_distance_place;        // EngineOptions::ses_distance
 
     // Whether a stage placed at `place` runs on the host: Host, or Auto on a CPU device.
     bool on_host(StagePlace place) const {

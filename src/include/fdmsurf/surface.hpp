@@ -102,6 +102,7 @@ struct GridInfo {
     std::uint32_t slabs = 1;              // > 1 when processed in overlapping parts
     bool host_filter = false;             // the Gaussian filter ran on the host
     bool host_marching_cubes = false;     // marching cubes ran on the host
+    bool host_ses_distance = false;       // the exact SES field was computed on the host
     float cutoff = 0.0f;                  // filter cut-off used (1/Å), 0 for vdw, sas and edt
 };
 
@@ -138,7 +139,7 @@ struct DeviceInfo {
 using ProgressCallback = std::function<void(std::string_view stage)>;
 
 // Where a stage runs when the host can run it instead of the device
-// (EngineOptions::gaussian_filter, marching_cubes, vertex_atoms).
+// (EngineOptions::gaussian_filter, marching_cubes, vertex_atoms, ses_distance).
 enum class StagePlace {
     Auto,    // the host when the device is a CPU implementation (lavapipe), else the device
     Device,  // the device's compute passes
@@ -178,6 +179,12 @@ struct EngineOptions {
     // the device's pass): on the host the shader's search in C++ on all threads, the same atoms
     // (docs/performance.md).
     StagePlace vertex_atoms = StagePlace::Auto;
+    // The exact SES field (--method edt; not for make_device_surface's mesh). On the host each
+    // ball and each exposed arc is scattered over the grid points it can be nearest to, on all
+    // threads, instead of the device's per-point gather of every candidate: on a CPU device a
+    // fraction of the pass's time (docs/performance.md). The same values to float rounding
+    // (within 5e-5 Å of the CPU reference, as the device's pass).
+    StagePlace ses_distance = StagePlace::Auto;
 };
 
 namespace detail { struct EngineImpl; }

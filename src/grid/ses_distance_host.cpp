@@ -1,0 +1,371 @@
+// The exact SES field on the host: balls and arcs scattered over the points they reach
+// (ses_distance_host.hpp).
+#include "grid/ses_distance_host.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <string>
+
+#include "core/parallel.hpp"
+#include "fdmsurf/error.hpp"
+#include "grid/ses_distance_cpu.hpp"
+
+namespace fdmsurf::detail {
+
+namespace {
+
+constexpr double kTwoPi = 6.283185307179586;
+// Planes per task: a ball spans about 13 planes at 0.5 Å, so each is set up about four times.
+constexpr std::uint32_t kChunkPlanes = 4;
+// Point states after the faces (step 2).
+constexpr std::uint8_t kDone = 0, kWaiting = 1;
+
+// Is `angle` (radians) within the arc [start, start + length] (mod 2 pi)?
+bool on_arc(double angle, double start, double length) {
+    double rel = angle - start;
+    rel -= kTwoPi * std::floor(rel / kTwoPi);
+    return rel <= length;
+}
+
+// The first index i in [0, n) with lo + h * i >= v (float grid points; n when none), and the
+// last with lo + h * i <= v (-1 when none): a point range from coordinates, one spacing wider
+// on each side than rounding could need (the points themselves are tested after).
+int first_at_or_above(double v, double lo, double h, int n) {
+    const double t = std::floor((v - lo) / h) - 1.0;
+    return static_cast<int>(std::clamp(t, 0.0, double(n)));
+}
+int last_at_or_below(double v, double lo, double h, int n) {
+    const double t = std::ceil((v - lo) / h) + 1.0;
+    return static_cast<int>(std::clamp(t, -1.0, double(n - 1)));
+}
+
+}  // namespace
+
+// An exposed arc with what its distance needs precomputed (double precision): the angle test
+// by cross products against the ends' in-plane directions, the distance off the arc to the
+// nearer end in space (the nearer in angle, as ses_features.cpp's arc_distance takes it: the
+// chord grows with the angle), so no atan2 and no sine per point.
+struct SesHostField::Arc {
+    double m[3], axis[3], e1[3], e2[3];
+    double rho;
+    double start_dir[2], end_dir[2];  // cos, sin of the ends' angles
+    double start_point[3], end_point[3];
+    bool longer_than_half;  // length > pi: the test is on the complement
+
+    explicit Arc(const SesArc& a) {
+        const double end = double(a.start) + double(a.length);
+        start_dir[0] = std::cos(double(a.start)), start_dir[1] = std::sin(double(a.start));
+        end_dir[0] = std::cos(end), end_dir[1] = std::sin(end);
+        rho = a.rho;
+        for (int k = 0; k < 3; ++k) {
+            m[k] = a.m[k], e1[k] = a.e1[k], e2[k] = a.e2[k];
+            start_point[k] = m[k] + rho * (start_dir[0] * e1[k] + start_dir[1] * e2[k]);
+            end_point[k] = m[k] + rho * (end_dir[0] * e1[k] + end_dir[1] * e2[k]);
+        }
+        axis[0] = e1[1] * e2[2] - e1[2] * e2[1];
+        axis[1] = e1[2] * e2[0] - e1[0] * e2[2];
+        axis[2] = e1[0] * e2[1] - e1[1] * e2[0];
+        longer_than_half = double(a.length) > 0.5 * kTwoPi;
+    }
+
+    // The distance from p, or `bound` when the arc is certainly not nearer.
+    double distance(const double p[3], double bound) const {
+        const double v[3] = {p[0] - m[0], p[1] - m[1], p[2] - m[2]};
+        const double height = v[0] * axis[0] + v[1] * axis[1] + v[2] * axis[2];
+        if (std::abs(height) >= bound) return bound;
+        const double a = v[0] * e1[0] + v[1] * e1[1] + v[2] * e1[2];
+        const double b = v[0] * e2[0] + v[1] * e2[1] + v[2] * e2[2];
+        const double r = std::sqrt(a * a + b * b);
+        if (std::abs(r - rho) >= bound) return bound;
+        // On the arc: after its start and before its end, counter-clockwise (a point on the
+        // axis, r = 0, counts as on it, as in arc_distance).
+        const double after_start = start_dir[0] * b - start_dir[1] * a;
+        const double before_end = a * end_dir[1] - b * end_dir[0];
+        const bool on = longer_than_half ? !(after_start < 0.0 && before_end < 0.0)
+                                         : after_start >= 0.0 && before_end >= 0.0;
+        if (on) {
+            const double rr = r - rho;
+            return std::sqrt(height * height + rr * rr);
+        }
+        auto dist2 = [&](const double* q) {
+            const double dx = p[0] - q[0], dy = p[1] - q[1], dz = p[2] - q[2];
+            return dx * dx + dy * dy + dz * dz;
+        };
+        return std::sqrt(std::min(dist2(start_point), dist2(end_point)));
+    }
+};
+
+SesHostField::~SesHostField() = default;
+
+SesHostField::SesHostField(const SesFeatures& f, unsigned threads)
+    : f_(f), threads_(thread_count(threads)) {
+    const std::size_t n = f.sphere_count();
+    const float* s = f.spheres.data();
+    // Neighbours from the bins (edge r_max: intersecting balls are within two bins), per bin
+    // range on all threads, joined in ball order.
+    const std::size_t bins = f.bin_count();
+    constexpr std::size_t kBinsPerTask = 64;
+    std::vector<std::vector<std::uint32_t>> lists((bins + kBinsPerTask - 1) / kBinsPerTask);
+    std::vector<std::uint32_t> count(n, 0);
+    parallel_chunks(lists.size(), threads_, [&](std::size_t task) {
+        std::vector<std::uint32_t>& out = lists[task];
+        for (std::size_t b = task * kBinsPerTask; b < std::min(bins, (task + 1) * kBinsPerTask);
+             ++b) {
+            const int bx = int(b % f.dims[0]), by = int(b / f.dims[0] % f.dims[1]),
+                      bz = int(b / (std::size_t(f.dims[0]) * f.dims[1]));
+            for (std::uint32_t i = f.sphere_start[b]; i < f.sphere_start[b + 1]; ++i) {
+                const std::size_t before = out.size();
+                for (int z = std::max(bz - 2, 0); z <= std::min(bz + 2, int(f.dims[2]) - 1); ++z)
+                    for (int y = std::max(by - 2, 0); y <= std::min(by + 2, int(f.dims[1]) - 1);
+                         ++y)
+                        for (int x = std::max(bx - 2, 0);
+                             x <= std::min(bx + 2, int(f.dims[0]) - 1); ++x) {
+                            const std::size_t nb = (std::size_t(z) * f.dims[1] + y) * f.dims[0] + x;
+                            for (std::uint32_t j = f.sphere_start[nb]; j < f.sphere_start[nb + 1];
+                                 ++j) {
+                                if (j == i) continue;
+                                const float dx = s[4 * j] - s[4 * i], dy = s[4 * j + 1] - s[4 * i + 1],
+                                            dz = s[4 * j + 2] - s[4 * i + 2];
+                                const float reach = s[4 * i + 3] + s[4 * j + 3];
+                                if (dx * dx + dy * dy + dz * dz < reach * reach) out.push_back(j);
+                            }
+                        }
+                count[i] = static_cast<std::uint32_t>(out.size() - before);
+            }
+        }
+    });
+    neighbour_start_.assign(n + 1, 0);
+    for (std::size_t i = 0; i < n; ++i) neighbour_start_[i + 1] = neighbour_start_[i] + count[i];
+    neighbours_.reserve(neighbour_start_[n]);
+    for (const auto& list : lists) neighbours_.insert(neighbours_.end(), list.begin(), list.end());
+
+    spheres_by_z_.resize(n);
+    std::iota(spheres_by_z_.begin(), spheres_by_z_.end(), 0u);
+    std::sort(spheres_by_z_.begin(), spheres_by_z_.end(), [&](std::uint32_t a, std::uint32_t b) {
+        return s[4 * a + 2] != s[4 * b + 2] ? s[4 * a + 2] < s[4 * b + 2] : a < b;
+    });
+    sphere_z_.resize(n);
+    for (std::size_t k = 0; k < n; ++k) sphere_z_[k] = s[4 * spheres_by_z_[k] + 2];
+
+    // Each arc's bounds: along axis a its points are m_a + rho A cos(theta - phi), A and phi from
+    // (e1_a, e2_a); the extreme is reached where theta = phi (or phi + pi) lies on the arc, else
+    // at an end. Widened by 1e-4 Å for the float rounding of the stored arc.
+    arc_box_.resize(f.arcs.size());
+    arcs_.reserve(f.arcs.size());
+    for (std::size_t k = 0; k < f.arcs.size(); ++k) {
+        const SesArc& a = f.arcs[k];
+        arcs_.emplace_back(a);
+        Box& box = arc_box_[k];
+        for (int ax = 0; ax < 3; ++ax) {
+            const double e1 = a.e1[ax], e2 = a.e2[ax];
+            auto at = [&](double t) { return a.m[ax] + a.rho * (std::cos(t) * e1 + std::sin(t) * e2); };
+            double lo = std::min(at(a.start), at(double(a.start) + a.length));
+            double hi = std::max(at(a.start), at(double(a.start) + a.length));
+            const double amp = std::hypot(e1, e2), phi = std::atan2(e2, e1);
+            if (on_arc(phi, a.start, a.length)) hi = a.m[ax] + a.rho * amp;
+            if (on_arc(phi + 0.5 * kTwoPi, a.start, a.length)) lo = a.m[ax] - a.rho * amp;
+            box.lo[ax] = static_cast<float>(lo - 1e-4);
+            box.hi[ax] = static_cast<float>(hi + 1e-4);
+        }
+        arc_extent_z_ = std::max(arc_extent_z_, box.hi[2] - box.lo[2]);
+    }
+    arcs_by_z_.resize(f.arcs.size());
+    std::iota(arcs_by_z_.begin(), arcs_by_z_.end(), 0u);
+    std::sort(arcs_by_z_.begin(), arcs_by_z_.end(), [&](std::uint32_t a, std::uint32_t b) {
+        return arc_box_[a].lo[2] != arc_box_[b].lo[2] ? arc_box_[a].lo[2] < arc_box_[b].lo[2]
+                                                      : a < b;
+    });
+    arc_lo_z_.resize(f.arcs.size());
+    for (std::size_t k = 0; k < f.arcs.size(); ++k) arc_lo_z_[k] = arc_box_[arcs_by_z_[k]].lo[2];
+}
+
+void SesHostField::evaluate(const GridPlan& plan, std::uint32_t z_begin, std::uint32_t z_end,
+                            float* out, std::size_t pitch) const {
+    const auto& dims = plan.info.dims;
+    if (!plan.exact_ses || z_begin >= z_end || z_end > dims[2] || pitch < dims[0])
+        throw Error(ErrorCode::InvalidArgument,
+                    "host SES field: planes [" + std::to_string(z_begin) + ", " +
+                        std::to_string(z_end) + ") of a grid of " + std::to_string(dims[2]) +
+                        " planes, pitch " + std::to_string(pitch) + " for rows of " +
+                        std::to_string(dims[0]) + " points");
+    const int nx = int(dims[0]), ny = int(dims[1]);
+    const float h = plan.info.spacing;
+    const float d_min = plan.ses_d_min, d_max = plan.ses_d_max;
+    // Points as the shaders compute them.
+    std::vector<float> xs(nx), ys(ny), zs(dims[2]);
+    for (int x = 0; x < nx; ++x) xs[x] = plan.info.origin[0] + h * float(x);
+    for (int y = 0; y < ny; ++y) ys[y] = plan.info.origin[1] + h * float(y);
+    for (std::uint32_t z = 0; z < dims[2]; ++z) zs[z] = plan.info.origin[2] + h * float(z);
+    // Outside the balls d = lb < 0 matters only above the lower clamp.
+    const float reach_out = std::max(0.0f, -d_min);
+    const float* s = f_.spheres.data();
+    const std::uint32_t chunks = (z_end - z_begin + kChunkPlanes - 1) / kChunkPlanes;
+
+    parallel_chunks(chunks, threads_, [&](std::size_t chunk) {
+        const std::uint32_t za = z_begin + std::uint32_t(chunk) * kChunkPlanes;
+        const std::uint32_t zb = std::min(za + kChunkPlanes, z_end);
+        const std::size_t plane = std::size_t(nx) * ny;
+        const std::size_t points = plane * (zb - za);
+        std::vector<float> lb(points, -std::numeric_limits<float>::infinity());
+        std::vector<std::uint32_t> deepest(points, 0);
+        std::vector<std::uint8_t> tie(points, 0);
+        auto at = [&](std::uint32_t z, int y) { return (std::size_t(z - za) * ny + y) * nx; };
+        auto row_out = [&](std::uint32_t z, int y) {
+            return out + (std::size_t(z - z_begin) * ny + y) * pitch;
+        };
+
+        // 1. Depths.
+        {
+            const float reach = f_.r_max + reach_out;
+            const auto first = std::lower_bound(sphere_z_.begin(), sphere_z_.end(), zs[za] - reach);
+            const auto last = std::upper_bound(sphere_z_.begin(), sphere_z_.end(), zs[zb - 1] + reach);
+            for (auto it = first; it != last; ++it) {
+                const std::uint32_t i = spheres_by_z_[std::size_t(it - sphere_z_.begin())];
+                const float cx = s[4 * i], cy = s[4 * i + 1], cz = s[4 * i + 2], R = s[4 * i + 3];
+                const float Rr = R + reach_out, Rr2 = Rr * Rr;
+                for (std::uint32_t z = za; z < zb; ++z) {
+                    const float dz = zs[z] - cz;
+                    if (dz * dz >= Rr2) continue;
+                    const double half_y = std::sqrt(double(Rr2 - dz * dz));
+                    const int y0 = first_at_or_above(cy - half_y, ys[0], h, ny);
+                    const int y1 = last_at_or_below(cy + half_y, ys[0], h, ny);
+                    for (int y = y0; y <= y1; ++y) {
+                        const float dy = ys[y] - cy;
+                        const float dyz = dy * dy + dz * dz;
+                        if (dyz >= Rr2) continue;
+                        const double half_x = std::sqrt(double(Rr2 - dyz));
+                        const int x0 = first_at_or_above(cx - half_x, xs[0], h, nx);
+                        const int x1 = last_at_or_below(cx + half_x, xs[0], h, nx);
+                        const std::size_t row = at(z, y);
+                        float* l = &lb[row];
+                        std::uint32_t* deep = &deepest[row];
+                        std::uint8_t* t = &tie[row];
+                        for (int x = x0; x <= x1; ++x) {
+                            const float dx = xs[x] - cx;
+                            const float v = R - std::sqrt(dx * dx + dyz);
+                            if (v >= l[x]) {
+                                t[x] = v == l[x];
+                                l[x] = v;
+                                deep[x] = i;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+
+        // 2. The deepest face.
+        std::vector<std::uint8_t> state(points, kDone);
+        std::size_t waiting = 0;
+        std::uint32_t last_burier = std::numeric_limits<std::uint32_t>::max();
+        auto buried = [&](float qx, float qy, float qz, std::uint32_t self) {
+            auto inside = [&](std::uint32_t k) {
+                const float wx = qx - s[4 * k], wy = qy - s[4 * k + 1], wz = qz - s[4 * k + 2];
+                return wx * wx + wy * wy + wz * wz < s[4 * k + 3] * s[4 * k + 3];
+            };
+            if (last_burier != std::numeric_limits<std::uint32_t>::max() && last_burier != self &&
+                inside(last_burier))
+                return true;
+            for (std::uint32_t q = neighbour_start_[self]; q < neighbour_start_[self + 1]; ++q) {
+                const std::uint32_t k = neighbours_[q];
+                if (inside(k)) {
+                    last_burier = k;
+                    return true;
+                }
+            }
+            return false;
+        };
+        for (std::uint32_t z = za; z < zb; ++z)
+            for (int y = 0; y < ny; ++y) {
+                const std::size_t row = at(z, y);
+                float* o = row_out(z, y);
+                for (int x = 0; x < nx; ++x) {
+                    const float l = lb[row + x];
+                    if (!(l > 0.0f)) {
+                        o[x] = std::max(l, d_min);
+                    } else if (l >= d_max) {
+                        o[x] = d_max;
+                    } else if (tie[row + x]) {
+                        const double p[3] = {xs[x], ys[y], zs[z]};
+                        o[x] = std::max(static_cast<float>(ses_distance(f_, p, d_max, nullptr, false)),
+                                        d_min);
+                    } else {
+                        const std::uint32_t i = deepest[row + x];
+                        const float cx = s[4 * i], cy = s[4 * i + 1], cz = s[4 * i + 2], R = s[4 * i + 3];
+                        const float vx = xs[x] - cx, vy = ys[y] - cy, vz = zs[z] - cz;
+                        const float len = std::sqrt(vx * vx + vy * vy + vz * vz);
+                        float qx = cx + R, qy = cy, qz = cz;  // the shader's choice at the centre
+                        if (len > 1e-6f) {
+                            const float k = R / len;
+                            qx = cx + k * vx, qy = cy + k * vy, qz = cz + k * vz;
+                        }
+                        if (!buried(qx, qy, qz, i)) {
+                            o[x] = std::max(l, d_min);
+                        } else {
+                            o[x] = d_max;
+                            state[row + x] = kWaiting;
+                            ++waiting;
+                        }
+                    }
+                }
+            }
+        if (waiting == 0) return;
+
+        // 3. Arcs, over the waiting points within d_max of them.
+        const float zlo = zs[za] - d_max, zhi = zs[zb - 1] + d_max;
+        const auto first = std::lower_bound(arc_lo_z_.begin(), arc_lo_z_.end(), zlo - arc_extent_z_);
+        const auto last = std::upper_bound(arc_lo_z_.begin(), arc_lo_z_.end(), zhi);
+        for (auto it = first; it != last; ++it) {
+            const std::uint32_t k = arcs_by_z_[std::size_t(it - arc_lo_z_.begin())];
+            const Box& box = arc_box_[k];
+            if (box.hi[2] < zlo) continue;
+            const Arc& arc = arcs_[k];
+            const double reach = arc.rho + d_max, reach2 = reach * reach;
+            const int x0 = first_at_or_above(box.lo[0] - d_max, xs[0], h, nx);
+            const int x1 = last_at_or_below(box.hi[0] + d_max, xs[0], h, nx);
+            const int y0 = first_at_or_above(box.lo[1] - d_max, ys[0], h, ny);
+            const int y1 = last_at_or_below(box.hi[1] + d_max, ys[0], h, ny);
+            for (std::uint32_t z = za; z < zb; ++z) {
+                if (zs[z] < box.lo[2] - d_max || zs[z] > box.hi[2] + d_max) continue;
+                const double dz = zs[z] - arc.m[2];
+                for (int y = y0; y <= y1; ++y) {
+                    const double dy = ys[y] - arc.m[1];
+                    const double rem = reach2 - dy * dy - dz * dz;
+                    if (rem <= 0.0) continue;
+                    const double half = std::sqrt(rem);
+                    const int xa = std::max(x0, first_at_or_above(arc.m[0] - half, xs[0], h, nx));
+                    const int xb = std::min(x1, last_at_or_below(arc.m[0] + half, xs[0], h, nx));
+                    const std::size_t row = at(z, y);
+                    float* o = row_out(z, y);
+                    for (int x = xa; x <= xb; ++x) {
+                        if (state[row + x] != kWaiting) continue;
+                        const double best = o[x];
+                        const double dx = xs[x] - arc.m[0];
+                        const double r = arc.rho + best;
+                        if (dx * dx + dy * dy + dz * dz >= r * r) continue;
+                        const double p[3] = {xs[x], ys[y], zs[z]};
+                        const double d = arc.distance(p, best);
+                        if (d < best) o[x] = static_cast<float>(d);
+                    }
+                }
+            }
+        }
+        for (std::uint32_t z = za; z < zb; ++z)
+            for (int y = 0; y < ny; ++y) {
+                const std::size_t row = at(z, y);
+                float* o = row_out(z, y);
+                for (int x = 0; x < nx; ++x)
+                    if (state[row + x] == kWaiting) o[x] = std::max(o[x], d_min);
+            }
+    });
+}
+
+std::vector<float> SesHostField::field(const GridPlan& plan) const {
+    std::vector<float> out(plan.field_floats(), 0.0f);
+    evaluate(plan, 0, plan.info.dims[2], out.data(), plan.pitch);
+    return out;
+}
+
+}  // namespace fdmsurf::detail

@@ -1,0 +1,65 @@
+// The exact SES field on the host's threads, for CPU Vulkan devices (EngineOptions::ses_distance,
+// --host-ses): the values of shaders/ses_distance.comp, computed by scattering each feature over
+// the grid points it can be nearest to instead of gathering every candidate feature per point.
+//
+// The shader's workgroup reads every sphere within R + d_max of its box and every arc within
+// d_max of it (30-50 spheres and 40-50 arcs per point near the surface at 0.5 Å). Here, per slab
+// of a few planes:
+//   1. each ball writes its depth R - |p - c| into the points it holds (the deepest and whether
+//      another ball ties with it, per point): lb, the least d can be;
+//   2. a point with 0 < lb < d_max tries the deepest ball's face alone, against that ball's
+//      neighbours (the balls that intersect it): exposed, d = lb; buried, the point waits for
+//      the arcs (the shader's reasoning, docs/architecture.md); a tie takes the CPU reference's
+//      evaluation (ses_distance, every_face false);
+//   3. each exposed arc lowers the waiting points within d_max of it (a box around the arc's own
+//      points and the ball of radius rho + d_max around its circle's centre) to its distance.
+// The same clamp to [plan.ses_d_min, plan.ses_d_max]. Float rounding differs from the shader's
+// and the reference's (tests/grid/test_ses_distance_host.cpp: within the GPU test's 5e-5 Å).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "grid/grid_plan.hpp"
+#include "grid/ses_features.hpp"
+
+namespace fdmsurf::detail {
+
+class SesHostField {
+public:
+    // Builds each ball's neighbour list and the z orders of the balls and arcs. `f` must
+    // outlive the object. threads 0: the hardware's.
+    explicit SesHostField(const SesFeatures& f, unsigned threads = 0);
+    ~SesHostField();
+    SesHostField(const SesHostField&) = delete;
+    SesHostField& operator=(const SesHostField&) = delete;
+
+    // Planes [z_begin, z_end) of `plan`'s grid (plan.exact_ses): plane z, row y goes to
+    // out + ((z - z_begin) * ny + y) * pitch, nx values. Grid points as the shaders compute them
+    // (origin + spacing * index, in float, with the plan's own origin and z index).
+    // Throws Error(InvalidArgument) for an empty or out-of-range z range or pitch < nx.
+    void evaluate(const GridPlan& plan, std::uint32_t z_begin, std::uint32_t z_end, float* out,
+                  std::size_t pitch) const;
+
+    // The whole grid in plan.pitch floats per row (ses_field_cpu's layout; the padding is 0).
+    std::vector<float> field(const GridPlan& plan) const;
+
+private:
+    struct Box {
+        float lo[3], hi[3];
+    };
+    struct Arc;
+    const SesFeatures& f_;
+    unsigned threads_;
+    std::vector<std::uint32_t> neighbour_start_, neighbours_;  // balls intersecting each ball
+    std::vector<std::uint32_t> spheres_by_z_;                  // ball indices by centre z
+    std::vector<float> sphere_z_;                              // their centres' z, ascending
+    std::vector<Arc> arcs_;                                    // f.arcs, precomputed
+    std::vector<Box> arc_box_;                                 // each arc's points' bounds
+    std::vector<std::uint32_t> arcs_by_z_;                     // arc indices by arc_box_ lo z
+    std::vector<float> arc_lo_z_;                              // ascending
+    float arc_extent_z_ = 0.0f;                                // the largest hi z - lo z
+};
+
+}  // namespace fdmsurf::detail
