@@ -247,10 +247,11 @@ def test_snap_and_chord_tolerance_change_the_mesh(engine):
 def test_result_describes_the_run(engine, data):
     result = engine.surface(data / "1crn.pdb", spacing=1.0)
     assert set(result.grid) == {"dims", "spacing", "origin", "cutoff", "slabs", "host_filter",
-                                "host_marching_cubes"}
+                                "host_marching_cubes", "host_ses_distance"}
     # At 1 Å the filter stays VkFFT's; marching cubes runs on the host on a CPU device.
     assert result.grid["host_filter"] is False
     assert result.grid["host_marching_cubes"] is (engine.device["type"] == "CPU")
+    assert result.grid["host_ses_distance"] is False  # the FDM surface
     assert result.grid["spacing"] == 1.0 and result.grid["cutoff"] == pytest.approx(0.232, 1e-2)
     assert "density" in result.times and all(ms >= 0 for ms in result.times.values())
     assert ("density", result.times["density"], True) in result.stages
@@ -326,6 +327,8 @@ def test_compare_and_read_mesh(engine, data, tmp_path):
     same = fdmsurf.compare(result, tmp_path / "1crn.ply", spacing=0.5)
     assert same["rmsd_weighted"] == 0.0 and same["hausdorff"] == 0.0
     exact = engine.surface(data / "1crn.xyzr", method="edt")
+    assert exact.grid["host_ses_distance"] is (engine.device["type"] == "CPU")
+    assert ("ses-host" in exact.times) is exact.grid["host_ses_distance"]
     vs = fdmsurf.compare(str(data / "1crn-ses-nanoshaper.ply.gz"), exact, 0.5)
     assert vs["rmsd_weighted"] < 0.05 and abs(vs["area_rel_error"]) < 0.02
     mesh = fdmsurf.read_mesh(data / "1crn-ses-nanoshaper.ply.gz")

@@ -157,8 +157,18 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
     const auto& d = plan.info.dims;
     AtomBins bins;
     SesFeatures features;
+    // The exact SES field on the host (EngineOptions::ses_distance; not for a mesh left on the
+    // device): computed here, uploaded only where marching cubes runs on the device.
+    const bool host_mc = !on_device && on_host(marching_cubes_place);
+    const bool host_ses = plan.exact_ses && !on_device && on_host(ses_distance_place);
+    result.grid.host_ses_distance = host_ses;
+    // The host's index of the features (part of the stage): for the field on the host, the snap
+    // and refinement.
+    std::unique_ptr<SesHostField> ses;
     if (plan.exact_ses) {
         features = build_ses_features(atoms, options.probe);
+        if (host_ses || snaps(options, plan) || options.refine > 0)
+            ses = std::make_unique<SesHostField>(features, plan.ses_d_max);
         result.times.push_back({"ses-features", now_ms() - t0, false});
     } else {
         bins = bin_atoms(atoms, plan);
@@ -166,15 +176,10 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
     }
     report(plan.exact_ses ? "ses-features" : "bin-atoms");
     trace(plan.exact_ses ? "engine: ses features" : "engine: atoms binned");
-    // The exact SES field on the host (EngineOptions::ses_distance; not for a mesh left on the
-    // device): computed here, uploaded only where marching cubes runs on the device.
-    const bool host_mc = !on_device && on_host(marching_cubes_place);
-    const bool host_ses = plan.exact_ses && !on_device && on_host(ses_distance_place);
-    result.grid.host_ses_distance = host_ses;
     std::vector<float> host_values;
     if (host_ses) {
         const double t_ses = now_ms();
-        host_values = SesHostField(features).field(plan);
+        host_values = ses->field(plan);
         add_times(result.times, {{"ses-host", now_ms() - t_ses, false}});
         report("ses-host");
     }
@@ -234,7 +239,7 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
         result.grid.host_marching_cubes = true;
         report(plan.exact_ses ? "ses-distance, marching cubes" : "density, filter, marching cubes");
         const FieldView view{values.data(), d[0], d[1], d[2], pitch};
-        host_stages(result, atoms, options, plan, &features,
+        host_stages(result, atoms, options, plan, ses.get(),
                     host_gaussian || host_ses ? nullptr : &field,
                     host_gaussian ? &view : nullptr);
         return result;
@@ -261,28 +266,28 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
     add_times(result.times, commands.stage_times());
     add_times(result.times, {{"unpack-mesh", marching_cubes.unpack_ms(), false}});
     report(plan.exact_ses ? "ses-distance, marching cubes" : "density, filter, marching cubes");
-    host_stages(result, atoms, options, plan, &features, &field, nullptr);
+    host_stages(result, atoms, options, plan, ses.get(), &field, nullptr);
     if (on_device) *on_device = upload_mesh(result.mesh);
     return result;
 }
 
 void EngineImpl::host_stages(SurfaceResult& result, const Atoms& atoms,
                              const SurfaceOptions& options, const GridPlan& plan,
-                             const SesFeatures* features, const Buffer* device_field,
+                             const SesHostField* ses, const Buffer* device_field,
                              const FieldView* host_field) {
     // The exact SES is snapped first, so that refinement starts from vertices on the surface;
     // vdw and sas after refinement, whose butterfly stencils would smooth the creases away.
     const bool snap_now = snaps(options, plan);
     if (snap_now && plan.exact_ses) {
-        snap(result, atoms, options, plan, features);
+        snap(result, atoms, options, plan, ses);
         report("snap");
     }
     if (options.refine > 0) {
-        refine(result, atoms, options, plan, features, device_field, host_field);
+        refine(result, atoms, options, plan, ses, device_field, host_field);
         report("refine");
     }
     if (snap_now && !plan.exact_ses) {
-        snap(result, atoms, options, plan, features);
+        snap(result, atoms, options, plan, ses);
         report("snap");
     }
 }
@@ -436,14 +441,18 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
     // The exact SES is evaluated per point from the features of all atoms (binned once); the
     // density of each slab from the atoms that reach it.
     SesFeatures features;
-    std::unique_ptr<SesHostField> host_ses;  // EngineOptions::ses_distance
+    // The host's index of the features: for the field on the host (EngineOptions::ses_distance),
+    // the snap and refinement.
+    std::unique_ptr<SesHostField> ses;
+    const bool host_ses = plan.exact_ses && on_host(ses_distance_place);
     if (plan.exact_ses) {
         const double t0 = now_ms();
         features = build_ses_features(atoms, options.probe);
         add_times(result.times, {{"ses-features", now_ms() - t0, false}});
-        if (on_host(ses_distance_place)) host_ses = std::make_unique<SesHostField>(features);
+        if (host_ses || snaps(options, plan) || options.refine > 0)
+            ses = std::make_unique<SesHostField>(features, plan.ses_d_max);
     }
-    result.grid.host_ses_distance = host_ses != nullptr;
+    result.grid.host_ses_distance = host_ses;
     std::vector<Mesh> parts;
     std::vector<std::uint32_t> starts;
     const bool host_mc = on_host(marching_cubes_place);
@@ -543,7 +552,7 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
             std::fill(slab_core.begin(), slab_core.end(), 0.0f);
         } else if (host_ses) {
             // The exact SES has no overlap: the core's planes straight into the core.
-            host_ses->evaluate(plan, std::uint32_t(zc0), std::uint32_t(zc1), slab_core.data(),
+            ses->evaluate(plan, std::uint32_t(zc0), std::uint32_t(zc1), slab_core.data(),
                                d[0]);
             add_times(result.times, {{"ses-host", now_ms() - t0, false}});
             report("field slab " + std::to_string(k + 1) + "/" + std::to_string(slabs));
@@ -614,7 +623,7 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
     report("stitch");
     seams.clear();
     const FieldView view{full.data(), d[0], d[1], d[2], d[0]};
-    host_stages(result, atoms, options, plan, &features, nullptr, full.empty() ? nullptr : &view);
+    host_stages(result, atoms, options, plan, ses.get(), nullptr, full.empty() ? nullptr : &view);
     return result;
 }
 

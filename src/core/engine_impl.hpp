@@ -11,6 +11,7 @@
 #include "grid/density_gpu.hpp"
 #include "grid/grid_plan.hpp"
 #include "grid/ses_distance_gpu.hpp"
+#include "grid/ses_distance_host.hpp"
 #include "grid/ses_features.hpp"
 #include "isosurface/marching_cubes_cpu.hpp"
 #include "isosurface/marching_cubes_gpu.hpp"
@@ -85,20 +86,20 @@ struct EngineImpl {
     SurfaceResult run_in_slabs(const Atoms& atoms, const SurfaceOptions& options, GridPlan plan,
                                SurfaceResult result);
     // The refine stage (refine_stage.cpp): options.refine levels of subdivision of result.mesh,
-    // projected onto the exact SES distance of `features` (edt), the field of `device_field` or
+    // projected onto the exact SES distance of `ses` (edt), the field of `device_field` or
     // `host_field` (fdm, plan's layout) or onto the atoms' balls (vdw, sas). Nothing at 0 levels.
     void refine(SurfaceResult& result, const Atoms& atoms, const SurfaceOptions& options,
-                const GridPlan& plan, const SesFeatures* features, const Buffer* device_field,
+                const GridPlan& plan, const SesHostField* ses, const Buffer* device_field,
                 const FieldView* host_field);
     // The host stages after marching cubes, in order: snap (edt), refine, snap (vdw, sas).
     void host_stages(SurfaceResult& result, const Atoms& atoms, const SurfaceOptions& options,
-                     const GridPlan& plan, const SesFeatures* features, const Buffer* device_field,
+                     const GridPlan& plan, const SesHostField* ses, const Buffer* device_field,
                      const FieldView* host_field);
     // The snap stage (snap_stage.cpp): result.mesh placed on the exact surface (vdw, sas:
-    // crease recovery on the balls; edt: projection onto the distance of `features`). Nothing
+    // crease recovery on the balls; edt: projection onto the distance of `ses`). Nothing
     // when options.snap is off or for the FDM method.
     void snap(SurfaceResult& result, const Atoms& atoms, const SurfaceOptions& options,
-              const GridPlan& plan, const SesFeatures* features);
+              const GridPlan& plan, const SesHostField* ses);
     // Records the field of `plan` into `field`: the exact SES distance of `features` (edt), or
     // the density of `bins`, filtered for fdm.
     void record_field(StagingArena& arena, const GridPlan& plan, const AtomBins* bins,

@@ -12,7 +12,7 @@
 namespace fdmsurf::detail {
 
 void EngineImpl::refine(SurfaceResult& result, const Atoms& atoms, const SurfaceOptions& options,
-                        const GridPlan& plan, const SesFeatures* features,
+                        const GridPlan& plan, const SesHostField* ses,
                         const Buffer* device_field, const FieldView* host_field) {
     if (options.refine <= 0) return;
     const double t0 = now_ms();
@@ -23,7 +23,7 @@ void EngineImpl::refine(SurfaceResult& result, const Atoms& atoms, const Surface
         // edt: the exact distance itself, evaluated where each vertex goes (no interpolation),
         // clamped like the grid's (plan.ses_d_max, two spacings beyond the level): the
         // projection moves a vertex at most one spacing.
-        field = std::make_unique<SesDistanceField>(*features, plan.iso, plan.ses_d_max);
+        field = std::make_unique<SesDistanceField>(*ses, plan.iso, plan.ses_d_max);
     } else if (!plan.filtered) {
         // vdw and sas: the density T exp(-pi / sigma^2) is a function of the power distance pi,
         // whose level set is the union of balls itself: project onto that, exactly, rather than

@@ -26,12 +26,12 @@ double chord_tolerance_for(const SurfaceOptions& options) {
 }
 
 void EngineImpl::snap(SurfaceResult& result, const Atoms& atoms, const SurfaceOptions& options,
-                      const GridPlan& plan, const SesFeatures* features) {
+                      const GridPlan& plan, const SesHostField* ses) {
     if (!snaps(options, plan) || result.mesh.triangle_count() == 0) return;
     const double t0 = now_ms();
     char buf[240];
     if (plan.exact_ses) {
-        const SesDistanceField field(*features, plan.iso, plan.ses_d_max);
+        const SesDistanceField field(*ses, plan.iso, plan.ses_d_max);
         const std::size_t nv = result.mesh.vertex_count();
         ProjectOptions po = project_options_for_spacing(plan.info.spacing);
         // Marching cubes put every vertex within a small part of a spacing of the surface; a

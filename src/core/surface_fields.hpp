@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "grid/ses_distance_cpu.hpp"
+#include "grid/ses_distance_host.hpp"
 #include "mesh/refine.hpp"
 
 namespace fdmsurf::detail {
@@ -12,12 +12,12 @@ namespace fdmsurf::detail {
 // inwards, the surface is d = probe; defined where it is not clamped.
 class SesDistanceField final : public SurfaceField {
 public:
-    SesDistanceField(const SesFeatures& features, double iso, double d_max)
-        : features_(features), iso_(iso), d_max_(d_max) {}
+    SesDistanceField(const SesHostField& ses, double iso, double d_max)
+        : ses_(ses), iso_(iso), d_max_(d_max) {}
     bool sample(const Vec3& p, double& value, Vec3& gradient) const override {
         double g[3];
-        // Only the faces that can be nearest (ses_distance_cpu.hpp): the same value.
-        value = ses_distance(features_, p.data(), d_max_, g, false);
+        // ses_distance(features, p, d_max, g, false) (ses_distance_cpu.hpp), faster.
+        value = ses_.distance(p.data(), d_max_, g);
         gradient = {g[0], g[1], g[2]};
         return std::abs(value) < d_max_ && (g[0] != 0.0 || g[1] != 0.0 || g[2] != 0.0);
     }
@@ -25,7 +25,7 @@ public:
     double outward() const override { return -1.0; }
 
 private:
-    const SesFeatures& features_;
+    const SesHostField& ses_;
     double iso_, d_max_;
 };
 

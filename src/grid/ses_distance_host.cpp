@@ -70,6 +70,38 @@ struct SesHostField::Arc {
         longer_than_half = double(a.length) > 0.5 * kTwoPi;
     }
 
+    // Whether the in-plane direction (a, b) lies on the arc: after its start and before its
+    // end, counter-clockwise (a point on the axis, (0, 0), counts as on it, as in arc_distance).
+    bool on_arc(double a, double b) const {
+        const double after_start = start_dir[0] * b - start_dir[1] * a;
+        const double before_end = a * end_dir[1] - b * end_dir[0];
+        return longer_than_half ? !(after_start < 0.0 && before_end < 0.0)
+                                : after_start >= 0.0 && before_end >= 0.0;
+    }
+
+    // The arc's point nearest to p: on the circle towards p, or the nearer end (the start
+    // for a point on the axis, as arc_distance).
+    void nearest(const double p[3], double q[3]) const {
+        const double v[3] = {p[0] - m[0], p[1] - m[1], p[2] - m[2]};
+        const double a = v[0] * e1[0] + v[1] * e1[1] + v[2] * e1[2];
+        const double b = v[0] * e2[0] + v[1] * e2[1] + v[2] * e2[2];
+        const double r = std::sqrt(a * a + b * b);
+        if (r > 0.0 && on_arc(a, b)) {
+            for (int k = 0; k < 3; ++k) q[k] = m[k] + rho * (a * e1[k] + b * e2[k]) / r;
+            return;
+        }
+        if (r == 0.0) {
+            for (int k = 0; k < 3; ++k) q[k] = start_point[k];
+            return;
+        }
+        double ds = 0.0, de = 0.0;
+        for (int k = 0; k < 3; ++k) {
+            ds += (p[k] - start_point[k]) * (p[k] - start_point[k]);
+            de += (p[k] - end_point[k]) * (p[k] - end_point[k]);
+        }
+        for (int k = 0; k < 3; ++k) q[k] = ds <= de ? start_point[k] : end_point[k];
+    }
+
     // The distance from p, or `bound` when the arc is certainly not nearer.
     double distance(const double p[3], double bound) const {
         const double v[3] = {p[0] - m[0], p[1] - m[1], p[2] - m[2]};
@@ -79,13 +111,7 @@ struct SesHostField::Arc {
         const double b = v[0] * e2[0] + v[1] * e2[1] + v[2] * e2[2];
         const double r = std::sqrt(a * a + b * b);
         if (std::abs(r - rho) >= bound) return bound;
-        // On the arc: after its start and before its end, counter-clockwise (a point on the
-        // axis, r = 0, counts as on it, as in arc_distance).
-        const double after_start = start_dir[0] * b - start_dir[1] * a;
-        const double before_end = a * end_dir[1] - b * end_dir[0];
-        const bool on = longer_than_half ? !(after_start < 0.0 && before_end < 0.0)
-                                         : after_start >= 0.0 && before_end >= 0.0;
-        if (on) {
+        if (on_arc(a, b)) {
             const double rr = r - rho;
             return std::sqrt(height * height + rr * rr);
         }
@@ -99,8 +125,8 @@ struct SesHostField::Arc {
 
 SesHostField::~SesHostField() = default;
 
-SesHostField::SesHostField(const SesFeatures& f, unsigned threads)
-    : f_(f), threads_(thread_count(threads)) {
+SesHostField::SesHostField(const SesFeatures& f, double d_max, unsigned threads)
+    : f_(f), threads_(thread_count(threads)), reach_(d_max) {
     const std::size_t n = f.sphere_count();
     const float* s = f.spheres.data();
     // Neighbours from the bins (edge r_max: intersecting balls are within two bins), per bin
@@ -179,6 +205,135 @@ SesHostField::SesHostField(const SesFeatures& f, unsigned threads)
     });
     arc_lo_z_.resize(f.arcs.size());
     for (std::size_t k = 0; k < f.arcs.size(); ++k) arc_lo_z_[k] = arc_box_[arcs_by_z_[k]].lo[2];
+
+    // Each arc in every bin that its box widened by reach_ overlaps (clamped to the bins, as a
+    // point is: a point beyond the last bin within reach_ of the arc is beyond the arc's box's
+    // last bin too).
+    auto bin_range = [&](const Box& box, int lo[3], int hi[3]) {
+        for (int a = 0; a < 3; ++a) {
+            auto cell = [&](double x) {
+                return static_cast<int>(std::clamp(std::floor((x - f.origin[a]) / f.bin_size), 0.0,
+                                                   double(f.dims[a] - 1)));
+            };
+            lo[a] = cell(double(box.lo[a]) - reach_);
+            hi[a] = cell(double(box.hi[a]) + reach_);
+        }
+    };
+    bin_arc_start_.assign(bins + 1, 0);
+    for (const Box& box : arc_box_) {
+        int lo[3], hi[3];
+        bin_range(box, lo, hi);
+        for (int z = lo[2]; z <= hi[2]; ++z)
+            for (int y = lo[1]; y <= hi[1]; ++y)
+                for (int x = lo[0]; x <= hi[0]; ++x)
+                    ++bin_arc_start_[(std::size_t(z) * f.dims[1] + y) * f.dims[0] + x + 1];
+    }
+    for (std::size_t b = 0; b < bins; ++b) bin_arc_start_[b + 1] += bin_arc_start_[b];
+    bin_arcs_.resize(bin_arc_start_[bins]);
+    std::vector<std::uint32_t> fill(bin_arc_start_.begin(), bin_arc_start_.end() - 1);
+    for (std::size_t k = 0; k < arc_box_.size(); ++k) {
+        int lo[3], hi[3];
+        bin_range(arc_box_[k], lo, hi);
+        for (int z = lo[2]; z <= hi[2]; ++z)
+            for (int y = lo[1]; y <= hi[1]; ++y)
+                for (int x = lo[0]; x <= hi[0]; ++x)
+                    bin_arcs_[fill[(std::size_t(z) * f.dims[1] + y) * f.dims[0] + x]++] =
+                        static_cast<std::uint32_t>(k);
+    }
+}
+
+double SesHostField::distance(const double p[3], double d_max, double* gradient) const {
+    auto set_gradient = [&](double x, double y, double z) {
+        if (gradient) gradient[0] = x, gradient[1] = y, gradient[2] = z;
+    };
+    if (!(d_max <= reach_)) return ses_distance(f_, p, d_max, gradient, false);
+    const float* s = f_.spheres.data();
+    int lo[3], hi[3], bin[3];
+    for (int a = 0; a < 3; ++a) {
+        auto cell = [&](double x) {
+            return static_cast<int>(std::clamp(std::floor((x - f_.origin[a]) / f_.bin_size), 0.0,
+                                               double(f_.dims[a] - 1)));
+        };
+        lo[a] = cell(p[a] - f_.r_max);
+        hi[a] = cell(p[a] + f_.r_max);
+        bin[a] = cell(p[a]);
+    }
+    // The balls holding p, as the reference's depth loop (which also sees farther balls, whose
+    // depth is negative: the same deepest, the same ties, where one ball holds p).
+    double lb = -std::numeric_limits<double>::infinity();
+    std::uint32_t deepest = 0;
+    bool tie = false;
+    for (int z = lo[2]; z <= hi[2]; ++z)
+        for (int y = lo[1]; y <= hi[1]; ++y)
+            for (int x = lo[0]; x <= hi[0]; ++x) {
+                const std::size_t b = (std::size_t(z) * f_.dims[1] + y) * f_.dims[0] + x;
+                for (std::uint32_t i = f_.sphere_start[b]; i < f_.sphere_start[b + 1]; ++i) {
+                    const double dx = p[0] - s[4 * i], dy = p[1] - s[4 * i + 1],
+                                 dz = p[2] - s[4 * i + 2];
+                    const double v = double(s[4 * i + 3]) - std::sqrt(dx * dx + dy * dy + dz * dz);
+                    tie = v == lb || (tie && v < lb);
+                    if (v > lb) lb = v, deepest = i;
+                }
+            }
+    if (!(lb > 0.0) || tie) return ses_distance(f_, p, d_max, gradient, false);
+    if (lb >= d_max) {
+        set_gradient(0, 0, 0);
+        return d_max;
+    }
+    // The deepest face, against the deepest ball's neighbours.
+    {
+        const double c[3] = {s[4 * deepest], s[4 * deepest + 1], s[4 * deepest + 2]};
+        const double R = s[4 * deepest + 3];
+        const double v[3] = {p[0] - c[0], p[1] - c[1], p[2] - c[2]};
+        const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        double q[3] = {c[0] + R, c[1], c[2]};
+        if (len > 1e-6)
+            for (int a = 0; a < 3; ++a) q[a] = c[a] + (R / len) * v[a];
+        bool buried = false;
+        for (std::uint32_t n = neighbour_start_[deepest]; n < neighbour_start_[deepest + 1] && !buried;
+             ++n) {
+            const std::uint32_t k = neighbours_[n];
+            const double wx = q[0] - s[4 * k], wy = q[1] - s[4 * k + 1], wz = q[2] - s[4 * k + 2];
+            const double Rk = s[4 * k + 3];
+            buried = wx * wx + wy * wy + wz * wz < Rk * Rk;
+        }
+        if (!buried) {
+            const double w[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
+            const double l = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+            if (l > 0.0)
+                set_gradient(w[0] / l, w[1] / l, w[2] / l);
+            else
+                set_gradient(0, 0, 0);
+            return lb;
+        }
+    }
+    // The arcs of p's bin.
+    const std::size_t b = (std::size_t(bin[2]) * f_.dims[1] + bin[1]) * f_.dims[0] + bin[0];
+    double best = d_max;
+    const Arc* best_arc = nullptr;
+    for (std::uint32_t n = bin_arc_start_[b]; n < bin_arc_start_[b + 1]; ++n) {
+        const Arc& arc = arcs_[bin_arcs_[n]];
+        const double vx = p[0] - arc.m[0], vy = p[1] - arc.m[1], vz = p[2] - arc.m[2];
+        const double r = arc.rho + best;
+        if (vx * vx + vy * vy + vz * vz >= r * r) continue;
+        const double d = arc.distance(p, best);
+        if (d < best) best = d, best_arc = &arc;
+    }
+    if (best_arc == nullptr) {
+        set_gradient(0, 0, 0);
+        return best;
+    }
+    if (gradient) {
+        double q[3];
+        best_arc->nearest(p, q);
+        const double w[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
+        const double l = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+        if (l > 0.0)
+            set_gradient(w[0] / l, w[1] / l, w[2] / l);
+        else
+            set_gradient(0, 0, 0);
+    }
+    return best;
 }
 
 void SesHostField::evaluate(const GridPlan& plan, std::uint32_t z_begin, std::uint32_t z_end,

@@ -28,9 +28,10 @@ namespace fdmsurf::detail {
 
 class SesHostField {
 public:
-    // Builds each ball's neighbour list and the z orders of the balls and arcs. `f` must
-    // outlive the object. threads 0: the hardware's.
-    explicit SesHostField(const SesFeatures& f, unsigned threads = 0);
+    // Builds each ball's neighbour list, the z orders of the balls and arcs, and for distance()
+    // each bin's list of the arcs within `d_max` of it. `f` must outlive the object. threads 0:
+    // the hardware's.
+    SesHostField(const SesFeatures& f, double d_max, unsigned threads = 0);
     ~SesHostField();
     SesHostField(const SesHostField&) = delete;
     SesHostField& operator=(const SesHostField&) = delete;
@@ -44,6 +45,15 @@ public:
 
     // The whole grid in plan.pitch floats per row (ses_field_cpu's layout; the padding is 0).
     std::vector<float> field(const GridPlan& plan) const;
+
+    // d(p) and its gradient at one point: ses_distance(f, p, d_max, gradient, false) (the snap
+    // and refine stages), the same value and gradient in exact arithmetic, from the balls of the
+    // bins within r_max of p, the deepest's neighbours and the bin's arc list, without
+    // trigonometry. d_max at most the constructor's. Points outside the balls, and the rare
+    // ties between the two deepest balls, take ses_distance itself.
+    double distance(const double p[3], double d_max, double* gradient = nullptr) const;
+
+    const SesFeatures& features() const { return f_; }
 
 private:
     struct Box {
@@ -60,6 +70,8 @@ private:
     std::vector<std::uint32_t> arcs_by_z_;                     // arc indices by arc_box_ lo z
     std::vector<float> arc_lo_z_;                              // ascending
     float arc_extent_z_ = 0.0f;                                // the largest hi z - lo z
+    double reach_ = 0.0;                                       // the constructor's d_max
+    std::vector<std::uint32_t> bin_arc_start_, bin_arcs_;      // arcs within reach_ of a bin
 };
 
 }  // namespace fdmsurf::detail

@@ -399,7 +399,10 @@ TEST_F(CliProgram, ExactSesIsReportedAsTheEdtMethod) {
     ASSERT_TRUE(json) << r.out;
     EXPECT_EQ(json->find("method")->string, "edt");
     EXPECT_EQ(json->find("closed_manifold")->boolean, true) << r.out;
-    EXPECT_NE(json->find("times")->find("ses-distance"), nullptr) << r.out;
+    // The field: the device's pass, or on a CPU device the host's (--host-ses auto).
+    const bool host_ses = json->find("grid")->find("host_ses_distance")->boolean;
+    EXPECT_NE(json->find("times")->find(host_ses ? "ses-host" : "ses-distance"), nullptr) << r.out;
+    EXPECT_EQ(json->find("times")->find(host_ses ? "ses-distance" : "ses-host"), nullptr) << r.out;
     EXPECT_EQ(json->find("times")->find("fft-forward"), nullptr) << r.out;
     EXPECT_TRUE(fs::exists(output));
     // The text summary names the method; FDM-only options are refused before any work.

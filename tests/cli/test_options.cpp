@@ -195,6 +195,10 @@ TEST(CliOptions, HostStagesAutoOnOrOff) {
     EXPECT_EQ(parse_with({"--host-atoms", "off"}).engine.vertex_atoms, StagePlace::Device);
     EXPECT_EQ(parse_with({"--host-atoms=on"}).engine.vertex_atoms, StagePlace::Host);
     EXPECT_TRUE(contains(parse_error_with({"--host-atoms", "maybe"}), "auto, on or off"));
+    EXPECT_EQ(none.engine.ses_distance, StagePlace::Auto);
+    EXPECT_EQ(parse_with({"--host-ses", "off"}).engine.ses_distance, StagePlace::Device);
+    EXPECT_EQ(parse_with({"--host-ses=on"}).engine.ses_distance, StagePlace::Host);
+    EXPECT_TRUE(contains(parse_error_with({"--host-ses", "yes"}), "--host-ses"));
     const std::string message = parse_error_with({"--host-mc", "gpu"});
     EXPECT_TRUE(contains(message, "--host-mc")) << message;
     EXPECT_TRUE(contains(message, "auto, on or off")) << message;
@@ -203,6 +207,7 @@ TEST(CliOptions, HostStagesAutoOnOrOff) {
     EXPECT_TRUE(contains(help, "--host-filter auto|on|off")) << help;
     EXPECT_TRUE(contains(help, "--host-mc auto|on|off")) << help;
     EXPECT_TRUE(contains(help, "--host-atoms auto|on|off")) << help;
+    EXPECT_TRUE(contains(help, "--host-ses auto|on|off")) << help;
 }
 
 TEST(CliOptions, OutputFlags) {

@@ -114,6 +114,15 @@ TEST(CliSummary, TextShowsWhatIsMissingFromAnOpenMesh) {
     g.grid.host_filter = false;
     const std::string mc = fdmsurf::cli::text_summary(g);
     EXPECT_TRUE(contains(mc, ", 2 slabs (marching cubes on the host)\n")) << mc;
+    g.grid.host_ses_distance = true;
+    const std::string ses = fdmsurf::cli::text_summary(g);
+    EXPECT_TRUE(contains(ses, ", 2 slabs (exact SES field and marching cubes on the host)\n"))
+        << ses;
+    g.grid.host_filter = true;  // not together with the exact SES, but three names read so
+    const std::string three = fdmsurf::cli::text_summary(g);
+    EXPECT_TRUE(contains(
+        three, ", 2 slabs (exact SES field, Gaussian filter and marching cubes on the host)\n"))
+        << three;
     EXPECT_TRUE(contains(text,
                          "3 piece(s) (2 closed), closed manifold: no (12 boundary edges, "
                          "0 non-manifold edges)"))
@@ -247,11 +256,13 @@ TEST(CliSummary, JsonIsOneValidObjectWithEveryKey) {
 
     const JsonValue& grid = *value->find("grid");
     for (const char* key :
-         {"dims", "spacing", "origin", "cutoff", "slabs", "host_filter", "host_marching_cubes"}) {
+         {"dims", "spacing", "origin", "cutoff", "slabs", "host_filter", "host_marching_cubes",
+          "host_ses_distance"}) {
         EXPECT_NE(grid.find(key), nullptr) << key;
     }
     EXPECT_EQ(grid.find("host_filter")->boolean, false);
     EXPECT_EQ(grid.find("host_marching_cubes")->boolean, false);
+    EXPECT_EQ(grid.find("host_ses_distance")->boolean, false);
     ASSERT_EQ(grid.find("dims")->array.size(), 3u);
     EXPECT_EQ(grid.find("dims")->array[2].number, 84);
     EXPECT_EQ(grid.find("origin")->array[2].number, 3.25);

@@ -8,6 +8,7 @@
 #include <random>
 #include <vector>
 
+#include "fdmsurf/compare.hpp"
 #include "fdmsurf/error.hpp"
 #include "fdmsurf/structure.hpp"
 #include "fdmsurf/surface.hpp"
@@ -16,6 +17,7 @@
 #include "grid/ses_distance_host.hpp"
 #include "grid/ses_features.hpp"
 #include "support/gpu_fixture.hpp"
+#include "support/mesh_checks.hpp"
 #include "support/test_atoms.hpp"
 #include "support/test_data.hpp"
 
@@ -61,7 +63,7 @@ FieldDiff host_against_reference(const Atoms& atoms, float spacing, unsigned thr
     EXPECT_TRUE(plan.exact_ses);
     const auto features = build_ses_features(atoms, options.probe);
     const std::vector<float> cpu = fdmsurf::detail::ses_field_cpu(features, plan);
-    const std::vector<float> host = SesHostField(features, threads).field(plan);
+    const std::vector<float> host = SesHostField(features, 10.0, threads).field(plan);
     EXPECT_EQ(host.size(), cpu.size());
     const FieldDiff r = compare(host, cpu, plan);
     std::printf("  %.2f Å: %zu points, %zu in the band, max |host - cpu| %.3g Å\n", spacing,
@@ -130,14 +132,14 @@ TEST(SesDistanceHost, PlaneRangesAndThreadCountsGiveTheSameValues) {
     const SurfaceOptions options{.method = SesMethod::Edt, .spacing = 0.6f};
     const GridPlan plan = plan_grid(atoms, options);
     const auto features = build_ses_features(atoms, options.probe);
-    const std::vector<float> one = SesHostField(features, 1).field(plan);
-    const std::vector<float> many = SesHostField(features, 7).field(plan);
+    const std::vector<float> one = SesHostField(features, 10.0, 1).field(plan);
+    const std::vector<float> many = SesHostField(features, 10.0, 7).field(plan);
     EXPECT_EQ(one, many);
     // Planes [5, 23) alone, in rows of nx + 3 floats: the whole field's planes, bit for bit.
     const auto& d = plan.info.dims;
     const std::size_t pitch = d[0] + 3;
     std::vector<float> part(std::size_t(18) * d[1] * pitch, -99.0f);
-    SesHostField(features, 2).evaluate(plan, 5, 23, part.data(), pitch);
+    SesHostField(features, 10.0, 2).evaluate(plan, 5, 23, part.data(), pitch);
     std::size_t differ = 0, padding = 0;
     for (std::uint32_t z = 5; z < 23; ++z)
         for (std::uint32_t y = 0; y < d[1]; ++y) {
@@ -155,7 +157,7 @@ TEST(SesDistanceHost, RejectsBadRanges) {
     const SurfaceOptions options{.method = SesMethod::Edt, .spacing = 1.0f};
     const GridPlan plan = plan_grid(atoms, options);
     const auto features = build_ses_features(atoms, options.probe);
-    const SesHostField field(features);
+    const SesHostField field(features, plan.ses_d_max);
     std::vector<float> out(plan.field_floats());
     const auto& d = plan.info.dims;
     for (auto [a, b, pitch] : {std::tuple{3u, 3u, std::size_t(plan.pitch)},
@@ -174,6 +176,77 @@ TEST(SesDistanceHost, RejectsBadRanges) {
     EXPECT_THROW(field.evaluate(fdm, 0, d[2], out.data(), plan.pitch), fdmsurf::Error);
 }
 
+// SesHostField::distance (the snap and refine stages) against the reference it replaces,
+// ses_distance(f, p, d_max, gradient, false), at random points around random atoms of
+// hemoglobin and crambin, from a probe radius outside the balls to their depth of d_max: the
+// same value to 1e-6 Å and the same gradient to 1e-5 wherever it is defined. The arcs are stored
+// in float, so e1 and e2 are orthonormal to about 1e-7: the reference's distance off an arc (by
+// the angle to its end, assuming them orthonormal) and the host's (to the end point itself)
+// differ by up to a few 1e-8 Å.
+TEST(SesDistanceHost, PointDistanceAndGradientMatchTheReference) {
+    for (const char* name : {"4hhb.xyzr", "1crn.xyzr"}) {
+        const Atoms atoms = fdmsurf::read_structure(data_path(name)).atoms;
+        const float probe = 1.4f;
+        const auto features = build_ses_features(atoms, probe);
+        const double d_max = probe + 1.0;
+        const SesHostField field(features, d_max);
+        std::mt19937 rng(2711);
+        std::uniform_int_distribution<std::size_t> pick(0, atoms.size() - 1);
+        std::normal_distribution<double> offset(0.0, 1.0);
+        std::uniform_real_distribution<double> depth(-1.0, 2.3);
+        std::size_t band = 0, arcs = 0, worst_at = 0, kinks = 0;
+        double worst = 0.0, worst_gradient = 0.0;
+        for (int n = 0; n < 20000; ++n) {
+            const std::size_t i = pick(rng);
+            double dir[3] = {offset(rng), offset(rng), offset(rng)};
+            const double len = std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+            const double r = atoms.radius[i] + probe * depth(rng);
+            double p[3];
+            for (int k = 0; k < 3; ++k) p[k] = atoms.xyz[3 * i + k] + r * dir[k] / len;
+            double g_ref[3], g[3];
+            const double ref = fdmsurf::detail::ses_distance(features, p, d_max, g_ref, false);
+            const double fast = field.distance(p, d_max, g);
+            if (std::abs(fast - ref) > worst) worst = std::abs(fast - ref), worst_at = n;
+            ASSERT_NEAR(fast, ref, 1e-6) << name << " point " << p[0] << " " << p[1] << " " << p[2];
+            if (ref > 0.0 && ref < d_max) {
+                ++band;
+                double diff = 0.0;
+                for (int k = 0; k < 3; ++k) diff = std::max(diff, std::abs(g[k] - g_ref[k]));
+                if (diff > 1e-5) {
+                    // Two features as near to within float rounding (a kink of d, where the
+                    // gradient jumps): the host's nearest point p - d g must be on E's boundary
+                    // as well (d = 0 there by the reference).
+                    ++kinks;
+                    const double q[3] = {p[0] - fast * g[0], p[1] - fast * g[1], p[2] - fast * g[2]};
+                    EXPECT_LE(std::abs(fdmsurf::detail::ses_distance(features, q, d_max)), 1e-5)
+                        << name << " point " << p[0] << " " << p[1] << " " << p[2];
+                } else {
+                    worst_gradient = std::max(worst_gradient, diff);
+                }
+                // Where no face is the nearest feature: d above the deepest ball's depth.
+                double lb = -1e9;
+                for (std::size_t k = 0; k < atoms.size(); ++k) {
+                    const float* c = &atoms.xyz[3 * k];
+                    lb = std::max(lb, atoms.radius[k] + probe -
+                                          std::sqrt((p[0] - c[0]) * (p[0] - c[0]) +
+                                                    (p[1] - c[1]) * (p[1] - c[1]) +
+                                                    (p[2] - c[2]) * (p[2] - c[2])));
+                }
+                arcs += ref > lb + 1e-6;
+            } else {
+                for (int k = 0; k < 3; ++k) ASSERT_EQ(g[k], g_ref[k]) << name << " outside the band";
+            }
+        }
+        std::printf("  %s: %zu in the band, %zu nearest to an arc, max |diff| %.3g Å (point %zu), "
+                    "gradient %.3g, %zu at a kink\n",
+                    name, band, arcs, worst, worst_at, worst_gradient, kinks);
+        EXPECT_LE(worst_gradient, 1e-5);
+        EXPECT_LE(kinks, band / 1000);
+        EXPECT_GT(band, 5000u);
+        EXPECT_GT(arcs, 1000u);
+    }
+}
+
 // The device's pass and the host's on hemoglobin at the default spacing: both within the
 // tolerance of the reference, so within twice it of each other (the reference would take
 // minutes on this grid).
@@ -185,13 +258,75 @@ TEST_F(SesDistanceHostGpu, MatchesTheDevicesPassOnHemoglobin) {
     const GridPlan plan = plan_grid(atoms, options);
     const auto features = build_ses_features(atoms, options.probe);
     const std::vector<float> gpu = impl().compute_ses_field(atoms, plan, options.probe);
-    const std::vector<float> host = SesHostField(features).field(plan);
+    const std::vector<float> host = SesHostField(features, plan.ses_d_max).field(plan);
     ASSERT_EQ(gpu.size(), host.size());
     FieldDiff r = compare(host, gpu, plan);
     std::printf("  %zu points, %zu in the band, max |host - gpu| %.3g Å\n", r.points, r.band,
                 r.max_diff);
     EXPECT_LE(r.max_diff, 2 * kTolerance);
     EXPECT_GT(r.band, r.points / 10);
+}
+
+// The engine with the field on the host against the device's pass, in one binding and in
+// slabs, with marching cubes on the host and on the device (the host's field uploaded): the same
+// surface to the fields' float rounding, snapped and not. Auto computes it on the host exactly on
+// a CPU device, and never for a mesh left on the device.
+TEST_F(SesDistanceHostGpu, EngineSurfacesMatchTheDevicesField) {
+    using fdmsurf::Engine;
+    using fdmsurf::EngineOptions;
+    using fdmsurf::StagePlace;
+    const Atoms atoms = fdmsurf::read_structure(data_path("1crn.pdb")).atoms;
+    SurfaceOptions raw{.method = SesMethod::Edt};
+    raw.snap = false;
+    const SurfaceOptions snapped{.method = SesMethod::Edt};
+    for (std::uint64_t range : {std::uint64_t(0), std::uint64_t(1) << 20})
+        for (StagePlace mc : {StagePlace::Host, StagePlace::Device})
+            for (const SurfaceOptions& o : {raw, snapped}) {
+                SCOPED_TRACE(std::string(range ? "slabs" : "one binding") +
+                             (mc == StagePlace::Host ? ", host mc" : ", device mc") +
+                             (o.snap ? ", snapped" : ""));
+                fdmsurf::Mesh mesh[2];
+                for (int host = 0; host < 2; ++host) {
+                    Engine e(EngineOptions{
+                        .validation = true,
+                        .max_buffer_range = range,
+                        .marching_cubes = mc,
+                        .ses_distance = host ? StagePlace::Host : StagePlace::Device});
+                    const fdmsurf::SurfaceResult r = e.make_surface(atoms, o);
+                    EXPECT_EQ(r.grid.slabs > 1, range != 0);
+                    EXPECT_EQ(r.grid.host_ses_distance, host == 1);
+                    bool device_pass = false, host_pass = false;
+                    for (const fdmsurf::StageTime& t : r.times) {
+                        device_pass = device_pass || t.name == "ses-distance";
+                        host_pass = host_pass || t.name == "ses-host";
+                    }
+                    EXPECT_EQ(device_pass, host == 0);
+                    EXPECT_EQ(host_pass, host == 1);
+                    EXPECT_TRUE(e.take_validation_messages().empty());
+                    mesh[host] = r.mesh;
+                }
+                EXPECT_GT(mesh[1].triangle_count(), 10000u);
+                EXPECT_TRUE(IsClosedManifold(mesh[1]));
+                const fdmsurf::CompareResult c = fdmsurf::compare_meshes(mesh[0], mesh[1], {});
+                EXPECT_LE(c.hausdorff, 1e-3);
+                EXPECT_LE(std::abs(c.area_rel_error), 1e-6);
+                EXPECT_LE(std::abs(mesh[1].triangle_count() - double(mesh[0].triangle_count())),
+                          4.0);
+            }
+}
+
+TEST_F(SesDistanceHostGpu, AutoComputesTheFieldOnTheHostExactlyOnACpuDevice) {
+    const Atoms atoms = fdmsurf::read_structure(data_path("1crn.pdb")).atoms;
+    const SurfaceOptions edt{.method = SesMethod::Edt};
+    const bool cpu = engine().device().type == "CPU";
+    fdmsurf::Engine e;
+    EXPECT_EQ(e.make_surface(atoms, edt).grid.host_ses_distance, cpu);
+    fdmsurf::Engine slabs(fdmsurf::EngineOptions{.max_buffer_range = 1u << 20});
+    const fdmsurf::SurfaceResult r = slabs.make_surface(atoms, edt);
+    EXPECT_GT(r.grid.slabs, 1u);
+    EXPECT_EQ(r.grid.host_ses_distance, cpu);
+    EXPECT_FALSE(e.make_surface(atoms, SurfaceOptions{}).grid.host_ses_distance);  // fdm
+    EXPECT_FALSE(e.make_device_surface(atoms, edt).grid.host_ses_distance);
 }
 
 }  // namespace

@@ -316,7 +316,8 @@ TEST_F(HostMarchingCubesSlabs, AutoRunsOnTheHostExactlyOnACpuDevice) {
 // cubes on the host, against VkFFT and the device's passes: the same surface but for float
 // rounding at a few crossings (the FFT's circular wrap against the host's zeros beyond the grid,
 // where the density is nil anyway), also refined (refinement then reads the host's field). The
-// exact SES's field is the device's either way: the same mesh index for index.
+// exact SES's field is the same either way (the host's on a CPU device, EngineOptions::ses_distance):
+// the same mesh index for index.
 TEST_F(HostMarchingCubesSlabs, CrambinInOneBindingGivesTheDevicePathsSurface) {
     using fdmsurf::StagePlace;
     const fdmsurf::Atoms atoms =
