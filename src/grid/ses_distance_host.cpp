@@ -53,6 +53,10 @@ struct SesHostField::Arc {
     double start_dir[2], end_dir[2];  // cos, sin of the ends' angles
     double start_point[3], end_point[3];
     bool longer_than_half;  // length > pi: the test is on the complement
+    // A ball holding the arc: up to half a turn, around its chord's midpoint with the half-chord
+    // as radius (the arc's middle is rho (1 - cos(L/2)) <= rho sin(L/2) from there); else the
+    // circle's. Widened by 1e-9 Å relative for rounding.
+    double ball[3], ball_radius;
 
     explicit Arc(const SesArc& a) {
         const double end = double(a.start) + double(a.length);
@@ -68,6 +72,14 @@ struct SesHostField::Arc {
         axis[1] = e1[2] * e2[0] - e1[0] * e2[2];
         axis[2] = e1[0] * e2[1] - e1[1] * e2[0];
         longer_than_half = double(a.length) > 0.5 * kTwoPi;
+        if (longer_than_half) {
+            for (int k = 0; k < 3; ++k) ball[k] = m[k];
+            ball_radius = rho;
+        } else {
+            for (int k = 0; k < 3; ++k) ball[k] = 0.5 * (start_point[k] + end_point[k]);
+            ball_radius = rho * std::sin(0.5 * double(a.length));
+        }
+        ball_radius += 1e-9 * (rho + std::abs(m[0]) + std::abs(m[1]) + std::abs(m[2]));
     }
 
     // Whether the in-plane direction (a, b) lies on the arc: after its start and before its
@@ -313,8 +325,8 @@ double SesHostField::distance(const double p[3], double d_max, double* gradient)
     const Arc* best_arc = nullptr;
     for (std::uint32_t n = bin_arc_start_[b]; n < bin_arc_start_[b + 1]; ++n) {
         const Arc& arc = arcs_[bin_arcs_[n]];
-        const double vx = p[0] - arc.m[0], vy = p[1] - arc.m[1], vz = p[2] - arc.m[2];
-        const double r = arc.rho + best;
+        const double vx = p[0] - arc.ball[0], vy = p[1] - arc.ball[1], vz = p[2] - arc.ball[2];
+        const double r = arc.ball_radius + best;
         if (vx * vx + vy * vy + vz * vz >= r * r) continue;
         const double d = arc.distance(p, best);
         if (d < best) best = d, best_arc = &arc;
@@ -477,28 +489,28 @@ void SesHostField::evaluate(const GridPlan& plan, std::uint32_t z_begin, std::ui
             const Box& box = arc_box_[k];
             if (box.hi[2] < zlo) continue;
             const Arc& arc = arcs_[k];
-            const double reach = arc.rho + d_max, reach2 = reach * reach;
+            const double reach = arc.ball_radius + d_max, reach2 = reach * reach;
             const int x0 = first_at_or_above(box.lo[0] - d_max, xs[0], h, nx);
             const int x1 = last_at_or_below(box.hi[0] + d_max, xs[0], h, nx);
             const int y0 = first_at_or_above(box.lo[1] - d_max, ys[0], h, ny);
             const int y1 = last_at_or_below(box.hi[1] + d_max, ys[0], h, ny);
             for (std::uint32_t z = za; z < zb; ++z) {
                 if (zs[z] < box.lo[2] - d_max || zs[z] > box.hi[2] + d_max) continue;
-                const double dz = zs[z] - arc.m[2];
+                const double dz = zs[z] - arc.ball[2];
                 for (int y = y0; y <= y1; ++y) {
-                    const double dy = ys[y] - arc.m[1];
+                    const double dy = ys[y] - arc.ball[1];
                     const double rem = reach2 - dy * dy - dz * dz;
                     if (rem <= 0.0) continue;
                     const double half = std::sqrt(rem);
-                    const int xa = std::max(x0, first_at_or_above(arc.m[0] - half, xs[0], h, nx));
-                    const int xb = std::min(x1, last_at_or_below(arc.m[0] + half, xs[0], h, nx));
+                    const int xa = std::max(x0, first_at_or_above(arc.ball[0] - half, xs[0], h, nx));
+                    const int xb = std::min(x1, last_at_or_below(arc.ball[0] + half, xs[0], h, nx));
                     const std::size_t row = at(z, y);
                     float* o = row_out(z, y);
                     for (int x = xa; x <= xb; ++x) {
                         if (state[row + x] != kWaiting) continue;
                         const double best = o[x];
-                        const double dx = xs[x] - arc.m[0];
-                        const double r = arc.rho + best;
+                        const double dx = xs[x] - arc.ball[0];
+                        const double r = arc.ball_radius + best;
                         if (dx * dx + dy * dy + dz * dz >= r * r) continue;
                         const double p[3] = {xs[x], ys[y], zs[z]};
                         const double d = arc.distance(p, best);
