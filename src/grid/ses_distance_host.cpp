@@ -3,6 +3,7 @@
 #include "grid/ses_distance_host.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -19,8 +20,6 @@ namespace {
 constexpr double kTwoPi = 6.283185307179586;
 // Planes per task: a ball spans about 13 planes at 0.5 Å, so each is set up about four times.
 constexpr std::uint32_t kChunkPlanes = 4;
-// Point states after the faces (step 2).
-constexpr std::uint8_t kDone = 0, kWaiting = 1;
 
 // Is `angle` (radians) within the arc [start, start + length] (mod 2 pi)?
 bool on_arc(double angle, double start, double length) {
@@ -424,7 +423,13 @@ void SesHostField::evaluate(const GridPlan& plan, std::uint32_t z_begin, std::ui
         }
 
         // 2. The deepest face.
-        std::vector<std::uint8_t> state(points, kDone);
+        // The points waiting for the arcs, a bit each, rows of whole words: the arcs visit only
+        // these.
+        const std::size_t words = (std::size_t(nx) + 63) / 64;
+        std::vector<std::uint64_t> waiting_bits(words * ny * (zb - za), 0);
+        auto bits_of = [&](std::uint32_t z, int y) {
+            return &waiting_bits[(std::size_t(z - za) * ny + y) * words];
+        };
         std::size_t waiting = 0;
         std::uint32_t last_burier = std::numeric_limits<std::uint32_t>::max();
         auto buried = [&](float qx, float qy, float qz, std::uint32_t self) {
@@ -472,7 +477,7 @@ void SesHostField::evaluate(const GridPlan& plan, std::uint32_t z_begin, std::ui
                             o[x] = std::max(l, d_min);
                         } else {
                             o[x] = d_max;
-                            state[row + x] = kWaiting;
+                            bits_of(z, y)[x >> 6] |= std::uint64_t(1) << (x & 63);
                             ++waiting;
                         }
                     }
@@ -504,27 +509,38 @@ void SesHostField::evaluate(const GridPlan& plan, std::uint32_t z_begin, std::ui
                     const double half = std::sqrt(rem);
                     const int xa = std::max(x0, first_at_or_above(arc.ball[0] - half, xs[0], h, nx));
                     const int xb = std::min(x1, last_at_or_below(arc.ball[0] + half, xs[0], h, nx));
-                    const std::size_t row = at(z, y);
+                    if (xa > xb) continue;
                     float* o = row_out(z, y);
-                    for (int x = xa; x <= xb; ++x) {
-                        if (state[row + x] != kWaiting) continue;
-                        const double best = o[x];
-                        const double dx = xs[x] - arc.ball[0];
-                        const double r = arc.ball_radius + best;
-                        if (dx * dx + dy * dy + dz * dz >= r * r) continue;
-                        const double p[3] = {xs[x], ys[y], zs[z]};
-                        const double d = arc.distance(p, best);
-                        if (d < best) o[x] = static_cast<float>(d);
+                    const std::uint64_t* bits = bits_of(z, y);
+                    const double dyz = dy * dy + dz * dz;
+                    for (int word = xa >> 6; word <= xb >> 6; ++word) {
+                        std::uint64_t w = bits[word];
+                        if (word == xa >> 6) w &= ~std::uint64_t(0) << (xa & 63);
+                        if (word == xb >> 6 && (xb & 63) != 63)
+                            w &= (std::uint64_t(1) << ((xb & 63) + 1)) - 1;
+                        for (; w != 0; w &= w - 1) {
+                            const int x = word * 64 + std::countr_zero(w);
+                            const double best = o[x];
+                            const double dx = xs[x] - arc.ball[0];
+                            const double r = arc.ball_radius + best;
+                            if (dx * dx + dyz >= r * r) continue;
+                            const double p[3] = {xs[x], ys[y], zs[z]};
+                            const double d = arc.distance(p, best);
+                            if (d < best) o[x] = static_cast<float>(d);
+                        }
                     }
                 }
             }
         }
         for (std::uint32_t z = za; z < zb; ++z)
             for (int y = 0; y < ny; ++y) {
-                const std::size_t row = at(z, y);
                 float* o = row_out(z, y);
-                for (int x = 0; x < nx; ++x)
-                    if (state[row + x] == kWaiting) o[x] = std::max(o[x], d_min);
+                const std::uint64_t* bits = bits_of(z, y);
+                for (std::size_t word = 0; word < words; ++word)
+                    for (std::uint64_t w = bits[word]; w != 0; w &= w - 1) {
+                        const std::size_t x = word * 64 + std::countr_zero(w);
+                        o[x] = std::max(o[x], d_min);
+                    }
             }
     });
 }
