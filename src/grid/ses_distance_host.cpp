@@ -140,43 +140,9 @@ SesHostField::SesHostField(const SesFeatures& f, double d_max, unsigned threads)
     : f_(f), threads_(thread_count(threads)), reach_(d_max) {
     const std::size_t n = f.sphere_count();
     const float* s = f.spheres.data();
-    // Neighbours from the bins (edge r_max: intersecting balls are within two bins), per bin
-    // range on all threads, joined in ball order.
     const std::size_t bins = f.bin_count();
-    constexpr std::size_t kBinsPerTask = 64;
-    std::vector<std::vector<std::uint32_t>> lists((bins + kBinsPerTask - 1) / kBinsPerTask);
-    std::vector<std::uint32_t> count(n, 0);
-    parallel_chunks(lists.size(), threads_, [&](std::size_t task) {
-        std::vector<std::uint32_t>& out = lists[task];
-        for (std::size_t b = task * kBinsPerTask; b < std::min(bins, (task + 1) * kBinsPerTask);
-             ++b) {
-            const int bx = int(b % f.dims[0]), by = int(b / f.dims[0] % f.dims[1]),
-                      bz = int(b / (std::size_t(f.dims[0]) * f.dims[1]));
-            for (std::uint32_t i = f.sphere_start[b]; i < f.sphere_start[b + 1]; ++i) {
-                const std::size_t before = out.size();
-                for (int z = std::max(bz - 2, 0); z <= std::min(bz + 2, int(f.dims[2]) - 1); ++z)
-                    for (int y = std::max(by - 2, 0); y <= std::min(by + 2, int(f.dims[1]) - 1);
-                         ++y)
-                        for (int x = std::max(bx - 2, 0);
-                             x <= std::min(bx + 2, int(f.dims[0]) - 1); ++x) {
-                            const std::size_t nb = (std::size_t(z) * f.dims[1] + y) * f.dims[0] + x;
-                            for (std::uint32_t j = f.sphere_start[nb]; j < f.sphere_start[nb + 1];
-                                 ++j) {
-                                if (j == i) continue;
-                                const float dx = s[4 * j] - s[4 * i], dy = s[4 * j + 1] - s[4 * i + 1],
-                                            dz = s[4 * j + 2] - s[4 * i + 2];
-                                const float reach = s[4 * i + 3] + s[4 * j + 3];
-                                if (dx * dx + dy * dy + dz * dz < reach * reach) out.push_back(j);
-                            }
-                        }
-                count[i] = static_cast<std::uint32_t>(out.size() - before);
-            }
-        }
-    });
-    neighbour_start_.assign(n + 1, 0);
-    for (std::size_t i = 0; i < n; ++i) neighbour_start_[i + 1] = neighbour_start_[i] + count[i];
-    neighbours_.reserve(neighbour_start_[n]);
-    for (const auto& list : lists) neighbours_.insert(neighbours_.end(), list.begin(), list.end());
+    if (f.neighbour_start.size() != n + 1)
+        throw Error(ErrorCode::InvalidArgument, "host SES field: features without neighbour lists");
 
     spheres_by_z_.resize(n);
     std::iota(spheres_by_z_.begin(), spheres_by_z_.end(), 0u);
@@ -301,9 +267,9 @@ double SesHostField::distance(const double p[3], double d_max, double* gradient)
         if (len > 1e-6)
             for (int a = 0; a < 3; ++a) q[a] = c[a] + (R / len) * v[a];
         bool buried = false;
-        for (std::uint32_t n = neighbour_start_[deepest]; n < neighbour_start_[deepest + 1] && !buried;
+        for (std::uint32_t n = f_.neighbour_start[deepest]; n < f_.neighbour_start[deepest + 1] && !buried;
              ++n) {
-            const std::uint32_t k = neighbours_[n];
+            const std::uint32_t k = f_.neighbours[n];
             const double wx = q[0] - s[4 * k], wy = q[1] - s[4 * k + 1], wz = q[2] - s[4 * k + 2];
             const double Rk = s[4 * k + 3];
             buried = wx * wx + wy * wy + wz * wz < Rk * Rk;
@@ -440,8 +406,8 @@ void SesHostField::evaluate(const GridPlan& plan, std::uint32_t z_begin, std::ui
             if (last_burier != std::numeric_limits<std::uint32_t>::max() && last_burier != self &&
                 inside(last_burier))
                 return true;
-            for (std::uint32_t q = neighbour_start_[self]; q < neighbour_start_[self + 1]; ++q) {
-                const std::uint32_t k = neighbours_[q];
+            for (std::uint32_t q = f_.neighbour_start[self]; q < f_.neighbour_start[self + 1]; ++q) {
+                const std::uint32_t k = f_.neighbours[q];
                 if (inside(k)) {
                     last_burier = k;
                     return true;

@@ -28,8 +28,8 @@ namespace fdmsurf::detail {
 
 class SesHostField {
 public:
-    // Builds each ball's neighbour list, the z orders of the balls and arcs, and for distance()
-    // each bin's list of the arcs within `d_max` of it. `f` must outlive the object. threads 0:
+    // Builds the z orders of the balls and arcs, and for distance() each bin's list of the arcs
+    // within `d_max` of it (the burial tests read the features' neighbour lists). `f` must outlive the object. threads 0:
     // the hardware's.
     SesHostField(const SesFeatures& f, double d_max, unsigned threads = 0);
     ~SesHostField();
@@ -62,7 +62,6 @@ private:
     struct Arc;
     const SesFeatures& f_;
     unsigned threads_;
-    std::vector<std::uint32_t> neighbour_start_, neighbours_;  // balls intersecting each ball
     std::vector<std::uint32_t> spheres_by_z_;                  // ball indices by centre z
     std::vector<float> sphere_z_;                              // their centres' z, ascending
     std::vector<Arc> arcs_;                                    // f.arcs, precomputed

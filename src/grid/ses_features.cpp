@@ -30,37 +30,64 @@ V3 perpendicular(V3 u) {
     return (1.0 / std::sqrt(dot(p, p))) * p;
 }
 
-// Exposed parts of [0, 2 pi) once the intervals [start, start + length) are removed.
-std::vector<std::pair<double, double>> exposed_parts(
-    std::vector<std::pair<double, double>> buried) {
-    if (buried.empty()) return {{0.0, kTwoPi}};
-    std::vector<std::pair<double, double>> cuts;  // [a, b] within [0, 2 pi]
+// A pseudo-angle of the direction (x, y) in [0, 4): increasing with its angle from +x like the
+// angle itself (the "diamond angle"), without trigonometry; antipodal directions differ by 2.
+double pseudo_angle(double x, double y) {
+    if (y >= 0.0) return x >= 0.0 ? y / (x + y) : 1.0 - x / (y - x);
+    return x < 0.0 ? 2.0 - y / (-x - y) : 3.0 + x / (x - y);
+}
+
+// The angle in [0, 2 pi) of the direction whose pseudo-angle is p (in [0, 4)).
+double angle_of_pseudo(double p) {
+    double x, y;
+    if (p < 1.0)
+        x = 1.0 - p, y = p;
+    else if (p < 2.0)
+        x = 1.0 - p, y = 2.0 - p;
+    else if (p < 3.0)
+        x = p - 3.0, y = 2.0 - p;
+    else
+        x = p - 3.0, y = p - 4.0;
+    const double a = std::atan2(y, x);
+    return a < 0.0 ? a + kTwoPi : a;
+}
+
+// Exposed parts of the turn [0, 4) of pseudo-angles once the intervals [start, start + length)
+// (start in [0, 4), length in (0, 4]) are removed, as (start, length), into `out`; `cuts` and
+// `gaps` are scratch (reused from circle to circle).
+using Interval = std::pair<double, double>;
+void exposed_parts(const std::vector<Interval>& buried, std::vector<Interval>& cuts,
+                   std::vector<Interval>& gaps, std::vector<Interval>& out) {
+    constexpr double kTurn = 4.0;
+    out.clear();
+    if (buried.empty()) {
+        out.push_back({0.0, kTurn});
+        return;
+    }
+    cuts.clear();  // [a, b] within [0, 4]
     for (auto [s, len] : buried) {
-        s -= kTwoPi * std::floor(s / kTwoPi);
-        if (s + len <= kTwoPi) {
+        if (s + len <= kTurn) {
             cuts.push_back({s, s + len});
         } else {
-            cuts.push_back({s, kTwoPi});
-            cuts.push_back({0.0, s + len - kTwoPi});
+            cuts.push_back({s, kTurn});
+            cuts.push_back({0.0, s + len - kTurn});
         }
     }
     std::sort(cuts.begin(), cuts.end());
-    std::vector<std::pair<double, double>> gaps;  // [a, b]
+    gaps.clear();  // [a, b]
     double cursor = 0.0;
     for (auto [a, b] : cuts) {
         if (a > cursor) gaps.push_back({cursor, a});
         cursor = std::max(cursor, b);
     }
-    if (cursor < kTwoPi) gaps.push_back({cursor, kTwoPi});
+    if (cursor < kTurn) gaps.push_back({cursor, kTurn});
     // A gap that runs through angle 0 is one arc.
-    if (gaps.size() >= 2 && gaps.front().first == 0.0 && gaps.back().second == kTwoPi) {
-        gaps.back().second = kTwoPi + gaps.front().second;
+    if (gaps.size() >= 2 && gaps.front().first == 0.0 && gaps.back().second == kTurn) {
+        gaps.back().second = kTurn + gaps.front().second;
         gaps.erase(gaps.begin());
     }
-    std::vector<std::pair<double, double>> out;
     for (auto [a, b] : gaps)
         if (b - a > 1e-9) out.push_back({a, b - a});
-    return out;
 }
 
 }  // namespace
@@ -194,40 +221,67 @@ SesFeatures build_ses_features(const Atoms& atoms, float probe) {
         f.spheres[4 * s + 3] = static_cast<float>(R[i]);
     }
 
-    // Neighbours: balls that intersect (compressed rows, ascending bin order).
+    // Neighbours: balls that intersect (compressed rows, ascending bin order), chunks of atoms
+    // on all threads, joined in atom order.
+    constexpr std::size_t kChunk = 256;
+    const std::size_t chunk_count = (n + kChunk - 1) / kChunk;
     std::vector<std::uint32_t> nb_start(n + 1, 0), nb;
-    for (std::size_t i = 0; i < n; ++i) {
-        int cell[3];
-        bin_index(c[i], cell);
-        for (int z = std::max(cell[2] - 2, 0); z <= std::min(cell[2] + 2, int(f.dims[2]) - 1); ++z)
-            for (int y = std::max(cell[1] - 2, 0); y <= std::min(cell[1] + 2, int(f.dims[1]) - 1);
-                 ++y)
-                for (int x = std::max(cell[0] - 2, 0);
-                     x <= std::min(cell[0] + 2, int(f.dims[0]) - 1); ++x) {
-                    const std::size_t b = (std::size_t(z) * f.dims[1] + y) * f.dims[0] + x;
-                    for (std::uint32_t s = start[b]; s < start[b + 1]; ++s) {
-                        const std::uint32_t j = order[s];
-                        if (j == i) continue;
-                        const V3 d = c[j] - c[i];
-                        const double reach = R[i] + R[j];
-                        if (dot(d, d) < reach * reach) nb.push_back(j);
-                    }
-                }
-        nb_start[i + 1] = static_cast<std::uint32_t>(nb.size());
+    {
+        std::vector<std::vector<std::uint32_t>> lists(chunk_count);
+        parallel_chunks(chunk_count, thread_count(), [&](std::size_t chunk) {
+            std::vector<std::uint32_t>& out = lists[chunk];
+            for (std::size_t i = chunk * kChunk; i < std::min(n, (chunk + 1) * kChunk); ++i) {
+                const std::size_t before = out.size();
+                int cell[3];
+                bin_index(c[i], cell);
+                for (int z = std::max(cell[2] - 2, 0);
+                     z <= std::min(cell[2] + 2, int(f.dims[2]) - 1); ++z)
+                    for (int y = std::max(cell[1] - 2, 0);
+                         y <= std::min(cell[1] + 2, int(f.dims[1]) - 1); ++y)
+                        for (int x = std::max(cell[0] - 2, 0);
+                             x <= std::min(cell[0] + 2, int(f.dims[0]) - 1); ++x) {
+                            const std::size_t b = (std::size_t(z) * f.dims[1] + y) * f.dims[0] + x;
+                            for (std::uint32_t s = start[b]; s < start[b + 1]; ++s) {
+                                const std::uint32_t j = order[s];
+                                if (j == i) continue;
+                                const V3 d = c[j] - c[i];
+                                const double reach = R[i] + R[j];
+                                if (dot(d, d) < reach * reach) out.push_back(j);
+                            }
+                        }
+                nb_start[i + 1] = static_cast<std::uint32_t>(out.size() - before);
+            }
+        });
+        for (std::size_t i = 0; i < n; ++i) nb_start[i + 1] += nb_start[i];
+        nb.reserve(nb_start[n]);
+        for (const auto& list : lists) nb.insert(nb.end(), list.begin(), list.end());
+    }
+    // The same lists by sphere index, for the host's burial tests.
+    {
+        std::vector<std::uint32_t> sphere_of(n);
+        for (std::size_t s = 0; s < n; ++s) sphere_of[order[s]] = static_cast<std::uint32_t>(s);
+        f.neighbour_start.assign(n + 1, 0);
+        for (std::size_t s = 0; s < n; ++s)
+            f.neighbour_start[s + 1] = f.neighbour_start[s] + (nb_start[order[s] + 1] - nb_start[order[s]]);
+        f.neighbours.resize(nb.size());
+        for (std::size_t s = 0; s < n; ++s) {
+            std::uint32_t* out = &f.neighbours[f.neighbour_start[s]];
+            for (std::uint32_t q = nb_start[order[s]]; q < nb_start[order[s] + 1]; ++q)
+                *out++ = sphere_of[nb[q]];
+        }
     }
 
     // Circles of the pairs i < j, cut by the other neighbours of i: chunks of atoms on all
     // threads, each with its own arcs, joined in atom order (the result does not depend on the
     // thread count).
-    constexpr std::size_t kChunk = 256;
     struct ChunkArcs {
         std::vector<SesArc> arcs;
         std::size_t circles = 0, buried_circles = 0;
     };
-    std::vector<ChunkArcs> chunks((n + kChunk - 1) / kChunk);
+    std::vector<ChunkArcs> chunks(chunk_count);
     parallel_chunks(chunks.size(), thread_count(), [&](std::size_t chunk) {
         ChunkArcs& out = chunks[chunk];
-        std::vector<std::pair<double, double>> buried;
+        std::vector<Interval> buried, cuts, gaps, parts;
         for (std::size_t i = chunk * kChunk; i < std::min(n, (chunk + 1) * kChunk); ++i) {
             for (std::uint32_t q = nb_start[i]; q < nb_start[i + 1]; ++q) {
                 const std::uint32_t j = nb[q];
@@ -260,15 +314,41 @@ SesFeatures build_ses_features(const Atoms& atoms, float probe) {
                         all_buried = true;
                         break;
                     }
-                    const double t_cos = E / (2.0 * rho * M);  // buried: cos(theta - phi) < t_cos
-                    const double phi = std::atan2(B, A);
-                    const double open = std::acos(std::clamp(t_cos, -1.0, 1.0));
-                    buried.push_back({phi + open, kTwoPi - 2.0 * open});
+                    // Buried where cos(theta - phi) < t, phi the angle of (A, B): from phi + open
+                    // to phi - open + 2 pi, open = acos t. The ends as directions (rotations of
+                    // (A, B) / M by +-open), ordered by their pseudo-angles: no trigonometry
+                    // for the circles that end up buried (nine in ten).
+                    const double t_cos = std::clamp(E / (2.0 * rho * M), -1.0, 1.0);
+                    const double sin_open = std::sqrt(std::max(0.0, 1.0 - t_cos * t_cos));
+                    const double ca = A / M, sa = B / M;
+                    const double from = pseudo_angle(ca * t_cos - sa * sin_open,
+                                                     sa * t_cos + ca * sin_open);
+                    const double to = pseudo_angle(ca * t_cos + sa * sin_open,
+                                                   sa * t_cos - ca * sin_open);
+                    double len = to - from;
+                    if (len < 0.0) len += 4.0;
+                    // At least half a turn (t >= 0) is at least 2 in pseudo-angle, less is less
+                    // than 2: past that, rounding has swapped the ends of an all but full (or
+                    // all but empty) interval.
+                    if (t_cos >= 0.0 && len < 2.0) len = 4.0;
+                    if (t_cos < 0.0 && len > 2.0) continue;
+                    if (len > 0.0) buried.push_back({from, len});
                 }
-                const auto parts =
-                    all_buried ? decltype(exposed_parts(buried)){} : exposed_parts(buried);
+                if (all_buried)
+                    parts.clear();
+                else
+                    exposed_parts(buried, cuts, gaps, parts);
                 if (parts.empty()) ++out.buried_circles;
-                for (auto [from, len] : parts) {
+                for (auto [from_p, len_p] : parts) {
+                    // Back to angles, the exposed arcs only.
+                    double from = 0.0, len = kTwoPi;
+                    if (len_p < 4.0) {
+                        from = angle_of_pseudo(from_p);
+                        const double end_p = from_p + len_p;
+                        len = angle_of_pseudo(end_p >= 4.0 ? end_p - 4.0 : end_p) - from;
+                        if (len_p >= 2.0 ? len < kTwoPi * 0.25 : len < 0.0) len += kTwoPi;
+                        if (!(len > 1e-9)) continue;
+                    }
                     SesArc arc{};
                     arc.m[0] = float(m.x), arc.m[1] = float(m.y), arc.m[2] = float(m.z);
                     arc.rho = float(rho);

@@ -44,6 +44,10 @@ struct SesFeatures {
     std::vector<std::uint32_t> sphere_start;  // bin b: spheres [start[b], start[b+1])
     std::vector<SesArc> arcs;                 // grouped by the bin of the circle centre
     std::vector<std::uint32_t> arc_start;
+    // Sphere s's neighbours (the balls that intersect it, by sphere index, as above):
+    // neighbours[neighbour_start[s], neighbour_start[s+1]). For the host's burial tests.
+    std::vector<std::uint32_t> neighbour_start;
+    std::vector<std::uint32_t> neighbours;
     std::size_t circles = 0;         // pairs of intersecting spheres (neither inside the other)
     std::size_t buried_circles = 0;  // of which no point is exposed
     std::size_t bin_count() const { return std::size_t(dims[0]) * dims[1] * dims[2]; }
