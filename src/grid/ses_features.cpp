@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <utility>
 
@@ -283,6 +284,9 @@ SesFeatures build_ses_features(const Atoms& atoms, float probe) {
         ChunkArcs& out = chunks[chunk];
         std::vector<Interval> buried, cuts, gaps, parts;
         for (std::size_t i = chunk * kChunk; i < std::min(n, (chunk + 1) * kChunk); ++i) {
+            // The ball that buried the last circle of i whole often buries the next: tried
+            // first (half of the circles are buried by one ball).
+            std::uint32_t last_burier = std::numeric_limits<std::uint32_t>::max();
             for (std::uint32_t q = nb_start[i]; q < nb_start[i + 1]; ++q) {
                 const std::uint32_t j = nb[q];
                 if (j <= i) continue;
@@ -300,6 +304,12 @@ SesFeatures build_ses_features(const Atoms& atoms, float probe) {
                 ++out.circles;
                 buried.clear();
                 bool all_buried = false;
+                if (last_burier != std::numeric_limits<std::uint32_t>::max() && last_burier != j) {
+                    const V3 w = m - c[last_burier];
+                    const double A = dot(w, e1), B = dot(w, e2);
+                    const double E = R[last_burier] * R[last_burier] - dot(w, w) - rho2;
+                    all_buried = E >= 2.0 * rho * std::sqrt(A * A + B * B);
+                }
                 for (std::uint32_t t = nb_start[i]; t < nb_start[i + 1] && !all_buried; ++t) {
                     const std::uint32_t k = nb[t];
                     if (k == j) continue;
@@ -312,6 +322,7 @@ SesFeatures build_ses_features(const Atoms& atoms, float probe) {
                     if (E <= -2.0 * rho * M) continue;  // no point inside ball k
                     if (E >= 2.0 * rho * M) {
                         all_buried = true;
+                        last_burier = k;
                         break;
                     }
                     // Buried where cos(theta - phi) < t, phi the angle of (A, B): from phi + open
