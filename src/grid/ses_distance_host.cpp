@@ -160,6 +160,8 @@ SesHostField::SesHostField(const SesFeatures& f, double d_max, unsigned threads)
     for (std::size_t k = 0; k < f.arcs.size(); ++k) {
         const SesArc& a = f.arcs[k];
         arcs_.emplace_back(a);
+        const Arc& added = arcs_.back();
+        arc_ball_.push_back({added.ball[0], added.ball[1], added.ball[2], added.ball_radius});
         Box& box = arc_box_[k];
         for (int ax = 0; ax < 3; ++ax) {
             const double e1 = a.e1[ax], e2 = a.e2[ax];
@@ -247,7 +249,11 @@ double SesHostField::distance(const double p[3], double d_max, double* gradient)
                 for (std::uint32_t i = f_.sphere_start[b]; i < f_.sphere_start[b + 1]; ++i) {
                     const double dx = p[0] - s[4 * i], dy = p[1] - s[4 * i + 1],
                                  dz = p[2] - s[4 * i + 2];
-                    const double v = double(s[4 * i + 3]) - std::sqrt(dx * dx + dy * dy + dz * dz);
+                    const double R = s[4 * i + 3], d2 = dx * dx + dy * dy + dz * dz;
+                    // A ball not holding p is not the deepest of a point inside the balls (and
+                    // the others take the reference below): no square root for it.
+                    if (d2 >= R * R) continue;
+                    const double v = R - std::sqrt(d2);
                     tie = v == lb || (tie && v < lb);
                     if (v > lb) lb = v, deepest = i;
                 }
@@ -289,10 +295,12 @@ double SesHostField::distance(const double p[3], double d_max, double* gradient)
     double best = d_max;
     const Arc* best_arc = nullptr;
     for (std::uint32_t n = bin_arc_start_[b]; n < bin_arc_start_[b + 1]; ++n) {
-        const Arc& arc = arcs_[bin_arcs_[n]];
-        const double vx = p[0] - arc.ball[0], vy = p[1] - arc.ball[1], vz = p[2] - arc.ball[2];
-        const double r = arc.ball_radius + best;
+        const std::uint32_t k = bin_arcs_[n];
+        const double* ball = arc_ball_[k].data();
+        const double vx = p[0] - ball[0], vy = p[1] - ball[1], vz = p[2] - ball[2];
+        const double r = ball[3] + best;
         if (vx * vx + vy * vy + vz * vz >= r * r) continue;
+        const Arc& arc = arcs_[k];
         const double d = arc.distance(p, best);
         if (d < best) best = d, best_arc = &arc;
     }
@@ -340,9 +348,15 @@ void SesHostField::evaluate(const GridPlan& plan, std::uint32_t z_begin, std::ui
         const std::uint32_t zb = std::min(za + kChunkPlanes, z_end);
         const std::size_t plane = std::size_t(nx) * ny;
         const std::size_t points = plane * (zb - za);
-        std::vector<float> lb(points, -std::numeric_limits<float>::infinity());
-        std::vector<std::uint32_t> deepest(points, 0);
-        std::vector<std::uint8_t> tie(points, 0);
+        // Per-thread scratch, kept from chunk to chunk (fresh pages for each would cost more
+        // than the work on them).
+        thread_local std::vector<float> lb;
+        thread_local std::vector<std::uint32_t> deepest;
+        thread_local std::vector<std::uint8_t> tie;
+        thread_local std::vector<std::uint64_t> waiting_bits;
+        lb.assign(points, -std::numeric_limits<float>::infinity());
+        deepest.resize(points);
+        tie.assign(points, 0);
         auto at = [&](std::uint32_t z, int y) { return (std::size_t(z - za) * ny + y) * nx; };
         auto row_out = [&](std::uint32_t z, int y) {
             return out + (std::size_t(z - z_begin) * ny + y) * pitch;
@@ -392,7 +406,7 @@ void SesHostField::evaluate(const GridPlan& plan, std::uint32_t z_begin, std::ui
         // The points waiting for the arcs, a bit each, rows of whole words: the arcs visit only
         // these.
         const std::size_t words = (std::size_t(nx) + 63) / 64;
-        std::vector<std::uint64_t> waiting_bits(words * ny * (zb - za), 0);
+        waiting_bits.assign(words * ny * (zb - za), 0);
         auto bits_of = [&](std::uint32_t z, int y) {
             return &waiting_bits[(std::size_t(z - za) * ny + y) * words];
         };

@@ -17,6 +17,7 @@
 // and the reference's (tests/grid/test_ses_distance_host.cpp: within the GPU test's 5e-5 Å).
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -65,6 +66,7 @@ private:
     std::vector<std::uint32_t> spheres_by_z_;                  // ball indices by centre z
     std::vector<float> sphere_z_;                              // their centres' z, ascending
     std::vector<Arc> arcs_;                                    // f.arcs, precomputed
+    std::vector<std::array<double, 4>> arc_ball_;              // each arc's ball: centre, radius
     std::vector<Box> arc_box_;                                 // each arc's points' bounds
     std::vector<std::uint32_t> arcs_by_z_;                     // arc indices by arc_box_ lo z
     std::vector<float> arc_lo_z_;                              // ascending
