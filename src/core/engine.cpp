@@ -129,6 +129,10 @@ bool EngineImpl::gaussian_on_host(const SurfaceOptions& options, const GridPlan&
             gaussian_sigma_points(plan.info.cutoff, plan.info.spacing) >= kMinHostSigma);
 }
 
+// The largest field the host computes and marches in one piece (the exact SES on the host): 1 GiB
+// (1AON at 0.5 Å takes 150 MB; the 4YVS assembly's 1.3 GB goes through slabs).
+constexpr std::uint64_t kHostFieldBudget = std::uint64_t(1) << 30;
+
 SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
                               GpuMesh* on_device) {
     SurfaceResult result;
@@ -147,7 +151,19 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
         result.warnings.emplace_back(buf);
     }
     const double field_bytes = double(plan.field_floats()) * sizeof(float);
-    const double limit = double(field_budget());
+    // The exact SES computed and marched on the host never enters a device binding: one piece
+    // while the field fits the host's budget (kHostFieldBudget, an eighth of the memory at most,
+    // and EngineOptions::max_buffer_range where set), slabs beyond, which bound the host's memory
+    // to a few cores of planes.
+    const bool host_field_only = plan.exact_ses && !on_device && on_host(ses_distance_place) &&
+                                 on_host(marching_cubes_place);
+    const double host_memory =
+        double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
+    const double limit =
+        host_field_only
+            ? std::min({double(kHostFieldBudget), host_memory / 8.0,
+                        buffer_range_cap ? double(buffer_range_cap) : double(kHostFieldBudget)})
+            : double(field_budget());
     if (field_bytes > limit) {
         result = run_in_slabs(atoms, options, plan, std::move(result));
         if (on_device) *on_device = upload_mesh(result.mesh);

@@ -38,7 +38,7 @@ struct EngineImpl {
           ses_distance(context), filter(context), marching_cubes(context),
           vertex_properties(context), progress(options.progress),
           gaussian_filter(options.gaussian_filter), marching_cubes_place(options.marching_cubes),
-          ses_distance_place(options.ses_distance) {
+          ses_distance_place(options.ses_distance), buffer_range_cap(options.max_buffer_range) {
         vertex_properties.set_on_host(on_host(options.vertex_atoms));
     }
 
@@ -58,6 +58,9 @@ struct EngineImpl {
     GaussianFilterPlace gaussian_filter;  // EngineOptions::gaussian_filter
     StagePlace marching_cubes_place;      // EngineOptions::marching_cubes
     StagePlace ses_distance_place;        // EngineOptions::ses_distance
+    // EngineOptions::max_buffer_range (0: none): caps the host's one-piece field too, so that
+    // tests can force slabs there.
+    std::uint64_t buffer_range_cap;
 
     // Whether a stage placed at `place` runs on the host: Host, or Auto on a CPU device.
     bool on_host(StagePlace place) const {
