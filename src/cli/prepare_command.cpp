@@ -10,6 +10,7 @@
 #include "cli/options.hpp"
 #include "fdmsurf/error.hpp"
 #include "fdmsurf/surface.hpp"
+#include "core/engine_impl.hpp"
 #include "filter/plan_cache.hpp"
 
 namespace fdmsurf::cli {
@@ -65,6 +66,7 @@ int prepare_command(const std::vector<std::string>& args) {
         }
         const auto start = std::chrono::steady_clock::now();
         Engine e(engine);
+        e.impl().make_pipelines();  // made at first use otherwise
         const double init_ms = std::chrono::duration<double, std::milli>(
                                    std::chrono::steady_clock::now() - start)
                                    .count();

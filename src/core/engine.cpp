@@ -713,6 +713,7 @@ std::vector<Engine::PreparedPlan> Engine::prepare() {
     // is made: each plan is therefore run, in the surface of one atom on a grid of that size
     // (min_grid), which also runs every stage of the default surface once. The exact SES, vdw
     // and sas surfaces of the atom then run their own kernels (their grids need no FFT).
+    impl_->make_pipelines();  // into the driver's pipeline cache, every one of them
     Atoms atom;
     atom.xyz = {0.0f, 0.0f, 0.0f};
     atom.radius = {1.7f};

@@ -62,6 +62,15 @@ struct EngineImpl {
     // tests can force slabs there.
     std::uint64_t buffer_range_cap;
 
+    // Makes every pass's pipelines now (each is otherwise made at its first use).
+    void make_pipelines() const {
+        density.make_pipelines();
+        ses_distance.make_pipelines();
+        filter.make_pipelines();
+        marching_cubes.make_pipelines();
+        vertex_properties.make_pipelines();
+    }
+
     // Whether a stage placed at `place` runs on the host: Host, or Auto on a CPU device.
     bool on_host(StagePlace place) const {
         return place == StagePlace::Host || (place == StagePlace::Auto && context.cpu_device());

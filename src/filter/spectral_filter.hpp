@@ -24,6 +24,8 @@ struct FftPlan;
 class SpectralFilter {
 public:
     explicit SpectralFilter(Context& ctx);
+    // Makes the pass's pipelines now (they are made at first use otherwise).
+    void make_pipelines() const { mask_.make(); }
     ~SpectralFilter();
     SpectralFilter(const SpectralFilter&) = delete;
     SpectralFilter& operator=(const SpectralFilter&) = delete;

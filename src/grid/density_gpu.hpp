@@ -21,6 +21,8 @@ class Context;
 class DensityPass {
 public:
     explicit DensityPass(Context& ctx);
+    // Makes the pass's pipelines now (they are made at first use otherwise).
+    void make_pipelines() const { tiles_pipeline_.make(), pipeline_.make(); }
     // Records the density of `bins` into `field` (plan's layout). Uploads go to `arena`.
     void record(Commands& cmds, StagingArena& arena, const AtomBins& bins, const GridPlan& plan,
                 const Buffer& field);

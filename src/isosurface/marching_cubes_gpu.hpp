@@ -28,6 +28,8 @@ struct GpuMesh {
 class MarchingCubesPass {
 public:
     explicit MarchingCubesPass(Context& ctx);
+    // Makes the pass's pipelines now (they are made at first use otherwise).
+    void make_pipelines() const { occupancy_.make(), count_.make(), scan_.make(), vertices_.make(), triangles_.make(); }
     // Records the counting passes into `cmds` (already begun, after the field's producer) and
     // submits; then records and submits the emission. `field` has `pitch` floats per row and
     // nz planes; the result stays on the device.

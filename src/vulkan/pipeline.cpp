@@ -11,12 +11,20 @@ namespace fdmsurf::detail {
 
 ComputePipeline::ComputePipeline(const Context& ctx, const std::uint32_t* spirv, std::size_t bytes,
                                  std::uint32_t bindings, std::uint32_t push_bytes, const char* name)
-    : device_(ctx.device()), bindings_(bindings), push_bytes_(push_bytes), name_(name) {
+    : ctx_(&ctx), spirv_(spirv), bytes_(bytes), bindings_(bindings), push_bytes_(push_bytes),
+      name_(name) {
     if (push_bytes > ctx.limits().max_push_constants)
         throw Error(ErrorCode::DeviceLimit, std::string("pipeline ") + name + " needs " +
                                                 std::to_string(push_bytes) +
                                                 " bytes of push constants, the device allows " +
                                                 std::to_string(ctx.limits().max_push_constants));
+}
+
+void ComputePipeline::create() const {
+    const Context& ctx = *ctx_;
+    device_ = ctx.device();
+    const std::uint32_t bindings = bindings_, push_bytes = push_bytes_;
+    const char* name = name_;
     VkShaderModule module = VK_NULL_HANDLE;
     try {
         std::vector<VkDescriptorSetLayoutBinding> b(bindings);
@@ -40,8 +48,8 @@ ComputePipeline::ComputePipeline(const Context& ctx, const std::uint32_t* spirv,
         FDM_VK_CHECK(vkCreatePipelineLayout(device_, &layout_info, nullptr, &layout_));
 
         VkShaderModuleCreateInfo module_info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-        module_info.codeSize = bytes;
-        module_info.pCode = spirv;
+        module_info.codeSize = bytes_;
+        module_info.pCode = spirv_;
         FDM_VK_CHECK(vkCreateShaderModule(device_, &module_info, nullptr, &module));
 
         VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
@@ -56,7 +64,7 @@ ComputePipeline::ComputePipeline(const Context& ctx, const std::uint32_t* spirv,
         if (trace_on()) trace((std::string("pipeline made: ") + name).c_str());
     } catch (...) {
         if (module) vkDestroyShaderModule(device_, module, nullptr);
-        reset();
+        const_cast<ComputePipeline*>(this)->reset();
         throw;
     }
 }
@@ -64,6 +72,9 @@ ComputePipeline::ComputePipeline(const Context& ctx, const std::uint32_t* spirv,
 ComputePipeline& ComputePipeline::operator=(ComputePipeline&& o) noexcept {
     if (this != &o) {
         reset();
+        ctx_ = std::exchange(o.ctx_, nullptr);
+        spirv_ = std::exchange(o.spirv_, nullptr);
+        bytes_ = std::exchange(o.bytes_, 0);
         device_ = std::exchange(o.device_, VK_NULL_HANDLE);
         set_layout_ = std::exchange(o.set_layout_, VK_NULL_HANDLE);
         layout_ = std::exchange(o.layout_, VK_NULL_HANDLE);

@@ -9,7 +9,10 @@
 #include "fdmsurf/error.hpp"
 #include "fdmsurf/surface.hpp"
 #include "support/gpu_fixture.hpp"
+#include "core/engine_impl.hpp"
+#include "core/shaders.hpp"
 #include "vulkan/buffer.hpp"
+#include "vulkan/pipeline.hpp"
 
 namespace {
 
@@ -166,6 +169,37 @@ TEST(Context, AvailableDeviceMemoryIsWithinTheHeap) {
     fdmsurf::detail::Buffer held(context, bytes, fdmsurf::detail::MemoryUse::Device, "held");
     EXPECT_LE(context.available_device_memory() + bytes / 2, before)
         << "256 MiB held should show in the budget";
+}
+
+}  // namespace
+
+namespace {
+
+// Pipelines are made at their first use (src/vulkan/pipeline.hpp): a run whose stages all go to
+// the host compiles none; handle() makes one, moves keep it, and a push-constant size beyond the
+// device's is refused at once, as before.
+class LazyPipelines : public GpuTest {};
+
+TEST_F(LazyPipelines, AreMadeAtFirstUseOnly) {
+    using fdmsurf::detail::ComputePipeline;
+    using fdmsurf::detail::Shader;
+    auto& ctx = impl().context;
+    const auto code = fdmsurf::detail::shader_code(Shader::McScan);
+    ComputePipeline p(ctx, code.words, code.bytes, 2, 8, "lazy_scan");
+    EXPECT_FALSE(p.made());
+    EXPECT_NE(p.handle(), VK_NULL_HANDLE);
+    EXPECT_TRUE(p.made());
+    EXPECT_NE(p.layout(), VK_NULL_HANDLE);
+    ComputePipeline moved = std::move(p);
+    EXPECT_TRUE(moved.made());
+    EXPECT_FALSE(p.made());
+    ComputePipeline late(ctx, code.words, code.bytes, 2, 8, "lazy_scan_2");
+    late.make();
+    EXPECT_TRUE(late.made());
+    EXPECT_THROW(ComputePipeline(ctx, code.words, code.bytes, 2,
+                                 ctx.limits().max_push_constants + 4, "too_many_constants"),
+                 Error);
+    EXPECT_TRUE(engine().take_validation_messages().empty());
 }
 
 }  // namespace
