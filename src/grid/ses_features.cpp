@@ -53,6 +53,45 @@ double angle_of_pseudo(double p) {
     return a < 0.0 ? a + kTwoPi : a;
 }
 
+// A conservative record of the part of a circle's turn of pseudo-angles [0, 4) that buried
+// intervals cover: 256 bins, each set when one interval holds it whole (strictly, ends
+// included). Every bin set means no point of the circle is exposed, which exposed_parts would
+// find from the same intervals; a gap smaller than a bin leaves bins unset and exposed_parts
+// decides. Most circles buried by several balls are found so before their last ball.
+struct CoverBins {
+    static constexpr int kBins = 256;
+    static constexpr double kPerUnit = kBins / 4.0;
+    std::uint64_t words[4] = {0, 0, 0, 0};
+    void set(int first, int last) {  // bins first..last, 0 <= first <= last < kBins
+        for (int w = first >> 6; w <= last >> 6; ++w) {
+            const int lo = std::max(first, w * 64) - w * 64, hi = std::min(last, w * 64 + 63) - w * 64;
+            const std::uint64_t upper = hi == 63 ? ~std::uint64_t(0) : (std::uint64_t(1) << (hi + 1)) - 1;
+            words[w] |= upper & (~std::uint64_t(0) << lo);
+        }
+    }
+    // The open interval (from, from + len) of pseudo-angles (from in [0, 4), len in (0, 4]);
+    // returns whether every bin is now set.
+    bool add(double from, double len) {
+        if (len >= 4.0) {
+            for (auto& w : words) w = ~std::uint64_t(0);
+            return true;
+        }
+        // Bins b with from < b / kPerUnit and (b + 1) / kPerUnit < from + len, unwrapped.
+        const int first = static_cast<int>(std::floor(from * kPerUnit)) + 1;
+        const int last = static_cast<int>(std::ceil((from + len) * kPerUnit)) - 2;
+        if (last < first) return false;
+        if (last < kBins) {
+            set(first, last);
+        } else if (first >= kBins) {
+            set(first - kBins, last - kBins);
+        } else {
+            set(first, kBins - 1);
+            set(0, last - kBins);
+        }
+        return (words[0] & words[1] & words[2] & words[3]) == ~std::uint64_t(0);
+    }
+};
+
 // Exposed parts of the turn [0, 4) of pseudo-angles once the intervals [start, start + length)
 // (start in [0, 4), length in (0, 4]) are removed, as (start, length), into `out`; `cuts` and
 // `gaps` are scratch (reused from circle to circle).
@@ -304,6 +343,7 @@ SesFeatures build_ses_features(const Atoms& atoms, float probe) {
                 ++out.circles;
                 buried.clear();
                 bool all_buried = false;
+                CoverBins cover;
                 if (last_burier != std::numeric_limits<std::uint32_t>::max() && last_burier != j) {
                     const V3 w = m - c[last_burier];
                     const double A = dot(w, e1), B = dot(w, e2);
@@ -343,7 +383,14 @@ SesFeatures build_ses_features(const Atoms& atoms, float probe) {
                     // all but empty) interval.
                     if (t_cos >= 0.0 && len < 2.0) len = 4.0;
                     if (t_cos < 0.0 && len > 2.0) continue;
-                    if (len > 0.0) buried.push_back({from, len});
+                    if (len > 0.0) {
+                        buried.push_back({from, len});
+                        // Covered whole by the intervals so far: buried, no more balls to try.
+                        if (cover.add(from, len)) {
+                            all_buried = true;
+                            break;
+                        }
+                    }
                 }
                 if (all_buried)
                     parts.clear();
