@@ -192,10 +192,14 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
     }
     report(plan.exact_ses ? "ses-features" : "bin-atoms");
     trace(plan.exact_ses ? "engine: ses features" : "engine: atoms binned");
-    std::vector<float> host_values;
+    // The host's exact SES field, in the plan's layout: written once by the evaluation (fresh
+    // pages, first touched on its threads; no zero-fill before).
+    std::unique_ptr<float[]> host_values;
     if (host_ses) {
         const double t_ses = now_ms();
-        host_values = ses->field(plan);
+        host_values.reset(new float[plan.field_floats()]);
+        if (plan.pitch > d[0]) std::fill_n(host_values.get(), plan.field_floats(), 0.0f);
+        ses->evaluate(plan, 0, d[2], host_values.get(), plan.pitch);
         add_times(result.times, {{"ses-host", now_ms() - t_ses, false}});
         report("ses-host");
     }
@@ -219,9 +223,8 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
     if (host_mc) {
         const bool host_gaussian = gaussian_on_host(options, plan);
         std::vector<float> values;
-        if (host_ses) {
-            values = std::move(host_values);
-        } else {
+        const float* data = host_values.get();
+        if (!host_ses) {
             commands.begin();
             if (host_gaussian)
                 density.record(commands, arena, bins, plan, field);
@@ -229,6 +232,7 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
                 record_field(arena, plan, &bins, &features, options.filter, field);
             values = read_field(*this, arena, field, plan.field_floats(), "read-field");
             add_times(result.times, commands.stage_times());
+            data = values.data();
         }
         std::uint32_t pitch = plan.pitch;
         if (host_gaussian) {
@@ -242,14 +246,16 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
                                    host_gaussian_taps(options, plan), 0, d[2], filtered.data(),
                                    scratch);
             values = std::move(filtered);
+            data = values.data();
             pitch = d[0];
             add_times(result.times, {{"filter-host", now_ms() - t_filter, false}});
         }
         const double t_mc = now_ms();
         PlaneStack planes{{}, d[0], d[1], d[2], pitch};
         for (std::uint32_t z = 0; z < d[2]; ++z)
-            planes.planes.push_back(values.data() + std::size_t(z) * d[1] * pitch);
+            planes.planes.push_back(data + std::size_t(z) * d[1] * pitch);
         result.mesh = marching_cubes_host(planes, mc);
+        host_values.reset();  // the exact SES's refinement and snap evaluate d itself
         add_times(result.times, {{"mc-host", now_ms() - t_mc, false}});
         result.grid.host_filter = host_gaussian;
         result.grid.host_marching_cubes = true;
@@ -263,7 +269,7 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
     commands.begin();
     if (host_ses) {
         write_pieces(context, commands, arena, field,
-                     {{host_values.data(), host_values.size() * sizeof(float)}}, "field");
+                     {{host_values.get(), plan.field_floats() * sizeof(float)}}, "field");
         commands.barrier_compute();
         commands.mark("upload-field");
     } else {
