@@ -56,6 +56,8 @@ struct SesHostField::Arc {
     // as radius (the arc's middle is rho (1 - cos(L/2)) <= rho sin(L/2) from there); else the
     // circle's. Widened by 1e-9 Å relative for rounding.
     double ball[3], ball_radius;
+    // Float copies for the field's row kernel, positions relative to m (the shader's precision).
+    float fm[3], faxis[3], fe1[3], fe2[3], frho, fstart_dir[2], fend_dir[2], fstart[3], fend[3];
 
     explicit Arc(const SesArc& a) {
         const double end = double(a.start) + double(a.length);
@@ -79,6 +81,12 @@ struct SesHostField::Arc {
             ball_radius = rho * std::sin(0.5 * double(a.length));
         }
         ball_radius += 1e-9 * (rho + std::abs(m[0]) + std::abs(m[1]) + std::abs(m[2]));
+        for (int k = 0; k < 3; ++k) {
+            fm[k] = a.m[k], faxis[k] = float(axis[k]), fe1[k] = a.e1[k], fe2[k] = a.e2[k];
+            fstart[k] = float(start_point[k] - m[k]), fend[k] = float(end_point[k] - m[k]);
+        }
+        frho = a.rho;
+        for (int k = 0; k < 2; ++k) fstart_dir[k] = float(start_dir[k]), fend_dir[k] = float(end_dir[k]);
     }
 
     // Whether the in-plane direction (a, b) lies on the arc: after its start and before its
@@ -135,6 +143,53 @@ struct SesHostField::Arc {
 };
 
 SesHostField::~SesHostField() = default;
+
+namespace {
+
+// best[x] = min(best[x], the distance from (xs[x], y, z) to the arc) for x in [xa, xb], in
+// float relative to the circle's centre: the on-arc distance and the nearer end's, selected by
+// the angle test, with no branch, so that the compiler vectorises the row.
+void arc_row_kernel(const SesHostField::Arc& arc, const float* xs, float y, float z, int xa,
+                    int xb, float* best) {
+    const float vy = y - arc.fm[1], vz = z - arc.fm[2];
+    const float h0 = vy * arc.faxis[1] + vz * arc.faxis[2];
+    const float a0 = vy * arc.fe1[1] + vz * arc.fe1[2];
+    const float b0 = vy * arc.fe2[1] + vz * arc.fe2[2];
+    const float sy = vy - arc.fstart[1], sz = vz - arc.fstart[2];
+    const float ey = vy - arc.fend[1], ez = vz - arc.fend[2];
+    const float s_yz = sy * sy + sz * sz, e_yz = ey * ey + ez * ez;
+    const float ax = arc.faxis[0], e1x = arc.fe1[0], e2x = arc.fe2[0], mx = arc.fm[0];
+    const float rho = arc.frho, sx0 = arc.fstart[0], ex0 = arc.fend[0];
+    const float sd0 = arc.fstart_dir[0], sd1 = arc.fstart_dir[1];
+    const float ed0 = arc.fend_dir[0], ed1 = arc.fend_dir[1];
+    // More than half a turn: on the arc unless within the complement (both tests negative).
+    const float longer = arc.longer_than_half ? 1.0f : 0.0f;
+    for (int x = xa; x <= xb; ++x) {
+        const float vx = xs[x] - mx;
+        const float hh = vx * ax + h0, a = vx * e1x + a0, b = vx * e2x + b0;
+        const float rr = std::sqrt(a * a + b * b) - rho;
+        const float on_d2 = hh * hh + rr * rr;
+        const float after_start = sd0 * b - sd1 * a, before_end = a * ed1 - b * ed0;
+        // On the arc: 1, else 0 (kLong: not within the complement).
+        const float after = after_start >= 0.0f ? 1.0f : 0.0f;
+        const float before = before_end >= 0.0f ? 1.0f : 0.0f;
+        const float on = longer * (1.0f - (1.0f - after) * (1.0f - before)) +
+                         (1.0f - longer) * (after * before);
+        const float sx = vx - sx0, ex = vx - ex0;
+        const float ds = sx * sx + s_yz, de = ex * ex + e_yz;
+        const float off_d2 = ds < de ? ds : de;
+        const float d = std::sqrt(on * on_d2 + (1.0f - on) * off_d2);
+        const float old = best[x];
+        best[x] = d < old ? d : old;
+    }
+}
+
+}  // namespace
+
+void SesHostField::arc_row(const Arc& arc, const float* xs, float y, float z, int xa, int xb,
+                           float* best) {
+    arc_row_kernel(arc, xs, y, z, xa, xb, best);
+}
 
 SesHostField::SesHostField(const SesFeatures& f, double d_max, unsigned threads)
     : f_(f), threads_(thread_count(threads)), reach_(d_max) {
@@ -465,7 +520,11 @@ void SesHostField::evaluate(const GridPlan& plan, std::uint32_t z_begin, std::ui
             }
         if (waiting == 0) return;
 
-        // 3. Arcs, over the waiting points within d_max of them.
+        // 3. Arcs, over the rows of waiting points within d_max of them: each row range in float
+        // without a branch (vectorised), into `arc_best` (a value per point, read for the
+        // waiting ones only).
+        thread_local std::vector<float> arc_best;
+        arc_best.assign(points, d_max);
         const float zlo = zs[za] - d_max, zhi = zs[zb - 1] + d_max;
         const auto first = std::lower_bound(arc_lo_z_.begin(), arc_lo_z_.end(), zlo - arc_extent_z_);
         const auto last = std::upper_bound(arc_lo_z_.begin(), arc_lo_z_.end(), zhi);
@@ -490,25 +549,18 @@ void SesHostField::evaluate(const GridPlan& plan, std::uint32_t z_begin, std::ui
                     const int xa = std::max(x0, first_at_or_above(arc.ball[0] - half, xs[0], h, nx));
                     const int xb = std::min(x1, last_at_or_below(arc.ball[0] + half, xs[0], h, nx));
                     if (xa > xb) continue;
-                    float* o = row_out(z, y);
+                    // Nothing waits in this row range: nothing to do.
                     const std::uint64_t* bits = bits_of(z, y);
-                    const double dyz = dy * dy + dz * dz;
+                    std::uint64_t any = 0;
                     for (int word = xa >> 6; word <= xb >> 6; ++word) {
                         std::uint64_t w = bits[word];
                         if (word == xa >> 6) w &= ~std::uint64_t(0) << (xa & 63);
                         if (word == xb >> 6 && (xb & 63) != 63)
                             w &= (std::uint64_t(1) << ((xb & 63) + 1)) - 1;
-                        for (; w != 0; w &= w - 1) {
-                            const int x = word * 64 + std::countr_zero(w);
-                            const double best = o[x];
-                            const double dx = xs[x] - arc.ball[0];
-                            const double r = arc.ball_radius + best;
-                            if (dx * dx + dyz >= r * r) continue;
-                            const double p[3] = {xs[x], ys[y], zs[z]};
-                            const double d = arc.distance(p, best);
-                            if (d < best) o[x] = static_cast<float>(d);
-                        }
+                        any |= w;
                     }
+                    if (any == 0) continue;
+                    arc_row(arc, xs.data(), ys[y], zs[z], xa, xb, &arc_best[at(z, y)]);
                 }
             }
         }
@@ -516,10 +568,11 @@ void SesHostField::evaluate(const GridPlan& plan, std::uint32_t z_begin, std::ui
             for (int y = 0; y < ny; ++y) {
                 float* o = row_out(z, y);
                 const std::uint64_t* bits = bits_of(z, y);
+                const float* best = &arc_best[at(z, y)];
                 for (std::size_t word = 0; word < words; ++word)
                     for (std::uint64_t w = bits[word]; w != 0; w &= w - 1) {
                         const std::size_t x = word * 64 + std::countr_zero(w);
-                        o[x] = std::max(o[x], d_min);
+                        o[x] = std::max(best[x], d_min);
                     }
             }
     });

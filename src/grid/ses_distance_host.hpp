@@ -56,11 +56,15 @@ public:
 
     const SesFeatures& features() const { return f_; }
 
+    struct Arc;  // an exposed arc, precomputed (ses_distance_host.cpp)
+
+
 private:
     struct Box {
         float lo[3], hi[3];
     };
-    struct Arc;
+    static void arc_row(const Arc& arc, const float* xs, float y, float z, int xa, int xb,
+                        float* best);
     const SesFeatures& f_;
     unsigned threads_;
     std::vector<std::uint32_t> spheres_by_z_;                  // ball indices by centre z
