@@ -407,7 +407,7 @@ void SesHostField::evaluate(const GridPlan& plan, std::uint32_t z_begin, std::ui
         // than the work on them).
         thread_local std::vector<float> lb;
         thread_local std::vector<std::uint32_t> deepest;
-        thread_local std::vector<std::uint8_t> tie;
+        thread_local std::vector<std::uint32_t> tie;  // 32 bits, as deepest: one vector width
         thread_local std::vector<std::uint64_t> waiting_bits;
         lb.assign(points, -std::numeric_limits<float>::infinity());
         deepest.resize(points);
@@ -442,15 +442,17 @@ void SesHostField::evaluate(const GridPlan& plan, std::uint32_t z_begin, std::ui
                         const std::size_t row = at(z, y);
                         float* l = &lb[row];
                         std::uint32_t* deep = &deepest[row];
-                        std::uint8_t* t = &tie[row];
+                        std::uint32_t* t = &tie[row];
+                        // Selects, not branches: the row vectorises.
                         for (int x = x0; x <= x1; ++x) {
                             const float dx = xs[x] - cx;
                             const float v = R - std::sqrt(dx * dx + dyz);
-                            if (v >= l[x]) {
-                                t[x] = v == l[x];
-                                l[x] = v;
-                                deep[x] = i;
-                            }
+                            const float old = l[x];
+                            const std::uint32_t deeper = -std::uint32_t(v >= old);  // all ones
+                            const std::uint32_t same = std::uint32_t(v == old);
+                            t[x] = (same & deeper) | (t[x] & ~deeper);
+                            l[x] = v >= old ? v : old;
+                            deep[x] = (i & deeper) | (deep[x] & ~deeper);
                         }
                     }
                 }
