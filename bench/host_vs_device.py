@@ -3,15 +3,19 @@
 4; docs/performance.md).
 
 Runs build/fdmsurf on each structure in several modes, alternating within each round:
-  device  --host-filter off --host-mc off --host-atoms off   VkFFT forward, mask, inverse; the
-                                           marching-cubes passes; the vertex-atoms pass
+  device  --host-filter off --host-mc off --host-atoms off --host-ses off   VkFFT forward, mask,
+                                           inverse; the marching-cubes passes; the vertex-atoms
+                                           pass; the exact SES's pass (--method edt)
   filter  --host-filter auto, the others off   the Gaussian filter on the host (27 November,
                                            third session: bench/host_filter.py then)
-  host    all three auto                   the default: the filter, marching cubes and the
-                                           vertex atoms on the host
+  ses-device  all auto but --host-ses off  the exact SES's field on the device, the rest on the
+                                           host (27 November, fourth session)
+  host    all four auto                    the default: the filter, marching cubes, the vertex
+                                           atoms and the exact SES's field on the host
 and prints the slab count, the medians of fdmsurf's own total, of the filter stages, of the
-marching-cubes stages, of the vertex atoms and of the density, and the triangle count and area
-of each mode (the surfaces should agree to float rounding). `auto` hands a stage to the host only on a CPU device
+marching-cubes stages, of the vertex atoms, of the density, of the exact SES's features, field
+and snap, and the triangle count and area of each mode (the surfaces should agree to float
+rounding). `auto` hands a stage to the host only on a CPU device
 (lavapipe): on a GPU the modes are the same but for `device`'s explicit off.
 
   bench/host_vs_device.py [--reps 3] [--structures 1aon,4yvs] [--spacing 0.5] [--assembly]
@@ -28,9 +32,12 @@ FILTER_STAGES = ("fft-forward", "mask", "fft-inverse", "filter-host")
 MC_STAGES = ("upload-part", "mc-occupancy", "mc-count", "mc-scan", "mc-vertices", "mc-triangles",
              "read-back", "unpack-mesh", "mc-host")
 ATOM_STAGES = ("vertex-atoms", "vertex-atoms-host")
-MODES = {"device": ["--host-filter", "off", "--host-mc", "off", "--host-atoms", "off"],
-         "filter": ["--host-filter", "auto", "--host-mc", "off", "--host-atoms", "off"],
-         "host": ["--host-filter", "auto", "--host-mc", "auto", "--host-atoms", "auto"]}
+SES_STAGES = ("ses-boxes", "ses-distance", "ses-host")
+MODES = {"device": ["--host-filter", "off", "--host-mc", "off", "--host-atoms", "off", "--host-ses", "off"],
+         "filter": ["--host-filter", "auto", "--host-mc", "off", "--host-atoms", "off", "--host-ses", "off"],
+         "ses-device": ["--host-filter", "auto", "--host-mc", "auto", "--host-atoms", "auto",
+                        "--host-ses", "off"],
+         "host": ["--host-filter", "auto", "--host-mc", "auto", "--host-atoms", "auto", "--host-ses", "auto"]}
 
 
 def main():
@@ -77,6 +84,9 @@ def main():
                                  mc=med(lambda s: stages(s, MC_STAGES)),
                                  atoms=med(lambda s: stages(s, ATOM_STAGES)),
                                  density=med(lambda s: s["times"].get("density", 0.0)),
+                                 features=med(lambda s: s["times"].get("ses-features", 0.0)),
+                                 ses=med(lambda s: stages(s, SES_STAGES)),
+                                 snap=med(lambda s: s["times"].get("snap", 0.0)),
                                  tri=stats[-1]["triangles"], area=stats[-1]["area"]))
     if not rows:
         sys.exit("bench/host_vs_device.py: nothing measured")
@@ -85,14 +95,16 @@ def main():
           f"device: {device}; spacing {args.spacing} Å{' ' + args.extra if args.extra else ''}, "
           f"median of {args.reps} alternating rounds, ms\n")
     print("| structure | mode | slabs | total | filter stages | marching cubes | vertex atoms | density | "
-          "triangles | area (Å²) |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
+          "SES features | SES field | snap | triangles | area (Å²) |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         print(f"| {r['name']} | {r['mode']} | {r['slabs']} | {r['total']:,.0f} | {r['filt']:,.0f} | {r['mc']:,.0f} | {r['atoms']:,.0f} | "
-              f"{r['density']:,.0f} | {r['tri']:,} | {r['area']:,.2f} |")
+              f"{r['density']:,.0f} | {r['features']:,.0f} | {r['ses']:,.0f} | {r['snap']:,.0f} | "
+              f"{r['tri']:,} | {r['area']:,.2f} |")
     print("\n'filter stages': fft-forward + mask + fft-inverse, or filter-host; 'marching cubes': the device's "
           "passes with the part's upload, read-back and unpacking, or mc-host; 'vertex atoms': the pass and "
-          "its host work, or the search on the host; 'total': fdmsurf's own total_ms "
+          "its host work, or the search on the host; 'SES field': ses-boxes + ses-distance, or ses-host; "
+          "'total': fdmsurf's own total_ms "
           "of --stats json.")
 
 
