@@ -277,6 +277,7 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
     }
     trace("engine: field recorded (staging, FFT plan)");
     GpuMesh gpu = marching_cubes.run(commands, arena, field, d[0], d[1], d[2], plan.pitch, mc);
+    host_values.reset();  // uploaded and marched
     trace("engine: field and marching cubes done");
     add_times(result.times, marching_cubes.stage_times());
     if (on_device && options.refine == 0 && !snaps(options, plan)) {
@@ -719,7 +720,7 @@ std::vector<Engine::PreparedPlan> Engine::prepare() {
     // is made: each plan is therefore run, in the surface of one atom on a grid of that size
     // (min_grid), which also runs every stage of the default surface once. The exact SES, vdw
     // and sas surfaces of the atom then run their own kernels (their grids need no FFT).
-    impl_->make_pipelines();  // into the driver's pipeline cache, every one of them
+    impl_->make_pipelines();  // into the driver's pipeline cache
     Atoms atom;
     atom.xyz = {0.0f, 0.0f, 0.0f};
     atom.radius = {1.7f};

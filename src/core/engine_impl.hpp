@@ -62,7 +62,8 @@ struct EngineImpl {
     // tests can force slabs there.
     std::uint64_t buffer_range_cap;
 
-    // Makes every pass's pipelines now (each is otherwise made at its first use).
+    // Makes the passes' pipelines now (each is otherwise made at its first use); the exact SES's
+    // and the Coulombic colours' are made by their passes when first recorded.
     void make_pipelines() const {
         density.make_pipelines();
         ses_distance.make_pipelines();

@@ -6,6 +6,8 @@
 #include <bit>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <mutex>
 #include <numeric>
 #include <string>
 
@@ -52,6 +54,9 @@ struct SesHostField::Arc {
     double start_dir[2], end_dir[2];  // cos, sin of the ends' angles
     double start_point[3], end_point[3];
     bool longer_than_half;  // length > pi: the test is on the complement
+    // The whole circle (length float(2 pi), just above 2 pi, or rounded to it): every direction
+    // is on it, as arc_distance has it; the ends' test would cut a wedge of the rounding's width.
+    bool full;
     // A ball holding the arc: up to half a turn, around its chord's midpoint with the half-chord
     // as radius (the arc's middle is rho (1 - cos(L/2)) <= rho sin(L/2) from there); else the
     // circle's. Widened by 1e-9 Å relative for rounding.
@@ -73,6 +78,7 @@ struct SesHostField::Arc {
         axis[1] = e1[2] * e2[0] - e1[0] * e2[2];
         axis[2] = e1[0] * e2[1] - e1[1] * e2[0];
         longer_than_half = double(a.length) > 0.5 * kTwoPi;
+        full = double(a.length) >= kTwoPi;
         if (longer_than_half) {
             for (int k = 0; k < 3; ++k) ball[k] = m[k];
             ball_radius = rho;
@@ -92,6 +98,7 @@ struct SesHostField::Arc {
     // Whether the in-plane direction (a, b) lies on the arc: after its start and before its
     // end, counter-clockwise (a point on the axis, (0, 0), counts as on it, as in arc_distance).
     bool on_arc(double a, double b) const {
+        if (full) return true;
         const double after_start = start_dir[0] * b - start_dir[1] * a;
         const double before_end = a * end_dir[1] - b * end_dir[0];
         return longer_than_half ? !(after_start < 0.0 && before_end < 0.0)
@@ -162,8 +169,10 @@ void arc_row_kernel(const SesHostField::Arc& arc, const float* xs, float y, floa
     const float rho = arc.frho, sx0 = arc.fstart[0], ex0 = arc.fend[0];
     const float sd0 = arc.fstart_dir[0], sd1 = arc.fstart_dir[1];
     const float ed0 = arc.fend_dir[0], ed1 = arc.fend_dir[1];
-    // More than half a turn: on the arc unless within the complement (both tests negative).
+    // More than half a turn: on the arc unless within the complement (both tests negative); the
+    // whole circle: on it everywhere.
     const float longer = arc.longer_than_half ? 1.0f : 0.0f;
+    const float full = arc.full ? 1.0f : 0.0f;
     for (int x = xa; x <= xb; ++x) {
         const float vx = xs[x] - mx;
         const float hh = vx * ax + h0, a = vx * e1x + a0, b = vx * e2x + b0;
@@ -173,8 +182,9 @@ void arc_row_kernel(const SesHostField::Arc& arc, const float* xs, float y, floa
         // On the arc: 1, else 0 (kLong: not within the complement).
         const float after = after_start >= 0.0f ? 1.0f : 0.0f;
         const float before = before_end >= 0.0f ? 1.0f : 0.0f;
-        const float on = longer * (1.0f - (1.0f - after) * (1.0f - before)) +
-                         (1.0f - longer) * (after * before);
+        const float part = longer * (1.0f - (1.0f - after) * (1.0f - before)) +
+                           (1.0f - longer) * (after * before);
+        const float on = full + (1.0f - full) * part;
         const float sx = vx - sx0, ex = vx - ex0;
         const float ds = sx * sx + s_yz, de = ex * ex + e_yz;
         const float off_d2 = ds < de ? ds : de;
@@ -185,6 +195,11 @@ void arc_row_kernel(const SesHostField::Arc& arc, const float* xs, float y, floa
 }
 
 }  // namespace
+
+void SesHostField::arc_row_distances(std::size_t arc, const float* xs, float y, float z, int xa,
+                                     int xb, float* best) const {
+    arc_row(arcs_.at(arc), xs, y, z, xa, xb, best);
+}
 
 void SesHostField::arc_row(const Arc& arc, const float* xs, float y, float z, int xa, int xb,
                            float* best) {
@@ -398,17 +413,44 @@ void SesHostField::evaluate(const GridPlan& plan, std::uint32_t z_begin, std::ui
     const float* s = f_.spheres.data();
     const std::uint32_t chunks = (z_end - z_begin + kChunkPlanes - 1) / kChunkPlanes;
 
+    // Scratch per task, taken from a pool for this call and given back at the task's end: kept
+    // from chunk to chunk (fresh pages for each would cost more than the work on them), freed
+    // when the call returns.
+    struct Scratch {
+        std::vector<float> lb, arc_best;
+        std::vector<std::uint32_t> deepest, tie;  // tie: 32 bits, as deepest (one vector width)
+        std::vector<std::uint64_t> waiting_bits;
+    };
+    std::mutex pool_mutex;
+    std::vector<std::unique_ptr<Scratch>> pool;
+    struct Lease {
+        std::mutex& mutex;
+        std::vector<std::unique_ptr<Scratch>>& pool;
+        std::unique_ptr<Scratch> scratch;
+        Lease(std::mutex& m, std::vector<std::unique_ptr<Scratch>>& p) : mutex(m), pool(p) {
+            const std::lock_guard<std::mutex> lock(mutex);
+            if (pool.empty()) {
+                scratch = std::make_unique<Scratch>();
+            } else {
+                scratch = std::move(pool.back());
+                pool.pop_back();
+            }
+        }
+        ~Lease() {
+            const std::lock_guard<std::mutex> lock(mutex);
+            pool.push_back(std::move(scratch));
+        }
+    };
     parallel_chunks(chunks, threads_, [&](std::size_t chunk) {
+        const Lease lease(pool_mutex, pool);
         const std::uint32_t za = z_begin + std::uint32_t(chunk) * kChunkPlanes;
         const std::uint32_t zb = std::min(za + kChunkPlanes, z_end);
         const std::size_t plane = std::size_t(nx) * ny;
         const std::size_t points = plane * (zb - za);
-        // Per-thread scratch, kept from chunk to chunk (fresh pages for each would cost more
-        // than the work on them).
-        thread_local std::vector<float> lb;
-        thread_local std::vector<std::uint32_t> deepest;
-        thread_local std::vector<std::uint32_t> tie;  // 32 bits, as deepest: one vector width
-        thread_local std::vector<std::uint64_t> waiting_bits;
+        std::vector<float>& lb = lease.scratch->lb;
+        std::vector<std::uint32_t>& deepest = lease.scratch->deepest;
+        std::vector<std::uint32_t>& tie = lease.scratch->tie;
+        std::vector<std::uint64_t>& waiting_bits = lease.scratch->waiting_bits;
         lb.assign(points, -std::numeric_limits<float>::infinity());
         deepest.resize(points);
         tie.assign(points, 0);
@@ -525,7 +567,7 @@ void SesHostField::evaluate(const GridPlan& plan, std::uint32_t z_begin, std::ui
         // 3. Arcs, over the rows of waiting points within d_max of them: each row range in float
         // without a branch (vectorised), into `arc_best` (a value per point, read for the
         // waiting ones only).
-        thread_local std::vector<float> arc_best;
+        std::vector<float>& arc_best = lease.scratch->arc_best;
         arc_best.assign(points, d_max);
         const float zlo = zs[za] - d_max, zhi = zs[zb - 1] + d_max;
         const auto first = std::lower_bound(arc_lo_z_.begin(), arc_lo_z_.end(), zlo - arc_extent_z_);

@@ -56,6 +56,11 @@ public:
 
     const SesFeatures& features() const { return f_; }
 
+    // The field's row kernel for arc `arc` (an index into features().arcs): best[x] = min(best[x],
+    // the float distance from (xs[x], y, z) to the arc) for x in [xa, xb]. For tests.
+    void arc_row_distances(std::size_t arc, const float* xs, float y, float z, int xa, int xb,
+                           float* best) const;
+
     struct Arc;  // an exposed arc, precomputed (ses_distance_host.cpp)
 
 

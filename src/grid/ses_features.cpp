@@ -348,7 +348,9 @@ SesFeatures build_ses_features(const Atoms& atoms, float probe) {
                     const V3 w = m - c[last_burier];
                     const double A = dot(w, e1), B = dot(w, e2);
                     const double E = R[last_burier] * R[last_burier] - dot(w, w) - rho2;
-                    all_buried = E >= 2.0 * rho * std::sqrt(A * A + B * B);
+                    const double M = std::sqrt(A * A + B * B);
+                    // As the loop below decides: not where no point is inside the ball first.
+                    all_buried = E > -2.0 * rho * M && E >= 2.0 * rho * M;
                 }
                 for (std::uint32_t t = nb_start[i]; t < nb_start[i + 1] && !all_buried; ++t) {
                     const std::uint32_t k = nb[t];
@@ -379,10 +381,14 @@ SesFeatures build_ses_features(const Atoms& atoms, float probe) {
                     double len = to - from;
                     if (len < 0.0) len += 4.0;
                     // At least half a turn (t >= 0) is at least 2 in pseudo-angle, less is less
-                    // than 2: past that, rounding has swapped the ends of an all but full (or
-                    // all but empty) interval.
-                    if (t_cos >= 0.0 && len < 2.0) len = 4.0;
-                    if (t_cos < 0.0 && len > 2.0) continue;
+                    // than 2. Past that, rounding has swapped the ends of an all but full or
+                    // all but empty interval (a length near 0 or 4), or of a half turn (t near
+                    // 0: the ends antipodal, a length a hair off 2).
+                    if (t_cos >= 0.0 && len < 2.0) len = len < 1.0 ? 4.0 : 2.0;
+                    if (t_cos < 0.0 && len > 2.0) {
+                        if (len > 3.0) continue;
+                        len = 2.0;
+                    }
                     if (len > 0.0) {
                         buried.push_back({from, len});
                         // Covered whole by the intervals so far: buried, no more balls to try.

@@ -60,6 +60,7 @@ void ComputePipeline::create() const {
         info.layout = layout_;
         FDM_VK_CHECK(vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_));
         vkDestroyShaderModule(device_, module, nullptr);
+        module = VK_NULL_HANDLE;
         ctx.set_name(VK_OBJECT_TYPE_PIPELINE, reinterpret_cast<std::uint64_t>(pipeline_), name);
         if (trace_on()) trace((std::string("pipeline made: ") + name).c_str());
     } catch (...) {

@@ -26,6 +26,8 @@ public:
     ComputePipeline(const ComputePipeline&) = delete;
     ComputePipeline& operator=(const ComputePipeline&) = delete;
 
+    // Const, but they make the objects on first use: like the rest of an Engine, not to be used
+    // from two threads at once.
     VkPipeline handle() const { return make(), pipeline_; }
     VkPipelineLayout layout() const { return make(), layout_; }
     VkDescriptorSetLayout set_layout() const { return make(), set_layout_; }

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -245,6 +246,110 @@ TEST(SesDistanceHost, PointDistanceAndGradientMatchTheReference) {
         EXPECT_GT(band, 5000u);
         EXPECT_GT(arcs, 1000u);
     }
+}
+
+// A pair of balls meets in one whole exposed circle, stored with the length float(2 pi), a hair
+// above 2 pi: every direction is on it (arc_distance). Points exactly where the ends' test of a
+// longer-than-half arc would put them off it (half a turn from the start, a hair to the side):
+// the point distance and the field's row kernel give the circle's distance, as the reference.
+TEST(SesDistanceHost, AWholeCircleHasNoGapAtTheRoundingOfItsLength) {
+    const Atoms atoms = fdmsurf_test::make_atoms({{0.0f, 0.0f, 0.0f, 1.6f}, {2.3f, 0.4f, -0.2f, 1.7f}});
+    const float probe = 1.4f;
+    const auto features = build_ses_features(atoms, probe);
+    ASSERT_EQ(features.arcs.size(), 1u);
+    const fdmsurf::detail::SesArc& arc = features.arcs[0];
+    ASSERT_GE(double(arc.length), 6.283185307179586);  // float(2 pi) rounds up
+    const double d_max = probe + 1.0;
+    const SesHostField field(features, d_max);
+    std::size_t checked = 0;
+    for (double side : {-1e-9, -1e-8, -5e-8, 0.0, 1e-8}) {
+        for (double radial : {0.3, 0.9, 1.6}) {
+            for (double height : {-0.4, 0.0, 0.5}) {
+                // angle pi from the start (start 0: -e1), a hair towards -e2 (b < 0)
+                double p[3];
+                for (int k = 0; k < 3; ++k)
+                    p[k] = arc.m[k] - (arc.rho - radial) * arc.e1[k] + side * arc.e2[k] +
+                           height * (arc.e1[(k + 1) % 3] * arc.e2[(k + 2) % 3] -
+                                     arc.e1[(k + 2) % 3] * arc.e2[(k + 1) % 3]);
+                const double ref = fdmsurf::detail::arc_distance(arc, p);
+                double g[3];
+                const double reference = fdmsurf::detail::ses_distance(features, p, d_max, g, false);
+                const double host = field.distance(p, d_max);
+                EXPECT_NEAR(host, reference, 1e-6) << side << " " << radial << " " << height;
+                // The kernel alone, on a row of one point.
+                const float xs[1] = {float(p[0])};
+                float best[1] = {100.0f};
+                field.arc_row_distances(0, xs, float(p[1]), float(p[2]), 0, 0, best);
+                EXPECT_NEAR(best[0], ref, 1e-5) << side << " " << radial << " " << height;
+                ++checked;
+            }
+        }
+    }
+    EXPECT_EQ(checked, 45u);
+    // And the whole field of the pair against the reference.
+    const FieldDiff r = host_against_reference(atoms, 0.2f);
+    EXPECT_EQ(r.bad, 0u) << "max |host - cpu| " << r.max_diff;
+}
+
+// A third ball whose sphere buries exactly half of a circle. Two balls of radius R at distance
+// 2a meet in a circle of radius rho, sqrt(R^2 - a^2); a third of radius R at |w| from the
+// circle's centre in its plane, with |w|^2 + rho^2 = R^2, has E = 0 exactly: the buried
+// interval's ends are antipodal, a pseudo-angle length of 2 that rounding puts a hair either
+// side for some directions (with the 13-84-85 triangle, scaled by 1/16 to stay exact: offsets
+// along (12, 5) and (5, -12)). The 5-12-13 and 13-84-85 triangles, offsets in eight directions
+// each, the three axes as the circle's: the features give the brute force's distance at random
+// points around, and the host field the reference's.
+TEST(SesDistanceHost, HalfTurnBurialsKeepTheirArcs) {
+    std::mt19937 rng(99);
+    struct Triangle {
+        float R, a;           // ball radius, half the distance of the first two
+        float offset[2];      // |offset| = |w|, |w|^2 + (R^2 - a^2) = R^2, i.e. |w| = a
+    };
+    std::vector<Triangle> cases_in;
+    for (float sx : {1.0f, -1.0f})
+        for (float sy : {1.0f, -1.0f})
+            for (bool swap : {false, true}) {
+                const float p = swap ? 4 : 3, q = swap ? 3 : 4;
+                cases_in.push_back({13.0f, 5.0f, {sx * p, sy * q}});
+                const float u = swap ? 12 : 5, v = swap ? 5 : 12;
+                cases_in.push_back({85.0f / 16, 13.0f / 16, {sx * u / 16, sy * v / 16}});
+            }
+    double worst = 0.0;
+    std::size_t cases = 0;
+    for (int axis = 0; axis < 3; ++axis)
+        for (const Triangle& t : cases_in) {
+            // Coordinates (along the axis, first offset, second offset), permuted per axis.
+            auto place = [&](float along, float a, float b) {
+                float c[3];
+                c[axis] = along, c[(axis + 1) % 3] = a, c[(axis + 2) % 3] = b;
+                return std::array<float, 4>{c[0], c[1], c[2], t.R - 1.5f};  // + probe 1.5: R
+            };
+            Atoms atoms;
+            for (const auto& ball : {place(0, 0, 0), place(2 * t.a, 0, 0),
+                                     place(t.a, t.offset[0], t.offset[1])}) {
+                atoms.xyz.insert(atoms.xyz.end(), {ball[0], ball[1], ball[2]});
+                atoms.radius.push_back(ball[3]);
+            }
+            const float probe = 1.5f;
+            const auto features = build_ses_features(atoms, probe);
+            const double d_max = probe + 2.0;
+            std::uniform_real_distribution<double> along(-0.2 * t.R, 2 * t.a + 0.2 * t.R),
+                across(-1.1 * t.R, 1.1 * t.R);
+            for (int k = 0; k < 200; ++k) {
+                double p[3];
+                p[axis] = along(rng), p[(axis + 1) % 3] = across(rng), p[(axis + 2) % 3] = across(rng);
+                const double fast = fdmsurf::detail::ses_distance(features, p, d_max);
+                const double brute = fdmsurf::detail::ses_distance_brute(atoms, probe, p, d_max);
+                worst = std::max(worst, std::abs(fast - brute));
+                ASSERT_NEAR(fast, brute, 1e-4) << "axis " << axis << " R " << t.R << " offset "
+                                               << t.offset[0] << " " << t.offset[1] << " point "
+                                               << p[0] << " " << p[1] << " " << p[2];
+            }
+            const FieldDiff r = host_against_reference(atoms, t.R > 10 ? 1.0f : 0.4f);
+            EXPECT_EQ(r.bad, 0u) << "axis " << axis << ": max |host - cpu| " << r.max_diff;
+            ++cases;
+        }
+    std::printf("  %zu half-turn burials: max |features - brute force| %.3g Å\n", cases, worst);
 }
 
 // The device's pass and the host's on hemoglobin at the default spacing: both within the

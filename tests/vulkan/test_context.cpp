@@ -196,6 +196,12 @@ TEST_F(LazyPipelines, AreMadeAtFirstUseOnly) {
     ComputePipeline late(ctx, code.words, code.bytes, 2, 8, "lazy_scan_2");
     late.make();
     EXPECT_TRUE(late.made());
+    // Moved before it is made, it is still made at first use.
+    ComputePipeline unmade(ctx, code.words, code.bytes, 2, 8, "lazy_scan_3");
+    ComputePipeline taken = std::move(unmade);
+    EXPECT_FALSE(taken.made());
+    EXPECT_NE(taken.handle(), VK_NULL_HANDLE);
+    EXPECT_FALSE(unmade.made());
     EXPECT_THROW(ComputePipeline(ctx, code.words, code.bytes, 2,
                                  ctx.limits().max_push_constants + 4, "too_many_constants"),
                  Error);

@@ -179,7 +179,8 @@ struct EngineOptions {
     // the device's pass): on the host the shader's search in C++ on all threads, the same atoms
     // (docs/performance.md).
     StagePlace vertex_atoms = StagePlace::Auto;
-    // The exact SES field (--method edt; not for make_device_surface's mesh). On the host each
+    // The exact SES field (--method edt; make_device_surface's mesh in one binding keeps the
+    // device's pass, in slabs its mesh goes through the host anyway). On the host each
     // ball and each exposed arc is scattered over the grid points it can be nearest to, on all
     // threads, instead of the device's per-point gather of every candidate: on a CPU device a
     // fraction of the pass's time (docs/performance.md). The same values to float rounding
