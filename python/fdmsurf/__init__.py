@@ -91,12 +91,27 @@ class Engine:
     same time; calls on one engine from several threads are safe and take turns (an internal
     lock). close() (or a `with` block) frees the device early. Raises NoDeviceError when no
     usable Vulkan device exists (install mesa-vulkan-drivers for lavapipe, the CPU device).
+
+    host_filter, host_mc, host_atoms, host_ses: "auto" (default), "on" or "off", as the CLI's
+    --host-filter, --host-mc, --host-atoms and --host-ses: whether the Gaussian filter, marching
+    cubes, each vertex's atom and the exact SES's field run on the host's threads instead of
+    the device's passes; "auto" does so on a CPU device (lavapipe).
     """
 
-    def __init__(self, device=None, validation=False):
+    _PLACES = {"auto": 0, "off": 1, "on": 2}
+
+    def __init__(self, device=None, validation=False, host_filter="auto", host_mc="auto",
+                 host_atoms="auto", host_ses="auto"):
         if isinstance(device, bool) or not (device is None or isinstance(device, (int, str))):
             raise TypeError(f"device must be None, an index or a name, not {device!r}")
-        self._engine = _fdmsurf._Engine("" if device is None else str(device), bool(validation))
+        places = []
+        for name, value in (("host_filter", host_filter), ("host_mc", host_mc),
+                            ("host_atoms", host_atoms), ("host_ses", host_ses)):
+            if not isinstance(value, str) or value.lower() not in self._PLACES:
+                raise ValueError(f"{name} must be 'auto', 'on' or 'off', not {value!r}")
+            places.append(self._PLACES[value.lower()])
+        self._engine = _fdmsurf._Engine("" if device is None else str(device), bool(validation),
+                                        places)
 
     @with_keywords(SURFACE, READ)
     def surface(self, source, radii=None, **keywords):

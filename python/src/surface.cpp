@@ -1,6 +1,7 @@
 // fdmsurf.Engine's compiled half (_Engine), Mesh and SurfaceResult, compare, read_mesh and
 // list_devices. Device work runs with the GIL released; each engine serialises its own calls.
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <mutex>
 
@@ -147,10 +148,20 @@ using Clock = std::chrono::steady_clock;
 // threads compute at the same time.
 class PyEngine {
 public:
-    PyEngine(const std::string& device, bool validation) : validation_(validation) {
+    // places: where the Gaussian filter, marching cubes, the vertex atoms and the exact SES's
+    // field run (EngineOptions; 0 auto, 1 the device, 2 the host).
+    PyEngine(const std::string& device, bool validation, const std::array<int, 4>& places)
+        : validation_(validation) {
         EngineOptions options;
         options.device = device;
         options.validation = validation;
+        auto place = [](int p) {
+            return p == 1 ? StagePlace::Device : p == 2 ? StagePlace::Host : StagePlace::Auto;
+        };
+        options.gaussian_filter = place(places[0]);
+        options.marching_cubes = place(places[1]);
+        options.vertex_atoms = place(places[2]);
+        options.ses_distance = place(places[3]);
         py::gil_scoped_release release;
         engine_ = std::make_unique<Engine>(options);
         info_ = engine_->device();
@@ -440,7 +451,8 @@ is the area. Atoms that own no vertex get 0.)")
         .def("__repr__", [](PySurface& s) { return mesh_repr(s, "SurfaceResult"); });
 
     py::class_<PyEngine>(m, "_Engine")
-        .def(py::init<const std::string&, bool>(), py::arg("device"), py::arg("validation"))
+        .def(py::init<const std::string&, bool, const std::array<int, 4>&>(), py::arg("device"),
+             py::arg("validation"), py::arg("places"))
         .def("surface", &PyEngine::surface, py::arg("structure"), py::arg("options"))
         .def_property_readonly("device", &PyEngine::device)
         .def("take_validation_messages", &PyEngine::take_validation_messages)

@@ -321,6 +321,26 @@ def test_structure_views_subsets_and_selections(data):
     assert "2 atoms" in repr(own)
 
 
+def test_engine_places_its_stages(engine, data):
+    # The CLI's --host-filter/--host-mc/--host-atoms/--host-ses: "on" and "off" whatever the
+    # device, "auto" (the engine fixture's) on the host exactly on a CPU device.
+    with fdmsurf.Engine(host_ses="off", host_mc="on") as e:
+        r = e.surface(data / "1crn.xyzr", method="edt", spacing=1.0)
+        assert r.grid["host_ses_distance"] is False and "ses-distance" in r.times
+        assert r.grid["host_marching_cubes"] is True and "mc-host" in r.times
+    with fdmsurf.Engine(host_ses="ON", host_mc="off", host_atoms="off") as e:
+        r = e.surface(data / "1crn.xyzr", method="edt", spacing=1.0)
+        assert r.grid["host_ses_distance"] is True and "ses-host" in r.times
+        assert r.grid["host_marching_cubes"] is False and "mc-host" not in r.times
+        same = engine.surface(data / "1crn.xyzr", method="edt", spacing=1.0)
+        assert r.triangle_count == same.triangle_count
+        assert r.area == pytest.approx(same.area, rel=1e-6)
+    with pytest.raises(ValueError, match="host_mc"):
+        fdmsurf.Engine(host_mc="gpu")
+    with pytest.raises(ValueError, match="host_ses"):
+        fdmsurf.Engine(host_ses=True)
+
+
 def test_compare_and_read_mesh(engine, data, tmp_path):
     result = engine.surface(data / "1crn.pdb")
     result.write(tmp_path / "1crn.ply")

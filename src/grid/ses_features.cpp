@@ -305,7 +305,7 @@ SesFeatures build_ses_features(const Atoms& atoms, float probe) {
             f.neighbour_start[s + 1] = f.neighbour_start[s] + (nb_start[order[s] + 1] - nb_start[order[s]]);
         f.neighbours.resize(nb.size());
         for (std::size_t s = 0; s < n; ++s) {
-            std::uint32_t* out = &f.neighbours[f.neighbour_start[s]];
+            std::uint32_t* out = f.neighbours.data() + f.neighbour_start[s];  // may be empty
             for (std::uint32_t q = nb_start[order[s]]; q < nb_start[order[s] + 1]; ++q)
                 *out++ = sphere_of[nb[q]];
         }
