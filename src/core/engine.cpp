@@ -129,6 +129,15 @@ bool EngineImpl::gaussian_on_host(const SurfaceOptions& options, const GridPlan&
             gaussian_sigma_points(plan.info.cutoff, plan.info.spacing) >= kMinHostSigma);
 }
 
+namespace {
+
+// Bytes of the machine's memory (not positive where sysconf cannot tell).
+double physical_memory() {
+    return double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
+}
+
+}  // namespace
+
 // The largest field the host computes and marches in one piece (the exact SES on the host): 1 GiB
 // (1AON at 0.5 Å takes 150 MB; the 4YVS assembly's 1.3 GB goes through slabs).
 constexpr std::uint64_t kHostFieldBudget = std::uint64_t(1) << 30;
@@ -157,8 +166,7 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
     // to a few cores of planes.
     const bool host_field_only = plan.exact_ses && !on_device && on_host(ses_distance_place) &&
                                  on_host(marching_cubes_place);
-    const double host_memory =
-        double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
+    const double host_memory = physical_memory();
     const double limit =
         host_field_only
             ? std::min({double(kHostFieldBudget), host_memory / 8.0,
@@ -432,7 +440,7 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
     const double host_field = gather_field
                                   ? double(d[0]) * d[1] * d[2] * sizeof(float)
                                   : 3.0 * double(core + 3) * double(mc_plane_bytes);
-    const double host_memory = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
+    const double host_memory = physical_memory();
     if (host_memory > 0 && host_field > 0.5 * host_memory) {
         char figures[160];
         std::snprintf(figures, sizeof figures, "%.1f GiB of host memory, more than half of this machine's %.1f GiB",

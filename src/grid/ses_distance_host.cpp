@@ -42,6 +42,13 @@ int last_at_or_below(double v, double lo, double h, int n) {
     return static_cast<int>(std::clamp(t, -1.0, double(n - 1)));
 }
 
+// The bin of `f` holding coordinate x along axis a, clamped to the bins (as the shaders' and
+// the reference's lookups are).
+int bin_cell(const SesFeatures& f, int a, double x) {
+    return static_cast<int>(
+        std::clamp(std::floor((x - f.origin[a]) / f.bin_size), 0.0, double(f.dims[a] - 1)));
+}
+
 }  // namespace
 
 // An exposed arc with what its distance needs precomputed (double precision): the angle test
@@ -260,12 +267,8 @@ SesHostField::SesHostField(const SesFeatures& f, double d_max, unsigned threads)
     // last bin too).
     auto bin_range = [&](const Box& box, int lo[3], int hi[3]) {
         for (int a = 0; a < 3; ++a) {
-            auto cell = [&](double x) {
-                return static_cast<int>(std::clamp(std::floor((x - f.origin[a]) / f.bin_size), 0.0,
-                                                   double(f.dims[a] - 1)));
-            };
-            lo[a] = cell(double(box.lo[a]) - reach_);
-            hi[a] = cell(double(box.hi[a]) + reach_);
+            lo[a] = bin_cell(f, a, double(box.lo[a]) - reach_);
+            hi[a] = bin_cell(f, a, double(box.hi[a]) + reach_);
         }
     };
     bin_arc_start_.assign(bins + 1, 0);
@@ -295,17 +298,22 @@ double SesHostField::distance(const double p[3], double d_max, double* gradient)
     auto set_gradient = [&](double x, double y, double z) {
         if (gradient) gradient[0] = x, gradient[1] = y, gradient[2] = z;
     };
+    // The unit direction from the nearest point q to p (0 where they coincide).
+    auto gradient_from = [&](const double q[3]) {
+        const double w[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
+        const double l = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+        if (l > 0.0)
+            set_gradient(w[0] / l, w[1] / l, w[2] / l);
+        else
+            set_gradient(0, 0, 0);
+    };
     if (!(d_max <= reach_)) return ses_distance(f_, p, d_max, gradient, false);
     const float* s = f_.spheres.data();
     int lo[3], hi[3], bin[3];
     for (int a = 0; a < 3; ++a) {
-        auto cell = [&](double x) {
-            return static_cast<int>(std::clamp(std::floor((x - f_.origin[a]) / f_.bin_size), 0.0,
-                                               double(f_.dims[a] - 1)));
-        };
-        lo[a] = cell(p[a] - f_.r_max);
-        hi[a] = cell(p[a] + f_.r_max);
-        bin[a] = cell(p[a]);
+        lo[a] = bin_cell(f_, a, p[a] - f_.r_max);
+        hi[a] = bin_cell(f_, a, p[a] + f_.r_max);
+        bin[a] = bin_cell(f_, a, p[a]);
     }
     // The balls holding p, as the reference's depth loop (which also sees farther balls, whose
     // depth is negative: the same deepest, the same ties, where one ball holds p).
@@ -351,12 +359,7 @@ double SesHostField::distance(const double p[3], double d_max, double* gradient)
             buried = wx * wx + wy * wy + wz * wz < Rk * Rk;
         }
         if (!buried) {
-            const double w[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
-            const double l = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
-            if (l > 0.0)
-                set_gradient(w[0] / l, w[1] / l, w[2] / l);
-            else
-                set_gradient(0, 0, 0);
+            gradient_from(q);
             return lb;
         }
     }
@@ -381,12 +384,7 @@ double SesHostField::distance(const double p[3], double d_max, double* gradient)
     if (gradient) {
         double q[3];
         best_arc->nearest(p, q);
-        const double w[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
-        const double l = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
-        if (l > 0.0)
-            set_gradient(w[0] / l, w[1] / l, w[2] / l);
-        else
-            set_gradient(0, 0, 0);
+        gradient_from(q);
     }
     return best;
 }

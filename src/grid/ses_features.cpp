@@ -342,31 +342,34 @@ SesFeatures build_ses_features(const Atoms& atoms, float probe) {
                 const V3 e2 = cross(u, e1);
                 ++out.circles;
                 buried.clear();
-                bool all_buried = false;
+                // What ball k does to the circle: with w = m - c_k,
+                // |P(theta) - c_k|^2 = |w|^2 + rho^2 + 2 rho (A cos theta + B sin theta) < R_k^2.
+                struct Cut {
+                    double A, B, M, E;
+                    bool misses, covers;  // no point inside ball k; every point inside it
+                };
+                auto cut_by = [&](std::uint32_t k) {
+                    const V3 w = m - c[k];
+                    Cut cut{dot(w, e1), dot(w, e2), 0.0, R[k] * R[k] - dot(w, w) - rho2, false, false};
+                    cut.M = std::sqrt(cut.A * cut.A + cut.B * cut.B);
+                    cut.misses = cut.E <= -2.0 * rho * cut.M;
+                    cut.covers = !cut.misses && cut.E >= 2.0 * rho * cut.M;
+                    return cut;
+                };
+                bool all_buried = last_burier != std::numeric_limits<std::uint32_t>::max() &&
+                                  last_burier != j && cut_by(last_burier).covers;
                 CoverBins cover;
-                if (last_burier != std::numeric_limits<std::uint32_t>::max() && last_burier != j) {
-                    const V3 w = m - c[last_burier];
-                    const double A = dot(w, e1), B = dot(w, e2);
-                    const double E = R[last_burier] * R[last_burier] - dot(w, w) - rho2;
-                    const double M = std::sqrt(A * A + B * B);
-                    // As the loop below decides: not where no point is inside the ball first.
-                    all_buried = E > -2.0 * rho * M && E >= 2.0 * rho * M;
-                }
                 for (std::uint32_t t = nb_start[i]; t < nb_start[i + 1] && !all_buried; ++t) {
                     const std::uint32_t k = nb[t];
                     if (k == j) continue;
-                    const V3 w = m - c[k];
-                    // |P(theta) - c_k|^2 = |w|^2 + rho^2 + 2 rho (A cos theta + B sin theta) <
-                    // R_k^2
-                    const double A = dot(w, e1), B = dot(w, e2);
-                    const double M = std::sqrt(A * A + B * B);
-                    const double E = R[k] * R[k] - dot(w, w) - rho2;
-                    if (E <= -2.0 * rho * M) continue;  // no point inside ball k
-                    if (E >= 2.0 * rho * M) {
+                    const Cut cut = cut_by(k);
+                    if (cut.misses) continue;
+                    if (cut.covers) {
                         all_buried = true;
                         last_burier = k;
                         break;
                     }
+                    const double A = cut.A, B = cut.B, M = cut.M, E = cut.E;
                     // Buried where cos(theta - phi) < t, phi the angle of (A, B): from phi + open
                     // to phi - open + 2 pi, open = acos t. The ends as directions (rotations of
                     // (A, B) / M by +-open), ordered by their pseudo-angles: no trigonometry

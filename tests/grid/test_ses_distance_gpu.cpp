@@ -16,6 +16,7 @@
 #include "grid/ses_features.hpp"
 #include "shader_interface.h"
 #include "support/gpu_fixture.hpp"
+#include "support/ses_field_diff.hpp"
 #include "support/test_data.hpp"
 
 namespace {
@@ -28,35 +29,8 @@ using fdmsurf::detail::plan_grid;
 
 using fdmsurf::test::data_path;
 
-// Tolerance: the shader works in float. Coordinates are ~30 Å from the origin (float ulp ~2e-6
-// Å), |p - c| and the arc distance (sqrt of sums of squares of terms up to ~6 Å) lose a few ulps
-// each, and the float atan and sin of the arc angle are good to ~1e-6 rad over a radius of
-// at most ~3.3 Å: |gpu - cpu| <= 5e-5 Å. A burial decided differently in float and double
-// (a projection within ~1e-5 Å of another sphere) changes d by less than that too: where a face
-// point is barely buried, the nearest arc point is next to it.
-constexpr double kTolerance = 5e-5;
-
-struct FieldDiff {
-    std::size_t points = 0, band = 0, bad = 0;
-    double max_diff = 0.0;
-};
-
-FieldDiff compare(const std::vector<float>& gpu, const std::vector<float>& cpu,
-                  const GridPlan& plan) {
-    FieldDiff r;
-    const auto& d = plan.info.dims;
-    for (std::uint32_t z = 0; z < d[2]; ++z)
-        for (std::uint32_t y = 0; y < d[1]; ++y)
-            for (std::uint32_t x = 0; x < d[0]; ++x) {
-                const std::size_t i = (std::size_t(z) * d[1] + y) * plan.pitch + x;
-                const double diff = std::abs(double(gpu[i]) - cpu[i]);
-                ++r.points;
-                r.band += cpu[i] > plan.ses_d_min && cpu[i] < plan.ses_d_max;
-                r.max_diff = std::max(r.max_diff, diff);
-                r.bad += !(diff <= kTolerance);
-            }
-    return r;
-}
+using fdmsurf_test::compare_ses_fields;
+using FieldDiff = fdmsurf_test::SesFieldDiff;
 
 class SesDistanceGpu : public GpuTest {
 protected:
@@ -72,7 +46,7 @@ TEST_F(SesDistanceGpu, MatchesCpuReferenceOnCrambin) {
     const std::vector<float> cpu = fdmsurf::detail::ses_field_cpu(features, plan);
     const std::vector<float> gpu = impl().compute_ses_field(atoms, plan, options.probe);
     ASSERT_EQ(gpu.size(), cpu.size());
-    const FieldDiff r = compare(gpu, cpu, plan);
+    const FieldDiff r = compare_ses_fields(gpu, cpu, plan);
     std::printf("  ses field: %zu points, %zu in the band, max |gpu - cpu| %.3g Å\n", r.points,
                 r.band, r.max_diff);
     EXPECT_EQ(r.bad, 0u) << "max |gpu - cpu| " << r.max_diff;
@@ -88,7 +62,7 @@ TEST_F(SesDistanceGpu, PerPointFallbackMatchesTheSharedLists) {
     const std::vector<float> global = impl().compute_ses_field(atoms, plan, options.probe, true);
     const auto features = fdmsurf::detail::build_ses_features(atoms, options.probe);
     const std::vector<float> cpu = fdmsurf::detail::ses_field_cpu(features, plan);
-    const FieldDiff a = compare(global, cpu, plan), b = compare(shared, cpu, plan);
+    const FieldDiff a = compare_ses_fields(global, cpu, plan), b = compare_ses_fields(shared, cpu, plan);
     EXPECT_EQ(a.bad, 0u) << "fallback: max |gpu - cpu| " << a.max_diff;
     EXPECT_EQ(b.bad, 0u) << "shared lists: max |gpu - cpu| " << b.max_diff;
 }
@@ -127,7 +101,7 @@ TEST_F(SesDistanceGpu, CoarseGridsOverflowIntoTheFallbackAndStayExact) {
     EXPECT_GT(gathered, fdmsurf::detail::shader::kSesSphereCapacity);
     const std::vector<float> cpu = fdmsurf::detail::ses_field_cpu(features, plan);
     const std::vector<float> gpu = impl().compute_ses_field(atoms, plan, options.probe);
-    const FieldDiff r = compare(gpu, cpu, plan);
+    const FieldDiff r = compare_ses_fields(gpu, cpu, plan);
     EXPECT_EQ(r.bad, 0u) << "max |gpu - cpu| " << r.max_diff;
 }
 

@@ -18,6 +18,7 @@
 #include "grid/ses_distance_host.hpp"
 #include "grid/ses_features.hpp"
 #include "support/gpu_fixture.hpp"
+#include "support/ses_field_diff.hpp"
 #include "support/mesh_checks.hpp"
 #include "support/test_atoms.hpp"
 #include "support/test_data.hpp"
@@ -33,30 +34,9 @@ using fdmsurf::detail::plan_grid;
 using fdmsurf::detail::SesHostField;
 using fdmsurf::test::data_path;
 
-// The GPU test's tolerance (test_ses_distance_gpu.cpp): the host works in float like the shader
-// for the depths and burial tests, in double for the arcs, with another summation order.
-constexpr double kTolerance = 5e-5;
-
-struct FieldDiff {
-    std::size_t points = 0, band = 0, bad = 0;
-    double max_diff = 0.0;
-};
-
-FieldDiff compare(const std::vector<float>& a, const std::vector<float>& b, const GridPlan& plan) {
-    FieldDiff r;
-    const auto& d = plan.info.dims;
-    for (std::uint32_t z = 0; z < d[2]; ++z)
-        for (std::uint32_t y = 0; y < d[1]; ++y)
-            for (std::uint32_t x = 0; x < d[0]; ++x) {
-                const std::size_t i = (std::size_t(z) * d[1] + y) * plan.pitch + x;
-                const double diff = std::abs(double(a[i]) - b[i]);
-                ++r.points;
-                r.band += b[i] > plan.ses_d_min && b[i] < plan.ses_d_max;
-                r.max_diff = std::max(r.max_diff, diff);
-                r.bad += !(diff <= kTolerance);
-            }
-    return r;
-}
+using fdmsurf_test::compare_ses_fields;
+using FieldDiff = fdmsurf_test::SesFieldDiff;
+constexpr double kTolerance = fdmsurf_test::kSesFieldTolerance;
 
 FieldDiff host_against_reference(const Atoms& atoms, float spacing, unsigned threads = 0) {
     const SurfaceOptions options{.method = SesMethod::Edt, .spacing = spacing};
@@ -66,7 +46,7 @@ FieldDiff host_against_reference(const Atoms& atoms, float spacing, unsigned thr
     const std::vector<float> cpu = fdmsurf::detail::ses_field_cpu(features, plan);
     const std::vector<float> host = SesHostField(features, 10.0, threads).field(plan);
     EXPECT_EQ(host.size(), cpu.size());
-    const FieldDiff r = compare(host, cpu, plan);
+    const FieldDiff r = compare_ses_fields(host, cpu, plan);
     std::printf("  %.2f Å: %zu points, %zu in the band, max |host - cpu| %.3g Å\n", spacing,
                 r.points, r.band, r.max_diff);
     return r;
@@ -365,7 +345,7 @@ TEST_F(SesDistanceHostGpu, MatchesTheDevicesPassOnHemoglobin) {
     const std::vector<float> gpu = impl().compute_ses_field(atoms, plan, options.probe);
     const std::vector<float> host = SesHostField(features, plan.ses_d_max).field(plan);
     ASSERT_EQ(gpu.size(), host.size());
-    FieldDiff r = compare(host, gpu, plan);
+    FieldDiff r = compare_ses_fields(host, gpu, plan);
     std::printf("  %zu points, %zu in the band, max |host - gpu| %.3g Å\n", r.points, r.band,
                 r.max_diff);
     EXPECT_LE(r.max_diff, 2 * kTolerance);
