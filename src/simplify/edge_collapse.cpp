@@ -66,6 +66,15 @@ inline Index bucket_of(double cost) {
     return c > 0 ? std::min<Index>(std::bit_cast<std::uint32_t>(c) >> 20, Index{kBuckets - 1}) : 0;
 }
 
+// A triangle's plane, from which each corner's vertex adds up its quadric: the normal
+// n = (b - a) x (c - a), the offset d = -n.a, f = 1 / (2 |n|) (its quadric's scale: the area
+// times the plane quadric of the unit normal) and the area w = |n| / 2, not positive for a
+// degenerate triangle.
+struct Plane {
+    double n[3];
+    double d, f, w;
+};
+
 // The working state, kept per thread from region to region (its memory, not its contents).
 struct Collapser {
     const float* pos = nullptr;
@@ -77,6 +86,7 @@ struct Collapser {
     std::vector<std::uint8_t> stuck;  // no valid collapse when last tried
     std::vector<Quadric> quadric;
     std::vector<std::array<float, 3>> normal;  // per vertex: the input's area-weighted normal
+    std::vector<Plane> plane;                  // per triangle, for the quadrics
     std::vector<Index> best;  // per vertex: the neighbour of its cheapest collapse, and its cost
     std::vector<double> best_cost;
     // The queue: per bucket a doubly linked list of vertices, and a bit per non-empty bucket.
@@ -263,57 +273,47 @@ struct Collapser {
     }
 };
 
-// Per vertex from its corners (next and previous vertex of each): interior when they chain
-// (each corner's next the previous of exactly one other) into one closed fan, border when into
-// one open fan, else locked.
-void classify(const Collapser& s, std::size_t vertex_count, std::vector<Kind>& kind) {
-    kind.assign(vertex_count, Kind::kLocked);
-    constexpr std::size_t kMaxStar = 64;  // more corners at one vertex: locked
-    std::array<std::array<Index, 2>, kMaxStar> star;
-    for (std::size_t v = 0; v < vertex_count; ++v) {
-        const std::size_t n = s.count[v];
-        if (n == 0 || n > kMaxStar) continue;
-        for (std::size_t i = 0; i < n; ++i) {
-            const Index c = s.arena[s.first[v] + i];
-            star[i] = {s.tri[Collapser::after_corner(c)], s.tri[Collapser::before_corner(c)]};
+// A vertex's kind from its corners' (next, previous) vertices: interior when they chain (each
+// corner's next the previous of exactly one other) into one closed fan, border when into one
+// open fan, else locked.
+constexpr std::size_t kMaxStar = 64;  // more corners at one vertex: locked
+using Star = std::array<std::array<Index, 2>, kMaxStar>;
+
+Kind classify(const Star& star, std::size_t n) {
+    if (n == 0 || n > kMaxStar) return Kind::kLocked;
+    // One closed fan: from corner 0, the corner whose previous vertex is this one's next, and
+    // so on, back at corner 0 after exactly n steps (each corner met once).
+    std::size_t i = 0, steps = 0;
+    do {
+        std::size_t j = 0;
+        while (j < n && star[j][1] != star[i][0]) ++j;
+        if (j == n) break;
+        i = j;
+    } while (++steps < n && i != 0);
+    if (i == 0 && steps == n) return Kind::kInterior;
+    // One open fan: every side used once, one corner starts the chain, which meets all.
+    bool simple = true;
+    std::size_t ends = 0, starts = 0, start = 0;
+    for (i = 0; i < n && simple; ++i) {
+        std::size_t matches = 0, back = 0;
+        for (std::size_t j = 0; j < n; ++j) {
+            matches += star[j][1] == star[i][0];
+            back += star[j][0] == star[i][1];
+            if (j != i && star[j][0] == star[i][0]) simple = false;
         }
-        // One closed fan: from corner 0, the corner whose previous vertex is this one's next,
-        // and so on, back at corner 0 after exactly n steps (each corner met once).
-        std::size_t i = 0, steps = 0;
-        do {
-            std::size_t j = 0;
-            while (j < n && star[j][1] != star[i][0]) ++j;
-            if (j == n) break;
-            i = j;
-        } while (++steps < n && i != 0);
-        if (i == 0 && steps == n) {
-            kind[v] = Kind::kInterior;
-            continue;
-        }
-        // One open fan: every side used once, one corner starts the chain, which meets all.
-        bool simple = true;
-        std::size_t ends = 0, starts = 0, start = 0;
-        for (i = 0; i < n && simple; ++i) {
-            std::size_t matches = 0, back = 0;
-            for (std::size_t j = 0; j < n; ++j) {
-                matches += star[j][1] == star[i][0];
-                back += star[j][0] == star[i][1];
-                if (j != i && star[j][0] == star[i][0]) simple = false;
-            }
-            if (matches > 1 || back > 1) simple = false;
-            ends += matches == 0;
-            if (back == 0) ++starts, start = i;
-        }
-        if (!simple || ends != 1 || starts != 1) continue;
-        std::size_t walked = 1;
-        for (i = start; walked < n; ++walked) {
-            std::size_t j = 0;
-            while (j < n && star[j][1] != star[i][0]) ++j;
-            if (j == n) break;
-            i = j;
-        }
-        if (walked == n) kind[v] = Kind::kBorder;
+        if (matches > 1 || back > 1) simple = false;
+        ends += matches == 0;
+        if (back == 0) ++starts, start = i;
     }
+    if (!simple || ends != 1 || starts != 1) return Kind::kLocked;
+    std::size_t walked = 1;
+    for (i = start; walked < n; ++walked) {
+        std::size_t j = 0;
+        while (j < n && star[j][1] != star[i][0]) ++j;
+        if (j == n) break;
+        i = j;
+    }
+    return walked == n ? Kind::kBorder : Kind::kLocked;
 }
 
 }  // namespace
@@ -344,52 +344,73 @@ std::vector<Index> collapse_edges(const std::vector<float>& positions,
         fill.assign(s.first.begin(), s.first.end());
         for (std::size_t c = 0; c < corners; ++c) s.arena[fill[s.tri[c]]++] = Index(c);
     }
-    classify(s, nv, s.kind);
-    // The corners of the fixed triangles stay where they are (collapses may end there).
-    for (std::size_t c = indices.size(); c < corners; ++c) {
-        if (s.kind[s.tri[c]] == Kind::kInterior) s.kind[s.tri[c]] = Kind::kBorder;
-    }
-    s.quadric.assign(nv, Quadric{});
-    s.normal.assign(nv, {0.0f, 0.0f, 0.0f});
+    // Each triangle's plane, in one sweep.
+    s.plane.resize(triangles);
     for (std::size_t t = 0; t < triangles; ++t) {
         const float *a = s.p(s.tri[3 * t]), *b = s.p(s.tri[3 * t + 1]), *c = s.p(s.tri[3 * t + 2]);
         const auto n = cross(a, b, c);
+        Plane& pl = s.plane[t];
+        pl.n[0] = n[0], pl.n[1] = n[1], pl.n[2] = n[2];
         const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-        if (!(len > 0)) continue;
-        // The area (len / 2) times the plane's quadric for the unit normal n / len.
-        const double f = 0.5 / len, d = -(n[0] * a[0] + n[1] * a[1] + n[2] * a[2]);
-        Quadric q;
-        q.a00 = f * n[0] * n[0], q.a01 = f * n[0] * n[1], q.a02 = f * n[0] * n[2];
-        q.a11 = f * n[1] * n[1], q.a12 = f * n[1] * n[2], q.a22 = f * n[2] * n[2];
-        q.b0 = f * d * n[0], q.b1 = f * d * n[1], q.b2 = f * d * n[2];
-        q.c = f * d * d, q.w = 0.5 * len;
-        for (int k = 0; k < 3; ++k) {
-            s.quadric[s.tri[3 * t + k]].add(q);
-            for (int j = 0; j < 3; ++j) s.normal[s.tri[3 * t + k]][j] += static_cast<float>(n[j]);
-        }
+        pl.d = -(n[0] * a[0] + n[1] * a[1] + n[2] * a[2]);
+        pl.f = 0.5 / len;
+        pl.w = len > 0 ? 0.5 * len : 0.0;
     }
+    s.quadric.resize(nv);
+    s.normal.resize(nv);
+    s.kind.resize(nv);
     s.stuck.assign(nv, 0);
     s.mark.assign(nv, 0);
     s.token = 0;
     s.best.assign(nv, kNone);
+    s.best_cost.assign(nv, std::numeric_limits<double>::infinity());
     std::fill(s.bucket_head.begin(), s.bucket_head.end(), kNone);
     s.in_bucket.assign(nv, kNone);
     s.before.resize(nv);
     s.after.resize(nv);
     s.filled.fill(0);
     s.queued = 0;
-    // Every movable vertex's cheapest collapse, in one sweep over the corners (each neighbour of
-    // a vertex inside the surface follows exactly one of its corners).
-    s.best_cost.assign(nv, std::numeric_limits<double>::infinity());
-    for (std::size_t c = 0; c < corners; ++c) {
-        const Index u = s.tri[c];
-        if (s.kind[u] != Kind::kInterior) continue;
-        const Index n = s.tri[Collapser::after_corner(Index(c))];
-        const double cost = s.cost(u, n);
-        if (cost < s.best_cost[u]) s.best_cost[u] = cost, s.best[u] = n;
-    }
-    for (Index u = 0; u < nv; ++u) {
-        if (s.kind[u] == Kind::kInterior) s.queue(u, s.best[u], s.best_cost[u]);
+    // Then each vertex in one visit of its corners (in triangle order): its kind, its quadric
+    // (the area times the plane quadric of the unit normal, summed over its triangles) and its
+    // input normal, and, when it may move, its cheapest collapse (each neighbour of a vertex
+    // inside the surface follows exactly one of its corners), queued.
+    const Index own_corners = static_cast<Index>(indices.size());
+    Star star;
+    for (std::size_t v = 0; v < nv; ++v) {
+        const Index* list = s.arena.data() + s.first[v];
+        const std::size_t n = s.count[v];
+        Quadric q;
+        std::array<float, 3> normal{0.0f, 0.0f, 0.0f};
+        bool on_fixed = false;
+        for (std::size_t i = 0; i < n; ++i) {
+            const Index c = list[i];
+            on_fixed |= c >= own_corners;
+            if (i < kMaxStar) {
+                star[i] = {s.tri[Collapser::after_corner(c)], s.tri[Collapser::before_corner(c)]};
+            }
+            const Plane& pl = s.plane[c / 3];
+            if (!(pl.w > 0)) continue;
+            const double f = pl.f, x = pl.n[0], y = pl.n[1], z = pl.n[2], d = pl.d;
+            q.a00 += f * x * x, q.a01 += f * x * y, q.a02 += f * x * z;
+            q.a11 += f * y * y, q.a12 += f * y * z, q.a22 += f * z * z;
+            q.b0 += f * d * x, q.b1 += f * d * y, q.b2 += f * d * z;
+            q.c += f * d * d, q.w += pl.w;
+            for (int j = 0; j < 3; ++j) normal[j] += static_cast<float>(pl.n[j]);
+        }
+        s.quadric[v] = q;
+        s.normal[v] = normal;
+        Kind kind = classify(star, n);
+        // The corners of the fixed triangles stay where they are (collapses may end there).
+        if (on_fixed && kind == Kind::kInterior) kind = Kind::kBorder;
+        s.kind[v] = kind;
+        if (kind != Kind::kInterior) continue;
+        double best = std::numeric_limits<double>::infinity();
+        Index into = kNone;
+        for (std::size_t i = 0; i < n; ++i) {
+            const double cost = q.w > 0 ? q.at(s.p(star[i][0])) / q.w : 0.0;
+            if (cost < best) best = cost, into = star[i][0];
+        }
+        s.queue(Index(v), into, best);
     }
     const double limit =
         std::isinf(max_error) ? std::numeric_limits<double>::infinity() : max_error * max_error;
