@@ -4,11 +4,17 @@
 // src/simplify/ can be timed without the surface's noise (docs/performance.md, simplification).
 //
 //   build/fdmsurf_bench_simplify MESH [--ratio 0.1] [--reps 3] [--no-distance]
-//                                [--simplifier collapse|meshopt]
+//                                [--simplifier collapse|meshopt] [--whole-meshopt]
+//
+// --whole-meshopt times, as a reference, one meshopt_simplify call on the whole mesh instead:
+// meshoptimizer 0.18 on one thread, with no regions and no topology check (what a caller that
+// hands the mesh to the library directly gets; simplify_mesh cannot return this result, which
+// may pinch necks).
 #include <sys/resource.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -18,6 +24,8 @@
 
 #include "fdmsurf/compare.hpp"
 #include "fdmsurf/simplify.hpp"
+
+#include <meshoptimizer.h>
 
 using namespace fdmsurf;
 
@@ -44,8 +52,11 @@ int main(int argc, char** argv) try {
     options.ratio = 0.1;
     options.measure_distance = true;
     int reps = 3;
+    bool whole_meshopt = false;
     for (int i = 2; i < argc; ++i) {
-        if (!std::strcmp(argv[i], "--no-distance"))
+        if (!std::strcmp(argv[i], "--whole-meshopt"))
+            whole_meshopt = true;
+        else if (!std::strcmp(argv[i], "--no-distance"))
             options.measure_distance = false;
         else if (!std::strcmp(argv[i], "--ratio") && i + 1 < argc)
             options.ratio = std::strtod(argv[++i], nullptr);
@@ -63,6 +74,32 @@ int main(int argc, char** argv) try {
         }
     }
     const Mesh mesh = read_mesh_any(argv[1]);
+    if (whole_meshopt) {
+        const std::size_t target =
+            3 * std::max<std::size_t>(1, std::size_t(std::llround(options.ratio *
+                                                                  double(mesh.triangle_count()))));
+        std::vector<std::uint32_t> out(mesh.indices.size());
+        std::vector<double> wall, cpu;
+        std::size_t kept = 0;
+        for (int r = 0; r < reps; ++r) {
+            const double c0 = cpu_seconds();
+            const auto t0 = std::chrono::steady_clock::now();
+            kept = meshopt_simplify(out.data(), mesh.indices.data(), mesh.indices.size(),
+                                    mesh.positions.data(), mesh.vertex_count(), 3 * sizeof(float),
+                                    target, 1.0f);
+            wall.push_back(
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                    .count());
+            cpu.push_back(1e3 * (cpu_seconds() - c0));
+        }
+        std::sort(wall.begin(), wall.end());
+        std::sort(cpu.begin(), cpu.end());
+        std::printf("%s: %zu -> %zu triangles (target %zu), one meshopt_simplify call on the whole "
+                    "mesh, no topology check\nmedian of %d: %.0f ms wall, %.0f ms CPU\n",
+                    argv[1], mesh.triangle_count(), kept / 3, target / 3, reps,
+                    wall[wall.size() / 2], cpu[cpu.size() / 2]);
+        return 0;
+    }
     std::vector<double> wall, cpu, stage;
     SimplifyReport report;
     std::size_t out_triangles = 0;
