@@ -16,6 +16,7 @@ SurfaceKind = Literal["ses", "vdw", "sas"]
 Method = Literal["fdm", "edt"]
 Filter = Literal["gaussian", "ideal"]
 Simplifier = Literal["collapse", "meshopt"]
+Place = Literal["auto", "on", "off"]
 InputFormat = Optional[Literal["pdb", "cif", "mmcif", "pqr", "xyzr", "xyzrn"]]
 
 class Error(Exception):
@@ -130,7 +131,9 @@ class SurfaceResult(Mesh):
     def atom_areas(self) -> npt.NDArray[np.float64]: ...
 
 class Engine:
-    def __init__(self, device: Union[None, int, str] = None, validation: bool = False) -> None: ...
+    def __init__(self, device: Union[None, int, str] = None, validation: bool = False,
+                 host_filter: Place = "auto", host_mc: Place = "auto",
+                 host_atoms: Place = "auto", host_ses: Place = "auto") -> None: ...
     def surface(self, source: Source, radii: Optional[ArrayLike] = None, *,
                 surface: SurfaceKind = "ses", method: Method = "fdm", spacing: float = 0.5,
                 probe: float = 1.4, cutoff: float = 0.0, sigma: float = 3.0,

@@ -426,6 +426,39 @@ def test_stubs_declare_the_api():
     surface = next(n for n in engine.body if getattr(n, "name", "") == "surface")
     stubbed = [a.arg for a in surface.args.kwonlyargs]
     assert stubbed == list(inspect.signature(fdmsurf.Engine.surface).parameters)[3:]
+    # Every stubbed function and method written in Python takes the parameters its stub names,
+    # in the same order (Engine.__init__ once lacked the host_* places).
+    def names(args):
+        listed = [x.arg for x in args.posonlyargs + args.args]
+        listed += [args.vararg.arg] if args.vararg else []
+        listed += [x.arg for x in args.kwonlyargs]
+        return listed + ([args.kwarg.arg] if args.kwarg else [])
+
+    checked = []
+    for owner, nodes in [(fdmsurf, stub.body)] + [
+            (getattr(fdmsurf, c.name, None), c.body) for c in stub.body
+            if isinstance(c, ast.ClassDef)]:
+        for node in nodes:
+            if not isinstance(node, ast.FunctionDef) or owner is None:
+                continue
+            runtime = getattr(owner, node.name, None)
+            if not (inspect.isfunction(runtime) or isinstance(runtime, property)):
+                continue  # compiled (no signature) or not a plain function
+            if isinstance(runtime, property):
+                runtime = runtime.fget
+                if not inspect.isfunction(runtime):
+                    continue
+            where = f"{getattr(owner, '__name__', owner)}.{node.name}"
+            params = inspect.signature(runtime).parameters
+            if node.args.kwarg and not any(p.kind == p.VAR_KEYWORD for p in params.values()):
+                # `**keywords` in a stub stands for the runtime's keyword-only options.
+                listed = names(node.args)[:-1]
+                assert listed == list(params)[:len(listed)], where
+                assert all(p.kind == p.KEYWORD_ONLY for p in list(params.values())[len(listed):])
+            else:
+                assert names(node.args) == list(params), where
+            checked.append(node.name)
+    assert "__init__" in checked and "surface" in checked
 
 
 def test_devices_and_version(engine, cli):

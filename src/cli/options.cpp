@@ -949,7 +949,7 @@ Surface:
                          for fdm, remove the cavities no probe sphere fits in; for
                          edt, vdw and sas keep all)
   --padding P            empty space around the atoms, Å (>= 0; default one filter
-                         wavelength 1/F for ses, 1 Å for vdw and sas)
+                         wavelength 1/F for fdm, 1 Å for edt, vdw and sas)
   --refine N             refine the mesh N times (0 to 4, default 0): each level
                          splits every triangle into four (modified butterfly) and
                          moves the new vertices onto the surface (the filtered
