@@ -220,6 +220,19 @@ inline void times_json(JsonWriter& w, const RunReport& r) {
     w.end_array();
 }
 
+// The stages that ran on the host's threads instead of the device (EngineOptions' places), as
+// "exact SES field, Gaussian filter and marching cubes"; empty when none did.
+inline std::string host_stages(const GridInfo& g) {
+    std::vector<std::string> on_host;
+    if (g.host_ses_distance) on_host.push_back("exact SES field");
+    if (g.host_filter) on_host.push_back("Gaussian filter");
+    if (g.host_marching_cubes) on_host.push_back("marching cubes");
+    std::string s;
+    for (std::size_t k = 0; k < on_host.size(); ++k)
+        s += (k == 0 ? "" : k + 1 == on_host.size() ? " and " : ", ") + on_host[k];
+    return s;
+}
+
 inline std::string text_summary(const RunReport& r) {
     std::string s =
         "fdmsurf " + r.version + ": " + surface_name(r.surface) + " surface " +
@@ -246,13 +259,8 @@ inline std::string text_summary(const RunReport& r) {
          std::to_string(g.dims[2]) + " points, spacing " + format_general(g.spacing) + " Å, ";
     s += g.cutoff > 0.0f ? "cut-off " + format_general(g.cutoff) + " 1/Å" : "no filter";
     if (g.slabs > 1) s += ", " + std::to_string(g.slabs) + " slabs";
-    std::vector<std::string> on_host;
-    if (g.host_ses_distance) on_host.push_back("exact SES field");
-    if (g.host_filter) on_host.push_back("Gaussian filter");
-    if (g.host_marching_cubes) on_host.push_back("marching cubes");
-    for (std::size_t k = 0; k < on_host.size(); ++k)
-        s += (k == 0 ? " (" : k + 1 == on_host.size() ? " and " : ", ") + on_host[k] +
-             (k + 1 == on_host.size() ? " on the host)" : "");
+    const std::string on_host = host_stages(g);
+    if (!on_host.empty()) s += " (" + on_host + " on the host)";
     s += "\n";
 
     const MeshStats& m = r.stats;

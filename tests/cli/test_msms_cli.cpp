@@ -63,6 +63,16 @@ TEST(MsmsOptions, AsMsmsSpellsThemAbbreviationsIncluded) {
     const MsmsOptions c = parse_msms_args({"-if", "x", "-one_cavity", "2", "5", "9", "-noh"});
     EXPECT_EQ(c.warnings.size(), 2u);
     EXPECT_TRUE(parse_msms_args({"-help"}).help);
+    // fdmsurf's placements, as the main command's --host-* options.
+    const MsmsOptions d = parse_msms_args({"-if", "x"});
+    EXPECT_EQ(d.gaussian_filter, StagePlace::Auto);
+    EXPECT_EQ(d.ses_distance, StagePlace::Auto);
+    const MsmsOptions p = parse_msms_args({"-if", "x", "-host_filter", "on", "-host_mc", "off",
+                                           "-host_atoms", "auto", "-host_ses", "off"});
+    EXPECT_EQ(p.gaussian_filter, StagePlace::Host);
+    EXPECT_EQ(p.marching_cubes, StagePlace::Device);
+    EXPECT_EQ(p.vertex_atoms, StagePlace::Auto);
+    EXPECT_EQ(p.ses_distance, StagePlace::Device);
 }
 
 TEST(MsmsOptions, BadValuesNameTheOption) {
@@ -77,6 +87,9 @@ TEST(MsmsOptions, BadValuesNameTheOption) {
     EXPECT_TRUE(has(unknown, "unknown option '-colour'")) << unknown;
     EXPECT_TRUE(has(unknown, "-probe_radius")) << unknown;
     EXPECT_TRUE(has(parse_error({"-of", "y"}), "-if FILE is required"));
+    EXPECT_TRUE(has(parse_error({"-if", "x", "-host_ses", "gpu"}),
+                    "-host_ses takes auto, on or off, not 'gpu'"));
+    EXPECT_TRUE(has(parse_error({"-if", "x", "-host_mc"}), "-host_mc needs a value"));
     // A negative coordinate-like value is a value, not an option.
     EXPECT_TRUE(has(parse_error({"-if", "x", "-probe", "-1"}), "-probe_radius must be > 0"));
 }
@@ -240,6 +253,34 @@ TEST_F(MsmsRuns, TheProgramNamedMsmsIsTheSameCommand) {
     const std::vector<std::string> vc = lines_of(dir_ / "c.vert");
     EXPECT_EQ(split(vc.at(0)).size(), 9u);
     EXPECT_EQ(vc.size(), va.size() - 3);
+}
+
+// The placements change where the stages run, not the surface: every stage on the device gives
+// the files of the default (on a CPU device: the host's stages) to the printed digits, but for
+// the last digit where a coordinate's rounding falls the other way.
+TEST_F(MsmsRuns, PlacementsGiveTheSameFiles) {
+    const std::string cli = std::string(FDMSURF_CLI_PATH) + " msms -if " + data("1crn.xyzrn");
+    const MsmsRun a = run(cli, "-of a -no_area");
+    ASSERT_EQ(a.exit_code, 0) << a.err;
+    const MsmsRun b =
+        run(cli, "-of b -no_area -host_filter off -host_mc off -host_atoms off -host_ses off");
+    ASSERT_EQ(b.exit_code, 0) << b.err;
+    // The summary says what ran on the host: nothing here; on a CPU device, by default, the
+    // exact SES field and marching cubes.
+    EXPECT_FALSE(has(b.out, "on the host")) << b.out;
+    const MsmsRun c = run(cli, "-of c -no_area -host_ses on -host_mc on");
+    ASSERT_EQ(c.exit_code, 0) << c.err;
+    EXPECT_TRUE(has(c.out, "; exact SES field and marching cubes on the host")) << c.out;
+    const std::vector<std::string> va = lines_of(dir_ / "a.vert"), vb = lines_of(dir_ / "b.vert");
+    ASSERT_EQ(va.size(), vb.size());
+    for (std::size_t i = 3; i < va.size(); ++i) {
+        const std::vector<std::string> x = split(va[i]), y = split(vb[i]);
+        ASSERT_EQ(x.size(), y.size()) << i;
+        for (std::size_t k = 0; k < 6; ++k)
+            ASSERT_NEAR(std::stod(x[k]), std::stod(y[k]), 0.0015) << va[i] << " | " << vb[i];
+        for (std::size_t k = 6; k < x.size(); ++k) ASSERT_EQ(x[k], y[k]) << i;
+    }
+    EXPECT_EQ(slurp(dir_ / "a.face"), slurp(dir_ / "b.face"));
 }
 
 TEST_F(MsmsRuns, BadInputIsAnErrorAndWritesNothing) {
