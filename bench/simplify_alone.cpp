@@ -44,7 +44,7 @@ int main(int argc, char** argv) try {
     if (argc < 2) {
         std::fprintf(stderr,
                      "usage: %s MESH [--ratio R] [--reps N] [--no-distance] "
-                     "[--simplifier collapse|meshopt]\n",
+                     "[--simplifier collapse|meshopt] [--whole-meshopt]\n",
                      argv[0]);
         return 2;
     }
@@ -73,8 +73,13 @@ int main(int argc, char** argv) try {
             return 2;
         }
     }
+    if (!(options.ratio > 0.0 && options.ratio <= 1.0)) {
+        std::fprintf(stderr, "--ratio must be in (0, 1], not %g\n", options.ratio);
+        return 2;
+    }
     const Mesh mesh = read_mesh_any(argv[1]);
     if (whole_meshopt) {
+        // (--simplifier and --no-distance do not apply: no simplify_mesh, no distance.)
         const std::size_t target =
             3 * std::max<std::size_t>(1, std::size_t(std::llround(options.ratio *
                                                                   double(mesh.triangle_count()))));

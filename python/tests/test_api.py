@@ -427,14 +427,34 @@ def test_stubs_declare_the_api():
     stubbed = [a.arg for a in surface.args.kwonlyargs]
     assert stubbed == list(inspect.signature(fdmsurf.Engine.surface).parameters)[3:]
     # Every stubbed function and method written in Python takes the parameters its stub names,
-    # in the same order (Engine.__init__ once lacked the host_* places).
-    def names(args):
-        listed = [x.arg for x in args.posonlyargs + args.args]
-        listed += [args.vararg.arg] if args.vararg else []
-        listed += [x.arg for x in args.kwonlyargs]
-        return listed + ([args.kwarg.arg] if args.kwarg else [])
+    # in the same order and kinds (positional, *args, keyword-only, **kwargs), with the same
+    # literal defaults (Engine.__init__ once lacked the host_* places).
+    def stub_params(args):
+        positional = args.posonlyargs + args.args
+        pad = [None] * (len(positional) - len(args.defaults))
+        listed = [(x.arg, "positional", d) for x, d in zip(positional, pad + args.defaults)]
+        listed += [(args.vararg.arg, "*", None)] if args.vararg else []
+        listed += [(x.arg, "keyword", d) for x, d in zip(args.kwonlyargs, args.kw_defaults)]
+        return listed + ([(args.kwarg.arg, "**", None)] if args.kwarg else [])
 
-    checked = []
+    kinds = {inspect.Parameter.POSITIONAL_ONLY: "positional",
+             inspect.Parameter.POSITIONAL_OR_KEYWORD: "positional",
+             inspect.Parameter.VAR_POSITIONAL: "*", inspect.Parameter.KEYWORD_ONLY: "keyword",
+             inspect.Parameter.VAR_KEYWORD: "**"}
+
+    def same(stubbed, runtime, where):
+        name, kind, default = stubbed
+        assert (name, kind) == (runtime.name, kinds[runtime.kind]), where
+        if default is None:
+            assert runtime.default is inspect.Parameter.empty or runtime.name == "self", where
+            return
+        try:
+            value = ast.literal_eval(default)
+        except ValueError:
+            return  # not a literal (a name): not compared
+        assert runtime.default == value, f"{where}: {name}"
+
+    checked = set()
     for owner, nodes in [(fdmsurf, stub.body)] + [
             (getattr(fdmsurf, c.name, None), c.body) for c in stub.body
             if isinstance(c, ast.ClassDef)]:
@@ -442,23 +462,23 @@ def test_stubs_declare_the_api():
             if not isinstance(node, ast.FunctionDef) or owner is None:
                 continue
             runtime = getattr(owner, node.name, None)
-            if not (inspect.isfunction(runtime) or isinstance(runtime, property)):
-                continue  # compiled (no signature) or not a plain function
             if isinstance(runtime, property):
                 runtime = runtime.fget
-                if not inspect.isfunction(runtime):
-                    continue
+            if not inspect.isfunction(runtime):
+                continue  # compiled (no signature) or not a plain function
             where = f"{getattr(owner, '__name__', owner)}.{node.name}"
-            params = inspect.signature(runtime).parameters
-            if node.args.kwarg and not any(p.kind == p.VAR_KEYWORD for p in params.values()):
+            stubbed = stub_params(node.args)
+            params = list(inspect.signature(runtime).parameters.values())
+            if stubbed and stubbed[-1][1] == "**" and all(p.kind != p.VAR_KEYWORD for p in params):
                 # `**keywords` in a stub stands for the runtime's keyword-only options.
-                listed = names(node.args)[:-1]
-                assert listed == list(params)[:len(listed)], where
-                assert all(p.kind == p.KEYWORD_ONLY for p in list(params.values())[len(listed):])
-            else:
-                assert names(node.args) == list(params), where
-            checked.append(node.name)
-    assert "__init__" in checked and "surface" in checked
+                stubbed = stubbed[:-1]
+                assert all(p.kind == p.KEYWORD_ONLY for p in params[len(stubbed):]), where
+                params = params[:len(stubbed)]
+            assert len(stubbed) == len(params), where
+            for a, b in zip(stubbed, params):
+                same(a, b, where)
+            checked.add(where)
+    assert {"Engine.__init__", "Engine.surface", "fdmsurf.plan_grid"} <= checked, checked
 
 
 def test_devices_and_version(engine, cli):
