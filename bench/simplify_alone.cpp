@@ -38,6 +38,30 @@ double cpu_seconds() {
            1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
 }
 
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+// body() run `reps` times: the medians of its wall time and of the process's CPU time, ms.
+struct Timing {
+    double wall = 0.0, cpu = 0.0;
+};
+template <class Body>
+Timing time_runs(int reps, Body&& body) {
+    std::vector<double> wall, cpu;
+    for (int r = 0; r < reps; ++r) {
+        const double c0 = cpu_seconds();
+        const auto t0 = std::chrono::steady_clock::now();
+        body();
+        wall.push_back(
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                .count());
+        cpu.push_back(1e3 * (cpu_seconds() - c0));
+    }
+    return {median(wall), median(cpu)};
+}
+
 }  // namespace
 
 int main(int argc, char** argv) try {
@@ -84,39 +108,23 @@ int main(int argc, char** argv) try {
             3 * std::max<std::size_t>(1, std::size_t(std::llround(options.ratio *
                                                                   double(mesh.triangle_count()))));
         std::vector<std::uint32_t> out(mesh.indices.size());
-        std::vector<double> wall, cpu;
         std::size_t kept = 0;
-        for (int r = 0; r < reps; ++r) {
-            const double c0 = cpu_seconds();
-            const auto t0 = std::chrono::steady_clock::now();
+        const Timing t = time_runs(reps, [&] {
             kept = meshopt_simplify(out.data(), mesh.indices.data(), mesh.indices.size(),
                                     mesh.positions.data(), mesh.vertex_count(), 3 * sizeof(float),
                                     target, 1.0f);
-            wall.push_back(
-                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
-                    .count());
-            cpu.push_back(1e3 * (cpu_seconds() - c0));
-        }
-        std::sort(wall.begin(), wall.end());
-        std::sort(cpu.begin(), cpu.end());
+        });
         std::printf("%s: %zu -> %zu triangles (target %zu), one meshopt_simplify call on the whole "
                     "mesh, no topology check\nmedian of %d: %.0f ms wall, %.0f ms CPU\n",
-                    argv[1], mesh.triangle_count(), kept / 3, target / 3, reps,
-                    wall[wall.size() / 2], cpu[cpu.size() / 2]);
+                    argv[1], mesh.triangle_count(), kept / 3, target / 3, reps, t.wall, t.cpu);
         return 0;
     }
-    std::vector<double> wall, cpu, stage;
+    std::vector<double> stage;
     SimplifyReport report;
     std::size_t out_triangles = 0;
     std::uint64_t hash = 0;
-    for (int r = 0; r < reps; ++r) {
-        const double c0 = cpu_seconds();
-        const auto t0 = std::chrono::steady_clock::now();
+    const Timing timing = time_runs(reps, [&] {
         const Mesh out = simplify_mesh(mesh, options, &report);
-        wall.push_back(
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
-                .count());
-        cpu.push_back(1e3 * (cpu_seconds() - c0));
         for (const auto& t : report.times)
             if (t.name == "simplify") stage.push_back(t.ms);
         out_triangles = out.triangle_count();
@@ -127,11 +135,7 @@ int main(int argc, char** argv) try {
             std::memcpy(&b, &x, 4);
             hash = (hash ^ b) * 1099511628211ull;
         }
-    }
-    auto median = [](std::vector<double> v) {
-        std::sort(v.begin(), v.end());
-        return v.empty() ? 0.0 : v[v.size() / 2];
-    };
+    });
     std::printf(
         "%s: %zu -> %zu triangles (target %zu), %zu regions, %zu runs, frozen %zu, "
         "closed manifold %d, RMSD %.4f Å, Hausdorff %.3f Å, mesh hash %016llx\n",
@@ -140,7 +144,7 @@ int main(int argc, char** argv) try {
         int(report.stats_out.is_closed_manifold()), report.rmsd, report.hausdorff,
         static_cast<unsigned long long>(hash));
     std::printf("median of %d: simplify stage %.0f ms, call %.0f ms wall, %.0f ms CPU\n", reps,
-                median(stage), median(wall), median(cpu));
+                median(stage), timing.wall, timing.cpu);
     return 0;
 } catch (const std::exception& e) {
     std::fprintf(stderr, "fdmsurf_bench_simplify: %s\n", e.what());

@@ -160,17 +160,12 @@ MsmsOptions parse_msms_args(const std::vector<std::string>& args) {
             o.validation = true;
         } else if (opt.name.starts_with("host_")) {
             const std::string& text = value();
-            StagePlace place = StagePlace::Auto;
-            if (text == "on")
-                place = StagePlace::Host;
-            else if (text == "off")
-                place = StagePlace::Device;
-            else if (text != "auto")
-                usage_error(name + " takes auto, on or off, not '" + text + "'");
+            const std::optional<StagePlace> place = stage_place(text);
+            if (!place) usage_error(name + " takes auto, on or off, not '" + text + "'");
             (opt.name == "host_filter" ? o.gaussian_filter
              : opt.name == "host_mc"   ? o.marching_cubes
              : opt.name == "host_atoms" ? o.vertex_atoms
-                                        : o.ses_distance) = place;
+                                        : o.ses_distance) = *place;
         } else if (opt.name == "help") {
             o.help = true;
         }

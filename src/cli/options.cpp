@@ -749,6 +749,13 @@ bool looks_like_option(const std::string& arg, bool numeric) {
 
 }  // namespace
 
+std::optional<StagePlace> stage_place(std::string_view text) {
+    for (const auto& [name, place] : kStagePlaces) {
+        if (text == name) return place;
+    }
+    return std::nullopt;
+}
+
 CliOptions parse_args(const std::vector<std::string>& args) {
     CliOptions o;
     bool explicit_model = false;

@@ -1,7 +1,9 @@
 // Command-line options of the fdmsurf program: parsed into the library's option structs.
 #pragma once
 
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "fdmsurf/areas.hpp"
@@ -87,6 +89,10 @@ std::vector<std::string> view_paths(const std::string& base,
                                     const std::vector<fdmsurf::View>& views);
 // True when `path` ends in .png (any case).
 bool is_png_path(const std::string& path);
+
+// A stage's place as the --host-* options spell it, lower case: "auto", "on" (the host) or
+// "off" (the device); nothing for any other text.
+std::optional<fdmsurf::StagePlace> stage_place(std::string_view text);
 
 // The --help text: usage, every option with its unit and default, the exit codes.
 std::string usage_text();

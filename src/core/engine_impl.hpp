@@ -62,11 +62,11 @@ struct EngineImpl {
     // tests can force slabs there.
     std::uint64_t buffer_range_cap;
 
-    // Makes the passes' pipelines now (each is otherwise made at its first use); the exact SES's
-    // and the Coulombic colours' are made by their passes when first recorded.
+    // Makes the passes' pipelines now (each is otherwise made at its first use), but for the
+    // exact SES's and the Coulombic colours': Engine::prepare's surfaces make the exact SES's
+    // where the device computes that field, and a CPU device never needs them.
     void make_pipelines() const {
         density.make_pipelines();
-        ses_distance.make_pipelines();
         filter.make_pipelines();
         marching_cubes.make_pipelines();
         vertex_properties.make_pipelines();

@@ -20,21 +20,21 @@ std::array<std::uint32_t, 3> ses_boxes(const GridPlan& plan) {
             (d[2] + span[2] - 1) / span[2]};
 }
 
-SesDistancePass::SesDistancePass(Context& ctx) : ctx_(ctx) {}
+// The pipelines are made at their first dispatch (ComputePipeline): an engine that only computes
+// FDM surfaces, or the exact SES's field on the host, never compiles them (35 ms on lavapipe,
+// warm).
+SesDistancePass::SesDistancePass(Context& ctx) : ctx_(ctx) {
+    ShaderCode code = shader_code(Shader::SesBoxes);
+    boxes_pipeline_ = ComputePipeline(ctx, code.words, code.bytes, 3, sizeof(shader::SesBoxesPush),
+                                      "ses_boxes");
+    code = shader_code(Shader::SesDistance);
+    pipeline_ = ComputePipeline(ctx, code.words, code.bytes, 6, sizeof(shader::SesDistancePush),
+                                "ses_distance");
+}
 
 void SesDistancePass::record(Commands& cmds, StagingArena& arena, const SesFeatures& f,
                              const GridPlan& plan, const Buffer& field, bool force_global,
                              bool classify) {
-    // Made at first use: an engine that only computes FDM surfaces never needs them (35 ms on
-    // lavapipe, warm).
-    if (pipeline_.handle() == VK_NULL_HANDLE) {
-        ShaderCode code = shader_code(Shader::SesBoxes);
-        boxes_pipeline_ = ComputePipeline(ctx_, code.words, code.bytes, 3,
-                                          sizeof(shader::SesBoxesPush), "ses_boxes");
-        code = shader_code(Shader::SesDistance);
-        pipeline_ = ComputePipeline(ctx_, code.words, code.bytes, 6,
-                                    sizeof(shader::SesDistancePush), "ses_distance");
-    }
     spheres_ = upload_buffer(ctx_, cmds, arena, f.spheres.data(), f.spheres.size() * sizeof(float),
                              "ses_spheres");
     sphere_start_ =

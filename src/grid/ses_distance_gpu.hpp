@@ -29,8 +29,6 @@ std::array<std::uint32_t, 3> ses_boxes(const GridPlan& plan);
 class SesDistancePass {
 public:
     explicit SesDistancePass(Context& ctx);
-    // Makes the pass's pipelines now (they are made at first use otherwise).
-    void make_pipelines() const { boxes_pipeline_.make(), pipeline_.make(); }
     // Records the field of `features` on `plan`'s grid into `field` (plan's layout). Uploads go
     // to `arena`. force_global: every workgroup takes the per-point fallback (tests); classify
     // false: every box is evaluated, none skipped as wholly beyond a clamp (tests).

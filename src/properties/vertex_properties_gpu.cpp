@@ -281,7 +281,11 @@ VertexPropertiesPass::VertexPropertiesPass(Context& ctx)
     ShaderCode a = shader_code(Shader::VertexAtoms);
     atoms_pipeline_ = ComputePipeline(ctx, a.words, a.bytes, 7, sizeof(shader::VertexAtomsPush),
                                       "vertex_atoms");
-    // coulomb_pipeline_ is made at its first use: most surfaces are not coloured by it.
+    // Made at its first dispatch, like every pipeline, and not by make_pipelines: most surfaces
+    // are not coloured by the potential.
+    ShaderCode c = shader_code(Shader::Coulombic);
+    coulomb_pipeline_ =
+        ComputePipeline(ctx, c.words, c.bytes, 5, sizeof(shader::CoulombPush), "coulombic");
 }
 
 std::vector<std::uint32_t> VertexPropertiesPass::vertex_atoms(
@@ -499,11 +503,6 @@ std::vector<std::uint32_t> VertexPropertiesPass::coulombic(Commands& cmds, const
         p.cell_nz = grid.dims[2];
         const auto [gx, gy] = cmds.fold_groups(cell_count);
         p.groups_x = gx;
-        if (coulomb_pipeline_.handle() == VK_NULL_HANDLE) {
-            ShaderCode c = shader_code(Shader::Coulombic);
-            coulomb_pipeline_ = ComputePipeline(ctx_, c.words, c.bytes, 5,
-                                                sizeof(shader::CoulombPush), "coulombic");
-        }
         cmds.dispatch(coulomb_pipeline_,
                       {whole(pts), whole(cells), whole(site_buffer), whole(start_buffer),
                        whole(outputs.back())},

@@ -27,8 +27,9 @@ inline constexpr std::uint32_t kCoulombNearCells = 3;
 class VertexPropertiesPass {
 public:
     explicit VertexPropertiesPass(Context& ctx);
-    // Makes the pass's pipelines now (they are made at first use otherwise).
-    void make_pipelines() const { atoms_pipeline_.make(), coulomb_pipeline_.make(); }
+    // Makes the vertex atoms' pipeline now (made at its first use otherwise); the Coulombic
+    // one is left to its first use.
+    void make_pipelines() const { atoms_pipeline_.make(); }
 
     // Per vertex of `mesh`: `1 + per_atom` words, the index of its atom (least power distance
     // to the balls of radius r + radius_add, ties to the lower index) and that atom's words of

@@ -407,7 +407,7 @@ std::vector<Index> collapse_edges(const std::vector<float>& positions,
         double best = std::numeric_limits<double>::infinity();
         Index into = kNone;
         for (std::size_t i = 0; i < n; ++i) {
-            const double cost = q.w > 0 ? q.at(s.p(star[i][0])) / q.w : 0.0;
+            const double cost = s.cost(Index(v), star[i][0]);
             if (cost < best) best = cost, into = star[i][0];
         }
         s.queue(Index(v), into, best);
