@@ -23,6 +23,7 @@
 #include "fdmsurf/error.hpp"
 #include "mesh/compare_detail.hpp"
 #include "core/parallel.hpp"
+#include "core/trace.hpp"
 #include "mesh/union_find.hpp"
 
 namespace fdmsurf {
@@ -294,7 +295,10 @@ private:
 
     std::vector<Node> nodes_;
     std::vector<float> triangles_;         // 9 per slot: a, b, c; slots in Morton order
+    std::vector<float> spheres_;  // 4 per slot: a centre and a radius holding the triangle
     std::vector<std::uint32_t> original_;  // slot -> triangle of the mesh
+    std::vector<std::uint32_t> parent_;    // per node (the root's: 0)
+    std::vector<std::uint32_t> leaf_;      // slot -> its leaf
 };
 
 TriangleTree::TriangleTree(const CleanMesh& mesh) {
@@ -319,8 +323,24 @@ TriangleTree::TriangleTree(const CleanMesh& mesh) {
             }
         }
     }
+    spheres_.resize(4 * n);
+    for (std::size_t s = 0; s < n; ++s) {
+        const Vec3 a = vertex(std::uint32_t(s), 0), b = vertex(std::uint32_t(s), 1),
+                   c = vertex(std::uint32_t(s), 2);
+        float* sphere = &spheres_[4 * s];
+        for (std::size_t k = 0; k < 3; ++k) sphere[k] = float((a[k] + b[k] + c[k]) / 3.0);
+        // The radius from the stored (rounded) centre, rounded up: every point of the triangle
+        // (a convex combination of its corners) lies within it.
+        const Vec3 centre = {sphere[0], sphere[1], sphere[2]};
+        const double r2 = std::max({squared_distance(a, centre), squared_distance(b, centre),
+                                    squared_distance(c, centre)});
+        sphere[3] = round_up(std::sqrt(r2) * (1 + 1e-9));
+    }
     nodes_.reserve(2 * n);  // an upper bound (leaves of one triangle); untouched pages cost nothing
     nodes_.push_back(Node{});
+    parent_.reserve(2 * n);
+    parent_.push_back(0);
+    leaf_.resize(n);
     if (n > 0) build(0, 0, std::uint32_t(n), keys, 0);
 }
 
@@ -346,6 +366,7 @@ std::array<double, 6> TriangleTree::build(std::uint32_t node, std::uint32_t begi
         }
         nodes_[node].first = begin;
         nodes_[node].count = end - begin;
+        for (std::uint32_t s = begin; s < end; ++s) leaf_[s] = node;
     } else {
         std::uint32_t middle = begin + (end - begin) / 2;
         const std::uint64_t differ = (keys[begin] ^ keys[end - 1]) >> 32;
@@ -361,6 +382,8 @@ std::array<double, 6> TriangleTree::build(std::uint32_t node, std::uint32_t begi
         nodes_[node].count = 0;
         nodes_.push_back(Node{});
         nodes_.push_back(Node{});
+        parent_.push_back(node);
+        parent_.push_back(node);
         const std::array<double, 6> left = build(child, begin, middle, keys, depth + 1);
         const std::array<double, 6> right = build(child + 1, middle, end, keys, depth + 1);
         for (std::size_t k = 0; k < 3; ++k) {
@@ -382,6 +405,11 @@ ClosestPoint TriangleTree::closest(const Vec3& p, std::uint32_t& hint) const {
     double best_centroid_d2 = -1;  // computed on the first tie only
     std::uint32_t best_slot = kNone;
     auto consider = [&](std::uint32_t slot) {
+        // A triangle whose bounding sphere is out of reach cannot be closer (nor tie).
+        const float* sphere = &spheres_[4 * std::size_t(slot)];
+        const double sx = p[0] - sphere[0], sy = p[1] - sphere[1], sz = p[2] - sphere[2];
+        const double gap = std::sqrt(sx * sx + sy * sy + sz * sz) - sphere[3];
+        if (gap > 0 && gap * gap > limit) return;
         const Vec3 q =
             closest_point_on_triangle(p, vertex(slot, 0), vertex(slot, 1), vertex(slot, 2));
         const double d2 = squared_distance(p, q);
@@ -402,37 +430,53 @@ ClosestPoint TriangleTree::closest(const Vec3& p, std::uint32_t& hint) const {
         best_slot = slot;
     };
     if (triangles_.empty()) return best;
-    if (hint != kNone) consider(hint);
-
-    // Depth first, nearer child first; a box is left out only when it is farther than the best
-    // triangle so far, which certifies the answer.
+    // Depth first from `start`, nearer child first; a box is left out only when it is farther
+    // than the best triangle so far.
     std::uint32_t stack[kMaxDepth + 2];
     double stack_d2[kMaxDepth + 2];
-    int top = 0;
-    std::uint32_t current = 0;
-    while (true) {
-        const Node& node = nodes_[current];
-        if (node.count != 0) {
-            for (std::uint32_t s = node.first; s < node.first + node.count; ++s) consider(s);
-        } else {
-            const double d_left = box_distance(nodes_[node.first], p);
-            const double d_right = box_distance(nodes_[node.first + 1], p);
-            const bool left_first = d_left <= d_right;
-            const double d_near = left_first ? d_left : d_right;
-            const double d_far = left_first ? d_right : d_left;
-            if (d_near <= limit) {
-                if (d_far <= limit) {
-                    stack[top] = node.first + (left_first ? 1u : 0u);
-                    stack_d2[top++] = d_far;
+    auto descend = [&](std::uint32_t start) {
+        int top = 0;
+        std::uint32_t current = start;
+        while (true) {
+            const Node& node = nodes_[current];
+            if (node.count != 0) {
+                for (std::uint32_t s = node.first; s < node.first + node.count; ++s) consider(s);
+            } else {
+                const double d_left = box_distance(nodes_[node.first], p);
+                const double d_right = box_distance(nodes_[node.first + 1], p);
+                const bool left_first = d_left <= d_right;
+                const double d_near = left_first ? d_left : d_right;
+                const double d_far = left_first ? d_right : d_left;
+                if (d_near <= limit) {
+                    if (d_far <= limit) {
+                        stack[top] = node.first + (left_first ? 1u : 0u);
+                        stack_d2[top++] = d_far;
+                    }
+                    current = node.first + (left_first ? 0u : 1u);
+                    continue;
                 }
-                current = node.first + (left_first ? 0u : 1u);
-                continue;
             }
+            // Next: the most recently deferred box still in reach.
+            while (top > 0 && stack_d2[top - 1] > limit) --top;
+            if (top == 0) break;
+            current = stack[--top];
         }
-        // Next: the most recently deferred box still in reach.
-        while (top > 0 && stack_d2[top - 1] > limit) --top;
-        if (top == 0) break;
-        current = stack[--top];
+    };
+    if (hint == kNone) {
+        descend(0);
+    } else {
+        // From the leaf of the hint up to the root: that leaf, then at each level the other
+        // child's subtree when its box is in reach. Every leaf is in exactly one of them, so the
+        // answer is certified as from the root, with the tight bounds of the nearby leaves
+        // found first.
+        std::uint32_t node = leaf_[hint];
+        descend(node);
+        while (node != 0) {
+            const std::uint32_t parent = parent_[node];
+            const std::uint32_t other = nodes_[parent].first + (nodes_[parent].first == node);
+            if (box_distance(nodes_[other], p) <= limit) descend(other);
+            node = parent;
+        }
     }
     best.distance = std::sqrt(best_d2);
     best.triangle = original_[best_slot];
@@ -450,6 +494,7 @@ void query(const TriangleTree& tree, const std::vector<T>& points, unsigned thre
     std::vector<std::uint64_t> order(n);
     for (std::size_t i = 0; i < n; ++i) order[i] = morton(at(points, i), std::uint32_t(i));
     sort_indexed_keys(order);
+    trace("closest points: queries sorted");
     constexpr std::size_t kChunk = 4096;
     parallel_chunks((n + kChunk - 1) / kChunk, threads, [&](std::size_t chunk) {
         std::uint32_t hint = TriangleTree::kNone;
@@ -635,14 +680,30 @@ Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, cons
     return best;
 }
 
-std::vector<ClosestPoint> closest_points(const CleanMesh& mesh, const std::vector<double>& points,
-                                         unsigned threads) {
+namespace {
+
+template <class T>
+std::vector<ClosestPoint> closest_points_of(const CleanMesh& mesh, const std::vector<T>& points,
+                                            unsigned threads) {
     if (mesh.triangle_count() == 0) throw Error(ErrorCode::InvalidArgument, "compare: empty mesh");
     const TriangleTree tree(mesh);
+    trace("closest points: tree built");
     std::vector<ClosestPoint> out(points.size() / 3);
     query(tree, points, thread_count(threads),
           [&out](std::size_t i, const ClosestPoint& c) { out[i] = c; });
     return out;
+}
+
+}  // namespace
+
+std::vector<ClosestPoint> closest_points(const CleanMesh& mesh, const std::vector<double>& points,
+                                         unsigned threads) {
+    return closest_points_of(mesh, points, threads);
+}
+
+std::vector<ClosestPoint> closest_points(const CleanMesh& mesh, const std::vector<float>& points,
+                                         unsigned threads) {
+    return closest_points_of(mesh, points, threads);
 }
 
 std::vector<ClosestPoint> closest_points_brute_force(const CleanMesh& mesh,

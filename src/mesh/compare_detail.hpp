@@ -57,6 +57,8 @@ struct ClosestPoint {
 // order meshstat's KD-tree over centroids gives). `threads` 0: all hardware threads.
 std::vector<ClosestPoint> closest_points(const CleanMesh& mesh, const std::vector<double>& points,
                                          unsigned threads = 0);
+std::vector<ClosestPoint> closest_points(const CleanMesh& mesh, const std::vector<float>& points,
+                                         unsigned threads = 0);
 
 // The same by testing every triangle: O(points x triangles), for the tests.
 std::vector<ClosestPoint> closest_points_brute_force(const CleanMesh& mesh,

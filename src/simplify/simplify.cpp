@@ -37,8 +37,10 @@ double ms_since(Clock::time_point start) {
 
 constexpr std::uint32_t kUnused = std::numeric_limits<std::uint32_t>::max();
 
-// Keeps the vertices the indices use, in their old order, and re-points the indices.
-Mesh compact(const Mesh& from, std::vector<std::uint32_t> indices) {
+// Keeps the vertices the indices use, in their old order, and re-points the indices. `kept`
+// (may be null): the vertices of `from` kept, in order.
+Mesh compact(const Mesh& from, std::vector<std::uint32_t> indices,
+             std::vector<std::uint32_t>* kept_out = nullptr) {
     std::vector<std::uint32_t> remap(from.vertex_count(), kUnused);
     for (std::uint32_t i : indices) remap[i] = 0;
     std::vector<std::uint32_t> kept;
@@ -51,6 +53,7 @@ Mesh compact(const Mesh& from, std::vector<std::uint32_t> indices) {
     for (std::uint32_t& i : indices) i = remap[i];
     out.indices = std::move(indices);
     copy_vertices(from, out, kept);
+    if (kept_out) *kept_out = std::move(kept);
     return out;
 }
 
@@ -174,27 +177,42 @@ bool topology_kept(const MeshStats& in, const MeshStats& out) {
            (!(in.volume > 0.0) || out.volume > 0.0);
 }
 
-void measure_distance(const Mesh& full, const Mesh& simplified, double& hausdorff, double& rmsd) {
+void measure_distance(const Mesh& full, const Mesh& simplified,
+                      const std::vector<std::uint32_t>& kept, double& hausdorff, double& rmsd) {
     // compare_meshes would weld both meshes, build a tree on each and query both ways; the
     // way back is 0 here (the simplified mesh's vertices are vertices of the full one), so
-    // only the full mesh's vertices are queried, against a tree of the simplified triangles.
-    // Vertices no triangle uses are left out, as compare's clean_mesh drops them.
+    // only the full mesh's vertices are queried, against a tree of the simplified triangles,
+    // and those kept in the simplified mesh are at distance 0 without a query. Vertices no
+    // triangle uses are left out, as compare's clean_mesh drops them.
+    trace("simplify-compare: start");
     const std::vector<double> weights = vertex_weights(CleanMesh{full.positions, full.indices});
-    std::vector<std::uint8_t> used(full.vertex_count(), 0);
-    for (std::uint32_t v : full.indices) used[v] = 1;
-    std::vector<double> points, point_weights;
-    for (std::size_t v = 0; v < used.size(); ++v) {
-        if (!used[v]) continue;
-        points.insert(points.end(), &full.positions[3 * v], &full.positions[3 * v] + 3);
-        point_weights.push_back(weights[v]);
+    trace("simplify-compare: weights");
+    const std::size_t nv = full.vertex_count();
+    std::vector<std::uint8_t> skip(nv, 1);  // unused, or kept: not queried
+    for (std::uint32_t v : full.indices) skip[v] = 0;
+    double sum_w = 0.0;
+    for (std::uint32_t v : kept) {
+        if (!skip[v]) sum_w += weights[v];
+        skip[v] = 1;
     }
+    std::vector<std::uint32_t> queried;
+    queried.reserve(nv);
+    for (std::size_t v = 0; v < nv; ++v) {
+        if (!skip[v]) queried.push_back(static_cast<std::uint32_t>(v));
+    }
+    std::vector<float> points(3 * queried.size());
+    for (std::size_t i = 0; i < queried.size(); ++i) {
+        std::copy_n(&full.positions[3 * std::size_t{queried[i]}], 3, &points[3 * i]);
+    }
+    trace("simplify-compare: points");
     const std::vector<ClosestPoint> closest =
         closest_points(CleanMesh{simplified.positions, simplified.indices}, points);
-    double sum_w = 0.0, sum_wd2 = 0.0, largest = 0.0;
+    trace("simplify-compare: closest points");
+    double sum_wd2 = 0.0, largest = 0.0;
     for (std::size_t i = 0; i < closest.size(); ++i) {
-        const double d = closest[i].distance;
-        sum_w += point_weights[i];
-        sum_wd2 += point_weights[i] * d * d;
+        const double d = closest[i].distance, w = weights[queried[i]];
+        sum_w += w;
+        sum_wd2 += w * d * d;
         largest = std::max(largest, d);
     }
     hausdorff = largest;
@@ -223,12 +241,15 @@ Mesh simplify_mesh(const Mesh& mesh, const SimplifyOptions& options, SimplifyRep
     r.target_triangles = simplify_target(r.triangles_in, options);
 
     Mesh out;
+    std::vector<std::uint32_t> kept;  // in's vertices that out keeps, in order
     if (r.target_triangles >= r.triangles_in) {
-        out = compact(in, in.indices);
+        out = compact(in, in.indices, &kept);
     } else {
         CellPassStats cells;
-        out = compact(in, simplify_in_cells(in.positions, in.indices, r.target_triangles,
-                                            options.max_error, 0, &cells, options.simplifier));
+        out = compact(in,
+                      simplify_in_cells(in.positions, in.indices, r.target_triangles,
+                                        options.max_error, 0, &cells, options.simplifier),
+                      &kept);
         r.regions = cells.regions;
         r.frozen_triangles = cells.frozen;
         r.regions_kept_whole = cells.gave_up;
@@ -248,7 +269,7 @@ Mesh simplify_mesh(const Mesh& mesh, const SimplifyOptions& options, SimplifyRep
 
     if (options.measure_distance && out.triangle_count() != 0) {
         const auto t = Clock::now();
-        measure_distance(in, out, r.hausdorff, r.rmsd);
+        measure_distance(in, out, kept, r.hausdorff, r.rmsd);
         r.times.push_back({"simplify-compare", ms_since(t), false});
     }
     if (report) *report = std::move(r);

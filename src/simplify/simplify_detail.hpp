@@ -26,9 +26,11 @@ std::size_t simplify_target(std::size_t triangles, const SimplifyOptions& option
 bool weld_exact(const Mesh& mesh, Mesh& welded, std::size_t* merged);
 
 // The Hausdorff distance and the area-weighted RMSD (Å) of compare_meshes(full, simplified)
-// for a simplified mesh whose vertices are vertices of `full`: the distances from full's
-// vertices to simplified's triangles (the other way they are 0).
-void measure_distance(const Mesh& full, const Mesh& simplified, double& hausdorff, double& rmsd);
+// for a simplified mesh whose vertices are vertices of `full` (simplified's vertex i is full's
+// vertex kept[i]): the distances from full's vertices to simplified's triangles (the other way
+// they are 0; so are those of the kept vertices, which are not queried).
+void measure_distance(const Mesh& full, const Mesh& simplified,
+                      const std::vector<std::uint32_t>& kept, double& hausdorff, double& rmsd);
 
 // False when `out` has more boundary, non-manifold or inconsistently oriented edges,
 // non-manifold vertices or degenerate triangles than `in`, or lost its positive volume.
