@@ -27,18 +27,27 @@ struct Grid {
     std::array<std::size_t, 3> dims{};
     std::size_t count() const { return dims[0] * dims[1] * dims[2]; }
 
-    // The cell of a triangle's centroid, clamped into the grid.
-    std::size_t cell_of(const std::vector<float>& p, const Index* tri) const {
+    // The cell of a point, clamped into the grid.
+    std::size_t cell_of(const std::array<double, 3>& point) const {
         std::size_t c[3];
         for (int a = 0; a < 3; ++a) {
-            const double centroid =
-                (double(p[3 * std::size_t{tri[0]} + a]) + p[3 * std::size_t{tri[1]} + a] +
-                 p[3 * std::size_t{tri[2]} + a]) /
-                3.0;
-            const double x = std::floor((centroid - origin[a]) / cell);
+            const double x = std::floor((point[a] - origin[a]) / cell);
             c[a] = static_cast<std::size_t>(std::clamp(x, 0.0, double(dims[a] - 1)));
         }
         return c[0] + dims[0] * (c[1] + dims[1] * c[2]);
+    }
+    // The cell of a triangle's centroid.
+    std::size_t cell_of(const std::vector<float>& p, const Index* tri) const {
+        return cell_of(centroid(p, tri));
+    }
+    static std::array<double, 3> centroid(const std::vector<float>& p, const Index* tri) {
+        std::array<double, 3> c;
+        for (int a = 0; a < 3; ++a) {
+            c[a] = (double(p[3 * std::size_t{tri[0]} + a]) + p[3 * std::size_t{tri[1]} + a] +
+                    p[3 * std::size_t{tri[2]} + a]) /
+                   3.0;
+        }
+        return c;
     }
 };
 
@@ -387,13 +396,15 @@ PassResult run_pass(const std::vector<float>& positions, const std::vector<Index
     return pass;
 }
 
-// Triangles per cell of `grid`, counting every `stride`-th triangle `stride` times.
-std::vector<std::size_t> counts(const std::vector<float>& p, const std::vector<Index>& indices,
-                                const Grid& grid, std::size_t stride = 1) {
+// Every kSampleStride-th triangle's centroid, from which the cell size is chosen.
+inline constexpr std::size_t kSampleStride = 8;
+static_assert(kChunk % kSampleStride == 0);
+
+// Triangles per cell of `grid`, estimated from the sampled centroids.
+std::vector<std::size_t> counts(const std::vector<std::array<double, 3>>& samples,
+                                const Grid& grid) {
     std::vector<std::size_t> count(grid.count(), 0);
-    for (std::size_t c = 0; c < indices.size(); c += 3 * stride) {
-        count[grid.cell_of(p, &indices[c])] += stride;
-    }
+    for (const auto& c : samples) count[grid.cell_of(c)] += kSampleStride;
     return count;
 }
 
@@ -421,6 +432,8 @@ std::vector<Index> simplify_in_cells(const std::vector<float>& positions,
         // thread count).
         const std::size_t chunks = (triangles + kChunk - 1) / kChunk;
         std::vector<std::array<double, 7>> part(chunks);
+        std::vector<std::array<double, 3>> samples((triangles + kSampleStride - 1) /
+                                                   kSampleStride);
         for_ranges(triangles, threads, [&](std::size_t begin, std::size_t end) {
             std::array<double, 3> l, h;
             l.fill(std::numeric_limits<double>::infinity());
@@ -439,6 +452,8 @@ std::vector<Index> simplify_in_cells(const std::vector<float>& positions,
                 const double x = u[1] * w[2] - u[2] * w[1], y = u[2] * w[0] - u[0] * w[2],
                              z = u[0] * w[1] - u[1] * w[0];
                 sum += 0.5 * std::sqrt(x * x + y * y + z * z);
+                if (t % kSampleStride == 0)
+                    samples[t / kSampleStride] = Grid::centroid(positions, &indices[3 * t]);
             }
             part[begin / kChunk] = {l[0], l[1], l[2], h[0], h[1], h[2], sum};
         });
@@ -461,8 +476,7 @@ std::vector<Index> simplify_in_cells(const std::vector<float>& positions,
         const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
         cell = std::max({cell, extent / 256.0, 1e-3});
         for (int shrink = 0; shrink < 8 && cell > extent / 256.0; ++shrink) {
-            const std::vector<std::size_t> n =
-                counts(positions, indices, make_grid(lo, hi, cell, 0.0), 8);
+            const std::vector<std::size_t> n = counts(samples, make_grid(lo, hi, cell, 0.0));
             if (*std::max_element(n.begin(), n.end()) <= kCellTriangles * 3 / 2) break;
             cell *= 0.8;
         }
