@@ -682,28 +682,31 @@ Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, cons
 
 namespace {
 
-template <class T>
-std::vector<ClosestPoint> closest_points_of(const CleanMesh& mesh, const std::vector<T>& points,
-                                            unsigned threads) {
+// sink(i, closest point) for every point i, through a tree of `mesh`.
+template <class T, class Sink>
+void closest_of(const CleanMesh& mesh, const std::vector<T>& points, unsigned threads,
+                Sink&& sink) {
     if (mesh.triangle_count() == 0) throw Error(ErrorCode::InvalidArgument, "compare: empty mesh");
     const TriangleTree tree(mesh);
     trace("closest points: tree built");
-    std::vector<ClosestPoint> out(points.size() / 3);
-    query(tree, points, thread_count(threads),
-          [&out](std::size_t i, const ClosestPoint& c) { out[i] = c; });
-    return out;
+    query(tree, points, thread_count(threads), sink);
 }
 
 }  // namespace
 
 std::vector<ClosestPoint> closest_points(const CleanMesh& mesh, const std::vector<double>& points,
                                          unsigned threads) {
-    return closest_points_of(mesh, points, threads);
+    std::vector<ClosestPoint> out(points.size() / 3);
+    closest_of(mesh, points, threads, [&out](std::size_t i, const ClosestPoint& c) { out[i] = c; });
+    return out;
 }
 
-std::vector<ClosestPoint> closest_points(const CleanMesh& mesh, const std::vector<float>& points,
-                                         unsigned threads) {
-    return closest_points_of(mesh, points, threads);
+std::vector<double> closest_distances(const CleanMesh& mesh, const std::vector<float>& points,
+                                      unsigned threads) {
+    std::vector<double> out(points.size() / 3);
+    closest_of(mesh, points, threads,
+               [&out](std::size_t i, const ClosestPoint& c) { out[i] = c.distance; });
+    return out;
 }
 
 std::vector<ClosestPoint> closest_points_brute_force(const CleanMesh& mesh,

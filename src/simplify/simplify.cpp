@@ -205,12 +205,12 @@ void measure_distance(const Mesh& full, const Mesh& simplified,
         std::copy_n(&full.positions[3 * std::size_t{queried[i]}], 3, &points[3 * i]);
     }
     trace("simplify-compare: points");
-    const std::vector<ClosestPoint> closest =
-        closest_points(CleanMesh{simplified.positions, simplified.indices}, points);
+    const std::vector<double> closest =
+        closest_distances(CleanMesh{simplified.positions, simplified.indices}, points);
     trace("simplify-compare: closest points");
     double sum_wd2 = 0.0, largest = 0.0;
     for (std::size_t i = 0; i < closest.size(); ++i) {
-        const double d = closest[i].distance, w = weights[queried[i]];
+        const double d = closest[i], w = weights[queried[i]];
         sum_w += w;
         sum_wd2 += w * d * d;
         largest = std::max(largest, d);
