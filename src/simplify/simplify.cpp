@@ -89,8 +89,10 @@ constexpr std::size_t kChunk = 65536;
 // position probe the same slots, so whichever comes second meets the first.
 bool has_duplicate_positions(const std::vector<float>& positions) {
     const std::size_t nv = positions.size() / 3;
-    std::size_t size = 1;
-    while (size < 2 * nv) size <<= 1;
+    // Twice as many slots as vertices, not rounded up to a power of two (which doubles the table,
+    // and its page faults, for 1AON's 2.2 M vertices): a hash's high half times the size, over
+    // 2^32, is its first slot.
+    const std::size_t size = std::max<std::size_t>(2 * nv, 1);
     std::vector<std::uint32_t> table(size, kUnused);
     auto bits = [&positions](std::size_t v, int a) {
         return std::bit_cast<std::uint32_t>(positions[3 * v + a]);
@@ -103,7 +105,8 @@ bool has_duplicate_positions(const std::vector<float>& positions) {
             std::uint64_t h = bits(v, 0) * 0x9e3779b97f4a7c15ull;
             h = (h ^ bits(v, 1)) * 0xc2b2ae3d27d4eb4full;
             h = (h ^ bits(v, 2)) * 0x165667b19e3779f9ull;
-            for (std::size_t slot = (h >> 32) & (size - 1);; slot = (slot + 1) & (size - 1)) {
+            std::size_t slot = size <= (std::size_t{1} << 32) ? ((h >> 32) * size) >> 32 : h % size;
+            for (;; slot = slot + 1 == size ? 0 : slot + 1) {
                 std::atomic_ref<std::uint32_t> entry(table[slot]);
                 std::uint32_t other = kUnused;
                 if (entry.compare_exchange_strong(other, static_cast<std::uint32_t>(v),
