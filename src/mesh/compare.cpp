@@ -415,11 +415,15 @@ ClosestPoint TriangleTree::closest(const Vec3& p, std::uint32_t& hint) const {
         const double d2 = squared_distance(p, q);
         if (d2 > best_d2) return;
         if (d2 == best_d2) {
-            // Equally close (a shared edge or vertex): the nearest centroid wins, as in meshstat.
+            // Equally close (a shared edge or vertex): the nearest centroid wins, as in meshstat,
+            // and between centroids as near, the lowest-numbered triangle (as in the brute
+            // force): the answer does not depend on the order the triangles are visited in.
             if (slot == best_slot) return;
             if (best_centroid_d2 < 0) best_centroid_d2 = squared_distance(p, centroid(best_slot));
             const double c2 = squared_distance(p, centroid(slot));
-            if (!(c2 < best_centroid_d2)) return;
+            if (c2 > best_centroid_d2 ||
+                (c2 == best_centroid_d2 && original_[slot] > original_[best_slot]))
+                return;
             best_centroid_d2 = c2;
         } else {
             best_centroid_d2 = -1;

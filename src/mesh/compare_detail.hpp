@@ -54,7 +54,8 @@ struct ClosestPoint {
 
 // Exact closest points of `mesh` to each of `points` (3 doubles each), through a bounding-volume
 // hierarchy. Among triangles at the same distance the one with the nearest centroid wins (the
-// order meshstat's KD-tree over centroids gives). `threads` 0: all hardware threads.
+// order meshstat's KD-tree over centroids gives), then the lowest-numbered. `threads` 0: all
+// hardware threads.
 std::vector<ClosestPoint> closest_points(const CleanMesh& mesh, const std::vector<double>& points,
                                          unsigned threads = 0);
 // The distances alone (Å), to points given as floats (a mesh's positions): a fifth of the

@@ -203,6 +203,11 @@ void measure_distance(const Mesh& full, const Mesh& simplified,
     for (std::size_t v = 0; v < nv; ++v) {
         if (!skip[v]) queried.push_back(static_cast<std::uint32_t>(v));
     }
+    if (queried.empty()) {  // every used vertex kept: no tree to build
+        hausdorff = 0.0;
+        rmsd = sum_w > 0.0 ? 0.0 : std::numeric_limits<double>::quiet_NaN();
+        return;
+    }
     std::vector<float> points(3 * queried.size());
     for (std::size_t i = 0; i < queried.size(); ++i) {
         std::copy_n(&full.positions[3 * std::size_t{queried[i]}], 3, &points[3 * i]);

@@ -221,6 +221,42 @@ TEST(ClosestPoints, TreeEqualsBruteForce) {
     }
 }
 
+// A regular grid of squares, each split along one diagonal: points at and above its vertices
+// and edge midpoints are equally close to several triangles whose centroids are as near too.
+// The tree, whichever leaf it starts from and in whichever order it visits them, picks the
+// brute force's triangle (the lowest-numbered).
+TEST(ClosestPoints, ExactTiesGoToTheBruteForcesTriangle) {
+    Mesh grid;
+    constexpr std::uint32_t kSide = 40;
+    for (std::uint32_t j = 0; j <= kSide; ++j) {
+        for (std::uint32_t i = 0; i <= kSide; ++i) test::add_vertex(grid, i, j, 0.0);
+    }
+    for (std::uint32_t j = 0; j < kSide; ++j) {
+        for (std::uint32_t i = 0; i < kSide; ++i) {
+            const std::uint32_t a = j * (kSide + 1) + i, b = a + 1, c = a + kSide + 1, d = c + 1;
+            grid.indices.insert(grid.indices.end(), {a, b, d, a, d, c});
+        }
+    }
+    const detail::CleanMesh mesh = detail::clean_mesh(grid, -1);
+    std::vector<double> points;
+    for (std::uint32_t j = 0; j <= 2 * kSide; j += 3) {
+        for (std::uint32_t i = 0; i <= 2 * kSide; i += 2) {
+            for (const double z : {0.0, 0.5}) points.insert(points.end(), {0.5 * i, 0.5 * j, z});
+        }
+    }
+    const auto brute = detail::closest_points_brute_force(mesh, points);
+    for (unsigned threads : {1u, 2u}) {
+        const auto fast = detail::closest_points(mesh, points, threads);
+        ASSERT_EQ(fast.size(), brute.size());
+        std::size_t mismatched = 0;
+        for (std::size_t i = 0; i < brute.size(); ++i) {
+            EXPECT_EQ(fast[i].distance, brute[i].distance) << "point " << i;
+            mismatched += fast[i].triangle != brute[i].triangle;
+        }
+        EXPECT_EQ(mismatched, 0u) << "of " << brute.size() << " points";
+    }
+}
+
 // Every metric recomputed here from brute-force distances, on a small bumpy pair.
 TEST(CompareMeshes, EqualsABruteForceEvaluation) {
     Mesh reference = test::icosphere(2.0, 3);

@@ -220,6 +220,26 @@ TEST(SimplifyWeld, MergesBitIdenticalPositionsAndLeavesWeldedMeshesAlone) {
     const Mesh out = simplify_mesh(soup, o, &report);
     EXPECT_EQ(report.welded, merged);
     EXPECT_TRUE(IsClosedManifold(out));
+    // The distances are measured from the welded mesh's vertices (the kept ones numbered in
+    // it): the figures compare_meshes gives for the soup, which it welds itself.
+    const CompareResult c = compare_meshes(soup, out, CompareOptions{});
+    EXPECT_GT(report.rmsd, 0.0);
+    EXPECT_NEAR(report.rmsd, c.rmsd_weighted, 1e-9);
+    EXPECT_NEAR(report.hausdorff, c.hausdorff, 1e-9);
+    // Without welding (the indexed sphere), a vertex no triangle uses is left in until the end
+    // and changes nothing.
+    SimplifyReport plain, with_stray;
+    const Mesh plain_out = simplify_mesh(indexed, o, &plain);
+    const CompareResult pc = compare_meshes(indexed, plain_out, CompareOptions{});
+    EXPECT_NEAR(plain.rmsd, pc.rmsd_weighted, 1e-9);
+    EXPECT_NEAR(plain.hausdorff, pc.hausdorff, 1e-9);
+    Mesh stray = indexed;
+    fdmsurf::test::add_vertex(stray, 50.0, 50.0, 50.0);
+    if (!stray.normals.empty()) stray.normals.insert(stray.normals.end(), {0.0f, 0.0f, 1.0f});
+    simplify_mesh(stray, o, &with_stray);
+    EXPECT_EQ(with_stray.welded, 0u);
+    EXPECT_EQ(with_stray.rmsd, plain.rmsd);
+    EXPECT_EQ(with_stray.hausdorff, plain.hausdorff);
 }
 
 TEST(SimplifyWeld, FindsADuplicateFarApartInALargeMesh) {
@@ -449,6 +469,7 @@ TEST(SimplifyMesh, MaxTrianglesCapsAndRatioOneKeepsEverything) {
     EXPECT_EQ(same.indices, sphere.indices);
     EXPECT_EQ(same.positions, sphere.positions);
     EXPECT_EQ(r.hausdorff, 0.0);
+    EXPECT_EQ(r.rmsd, 0.0);
 }
 
 TEST(SimplifyMesh, TinyAndEmptyMeshesStayValid) {
