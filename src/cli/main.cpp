@@ -34,6 +34,16 @@
 
 namespace {
 
+// errno of the first failed flush of stdout (0: none): by the time check_stdout flushes the
+// stream again, the error flag is all that is left of it.
+int stdout_errno = 0;
+
+void flush_noting_errors(std::FILE* stream) {
+    errno = 0;
+    if (std::fflush(stream) != 0 && stream == stdout && stdout_errno == 0)
+        stdout_errno = errno != 0 ? errno : EIO;
+}
+
 using namespace fdmsurf;
 using namespace fdmsurf::cli;
 using Clock = std::chrono::steady_clock;
@@ -294,7 +304,7 @@ int areas_only(const CliOptions& options, const Structure& structure, double par
         std::printf("%s\n", areas_only_json(report).c_str());
     else if (!options.quiet)
         std::fputs(areas_only_text(report).c_str(), stdout);
-    std::fflush(stdout);
+    flush_noting_errors(stdout);
     return kExitOk;
 }
 // The PNG files of one input: OUTPUT's views with -o FILE.png, else --image's (none without).
@@ -483,7 +493,7 @@ int run_one(const CliOptions& options, Engine& engine, Renderer* renderer, Progr
         } else if (!options.quiet) {
             std::fputs(text_summary(report).c_str(), summary);
         }
-        std::fflush(summary);
+        flush_noting_errors(summary);
     };
     // Validation messages, shown before a failure they may explain.
     auto show_validation = [&]() {
@@ -712,8 +722,11 @@ int run(const CliOptions& options) {
     effective_cutoff(options.surface);
     if (!options.patch.empty()) check_selection(options.patch, "--patch");
     if (!options.areas.empty()) check_areas_output(options.areas);
-    // Progress on stderr (a terminal, not --quiet): the engine reports its stages to it.
-    Progress progress(progress_wanted(options.quiet));
+    // Progress on stderr (a terminal, not --quiet): the engine reports its stages to it. Not
+    // when --stats json goes to stderr itself (the mesh on standard output): the JSON stays
+    // alone on its stream.
+    const bool json_on_stderr = options.json && options.output == kStdio;
+    Progress progress(!json_on_stderr && progress_wanted(options.quiet));
     EngineOptions engine_options = options.engine;
     engine_options.progress = [&progress](std::string_view stage) { progress.stage(stage); };
     if (options.inputs.size() == 1 && !options.all_models) {
@@ -841,7 +854,8 @@ int run(const CliOptions& options) {
 int check_stdout(int code) {
     errno = 0;
     const bool flushed = std::fflush(stdout) == 0;
-    const int error_number = errno != 0 ? errno : EIO;
+    // The reason of the first failed flush (a summary flushed earlier), else of this one.
+    const int error_number = stdout_errno != 0 ? stdout_errno : errno != 0 ? errno : EIO;
     if (flushed && !std::ferror(stdout)) return code;
     if (code == kExitOk) {
         print_error(std::string("cannot write ") + kStdoutName + ": " +
@@ -884,6 +898,9 @@ int main(int argc, char** argv) {
     fdmsurf::cli::restart_with_huge_pages(argv);
     // A closed pipe on stdout is an error to report (EPIPE), not a signal that kills silently.
     std::signal(SIGPIPE, SIG_IGN);
+    // So is a file grown past the size limit (ulimit -f): write() fails with EFBIG and the
+    // temporary file is removed, rather than the process killed with it left behind.
+    std::signal(SIGXFSZ, SIG_IGN);
     // Ctrl-C and SIGTERM: stop at once, remove the output being written (cli/interrupts.hpp).
     install_interrupt_handlers();
     return check_stdout(run_command(argc, argv));

@@ -18,6 +18,8 @@
 #include "fdmsurf/error.hpp"
 #include "fdmsurf/msms.hpp"
 #include "fdmsurf/structure.hpp"
+#include "mesh/atomic_file.hpp"
+#include "structure/detail.hpp"
 
 namespace fdmsurf::cli {
 namespace {
@@ -75,6 +77,31 @@ std::string folder_error(const std::string& path) {
     if (!parent.empty() && !fs::is_directory(parent, ec))
         return "cannot write '" + path + "': '" + parent.string() + "' is not a folder";
     return {};
+}
+
+// MSMS's -if file is xyzr ("x y z r") or xyzrn ("x y z r n name") throughout. The structure
+// reader takes a line without its name in an xyzrn file (an empty name), which MSMS's files
+// would then carry as a vertex line of nine fields and an area line of three: every sphere line
+// must have as many fields as the first one. Throws Error(Format) naming the line.
+void check_sphere_lines(std::string_view text, const std::string& path) {
+    detail::LineReader lines(text);
+    std::string_view line;
+    std::size_t first_fields = 0, first_line = 0;
+    while (lines.next(line)) {
+        const std::string_view t = detail::trim(line);
+        if (t.empty() || t[0] == '#') continue;
+        const std::size_t fields = detail::split_fields(t).size();
+        if (first_line == 0) {
+            first_fields = fields, first_line = lines.number();
+        } else if (fields != first_fields) {
+            throw Error(ErrorCode::Format,
+                        path + ": line " + std::to_string(lines.number()) + " has " +
+                            std::to_string(fields) + " fields, line " +
+                            std::to_string(first_line) + " " + std::to_string(first_fields) +
+                            (first_fields >= 5 ? " (x y z radius n name)" : " (x y z radius)") +
+                            ": every sphere line of an xyzr or xyzrn file has the same fields");
+        }
+    }
 }
 
 }  // namespace
@@ -238,12 +265,16 @@ int msms_command(const std::vector<std::string>& args) {
         ReadOptions read;
         read.format = StructureFormat::Xyzrn;
         read.keep_hydrogens = read.keep_waters = read.keep_ligands = true;
-        const Structure s = read_structure(o.input, read);
-        if (s.atoms.size() != s.info.atoms_in_file)
+        const std::string text = detail::load_file(o.input);
+        check_sphere_lines(text, o.input);
+        const Structure s = read_structure_from_memory(text, o.input, read);
+        if (s.info.zero_radius_skipped != 0)
             throw Error(ErrorCode::Format,
-                        o.input + ": " + std::to_string(s.info.atoms_in_file - s.atoms.size()) +
-                            " sphere(s) of radius 0 were left out, which would shift MSMS's "
-                            "atom numbers: give them a radius or remove them");
+                        o.input + ": line " + std::to_string(s.info.first_zero_radius_line) +
+                            ": a sphere of radius 0 (" +
+                            std::to_string(s.info.zero_radius_skipped) +
+                            " in the file), which would be left out and shift MSMS's atom "
+                            "numbers: give it a radius or remove it");
 
         float density = o.density;
         if (o.hdensity_given) density = o.density_given ? std::max(o.density, o.hdensity)
@@ -284,6 +315,9 @@ int msms_command(const std::vector<std::string>& args) {
         std::size_t vertices = 0, triangles = 0;
         double ses_total = 0.0;
         std::vector<double> ses(s.atoms.size(), 0.0);
+        // Every file of the run (each component's .vert and .face, the .area) appears together
+        // or not at all.
+        detail::CommitGroup files;
         for (std::size_t c = 0; c < components.size(); ++c) {
             const Mesh& mesh = components[c];
             vertices += mesh.vertex_count();
@@ -306,6 +340,7 @@ int msms_command(const std::vector<std::string>& args) {
             for (double a : sas) sas_total += a;
             if (write_areas) write_msms_areas(s.atoms, ses, sas, o.area_base + ".area", fo);
         }
+        files.commit();
 
         const double ms =
             std::chrono::duration<double, std::milli>(Clock::now() - start).count();

@@ -121,9 +121,19 @@ inline std::string format_general(double value, int precision = 3) {
 }
 
 // The summary's words for a simplification that did not keep the topology: the defects of
-// the result (for a closed input, all of them are new).
+// the result (for a closed input, all of them are new); or, with none new, the pieces and the
+// Euler characteristic that changed.
 inline std::string simplify_breakage(const SimplifyReport& s) {
     const MeshStats& m = s.stats_out;
+    const MeshStats& in = s.stats_in;
+    if (s.stats_in_computed && m.boundary_edges <= in.boundary_edges &&
+        m.nonmanifold_edges <= in.nonmanifold_edges &&
+        m.nonmanifold_vertices <= in.nonmanifold_vertices &&
+        m.inconsistent_edges <= in.inconsistent_edges)
+        return "simplification changed the topology (no new boundary or non-manifold edge): " +
+               format_count(in.pieces) + " -> " + format_count(m.pieces) +
+               " pieces, Euler characteristic " + std::to_string(in.euler_characteristic) +
+               " -> " + std::to_string(m.euler_characteristic);
     std::string text = "simplification broke closedness: " + format_count(m.nonmanifold_edges) +
                        " non-manifold edges, " + format_count(m.boundary_edges) +
                        " boundary edges, " + format_count(m.nonmanifold_vertices) +

@@ -2,6 +2,7 @@
 #include "mesh/atomic_file.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <pthread.h>
 #include <unistd.h>
 
@@ -22,9 +23,41 @@ namespace {
 
 constexpr std::size_t buffer_size = std::size_t{1} << 20;
 
+thread_local CommitGroup* current_group = nullptr;
+
+// `path` with its symbolic links followed to the file they name (which may not exist yet); the
+// path itself when it is no link, or after 40 links (a loop: open() then reports it).
+std::string follow_links(std::string path) {
+    for (int hop = 0; hop < 40; ++hop) {
+        struct stat st;
+        if (::lstat(path.c_str(), &st) != 0 || !S_ISLNK(st.st_mode)) return path;
+        std::string target(std::size_t(st.st_size > 0 ? st.st_size : 4096) + 1, '\0');
+        const ssize_t n = ::readlink(path.c_str(), target.data(), target.size());
+        if (n < 0 || std::size_t(n) >= target.size()) return path;
+        target.resize(std::size_t(n));
+        if (!target.empty() && target[0] != '/') {
+            const std::size_t slash = path.rfind('/');
+            if (slash != std::string::npos) target = path.substr(0, slash + 1) + target;
+        }
+        path = std::move(target);
+    }
+    return path;
+}
+
 }  // namespace
 
-AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
+AtomicFile::AtomicFile(std::string path) : path_(follow_links(std::move(path))) {
+    buffer_.resize(buffer_size);
+    struct stat st;
+    const bool exists = ::stat(path_.c_str(), &st) == 0;
+    if (exists && S_ISDIR(st.st_mode)) fail(EISDIR);
+    if (exists && !S_ISREG(st.st_mode)) {
+        // A FIFO, a device or a socket: renaming a file onto it would replace it.
+        fd_ = ::open(path_.c_str(), O_WRONLY | O_CLOEXEC);
+        if (fd_ < 0) fail(errno);
+        through_ = true;
+        return;
+    }
     // open(O_EXCL) with a random suffix instead of mkstemp: mkstemp makes the file 0600,
     // while a renamed output should get the usual 0666 & ~umask.
     std::random_device seed;
@@ -57,7 +90,8 @@ AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
         temp_path_.clear();  // nothing of ours to remove
         fail(error_number);
     }
-    buffer_.resize(buffer_size);
+    // A file replaced keeps its permissions (the new one would get 0666 & ~umask).
+    if (exists && ::fchmod(fd_, st.st_mode & 07777) != 0) fail(errno);
 }
 
 AtomicFile::~AtomicFile() {
@@ -94,10 +128,46 @@ void AtomicFile::commit() {
     const int fd = fd_;
     fd_ = -1;  // close() releases the descriptor even when it reports an error
     if (::close(fd) != 0) fail(errno);
-    if (std::rename(temp_path_.c_str(), path_.c_str()) != 0) fail(errno);
     committed_ = true;
+    if (through_) return;
+    if (CommitGroup* group = CommitGroup::current()) {
+        group->pending_.push_back({temp_path_, path_, tracked_});  // its to rename or remove
+        tracked_ = false;
+        return;
+    }
+    if (std::rename(temp_path_.c_str(), path_.c_str()) != 0) {
+        committed_ = false;
+        fail(errno);
+    }
     if (tracked_) untrack_temp_file(temp_path_);
     tracked_ = false;
+}
+
+CommitGroup::CommitGroup() : outer_(current_group) { current_group = this; }
+
+CommitGroup* CommitGroup::current() { return current_group; }
+
+CommitGroup::~CommitGroup() {
+    for (const Pending& p : pending_) {
+        ::unlink(p.temp_path.c_str());
+        if (p.tracked) untrack_temp_file(p.temp_path);
+    }
+    current_group = outer_;
+}
+
+void CommitGroup::commit() {
+    for (const Pending& p : pending_) {
+        struct stat st;
+        if (::stat(p.path.c_str(), &st) == 0 && S_ISDIR(st.st_mode))
+            throw Error(ErrorCode::Io, "cannot write " + p.path + ": " + std::strerror(EISDIR));
+    }
+    while (!pending_.empty()) {
+        const Pending& p = pending_.front();
+        if (std::rename(p.temp_path.c_str(), p.path.c_str()) != 0)
+            throw Error(ErrorCode::Io, "cannot write " + p.path + ": " + std::strerror(errno));
+        if (p.tracked) untrack_temp_file(p.temp_path);
+        pending_.erase(pending_.begin());
+    }
 }
 
 void AtomicFile::fail(int error_number) {

@@ -9,9 +9,17 @@
 
 namespace fdmsurf::detail {
 
+class CommitGroup;
+
 // Opens a new temporary file next to `path`; write() buffers, commit() flushes, closes and
 // renames it onto `path`. Destroyed without commit(), it removes the temporary file. Every
 // failure throws Error(Io, "cannot write <path>: <reason>"). Not copyable.
+// - A symbolic link at `path` is followed: the file it points to is replaced, the link stays.
+// - A FIFO or a device at `path` (a named pipe, /dev/stdout) is written through, with no
+//   temporary file: a reader sees what was written before a failure.
+// - A folder at `path` is refused at once.
+// - A file at `path` keeps its permission bits.
+// - While a CommitGroup is alive on the calling thread, commit() leaves the renaming to it.
 class AtomicFile final : public ByteSink {
 public:
     explicit AtomicFile(std::string path);
@@ -27,13 +35,39 @@ private:
     void flush();
     [[noreturn]] void fail(int error_number);
 
-    std::string path_;
-    std::string temp_path_;
+    std::string path_;       // symbolic links followed
+    std::string temp_path_;  // empty when written through (or nothing of ours to remove)
+    bool through_ = false;   // a FIFO or a device, written in place
     int fd_ = -1;
     std::vector<char> buffer_;
     std::size_t used_ = 0;
     bool committed_ = false;
     bool tracked_ = false;  // in core/temp_files' table, for an interrupt handler
+};
+
+// Files written together: while a group is alive on a thread, each AtomicFile committed there
+// is completed under its temporary name, and commit() renames them all into place, after
+// checking that none of their paths has become a folder, so that a set of files (MSMS's .vert,
+// .face and .area) appears together or not at all. Destroyed without commit() (an exception),
+// it removes the temporary files it holds. Groups nest: the innermost one takes the files.
+class CommitGroup {
+public:
+    CommitGroup();
+    ~CommitGroup();
+    CommitGroup(const CommitGroup&) = delete;
+    CommitGroup& operator=(const CommitGroup&) = delete;
+    // Throws Error(Io) naming the file that could not be renamed; files renamed before it stay.
+    void commit();
+
+private:
+    friend class AtomicFile;
+    struct Pending {
+        std::string temp_path, path;
+        bool tracked;
+    };
+    static CommitGroup* current();
+    std::vector<Pending> pending_;
+    CommitGroup* outer_;
 };
 
 }  // namespace fdmsurf::detail

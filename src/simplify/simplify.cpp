@@ -172,7 +172,8 @@ bool weld_exact(const Mesh& mesh, Mesh& welded, std::size_t* merged) {
 }
 
 bool topology_kept(const MeshStats& in, const MeshStats& out) {
-    return out.boundary_edges <= in.boundary_edges &&
+    return out.pieces == in.pieces && out.euler_characteristic == in.euler_characteristic &&
+           out.boundary_edges <= in.boundary_edges &&
            out.nonmanifold_edges <= in.nonmanifold_edges &&
            out.nonmanifold_vertices <= in.nonmanifold_vertices &&
            out.inconsistent_edges <= in.inconsistent_edges &&
@@ -268,10 +269,13 @@ Mesh simplify_mesh(const Mesh& mesh, const SimplifyOptions& options, SimplifyRep
     r.triangles_out = out.triangle_count();
     r.vertices_out = out.vertex_count();
     r.stats_out = compute_stats(out);
-    // The input's statistics cost as much as the simplification of a large mesh: needed only
-    // when the result is not a closed manifold, to tell what simplification changed.
-    r.topology_kept =
-        r.stats_out.is_closed_manifold() || topology_kept(compute_stats(in), r.stats_out);
+    // The input's statistics: to tell what simplification changed where it may have changed
+    // anything (SimplifyReport::stats_in).
+    if (options.simplifier == Simplifier::kMeshopt || !r.stats_out.is_closed_manifold()) {
+        r.stats_in = compute_stats(in);
+        r.stats_in_computed = true;
+    }
+    r.topology_kept = !r.stats_in_computed || topology_kept(r.stats_in, r.stats_out);
     trace("simplify: stats");
     r.times.push_back({"simplify", ms_since(start), false});
 

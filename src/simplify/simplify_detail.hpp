@@ -32,8 +32,9 @@ bool weld_exact(const Mesh& mesh, Mesh& welded, std::size_t* merged);
 void measure_distance(const Mesh& full, const Mesh& simplified,
                       const std::vector<std::uint32_t>& kept, double& hausdorff, double& rmsd);
 
-// False when `out` has more boundary, non-manifold or inconsistently oriented edges,
-// non-manifold vertices or degenerate triangles than `in`, or lost its positive volume.
+// False when `out` has other pieces or another Euler characteristic than `in`, more boundary,
+// non-manifold or inconsistently oriented edges, non-manifold vertices or degenerate triangles,
+// or lost its positive volume.
 bool topology_kept(const MeshStats& in, const MeshStats& out);
 
 // The vertices around the topological defects that `out` has and `in` has not (both index

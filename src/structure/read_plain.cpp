@@ -39,7 +39,10 @@ bool add_atom(Atoms& atoms, const std::vector<std::string_view>& xyzr, const std
     return true;
 }
 
-void note_zero_radii(Structure& s, std::size_t zero, const std::string& name) {
+void note_zero_radii(Structure& s, std::size_t zero, std::size_t first_line,
+                     const std::string& name) {
+    s.info.zero_radius_skipped = zero;
+    s.info.first_zero_radius_line = first_line;
     if (zero == 0) return;
     if (s.atoms.empty())
         throw Error(ErrorCode::EmptySelection,
@@ -147,7 +150,7 @@ Structure finish(Structure s, StructureFormat format, const std::string& name, c
 // optional and fields are not in fixed columns, so x y z and radius are counted from the end.
 Structure read_pqr(std::string_view text, const std::string& name) {
     Structure s;
-    std::size_t zero = 0;
+    std::size_t zero = 0, first_zero = 0;
     LineReader lines(text);
     std::string_view line;
     while (lines.next(line)) {
@@ -171,17 +174,17 @@ Structure read_pqr(std::string_view text, const std::string& name) {
             s.atoms.element.push_back(pqr_element(f[2], f[3]));
             s.atoms.meta.push_back(std::move(m));
         } else {
-            ++zero;
+            if (zero++ == 0) first_zero = lines.number();
         }
     }
-    note_zero_radii(s, zero, name);
+    note_zero_radii(s, zero, first_zero, name);
     return finish(std::move(s), StructureFormat::Pqr, name, "ATOM/HETATM");
 }
 
 // XYZR (MSMS): "x y z r" and optionally more fields, which are ignored.
 Structure read_xyzr(std::string_view text, const std::string& name) {
     Structure s;
-    std::size_t zero = 0;
+    std::size_t zero = 0, first_zero = 0;
     LineReader lines(text);
     std::string_view line;
     while (lines.next(line)) {
@@ -194,9 +197,9 @@ Structure read_xyzr(std::string_view text, const std::string& name) {
         if (add_atom(s.atoms, f, name, lines.number()))
             s.atoms.element.emplace_back();  // XYZR has no element; kept parallel to radius
         else
-            ++zero;
+            if (zero++ == 0) first_zero = lines.number();
     }
-    note_zero_radii(s, zero, name);
+    note_zero_radii(s, zero, first_zero, name);
     return finish(std::move(s), StructureFormat::Xyzr, name, "'x y z r'");
 }
 
@@ -204,7 +207,7 @@ Structure read_xyzr(std::string_view text, const std::string& name) {
 // name, so "x y z r name" reads too, and plain "x y z r" lines give an empty name.
 Structure read_xyzrn(std::string_view text, const std::string& name) {
     Structure s;
-    std::size_t zero = 0;
+    std::size_t zero = 0, first_zero = 0;
     LineReader lines(text);
     std::string_view line;
     while (lines.next(line)) {
@@ -220,10 +223,10 @@ Structure read_xyzrn(std::string_view text, const std::string& name) {
                 xyzrn_meta(f.size() >= 5 ? f.back() : std::string_view(), element));
             s.atoms.element.push_back(std::move(element));
         } else {
-            ++zero;
+            if (zero++ == 0) first_zero = lines.number();
         }
     }
-    note_zero_radii(s, zero, name);
+    note_zero_radii(s, zero, first_zero, name);
     return finish(std::move(s), StructureFormat::Xyzrn, name, "'x y z r n name'");
 }
 

@@ -66,6 +66,17 @@ TEST(Progress, ALongRunShowsItOnStderrOnly) {
                               (dir / "err2").string();
     ASSERT_EQ(std::system(quiet.c_str()), 0);
     EXPECT_EQ(slurp(dir / "err2"), "");
+    // With the mesh on standard output the JSON goes to stderr, alone: no progress there.
+    const std::string piped = "FDMSURF_PROGRESS=always FDMSURF_PROGRESS_AFTER=0 " +
+                              std::string(FDMSURF_CLI_PATH) + " " + FDMSURF_TEST_DATA_DIR +
+                              "/4hhb.pdb.gz -o - --method edt --stats json > " +
+                              (dir / "mesh").string() + " 2> " + (dir / "err3").string();
+    ASSERT_EQ(std::system(piped.c_str()), 0);
+    const std::string err3 = slurp(dir / "err3");
+    ASSERT_FALSE(err3.empty());
+    EXPECT_EQ(err3.front(), '{') << err3.substr(0, 200);
+    EXPECT_EQ(err3.find('\r'), std::string::npos);
+    EXPECT_EQ(err3.find("fdmsurf ["), std::string::npos);
     fs::remove_all(dir);
 }
 

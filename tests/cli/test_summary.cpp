@@ -213,6 +213,19 @@ TEST(CliSummary, SimplificationIsReportedInTextAndJson) {
     EXPECT_EQ(
         parse_json(fdmsurf::cli::json_summary(r))->find("simplify")->find("topology_kept")->boolean,
         false);
+    // Still closed, but a neck pinched (meshoptimizer's collapses): the pieces and the Euler
+    // characteristic that changed.
+    r.simplify.stats_out.nonmanifold_edges = r.simplify.stats_out.nonmanifold_vertices = 0;
+    r.simplify.stats_in_computed = true;
+    r.simplify.stats_in.pieces = 4;
+    r.simplify.stats_in.euler_characteristic = -88;
+    r.simplify.stats_out.pieces = 6;
+    r.simplify.stats_out.euler_characteristic = -82;
+    text = fdmsurf::cli::text_summary(r);
+    EXPECT_TRUE(contains(text,
+                         "target 82,464), simplification changed the topology (no new boundary "
+                         "or non-manifold edge): 4 -> 6 pieces, Euler characteristic -88 -> -82\n"))
+        << text;
 }
 
 TEST(CliSummary, JsonIsOneValidObjectWithEveryKey) {

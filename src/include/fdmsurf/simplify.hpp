@@ -59,9 +59,16 @@ struct SimplifyReport {
     double rmsd = std::numeric_limits<double>::quiet_NaN();
     // False when the result has boundary, non-manifold or inconsistently oriented edges,
     // non-manifold vertices or degenerate triangles that the input did not have, or lost its
-    // positive volume.
+    // positive volume; or, where the input's statistics were computed (stats_in_computed), has
+    // other pieces or another Euler characteristic (a neck pinched, a tunnel closed).
     bool topology_kept = true;
     MeshStats stats_out;           // compute_stats of the result
+    // compute_stats of the (welded) input, when computed: with kMeshopt (whose collapses may
+    // pinch a neck), or when the result is not a closed manifold. kCollapse keeps the pieces
+    // and the genus by construction, and a large mesh's statistics cost about a fifth of its
+    // simplification: not computed then.
+    MeshStats stats_in;
+    bool stats_in_computed = false;
     std::vector<StageTime> times;  // "simplify", "simplify-compare" (host clock)
 };
 

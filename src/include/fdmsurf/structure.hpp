@@ -82,6 +82,10 @@ struct StructureInfo {
     std::size_t hydrogens_skipped = 0;
     std::size_t ligands_skipped = 0;
     std::size_t altlocs_skipped = 0;  // atoms dropped because another alternate location was kept
+    // XYZR, XYZRN and PQR: spheres of radius 0 left out (not in atoms_in_file), and the 1-based
+    // line of the first of them (0: none).
+    std::size_t zero_radius_skipped = 0;
+    std::size_t first_zero_radius_line = 0;
     std::size_t models_in_file = 0;
     std::vector<std::string> warnings;  // one line each (unknown elements, ...)
     int model = 1;                       // the model read, 1-based (n-th in the file)
