@@ -82,8 +82,9 @@ std::string folder_error(const std::string& path) {
 // MSMS's -if file is xyzr ("x y z r") or xyzrn ("x y z r n name") throughout. The structure
 // reader takes a line without its name in an xyzrn file (an empty name), which MSMS's files
 // would then carry as a vertex line of nine fields and an area line of three: every sphere line
-// must have as many fields as the first one. Throws Error(Format) naming the line.
-void check_sphere_lines(std::string_view text, const std::string& path) {
+// must have as many fields as the first one. Throws Error(Format) naming the line; returns the
+// first sphere line's field count (0: none).
+std::size_t check_sphere_lines(std::string_view text, const std::string& path) {
     detail::LineReader lines(text);
     std::string_view line;
     std::size_t first_fields = 0, first_line = 0;
@@ -102,6 +103,7 @@ void check_sphere_lines(std::string_view text, const std::string& path) {
                             ": every sphere line of an xyzr or xyzrn file has the same fields");
         }
     }
+    return first_fields;
 }
 
 }  // namespace
@@ -262,11 +264,11 @@ int msms_command(const std::vector<std::string>& args) {
                     throw Error(ErrorCode::Io, e);
 
         // Every sphere of the file, in order: MSMS's atom numbers count lines.
-        ReadOptions read;
-        read.format = StructureFormat::Xyzrn;
-        read.keep_hydrogens = read.keep_waters = read.keep_ligands = true;
         const std::string text = detail::load_file(o.input);
-        check_sphere_lines(text, o.input);
+        const std::size_t fields = check_sphere_lines(text, o.input);
+        ReadOptions read;  // xyzrn when the spheres have names, else xyzr (its messages)
+        read.format = fields >= 5 ? StructureFormat::Xyzrn : StructureFormat::Xyzr;
+        read.keep_hydrogens = read.keep_waters = read.keep_ligands = true;
         const Structure s = read_structure_from_memory(text, o.input, read);
         if (s.info.zero_radius_skipped != 0)
             throw Error(ErrorCode::Format,

@@ -634,9 +634,23 @@ void apply_value(CliOptions& o, const OptionSpec& spec, std::string_view name,
             break;
         }
         case Opt::MaxTriangles: {
-            const int count = parse_int(name, text);
+            // An upper bound: any whole number >= 1, however large (beyond 2^64: no bound).
+            std::string_view digits = text;
+            if (!digits.empty() && digits.front() == '+') digits.remove_prefix(1);
+            if (!digits.empty() && digits.front() == '-') {
+                parse_int(name, text);  // "-x" is not a whole number; "-5" is below 1
+                require(false, name, "a whole number of triangles >= 1", text);
+            }
+            std::uint64_t count = 0;
+            const auto [end, ec] =
+                std::from_chars(digits.data(), digits.data() + digits.size(), count);
+            if (digits.empty() || end != digits.data() + digits.size() ||
+                (ec != std::errc() && ec != std::errc::result_out_of_range))
+                fail("option " + std::string(name) + ": '" + text + "' is not a whole number");
+            if (ec == std::errc::result_out_of_range) count = std::numeric_limits<std::uint64_t>::max();
             require(count >= 1, name, "a whole number of triangles >= 1", text);
-            o.simplify.max_triangles = static_cast<std::size_t>(count);
+            o.simplify.max_triangles = static_cast<std::size_t>(
+                std::min<std::uint64_t>(count, std::numeric_limits<std::size_t>::max()));
             o.simplify_requested = true;
             break;
         }

@@ -319,11 +319,14 @@ inline std::string text_summary(const RunReport& r) {
             s += "topology kept";
         }
         s += "\n";
-        s += "  deviation    Hausdorff " + format_general(q.hausdorff) + " Å, RMSD " +
-             format_general(q.rmsd) + " Å from the full mesh; " +
-             (r.simplify_options.simplifier == Simplifier::kMeshopt ? "meshoptimizer's"
-                                                                     : "the collapses'") +
-             " estimate " + format_general(q.error) + " Å\n";
+        if (std::isnan(q.hausdorff) || std::isnan(q.rmsd))
+            s += "  deviation    not measured (no triangles)\n";
+        else
+            s += "  deviation    Hausdorff " + format_general(q.hausdorff) + " Å, RMSD " +
+                 format_general(q.rmsd) + " Å from the full mesh; " +
+                 (r.simplify_options.simplifier == Simplifier::kMeshopt ? "meshoptimizer's"
+                                                                         : "the collapses'") +
+                 " estimate " + format_general(q.error) + " Å\n";
     }
     if (r.optimized) s += "  order        optimised for the vertex cache and vertex fetch\n";
     s += areas_lines(r);

@@ -70,6 +70,7 @@ std::size_t simplify_target(std::size_t triangles, const SimplifyOptions& option
                     "simplify: max_error must be >= 0 Å, not " + std::to_string(options.max_error));
     }
     std::size_t target = triangles;
+    if (triangles == 0) return 0;  // nothing to keep
     if (options.ratio < 1.0) {
         const double kept = std::round(options.ratio * static_cast<double>(triangles));
         target = std::max<std::size_t>(1, static_cast<std::size_t>(kept));

@@ -13,7 +13,7 @@
 namespace fdmsurf::detail {
 
 // The triangle count simplify_mesh aims at for an input of `triangles`: round(ratio ·
-// triangles), at least 1, capped at max_triangles when that is set. Throws
+// triangles), at least 1 (0 for an empty mesh), capped at max_triangles when that is set. Throws
 // Error(InvalidArgument) for a ratio outside (0, 1] or a max_error that is negative or NaN.
 std::size_t simplify_target(std::size_t triangles, const SimplifyOptions& options);
 

@@ -71,7 +71,7 @@ TEST_F(CliProgram, UnknownInputFormat) {
 TEST_F(CliProgram, UnknownOutputExtension) {
     const std::string input = write_file("atoms.xyzr", kTwoAtomsXyzr);
     expect_failure(run({input, "-o", path("out.wrl")}), 2,
-                   {"out.wrl", ".ply, .obj, .glb, .stl or .off", "--output-format"});
+                   {"out.wrl", ".ply, .obj, .glb, .stl or .off", ".png", "--output-format"});
 }
 
 TEST_F(CliProgram, OutputInNonexistentFolder) {
@@ -365,6 +365,19 @@ TEST_F(CliProgram, SimplifiedMeshIsClosedAndItsDeviationReported) {
     EXPECT_NE(text.out.find("target 100), topology kept"), std::string::npos) << text.out;
     EXPECT_NE(text.out.find("  deviation    Hausdorff "), std::string::npos) << text.out;
     EXPECT_NE(text.out.find("the collapses' estimate"), std::string::npos) << text.out;
+    EXPECT_EQ(text.err.find("warning"), std::string::npos) << text.err;
+    // A target no collapse can reach (a closed surface of one triangle): met as far as it
+    // goes (crambin's surface: 20 triangles), and the run says why it stopped above it.
+    ASSERT_NE(kDataDir, nullptr);
+    const std::string crambin = (fs::path(kDataDir) / "1crn.pdb").string();
+    const CliRun one = run({crambin, "-o", path("one.ply"), "--max-triangles", "1"});
+    ASSERT_EQ(one.exit_code, 0) << one.err;
+    EXPECT_NE(one.err.find("fdmsurf: warning: the simplified mesh has "), std::string::npos)
+        << one.err;
+    EXPECT_NE(one.err.find("triangles for a target of 1: every collapse left would change its "
+                           "topology or turn a triangle over"),
+              std::string::npos)
+        << one.err;
     // meshoptimizer's collapses instead: also closed, and said so.
     const CliRun m = run({input, "-o", path("meshopt.ply"), "--stats", "json", "--simplify", "0.2",
                           "--simplifier", "meshopt"});

@@ -215,6 +215,39 @@ TEST_F(CliFormats, BrokenPipeIsAnErrorNotACrash) {
     EXPECT_EQ(lines_of(err).size(), 1u) << err;
 }
 
+// The summary itself on a closed pipe or a full disk: the reason is the write's, not a
+// generic input/output error.
+TEST_F(CliFormats, ASummaryThatCannotBeWrittenSaysWhy) {
+    FDMSURF_REQUIRE_CLI_DEVICE();
+    std::string err;
+    int code = run_pipeline("\"$FDMSURF\" " + shell_quote(crambin()) + " -o " +
+                                shell_quote(path("a.ply")) + " | true",
+                            err);
+    EXPECT_EQ(code, 3) << err;
+    EXPECT_NE(err.find("cannot write standard output: Broken pipe"), std::string::npos) << err;
+    code = run_pipeline("\"$FDMSURF\" " + shell_quote(crambin()) + " -o " +
+                            shell_quote(path("b.ply")) + " > /dev/full",
+                        err);
+    EXPECT_EQ(code, 3) << err;
+    EXPECT_NE(err.find("cannot write standard output: No space left on device"),
+              std::string::npos)
+        << err;
+}
+
+// A file past the size limit (ulimit -f): an error that leaves nothing, not a signal that kills
+// the run with its temporary file behind.
+TEST_F(CliFormats, AFileTooLargeIsAnErrorThatLeavesNothing) {
+    FDMSURF_REQUIRE_CLI_DEVICE();
+    fs::create_directory(path("limited"));
+    std::string err;
+    const int code = run_pipeline("ulimit -f 100; \"$FDMSURF\" " + shell_quote(crambin()) +
+                                      " -o " + shell_quote(path("limited/a.ply")),
+                                  err);
+    EXPECT_EQ(code, 3) << err;
+    EXPECT_NE(err.find("File too large"), std::string::npos) << err;
+    EXPECT_TRUE(fs::is_empty(path("limited")));
+}
+
 TEST_F(CliFormats, BadPipeCombinationsAndInputsAreClearErrors) {
     const std::string a = write_file("a.xyzr", kTwoAtomsXyzr);
     expect_failure(run({"-", "-", "-o", path("out/")}), 2, {"'-' (standard input)", "once"});

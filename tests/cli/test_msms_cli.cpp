@@ -301,6 +301,35 @@ TEST_F(MsmsRuns, BadInputIsAnErrorAndWritesNothing) {
     fs::remove(dir_ / "s.face");
     fs::remove(dir_ / "short.xyzrn");
     EXPECT_TRUE(fs::is_empty(dir_));
+
+    // A sphere of radius 0 would be left out and shift every later atom number: refused.
+    std::ofstream(dir_ / "zero.xyzrn") << "1 2 3 1.5 1 A_1_x_GLY_N\n# a comment\n"
+                                          "4 5 6 0 1 A_1_x_GLY_H\n7 8 9 1.7 1 A_1_x_GLY_CA\n";
+    r = run(std::string(FDMSURF_CLI_PATH) + " msms", "-if zero.xyzrn -of z -af z");
+    EXPECT_EQ(r.exit_code, 3) << r.err;
+    EXPECT_TRUE(has(r.err, "line 3") && has(r.err, "radius 0")) << r.err;
+    // A sphere line without its name among named ones: refused, naming it.
+    std::ofstream(dir_ / "unnamed.xyzrn") << "1 2 3 1.5 1 A_1_x_GLY_N\n4 5 6 1.7\n";
+    r = run(std::string(FDMSURF_CLI_PATH) + " msms", "-if unnamed.xyzrn -of u -af u");
+    EXPECT_EQ(r.exit_code, 3) << r.err;
+    EXPECT_TRUE(has(r.err, "line 2 has 4 fields, line 1 6")) << r.err;
+    fs::remove(dir_ / "zero.xyzrn");
+    fs::remove(dir_ / "unnamed.xyzrn");
+    EXPECT_TRUE(fs::is_empty(dir_));
+
+    // The files appear together or not at all: with a folder where the .face or the .area
+    // would go, no .vert (nor .face) is left behind.
+    for (const char* taken : {"t.face", "t.area"}) {
+        fs::create_directory(dir_ / taken);
+        r = run(std::string(FDMSURF_CLI_PATH) + " msms",
+                "-if " + data("1crn.xyzrn") + " -of t -af t");
+        EXPECT_EQ(r.exit_code, 3) << r.err;
+        EXPECT_TRUE(has(r.err, std::string("cannot write t.") + (taken + 2))) << r.err;
+        std::vector<std::string> left;
+        for (const auto& e : fs::directory_iterator(dir_)) left.push_back(e.path().filename());
+        EXPECT_EQ(left, std::vector<std::string>{taken});
+        fs::remove(dir_ / taken);
+    }
 }
 
 TEST_F(MsmsRuns, AllComponentsWritesEachCavityApart) {

@@ -2,6 +2,7 @@
 // help text.
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -90,7 +91,12 @@ TEST(CliSimplify, MaxTrianglesMustBeAPositiveWholeNumber) {
         EXPECT_TRUE(contains(message, "--max-triangles")) << message;
         EXPECT_TRUE(contains(message, "not a whole number")) << message;
     }
-    EXPECT_TRUE(contains(parse_error_with({"--max-triangles", "99999999999"}), "out of range"));
+    // An upper bound: any count, however large (beyond 2^64, none).
+    EXPECT_EQ(parse_with({"--max-triangles", "99999999999"}).simplify.max_triangles,
+              99999999999u);
+    EXPECT_EQ(parse_with({"--max-triangles", "999999999999999999999999"}).simplify.max_triangles,
+              std::numeric_limits<std::size_t>::max());
+    EXPECT_TRUE(contains(parse_error_with({"--max-triangles", "-x"}), "not a whole number"));
 }
 
 TEST(CliSimplify, SimplifierIsCollapseUnlessMeshoptIsAsked) {

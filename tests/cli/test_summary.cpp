@@ -1,6 +1,7 @@
 // Tests of the run summary (text and --stats json) on a made-up report: no device needed.
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <string>
 
 #include "cli/json_check.hpp"
@@ -226,6 +227,11 @@ TEST(CliSummary, SimplificationIsReportedInTextAndJson) {
                          "target 82,464), simplification changed the topology (no new boundary "
                          "or non-manifold edge): 4 -> 6 pieces, Euler characteristic -88 -> -82\n"))
         << text;
+    // An empty mesh (a --patch of nothing): no distances, said so rather than "nan".
+    r.simplify.hausdorff = r.simplify.rmsd = std::numeric_limits<double>::quiet_NaN();
+    text = fdmsurf::cli::text_summary(r);
+    EXPECT_TRUE(contains(text, "  deviation    not measured (no triangles)\n")) << text;
+    EXPECT_FALSE(contains(text, "nan")) << text;
 }
 
 TEST(CliSummary, JsonIsOneValidObjectWithEveryKey) {

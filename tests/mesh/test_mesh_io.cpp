@@ -1,12 +1,16 @@
 // Tests of write_mesh and read_mesh: round trips, other tools' files, atomic writes, bad input.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "core/parallel.hpp"
@@ -15,6 +19,7 @@
 #include "mesh/mesh_shapes.hpp"
 #include "support/mesh_checks.hpp"
 #include "support/temp_folder.hpp"
+#include "mesh/atomic_file.hpp"
 
 namespace fdmsurf {
 namespace {
@@ -252,6 +257,75 @@ TEST_F(MeshFiles, PathThatIsAFolderThrowsIoAndLeavesNoTemporary) {
     EXPECT_TRUE(fs::is_directory(path("taken.obj")));
     EXPECT_TRUE(fs::is_empty(path("taken.obj")));
     EXPECT_EQ(listing(), std::vector<std::string>{"taken.obj"});
+}
+
+TEST_F(MeshFiles, ASymbolicLinkIsFollowedAndStays) {
+    write_file("target.ply", "old contents");
+    fs::create_symlink("target.ply", path("link.ply"));
+    write_mesh(small_sphere(), path("link.ply"));
+    EXPECT_TRUE(fs::is_symlink(path("link.ply")));
+    EXPECT_EQ(read_mesh(path("target.ply")).indices, small_sphere().indices);
+    // A link to a file not there yet: the file is made where it points.
+    fs::create_symlink("new.ply", path("dangling.ply"));
+    write_mesh(small_sphere(), path("dangling.ply"));
+    EXPECT_TRUE(fs::is_symlink(path("dangling.ply")));
+    EXPECT_TRUE(fs::is_regular_file(path("new.ply")));
+    EXPECT_EQ(listing(),
+              (std::vector<std::string>{"dangling.ply", "link.ply", "new.ply", "target.ply"}));
+}
+
+TEST_F(MeshFiles, AReplacedFileKeepsItsPermissions) {
+    write_file("private.ply", "old contents");
+    fs::permissions(path("private.ply"), fs::perms::owner_read | fs::perms::owner_write);
+    write_mesh(small_sphere(), path("private.ply"));
+    EXPECT_EQ(fs::status(path("private.ply")).permissions(),
+              fs::perms::owner_read | fs::perms::owner_write);
+    EXPECT_EQ(read_mesh(path("private.ply")).indices, small_sphere().indices);
+}
+
+TEST_F(MeshFiles, ANamedPipeIsWrittenThroughNotReplaced) {
+    const std::string fifo = path("pipe.off");
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    std::string received;
+    std::thread reader([&] {
+        std::ifstream in(fifo, std::ios::binary);
+        received.assign(std::istreambuf_iterator<char>(in), {});
+    });
+    write_mesh(small_sphere(), fifo);
+    reader.join();
+    EXPECT_EQ(fs::status(fifo).type(), fs::file_type::fifo);
+    EXPECT_EQ(received.rfind("OFF", 0), 0u) << received.substr(0, 40);
+    EXPECT_EQ(listing(), std::vector<std::string>{"pipe.off"});
+}
+
+TEST_F(MeshFiles, ACommitGroupRenamesItsFilesTogetherOrNone) {
+    {
+        detail::CommitGroup group;
+        write_mesh(small_sphere(), path("a.ply"));
+        write_mesh(small_sphere(), path("b.ply"));
+        EXPECT_FALSE(fs::exists(path("a.ply")));  // not before the group's commit
+        group.commit();
+    }
+    EXPECT_EQ(listing(), (std::vector<std::string>{"a.ply", "b.ply"}));
+    // A folder appears at the second path after its file was written: neither is renamed,
+    // no temporary file is left.
+    fs::remove(path("a.ply"));
+    fs::remove(path("b.ply"));
+    {
+        detail::CommitGroup group;
+        write_mesh(small_sphere(), path("a.ply"));
+        write_mesh(small_sphere(), path("b.ply"));
+        fs::create_directory(path("b.ply"));
+        EXPECT_EQ(error_code_of([&] { group.commit(); }), ErrorCode::Io);
+    }
+    EXPECT_EQ(listing(), std::vector<std::string>{"b.ply"});
+    // Left without commit (an exception on the way): nothing.
+    fs::remove(path("b.ply"));
+    {
+        detail::CommitGroup group;
+        write_mesh(small_sphere(), path("c.ply"));
+    }
+    EXPECT_TRUE(listing().empty());
 }
 
 TEST_F(MeshFiles, UnknownExtensionThrowsInvalidArgumentAndCreatesNothing) {

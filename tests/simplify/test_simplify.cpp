@@ -157,6 +157,7 @@ TEST(SimplifyTarget, RoundsCapsAndKeepsOne) {
     EXPECT_EQ(detail::simplify_target(15, o), 2u);  // 1.5 rounds up
     o.ratio = 1e-9;
     EXPECT_EQ(detail::simplify_target(1000, o), 1u);
+    EXPECT_EQ(detail::simplify_target(0, o), 0u);  // an empty mesh: nothing to aim at
     // Both given: the smaller target.
     o.ratio = 0.5;
     o.max_triangles = 300;
