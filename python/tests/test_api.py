@@ -112,6 +112,10 @@ def test_simplify_and_optimize_change_the_mesh(engine, data):
     assert 4000 <= capped.triangle_count < 4400 and capped.closed_manifold
     both = engine.surface(data / "1crn.pdb", simplify=0.5, max_triangles=4000)
     assert both.simplify["target_triangles"] == 4000  # the smaller target
+    # A target no collapse can reach: as far as it goes, with the CLI's warning saying why.
+    one = engine.surface(data / "1crn.pdb", max_triangles=1)
+    assert one.simplify["target_triangles"] == 1 and one.closed_manifold
+    assert any("for a target of 1: every collapse left" in w for w in one.warnings), one.warnings
 
     # optimize: the same triangles (each corner order kept up to rotation), in another order.
     ordered = engine.surface(data / "1crn.pdb", optimize=True)

@@ -602,16 +602,8 @@ int run_one(const CliOptions& options, Engine& engine, Renderer* renderer, Progr
         report.simplified = true;
         report.simplify_options = options.simplify;
         if (!report.simplify.topology_kept) warn(simplify_breakage(report.simplify));
-        // Well above the target (more than 2%, the cells' last pass's margin): say why.
-        const SimplifyReport& q = report.simplify;
-        if (q.triangles_out > q.target_triangles + std::max<std::size_t>(q.target_triangles / 50, 4))
-            warn("the simplified mesh has " + format_count(q.triangles_out) +
-                 " triangles for a target of " + format_count(q.target_triangles) +
-                 ": every collapse left would change its topology or turn a triangle over" +
-                 (q.frozen_triangles != 0
-                      ? " (" + format_count(q.frozen_triangles) +
-                            " triangles kept as they were where meshoptimizer's collapses broke it)"
-                      : std::string()));
+        if (const std::string why = simplify_shortfall(report.simplify); !why.empty())
+            warn(why);
     }
     if (options.optimize) {
         t = Clock::now();

@@ -143,6 +143,20 @@ inline std::string simplify_breakage(const SimplifyReport& s) {
     return text;
 }
 
+// The warning for a simplified mesh well above its target (more than 2%, the cells' last
+// pass's margin, and 4 triangles), saying why; empty otherwise.
+inline std::string simplify_shortfall(const SimplifyReport& q) {
+    if (q.triangles_out <= q.target_triangles + std::max<std::size_t>(q.target_triangles / 50, 4))
+        return {};
+    std::string text = "the simplified mesh has " + format_count(q.triangles_out) +
+                       " triangles for a target of " + format_count(q.target_triangles) +
+                       ": every collapse left would change its topology or turn a triangle over";
+    if (q.frozen_triangles != 0)
+        text += " (" + format_count(q.frozen_triangles) +
+                " triangles kept as they were where meshoptimizer's collapses broke it)";
+    return text;
+}
+
 // The summary's lines for --areas and --buried (empty when neither was asked for).
 inline std::string areas_lines(const RunReport& r) {
     std::string s;
