@@ -210,7 +210,9 @@ public:
                 out.simplify_options = options.simplify;
                 if (!out.simplify.topology_kept)
                     result.warnings.push_back(cli::simplify_breakage(out.simplify));
-                if (const std::string why = cli::simplify_shortfall(out.simplify); !why.empty())
+                if (const std::string why =
+                        cli::simplify_shortfall(out.simplify, options.simplify.simplifier);
+                    !why.empty())
                     result.warnings.push_back(why);
             }
             if (options.optimize) {

@@ -602,7 +602,8 @@ int run_one(const CliOptions& options, Engine& engine, Renderer* renderer, Progr
         report.simplified = true;
         report.simplify_options = options.simplify;
         if (!report.simplify.topology_kept) warn(simplify_breakage(report.simplify));
-        if (const std::string why = simplify_shortfall(report.simplify); !why.empty())
+        if (const std::string why = simplify_shortfall(report.simplify, options.simplify.simplifier);
+            !why.empty())
             warn(why);
     }
     if (options.optimize) {
@@ -726,8 +727,8 @@ int run(const CliOptions& options) {
     if (!options.patch.empty()) check_selection(options.patch, "--patch");
     if (!options.areas.empty()) check_areas_output(options.areas);
     // Progress on stderr (a terminal, not --quiet): the engine reports its stages to it. Not
-    // when --stats json goes to stderr itself (the mesh on standard output): the JSON stays
-    // alone on its stream.
+    // when --stats json goes to stderr itself (the mesh on standard output): the JSON keeps a
+    // line of its own, after any warning's.
     const bool json_on_stderr = options.json && options.output == kStdio;
     Progress progress(!json_on_stderr && progress_wanted(options.quiet));
     EngineOptions engine_options = options.engine;

@@ -85,6 +85,7 @@ std::string folder_error(const std::string& path) {
 // must have as many fields as the first one. Throws Error(Format) naming the line; returns the
 // first sphere line's field count (0: none).
 std::size_t check_sphere_lines(std::string_view text, const std::string& path) {
+    detail::check_text(text, path);  // binary data: the reader's message
     detail::LineReader lines(text);
     std::string_view line;
     std::size_t first_fields = 0, first_line = 0;
@@ -94,6 +95,7 @@ std::size_t check_sphere_lines(std::string_view text, const std::string& path) {
         const std::size_t fields = detail::split_fields(t).size();
         if (first_line == 0) {
             first_fields = fields, first_line = lines.number();
+            if (fields < 4) return fields;  // the reader names the line: too few fields
         } else if (fields != first_fields) {
             throw Error(ErrorCode::Format,
                         path + ": line " + std::to_string(lines.number()) + " has " +

@@ -489,7 +489,11 @@ void apply_value(CliOptions& o, const OptionSpec& spec, std::string_view name,
     SurfaceOptions& s = o.surface;
     switch (spec.id) {
         case Opt::Output:
-            o.output = text;
+            // Standard output by another name: the same as '-' (the summary then goes to
+            // stderr rather than into the mesh).
+            o.output = text == "/dev/stdout" || text == "/dev/fd/1" || text == "/proc/self/fd/1"
+                           ? std::string(kStdio)
+                           : text;
             break;
         case Opt::OutputFormat:
             o.output_format = parse_choice(name, text, kOutputFormats, "output format",

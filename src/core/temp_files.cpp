@@ -11,17 +11,16 @@ namespace fdmsurf::detail {
 
 namespace {
 
-constexpr int kSlots = 32;
+// Enough for every file of a run written together (fdmsurf msms -all_components holds two per
+// cavity until all are complete). The states lie apart from the paths, so that a scan touches
+// one page of them and a path's page only once it is used.
+constexpr int kSlots = 1024;
 constexpr std::size_t kPathMax = 4096;
 
 enum State : int { kFree = 0, kClaimed = 1, kReady = 2 };
 
-struct Slot {
-    std::atomic<int> state{kFree};
-    char path[kPathMax];
-};
-
-Slot slots[kSlots];
+std::atomic<int> states[kSlots];
+char paths[kSlots][kPathMax];
 static_assert(std::atomic<int>::is_always_lock_free, "the handler needs lock-free atomics");
 
 // Creations in progress (TempFileCreation), and kSweeping once a handler has begun.
@@ -33,21 +32,21 @@ static_assert(std::atomic<unsigned>::is_always_lock_free, "the handler needs loc
 
 bool track_temp_file(const std::string& path) {
     if (path.size() + 1 > kPathMax) return false;
-    for (Slot& s : slots) {
+    for (int i = 0; i < kSlots; ++i) {
         int expected = kFree;
-        if (!s.state.compare_exchange_strong(expected, kClaimed)) continue;
-        std::memcpy(s.path, path.c_str(), path.size() + 1);
-        s.state.store(kReady);
+        if (!states[i].compare_exchange_strong(expected, kClaimed)) continue;
+        std::memcpy(paths[i], path.c_str(), path.size() + 1);
+        states[i].store(kReady);
         return true;
     }
     return false;
 }
 
 void untrack_temp_file(const std::string& path) {
-    for (Slot& s : slots) {
-        if (s.state.load() != kReady || std::strcmp(s.path, path.c_str()) != 0) continue;
+    for (int i = 0; i < kSlots; ++i) {
+        if (states[i].load() != kReady || std::strcmp(paths[i], path.c_str()) != 0) continue;
         int expected = kReady;
-        if (s.state.compare_exchange_strong(expected, kClaimed)) s.state.store(kFree);
+        if (states[i].compare_exchange_strong(expected, kClaimed)) states[i].store(kFree);
         return;
     }
 }
@@ -71,8 +70,8 @@ void remove_temp_files_from_signal_handler() {
     while ((creations.load() & ~kSweeping) != 0) {
         // another thread is between creating a temporary file and tracking it: microseconds
     }
-    for (Slot& s : slots)
-        if (s.state.load() == kReady) ::unlink(s.path);
+    for (int i = 0; i < kSlots; ++i)
+        if (states[i].load() == kReady) ::unlink(paths[i]);
 }
 
 }  // namespace fdmsurf::detail

@@ -6,7 +6,7 @@
 
 namespace fdmsurf::detail {
 
-// Adds `path` (false when the table's 32 slots are all taken or the path is too long: the file
+// Adds `path` (false when the table's 1024 slots are all taken or the path is too long: the file
 // is then written as usual, only not removed by an interrupt).
 bool track_temp_file(const std::string& path);
 // Removes `path` from the table (after it was renamed into place or removed).

@@ -25,39 +25,60 @@ constexpr std::size_t buffer_size = std::size_t{1} << 20;
 
 thread_local CommitGroup* current_group = nullptr;
 
-// `path` with its symbolic links followed to the file they name (which may not exist yet); the
-// path itself when it is no link, or after 40 links (a loop: open() then reports it).
-std::string follow_links(std::string path) {
+// `path` with its symbolic links followed to the file they name (which may not exist yet), the
+// path itself when it is no link; ELOOP after 40 links.
+std::string follow_links(std::string path, int& error) {
+    error = 0;
     for (int hop = 0; hop < 40; ++hop) {
         struct stat st;
         if (::lstat(path.c_str(), &st) != 0 || !S_ISLNK(st.st_mode)) return path;
-        std::string target(std::size_t(st.st_size > 0 ? st.st_size : 4096) + 1, '\0');
-        const ssize_t n = ::readlink(path.c_str(), target.data(), target.size());
-        if (n < 0 || std::size_t(n) >= target.size()) return path;
-        target.resize(std::size_t(n));
+        std::string target(256, '\0');
+        for (;;) {  // st_size is not to be trusted (/proc's links report 64)
+            const ssize_t n = ::readlink(path.c_str(), target.data(), target.size());
+            if (n < 0) return path;
+            if (std::size_t(n) < target.size()) {
+                target.resize(std::size_t(n));
+                break;
+            }
+            target.resize(2 * target.size());
+        }
         if (!target.empty() && target[0] != '/') {
             const std::size_t slash = path.rfind('/');
             if (slash != std::string::npos) target = path.substr(0, slash + 1) + target;
         }
         path = std::move(target);
     }
+    error = ELOOP;
     return path;
+}
+
+bool starts_with(const std::string& s, const char* prefix) {
+    return s.compare(0, std::strlen(prefix), prefix) == 0;
 }
 
 }  // namespace
 
-AtomicFile::AtomicFile(std::string path) : path_(follow_links(std::move(path))) {
+AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
     buffer_.resize(buffer_size);
     struct stat st;
-    const bool exists = ::stat(path_.c_str(), &st) == 0;
+    bool exists = ::stat(path_.c_str(), &st) == 0;
     if (exists && S_ISDIR(st.st_mode)) fail(EISDIR);
-    if (exists && !S_ISREG(st.st_mode)) {
-        // A FIFO, a device or a socket: renaming a file onto it would replace it.
-        fd_ = ::open(path_.c_str(), O_WRONLY | O_CLOEXEC);
+    // A FIFO, a device or a socket, and anything under /dev or /proc (/dev/stdout, /dev/fd/3,
+    // whatever they lead to): written through as named, since renaming a file onto them would
+    // replace them (or the system's /dev/stdout link), and a regular file behind them (a shell's
+    // redirection) is appended to.
+    if ((exists && !S_ISREG(st.st_mode)) || starts_with(path_, "/dev/") ||
+        starts_with(path_, "/proc/")) {
+        fd_ = ::open(path_.c_str(),
+                     O_WRONLY | O_CLOEXEC | (exists && S_ISREG(st.st_mode) ? O_APPEND : 0));
         if (fd_ < 0) fail(errno);
         through_ = true;
         return;
     }
+    // A symbolic link: the file it names is replaced (or made), the link stays.
+    int link_error = 0;
+    path_ = follow_links(std::move(path_), link_error);
+    if (link_error != 0) fail(link_error);
     // open(O_EXCL) with a random suffix instead of mkstemp: mkstemp makes the file 0600,
     // while a renamed output should get the usual 0666 & ~umask.
     std::random_device seed;
@@ -90,8 +111,9 @@ AtomicFile::AtomicFile(std::string path) : path_(follow_links(std::move(path))) 
         temp_path_.clear();  // nothing of ours to remove
         fail(error_number);
     }
-    // A file replaced keeps its permissions (the new one would get 0666 & ~umask).
-    if (exists && ::fchmod(fd_, st.st_mode & 07777) != 0) fail(errno);
+    // A file replaced keeps its permission bits (the new one would get 0666 & ~umask); not its
+    // set-id or sticky bits, and where the file system refuses, the new file's are kept.
+    if (exists) ::fchmod(fd_, st.st_mode & 0777);
 }
 
 AtomicFile::~AtomicFile() {
@@ -152,10 +174,17 @@ CommitGroup::~CommitGroup() {
         ::unlink(p.temp_path.c_str());
         if (p.tracked) untrack_temp_file(p.temp_path);
     }
-    current_group = outer_;
+    if (current_group == this) current_group = outer_;
 }
 
 void CommitGroup::commit() {
+    // Files committed after this go on as without the group (or into the outer one).
+    if (current_group == this) current_group = outer_;
+    if (outer_ != nullptr) {  // nested: the outer group renames them, with its own
+        outer_->pending_.insert(outer_->pending_.end(), pending_.begin(), pending_.end());
+        pending_.clear();
+        return;
+    }
     for (const Pending& p : pending_) {
         struct stat st;
         if (::stat(p.path.c_str(), &st) == 0 && S_ISDIR(st.st_mode))

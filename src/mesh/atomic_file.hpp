@@ -14,11 +14,14 @@ class CommitGroup;
 // Opens a new temporary file next to `path`; write() buffers, commit() flushes, closes and
 // renames it onto `path`. Destroyed without commit(), it removes the temporary file. Every
 // failure throws Error(Io, "cannot write <path>: <reason>"). Not copyable.
-// - A symbolic link at `path` is followed: the file it points to is replaced, the link stays.
-// - A FIFO or a device at `path` (a named pipe, /dev/stdout) is written through, with no
-//   temporary file: a reader sees what was written before a failure.
+// - A symbolic link at `path` is followed: the file it names is replaced, the link stays (a
+//   loop is ELOOP).
+// - A FIFO, a device or a socket at `path`, and any path under /dev or /proc (/dev/stdout,
+//   /dev/fd/N), is written through as named, with no temporary file (a regular file behind it
+//   is appended to): a reader sees what was written before a failure.
 // - A folder at `path` is refused at once.
-// - A file at `path` keeps its permission bits.
+// - A file at `path` keeps its permission bits (rwx, not set-id or sticky; where the file
+//   system allows).
 // - While a CommitGroup is alive on the calling thread, commit() leaves the renaming to it.
 class AtomicFile final : public ByteSink {
 public:
@@ -49,7 +52,9 @@ private:
 // is completed under its temporary name, and commit() renames them all into place, after
 // checking that none of their paths has become a folder, so that a set of files (MSMS's .vert,
 // .face and .area) appears together or not at all. Destroyed without commit() (an exception),
-// it removes the temporary files it holds. Groups nest: the innermost one takes the files.
+// it removes the temporary files it holds. After commit(), files go on as without it. Groups
+// nest: the innermost one takes the files, and its commit() hands them to the outer one. A
+// group belongs to the thread that made it: files committed on other threads are not its.
 class CommitGroup {
 public:
     CommitGroup();

@@ -215,6 +215,22 @@ TEST_F(CliFormats, BrokenPipeIsAnErrorNotACrash) {
     EXPECT_EQ(lines_of(err).size(), 1u) << err;
 }
 
+// /dev/stdout is standard output by another name: the mesh alone on it, as with '-o -' (the
+// summary on stderr), never a file put in its place.
+TEST_F(CliFormats, DevStdoutIsStandardOutput) {
+    FDMSURF_REQUIRE_CLI_DEVICE();
+    std::string err;
+    const int code = run_pipeline("\"$FDMSURF\" " + shell_quote(crambin()) +
+                                      " -o /dev/stdout | cat > " + shell_quote(path("out.ply")),
+                                  err);
+    EXPECT_EQ(code, 0) << err;
+    const std::string mesh = read_text(path("out.ply"));
+    EXPECT_EQ(mesh.rfind("ply\n", 0), 0u) << mesh.substr(0, 40);
+    EXPECT_EQ(mesh.find("ses surface of"), std::string::npos);  // no summary inside
+    EXPECT_NE(err.find("ses surface of"), std::string::npos) << err;
+    EXPECT_TRUE(fs::is_symlink("/dev/stdout") || fs::exists("/dev/stdout"));
+}
+
 // The summary itself on a closed pipe or a full disk: the reason is the write's, not a
 // generic input/output error.
 TEST_F(CliFormats, ASummaryThatCannotBeWrittenSaysWhy) {

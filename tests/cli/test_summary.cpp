@@ -227,6 +227,21 @@ TEST(CliSummary, SimplificationIsReportedInTextAndJson) {
                          "target 82,464), simplification changed the topology (no new boundary "
                          "or non-manifold edge): 4 -> 6 pieces, Euler characteristic -88 -> -82\n"))
         << text;
+    // Well above the target: why, by simplifier.
+    r.simplify.target_triangles = 1000;
+    r.simplify.triangles_out = 1010;  // within fdmsurf's 2%
+    EXPECT_EQ(fdmsurf::cli::simplify_shortfall(r.simplify, Simplifier::kCollapse), "");
+    r.simplify.triangles_out = 1030;
+    EXPECT_EQ(fdmsurf::cli::simplify_shortfall(r.simplify, Simplifier::kCollapse),
+              "the simplified mesh has 1,030 triangles for a target of 1,000: every collapse "
+              "left would change its topology or turn a triangle over");
+    EXPECT_EQ(fdmsurf::cli::simplify_shortfall(r.simplify, Simplifier::kMeshopt), "");  // < 10%
+    r.simplify.triangles_out = 1200;
+    r.simplify.frozen_triangles = 150;
+    EXPECT_EQ(fdmsurf::cli::simplify_shortfall(r.simplify, Simplifier::kMeshopt),
+              "the simplified mesh has 1,200 triangles for a target of 1,000: meshoptimizer's "
+              "collapses stopped there (150 triangles kept as they were where they broke the "
+              "topology)");
     // An empty mesh (a --patch of nothing): no distances, said so rather than "nan".
     r.simplify.hausdorff = r.simplify.rmsd = std::numeric_limits<double>::quiet_NaN();
     text = fdmsurf::cli::text_summary(r);

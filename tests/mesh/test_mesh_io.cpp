@@ -274,6 +274,15 @@ TEST_F(MeshFiles, ASymbolicLinkIsFollowedAndStays) {
               (std::vector<std::string>{"dangling.ply", "link.ply", "new.ply", "target.ply"}));
 }
 
+TEST_F(MeshFiles, ASymbolicLinkLoopIsAnErrorAndReplacesNothing) {
+    fs::create_symlink("b.ply", path("a.ply"));
+    fs::create_symlink("a.ply", path("b.ply"));
+    const std::string message = error_message_of([&] { write_mesh(small_sphere(), path("a.ply")); });
+    EXPECT_NE(message.find("symbolic links"), std::string::npos) << message;
+    EXPECT_TRUE(fs::is_symlink(path("a.ply")));
+    EXPECT_EQ(listing(), (std::vector<std::string>{"a.ply", "b.ply"}));
+}
+
 TEST_F(MeshFiles, AReplacedFileKeepsItsPermissions) {
     write_file("private.ply", "old contents");
     fs::permissions(path("private.ply"), fs::perms::owner_read | fs::perms::owner_write);
@@ -326,6 +335,22 @@ TEST_F(MeshFiles, ACommitGroupRenamesItsFilesTogetherOrNone) {
         write_mesh(small_sphere(), path("c.ply"));
     }
     EXPECT_TRUE(listing().empty());
+    // Nested: the inner commit hands its files to the outer group; after the outer commit,
+    // files are renamed as without a group.
+    {
+        detail::CommitGroup outer;
+        {
+            detail::CommitGroup inner;
+            write_mesh(small_sphere(), path("d.ply"));
+            inner.commit();
+        }
+        EXPECT_FALSE(fs::exists(path("d.ply")));  // still under its temporary name
+        outer.commit();
+        EXPECT_EQ(listing(), std::vector<std::string>{"d.ply"});
+        write_mesh(small_sphere(), path("e.ply"));
+        EXPECT_EQ(listing(), (std::vector<std::string>{"d.ply", "e.ply"}));
+    }
+    EXPECT_EQ(listing(), (std::vector<std::string>{"d.ply", "e.ply"}));
 }
 
 TEST_F(MeshFiles, UnknownExtensionThrowsInvalidArgumentAndCreatesNothing) {

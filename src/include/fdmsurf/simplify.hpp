@@ -73,7 +73,7 @@ struct SimplifyReport {
 };
 
 // A copy of `mesh` with about target = min(round(ratio · triangles), max_triangles) triangles
-// (at least 1), by half-edge collapses in quadric-error order (borders and non-manifold vertices
+// (at least 1; 0 for an empty mesh), by half-edge collapses in quadric-error order (borders and non-manifold vertices
 // locked: an open patch keeps its outline). Vertices at bit-identical positions are welded
 // first. Meshes of more than 65,536 triangles are simplified in cells, in parallel on all
 // hardware threads. With Simplifier::kCollapse every collapse is tested for the link condition,
