@@ -52,23 +52,19 @@ std::string follow_links(std::string path, int& error) {
     return path;
 }
 
-bool starts_with(const std::string& s, const char* prefix) {
-    return s.compare(0, std::strlen(prefix), prefix) == 0;
-}
-
 }  // namespace
 
 AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
     buffer_.resize(buffer_size);
     struct stat st;
-    bool exists = ::stat(path_.c_str(), &st) == 0;
+    const bool exists = ::stat(path_.c_str(), &st) == 0;
     if (exists && S_ISDIR(st.st_mode)) fail(EISDIR);
     // A FIFO, a device or a socket, and anything under /dev or /proc (/dev/stdout, /dev/fd/3,
     // whatever they lead to): written through as named, since renaming a file onto them would
     // replace them (or the system's /dev/stdout link), and a regular file behind them (a shell's
     // redirection) is appended to.
-    if ((exists && !S_ISREG(st.st_mode)) || starts_with(path_, "/dev/") ||
-        starts_with(path_, "/proc/")) {
+    if ((exists && !S_ISREG(st.st_mode)) || path_.starts_with("/dev/") ||
+        path_.starts_with("/proc/")) {
         fd_ = ::open(path_.c_str(),
                      O_WRONLY | O_CLOEXEC | (exists && S_ISREG(st.st_mode) ? O_APPEND : 0));
         if (fd_ < 0) fail(errno);
