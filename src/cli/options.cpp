@@ -642,7 +642,15 @@ void apply_value(CliOptions& o, const OptionSpec& spec, std::string_view name,
             std::string_view digits = text;
             if (!digits.empty() && digits.front() == '+') digits.remove_prefix(1);
             if (!digits.empty() && digits.front() == '-') {
-                parse_int(name, text);  // "-x" is not a whole number; "-5" is below 1
+                // "-5" or "-99999999999" is below 1; "-x" or "-" is not a whole number.
+                const std::string_view magnitude = digits.substr(1);
+                const bool whole = !magnitude.empty() &&
+                                   std::all_of(magnitude.begin(), magnitude.end(), [](char c) {
+                                       return c >= '0' && c <= '9';
+                                   });
+                if (!whole) {
+                    fail("option " + std::string(name) + ": '" + text + "' is not a whole number");
+                }
                 require(false, name, "a whole number of triangles >= 1", text);
             }
             std::uint64_t count = 0;

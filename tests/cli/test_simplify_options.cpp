@@ -79,7 +79,7 @@ TEST(CliSimplify, RatioOutsideZeroOneIsRejectedNamingTheOption) {
 }
 
 TEST(CliSimplify, MaxTrianglesMustBeAPositiveWholeNumber) {
-    for (const char* value : {"0", "-5"}) {
+    for (const char* value : {"0", "-5", "-0", "-99999999999", "-999999999999999999999999"}) {
         const std::string message = parse_error_with({"--max-triangles", value});
         EXPECT_TRUE(
             contains(message, "option --max-triangles must be a whole number of triangles >= 1"))
@@ -96,7 +96,10 @@ TEST(CliSimplify, MaxTrianglesMustBeAPositiveWholeNumber) {
               99999999999u);
     EXPECT_EQ(parse_with({"--max-triangles", "999999999999999999999999"}).simplify.max_triangles,
               std::numeric_limits<std::size_t>::max());
-    EXPECT_TRUE(contains(parse_error_with({"--max-triangles", "-x"}), "not a whole number"));
+    for (const char* value : {"-x", "-", "-5x", "-+5"}) {
+        EXPECT_TRUE(contains(parse_error_with({"--max-triangles", value}), "not a whole number"))
+            << value;
+    }
 }
 
 TEST(CliSimplify, SimplifierIsCollapseUnlessMeshoptIsAsked) {
