@@ -38,10 +38,20 @@ namespace {
 // stream again, the error flag is all that is left of it.
 int stdout_errno = 0;
 
+void note_error(std::FILE* stream) {
+    if (stream == stdout && stdout_errno == 0) stdout_errno = errno != 0 ? errno : EIO;
+}
+
 void flush_noting_errors(std::FILE* stream) {
     errno = 0;
-    if (std::fflush(stream) != 0 && stream == stdout && stdout_errno == 0)
-        stdout_errno = errno != 0 ? errno : EIO;
+    if (std::fflush(stream) != 0) note_error(stream);
+}
+
+// `text` written to `stream`, the reason of a failed write kept as a flush's is: a text longer
+// than the stream's buffer fails inside the write, and the later flush knows only that it did.
+void put_noting_errors(const std::string& text, std::FILE* stream) {
+    errno = 0;
+    if (std::fwrite(text.data(), 1, text.size(), stream) != text.size()) note_error(stream);
 }
 
 using namespace fdmsurf;
@@ -302,9 +312,9 @@ int areas_only(const CliOptions& options, const Structure& structure, double par
     report.info = structure.info;
     report.total_ms = ms_since(start) + parse_ms;
     if (options.json)
-        std::printf("%s\n", areas_only_json(report).c_str());
+        put_noting_errors(areas_only_json(report) + "\n", stdout);
     else if (!options.quiet)
-        std::fputs(areas_only_text(report).c_str(), stdout);
+        put_noting_errors(areas_only_text(report), stdout);
     flush_noting_errors(stdout);
     return kExitOk;
 }
@@ -490,9 +500,9 @@ int run_one(const CliOptions& options, Engine& engine, Renderer* renderer, Progr
         // With the mesh or picture on standard output, the summary goes to stderr.
         std::FILE* const summary = to_stdout ? stderr : stdout;
         if (options.json) {
-            std::fprintf(summary, "%s\n", json_summary(report).c_str());
+            put_noting_errors(json_summary(report) + "\n", summary);
         } else if (!options.quiet) {
-            std::fputs(text_summary(report).c_str(), summary);
+            put_noting_errors(text_summary(report), summary);
         }
         flush_noting_errors(summary);
     };

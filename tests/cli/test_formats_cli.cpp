@@ -248,6 +248,20 @@ TEST_F(CliFormats, ASummaryThatCannotBeWrittenSaysWhy) {
     EXPECT_NE(err.find("cannot write standard output: No space left on device"),
               std::string::npos)
         << err;
+    // A summary longer than the stream's buffer (both paths about 3,800 characters of "./"):
+    // the write fails inside the print, not at the flush, and says why all the same.
+    std::string dots;
+    for (int i = 0; i < 1900; ++i) dots += "./";
+    const fs::path input = crambin();
+    code = run_pipeline("\"$FDMSURF\" " +
+                            shell_quote(input.parent_path().string() + "/" + dots +
+                                        input.filename().string()) +
+                            " -o " + shell_quote(path(dots + "c.ply")) + " > /dev/full",
+                        err);
+    EXPECT_EQ(code, 3) << err.substr(0, 300);
+    EXPECT_NE(err.find("cannot write standard output: No space left on device"),
+              std::string::npos)
+        << err.substr(0, 300);
 }
 
 // A file past the size limit (ulimit -f): an error that leaves nothing, not a signal that kills
