@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <string>
 
+#include "core/json_text.hpp"
 #include "fdmsurf/areas.hpp"
 #include "fdmsurf/error.hpp"
 #include "fdmsurf/fdmsurf.hpp"
@@ -40,35 +41,6 @@ std::string csv_field(const std::string& text) {
     for (char c : text) {
         if (c == '"') out += '"';
         out += c;
-    }
-    return out + "\"";
-}
-
-std::string json_string(const std::string& text) {
-    std::string out = "\"";
-    for (unsigned char c : text) {
-        switch (c) {
-            case '"':
-                out += "\\\"";
-                break;
-            case '\\':
-                out += "\\\\";
-                break;
-            case '\n':
-                out += "\\n";
-                break;
-            case '\t':
-                out += "\\t";
-                break;
-            default:
-                if (c < 0x20) {
-                    char buf[8];
-                    std::snprintf(buf, sizeof buf, "\\u%04x", c);
-                    out += buf;
-                } else {
-                    out += char(c);
-                }
-        }
     }
     return out + "\"";
 }
@@ -180,9 +152,9 @@ void write_json(const AreasReport& r, detail::AtomicFile& out) {
         if (mesh) mesh_total += a.mesh_area[i];
     }
     std::string j = "{\n";
-    j += "  \"fdmsurf\": " + json_string(version()) + ",\n";
-    j += "  \"input\": " + json_string(r.input) + ",\n";
-    j += "  \"mesh\": " + (r.has_mesh ? json_string(r.output) : std::string("null")) + ",\n";
+    j += "  \"fdmsurf\": " + detail::json_quote(version()) + ",\n";
+    j += "  \"input\": " + detail::json_quote(r.input) + ",\n";
+    j += "  \"mesh\": " + (r.has_mesh ? detail::json_quote(r.output) : std::string("null")) + ",\n";
     j += "  \"surface\": \"" + std::string(surface_name(s.surface)) + "\",\n";
     j += "  \"method\": " +
          (s.surface == SurfaceKind::Ses
@@ -200,7 +172,7 @@ void write_json(const AreasReport& r, detail::AtomicFile& out) {
          ",\n";
     j += "  \"relative_table\": " +
          (r.relative == RelativeTable::None ? std::string("null")
-                                            : json_string(to_string(r.relative))) +
+                                            : detail::json_quote(to_string(r.relative))) +
          ",\n";
     j += "  \"total\": {\"area\": " + number(total) +
          ", \"mesh_area\": " + (mesh ? number(mesh_total) : "null") +
@@ -211,7 +183,7 @@ void write_json(const AreasReport& r, detail::AtomicFile& out) {
         const BuriedAreas& b = *r.buried;
         j += "  \"buried\": {\"groups\": [";
         for (int g = 0; g < 2; ++g) {
-            j += std::string(g ? ", " : "") + "{\"name\": " + json_string(b.names[g]) +
+            j += std::string(g ? ", " : "") + "{\"name\": " + detail::json_quote(b.names[g]) +
                  ", \"atoms\": " + std::to_string(b.atom_count[g]) +
                  ", \"area_alone\": " + number(b.area_alone[g]) +
                  ", \"area_in_complex\": " + number(b.area_in_complex[g]) +
@@ -233,10 +205,10 @@ void write_json(const AreasReport& r, detail::AtomicFile& out) {
         for (const ResidueArea& res : *r.residues) {
             j = first ? "\n    " : ",\n    ";
             first = false;
-            j += "{\"chain\": " + json_string(res.chain) +
+            j += "{\"chain\": " + detail::json_quote(res.chain) +
                  ", \"number\": " + std::to_string(res.number) +
-                 ", \"insertion_code\": " + json_string(icode(res.insertion_code)) +
-                 ", \"name\": " + json_string(res.name) +
+                 ", \"insertion_code\": " + detail::json_quote(icode(res.insertion_code)) +
+                 ", \"name\": " + detail::json_quote(res.name) +
                  ", \"atoms\": " + std::to_string(res.atoms.size()) +
                  ", \"area\": " + number(res.area) +
                  ", \"mesh_area\": " + (mesh ? number(res.mesh_area) : "null") +
@@ -246,7 +218,8 @@ void write_json(const AreasReport& r, detail::AtomicFile& out) {
                 double alone = 0.0;
                 for (std::uint32_t i : res.atoms) alone += r.buried->alone.area[i];
                 j += ", \"group\": " +
-                     json_string(res.atoms.empty() ? std::string() : bv.name(res.atoms.front())) +
+                     detail::json_quote(res.atoms.empty() ? std::string()
+                                                          : bv.name(res.atoms.front())) +
                      ", \"area_alone\": " + number(alone) +
                      ", \"buried_area\": " + number(alone - res.area);
             }
@@ -262,20 +235,22 @@ void write_json(const AreasReport& r, detail::AtomicFile& out) {
         if (meta) {
             const AtomMeta& m = atoms.meta[i];
             j += ", \"serial\": " + std::to_string(m.serial) +
-                 ", \"name\": " + json_string(m.name) + ", \"chain\": " + json_string(m.chain) +
+                 ", \"name\": " + detail::json_quote(m.name) +
+                 ", \"chain\": " + detail::json_quote(m.chain) +
                  ", \"residue_number\": " + std::to_string(m.residue_number) +
-                 ", \"insertion_code\": " + json_string(icode(m.insertion_code)) +
-                 ", \"residue_name\": " + json_string(m.residue_name);
+                 ", \"insertion_code\": " + detail::json_quote(icode(m.insertion_code)) +
+                 ", \"residue_name\": " + detail::json_quote(m.residue_name);
         }
         if (atoms.element.size() == atoms.size())
-            j += ", \"element\": " + json_string(atoms.element[i]);
+            j += ", \"element\": " + detail::json_quote(atoms.element[i]);
         j += ", \"xyz\": [" + number(atoms.xyz[3 * i], 3) + ", " + number(atoms.xyz[3 * i + 1], 3) +
              ", " + number(atoms.xyz[3 * i + 2], 3) + "]";
         j += ", \"radius\": " + number(atoms.radius[i], 3) + ", \"area\": " + number(a.area[i]) +
              ", \"mesh_area\": " + (mesh ? number(a.mesh_area[i]) : "null");
         if (r.buried) {
             const double alone = r.buried->alone.area[i];
-            j += ", \"group\": " + json_string(bv.name(i)) + ", \"area_alone\": " + number(alone) +
+            j += ", \"group\": " + detail::json_quote(bv.name(i)) +
+                 ", \"area_alone\": " + number(alone) +
                  ", \"buried_area\": " + number(alone - a.area[i]);
         }
         j += "}";

@@ -117,6 +117,22 @@ TEST_F(CliAreasRun, AreasAloneNeedNoDevice) {
     EXPECT_TRUE(file->find("residues")->array.empty());
 }
 
+// The areas file is valid JSON whatever bytes the input's name holds: a byte that is not UTF-8
+// becomes U+FFFD, as in --stats json (the file once carried the raw byte).
+TEST_F(CliAreasRun, AreasJsonIsValidUtf8ForAnyFileName) {
+    const std::string input = path("cr\xffn.pdb");
+    fs::copy_file(data("1crn.pdb"), input);
+    const CliRun r = run({input, "--surface", "sas", "--areas", path("u.json"), "--quiet",
+                          "--device", "no-such-device"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::string text = read_text(path("u.json"));
+    EXPECT_EQ(text.find('\xff'), std::string::npos);
+    const auto file = parse_json(text);
+    ASSERT_TRUE(file.has_value());
+    const std::string name = file->find("input")->string;
+    EXPECT_TRUE(name.ends_with("/cr\xef\xbf\xbdn.pdb")) << name;
+}
+
 TEST_F(CliAreasRun, AreasBesideTheMesh) {
     FDMSURF_REQUIRE_CLI_DEVICE();
     const std::string mesh = path("m.ply"), areas = path("a.json");
