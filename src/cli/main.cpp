@@ -27,9 +27,11 @@
 #include "cli/messages.hpp"
 #include "cli/msms_command.hpp"
 #include "cli/options.hpp"
+#include "cli/output_paths.hpp"
 #include "cli/progress.hpp"
 #include "cli/summary.hpp"
 #include "core/trace.hpp"
+#include "mesh/atomic_file.hpp"
 #include "fdmsurf/fdmsurf.hpp"
 
 namespace {
@@ -152,19 +154,10 @@ std::vector<Structure> read_input(const CliOptions& options, const std::string& 
     return one;
 }
 
-// That a file can be created at `output`: its folder exists and it is not a folder itself.
+// That a file can be created at `output` (output_path_problem), else Error(Io).
 void check_path(const std::string& output) {
-    namespace fs = std::filesystem;
-    std::error_code ec;
-    const fs::path parent = fs::path(output).parent_path();
-    if (!parent.empty() && !fs::is_directory(parent, ec)) {
-        const bool exists = fs::exists(parent, ec);
-        throw Error(ErrorCode::Io, "cannot write '" + output + "': '" + parent.string() +
-                                       (exists ? "' is not a folder" : "' does not exist"));
-    }
-    if (fs::is_directory(output, ec)) {
-        throw Error(ErrorCode::Io, "cannot write '" + output + "': it is a folder");
-    }
+    const std::string problem = output_path_problem(output);
+    if (!problem.empty()) throw Error(ErrorCode::Io, problem);
 }
 
 // Everything about OUTPUT that can be known before any work: its format, and that its folder
@@ -182,20 +175,6 @@ MeshFormat check_output(const std::string& output, MeshFormat format) {
     }
     check_path(output);
     return format;
-}
-
-// --areas FILE: its folder exists and FILE is not one (the extension was checked with the
-// options), so that a typo costs no work.
-void check_areas_output(const std::string& path) {
-    namespace fs = std::filesystem;
-    std::error_code ec;
-    const fs::path parent = fs::path(path).parent_path();
-    if (!parent.empty() && !fs::is_directory(parent, ec))
-        throw Error(ErrorCode::Io,
-                    "cannot write '" + path + "': '" + parent.string() +
-                        (fs::exists(parent, ec) ? "' is not a folder" : "' does not exist"));
-    if (fs::is_directory(path, ec))
-        throw Error(ErrorCode::Io, "cannot write '" + path + "': it is a folder");
 }
 
 // What --areas, --relative and --buried need from the structure, checked before any device
@@ -539,6 +518,8 @@ int run_one(const CliOptions& options, Engine& engine, Renderer* renderer, Progr
             throw;
         }
         if (validation_failed()) return kExitValidation;
+        // The pictures and the areas file appear together or not at all.
+        detail::CommitGroup files;
         write_pictures(pictures, report, progress);
         report.mesh_on_host = false;
         report.stats.vertices = dev.mesh.vertex_count();
@@ -552,6 +533,7 @@ int run_one(const CliOptions& options, Engine& engine, Renderer* renderer, Progr
                              report);
             progress.stage("write-areas");
         }
+        files.commit();
         fill_report(dev.grid);
         print_summary();
         return kExitOk;
@@ -653,6 +635,9 @@ int run_one(const CliOptions& options, Engine& engine, Renderer* renderer, Progr
         MeshStats stats = compute_stats(mesh);
         return std::make_pair(stats, ms_since(t0));
     });
+    // The mesh, the pictures and the areas file appear together or not at all (a mesh on
+    // standard output goes as it is written).
+    detail::CommitGroup files;
     if (!options.image_output) {
         t = Clock::now();
         if (to_stdout) {
@@ -685,6 +670,7 @@ int run_one(const CliOptions& options, Engine& engine, Renderer* renderer, Progr
         report.atoms_outside_groups = buried ? areas_plan->outside : 0;
         progress.stage("write-areas");
     }
+    files.commit();
     fill_report(result.grid);
     if (buried) report.atoms_used = buried_result.complex.size();
     print_summary();
@@ -735,7 +721,7 @@ int run(const CliOptions& options) {
     }
     effective_cutoff(options.surface);
     if (!options.patch.empty()) check_selection(options.patch, "--patch");
-    if (!options.areas.empty()) check_areas_output(options.areas);
+    if (!options.areas.empty()) check_path(options.areas);  // its extension: with the options
     // Progress on stderr (a terminal, not --quiet): the engine reports its stages to it. Not
     // when --stats json goes to stderr itself (the mesh on standard output): the JSON keeps a
     // line of its own, after any warning's.

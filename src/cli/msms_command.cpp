@@ -13,6 +13,7 @@
 
 #include "cli/messages.hpp"
 #include "cli/options.hpp"
+#include "cli/output_paths.hpp"
 #include "cli/summary.hpp"
 #include "fdmsurf/areas.hpp"
 #include "fdmsurf/error.hpp"
@@ -68,15 +69,6 @@ float number(const std::string& option, const std::string& text, float low, bool
         usage_error(option + " must be " + (low_open ? "> " : ">= ") + format_general(low) +
                     " (got " + text + ")");
     return value;
-}
-
-std::string folder_error(const std::string& path) {
-    namespace fs = std::filesystem;
-    const fs::path parent = fs::path(path).parent_path();
-    std::error_code ec;
-    if (!parent.empty() && !fs::is_directory(parent, ec))
-        return "cannot write '" + path + "': '" + parent.string() + "' is not a folder";
-    return {};
 }
 
 // MSMS's -if file is xyzr ("x y z r") or xyzrn ("x y z r n name") throughout. The structure
@@ -260,10 +252,14 @@ int msms_command(const std::vector<std::string>& args) {
         if (!o.output_base.empty() && !o.triangulate)
             print_warning("-surface ases: no .vert/.face files are written for -of " +
                           o.output_base);
-        for (const std::string& base : {o.output_base, o.area_base})
-            if (!base.empty())
-                if (const std::string e = folder_error(base); !e.empty())
-                    throw Error(ErrorCode::Io, e);
+        // The files' folders and names, before any work.
+        std::vector<std::string> paths;
+        if (write_surface)
+            paths.insert(paths.end(), {o.output_base + ".vert", o.output_base + ".face"});
+        if (write_areas) paths.push_back(o.area_base + ".area");
+        for (const std::string& file : paths)
+            if (const std::string e = output_path_problem(file); !e.empty())
+                throw Error(ErrorCode::Io, e);
 
         // Every sphere of the file, in order: MSMS's atom numbers count lines.
         const std::string text = detail::load_file(o.input);

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstdint>
+#include <climits>
 #include <cstdio>
 #include <cstring>
 #include <random>
@@ -79,11 +80,22 @@ AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
     // while a renamed output should get the usual 0666 & ~umask.
     std::random_device seed;
     std::mt19937_64 random(seed() ^ (std::uint64_t(::getpid()) << 32));
+    // The temporary name is the file's with the suffix, its name cut short where both would
+    // exceed the folder's NAME_MAX (a name of 239 to 255 bytes is still written).
+    const std::size_t slash = path_.find_last_of('/');
+    const std::string folder = slash == std::string::npos ? "." : path_.substr(0, slash + 1);
+    long name_max = ::pathconf(folder.c_str(), _PC_NAME_MAX);
+    if (name_max <= 0) name_max = NAME_MAX;
+    const std::size_t name_length = path_.size() - (slash == std::string::npos ? 0 : slash + 1);
     for (int attempt = 0; attempt < 100 && fd_ < 0; ++attempt) {
         char suffix[32];
-        std::snprintf(suffix, sizeof suffix, ".tmp.%012llx",
-                      static_cast<unsigned long long>(random() & 0xffffffffffffULL));
-        temp_path_ = path_ + suffix;
+        const int suffix_length =
+            std::snprintf(suffix, sizeof suffix, ".tmp.%012llx",
+                          static_cast<unsigned long long>(random() & 0xffffffffffffULL));
+        const std::size_t room = std::size_t(name_max) - std::size_t(suffix_length);
+        temp_path_ = name_length > room && name_length <= std::size_t(name_max)
+                         ? path_.substr(0, path_.size() - (name_length - room)) + suffix
+                         : path_ + suffix;
         // Interrupts wait until the file is open and tracked, so an interrupt handler removes
         // every temporary file it leaves (cli/interrupts.cpp).
         sigset_t block, previous;

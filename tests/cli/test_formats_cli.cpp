@@ -278,6 +278,39 @@ TEST_F(CliFormats, AFileTooLargeIsAnErrorThatLeavesNothing) {
     EXPECT_TRUE(fs::is_empty(path("limited")));
 }
 
+// The mesh and the areas file appear together or not at all: here the areas file passes the
+// size limit after the (simplified, small) mesh was complete.
+TEST_F(CliFormats, TheMeshAndTheAreasFileAppearTogether) {
+    FDMSURF_REQUIRE_CLI_DEVICE();
+    fs::create_directory(path("limited"));
+    std::string err;
+    const int code = run_pipeline("ulimit -f 20; \"$FDMSURF\" " + shell_quote(crambin()) +
+                                      " -o " + shell_quote(path("limited/a.ply")) +
+                                      " --max-triangles 100 --areas " +
+                                      shell_quote(path("limited/a.csv")) + " --quiet",
+                                  err);
+    EXPECT_EQ(code, 3) << err;
+    EXPECT_NE(err.find("a.csv: File too large"), std::string::npos) << err;
+    EXPECT_TRUE(fs::is_empty(path("limited")));
+}
+
+// Names up to the file system's 255 bytes are written (the temporary file's name is cut short
+// to fit); a longer one is refused before any work, with the reason.
+TEST_F(CliFormats, LongFileNamesUpToTheLimitAreWritten) {
+    FDMSURF_REQUIRE_CLI_DEVICE();
+    const std::string too_long = std::string(252, 'c') + ".ply";  // 256 bytes
+    expect_failure(run({crambin(), "-o", path(too_long), "--device", "no-such-device"}), 3,
+                   {"its name is 256 bytes long; the file system allows 255"});
+    expect_failure(run({crambin(), "-o", path("x.ply"), "--surface", "sas", "--areas",
+                        path(std::string(252, 'a') + ".csv"), "--device", "no-such-device"}),
+                   3, {"its name is 256 bytes long"});
+    EXPECT_FALSE(fs::exists(path("x.ply")));
+    const std::string longest = std::string(251, 'b') + ".ply";  // 255 bytes
+    CliRun r = run({crambin(), "-o", path(longest), "--spacing", "1", "--quiet"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_GT(fs::file_size(path(longest)), 1000u);
+}
+
 TEST_F(CliFormats, BadPipeCombinationsAndInputsAreClearErrors) {
     const std::string a = write_file("a.xyzr", kTwoAtomsXyzr);
     expect_failure(run({"-", "-", "-o", path("out/")}), 2, {"'-' (standard input)", "once"});

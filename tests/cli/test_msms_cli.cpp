@@ -293,6 +293,12 @@ TEST_F(MsmsRuns, BadInputIsAnErrorAndWritesNothing) {
     EXPECT_TRUE(has(r.err, "-probe_radius needs a value")) << r.err;
     r = run(std::string(FDMSURF_CLI_PATH) + " msms", "-if " + data("1crn.xyzrn") + " -of no/s");
     EXPECT_EQ(r.exit_code, 3) << r.err;
+    EXPECT_TRUE(has(r.err, "cannot write 'no/s.vert': 'no' does not exist")) << r.err;
+    // A name longer than the file system allows, with its extension: before any work.
+    r = run(std::string(FDMSURF_CLI_PATH) + " msms",
+            "-if " + data("1crn.xyzrn") + " -of " + std::string(251, 's') + " -device nothing");
+    EXPECT_EQ(r.exit_code, 3) << r.err;
+    EXPECT_TRUE(has(r.err, "its name is 256 bytes long")) << r.err;
     r = run(std::string(FDMSURF_CLI_PATH) + " msms", "-if " + data("1crn.xyzrn") +
                                                           " -of s -noh -free_vertices");
     EXPECT_EQ(r.exit_code, 0) << r.err;
@@ -317,14 +323,15 @@ TEST_F(MsmsRuns, BadInputIsAnErrorAndWritesNothing) {
     fs::remove(dir_ / "unnamed.xyzrn");
     EXPECT_TRUE(fs::is_empty(dir_));
 
-    // The files appear together or not at all: with a folder where the .face or the .area
-    // would go, no .vert (nor .face) is left behind.
+    // A folder where the .face or the .area would go: refused before any work, nothing written
+    // (and were it made during the run, the files appear together or not at all: CommitGroup).
     for (const char* taken : {"t.face", "t.area"}) {
         fs::create_directory(dir_ / taken);
         r = run(std::string(FDMSURF_CLI_PATH) + " msms",
                 "-if " + data("1crn.xyzrn") + " -of t -af t");
         EXPECT_EQ(r.exit_code, 3) << r.err;
-        EXPECT_TRUE(has(r.err, std::string("cannot write t.") + (taken + 2))) << r.err;
+        EXPECT_TRUE(has(r.err, std::string("cannot write '") + taken + "': it is a folder"))
+            << r.err;
         std::vector<std::string> left;
         for (const auto& e : fs::directory_iterator(dir_)) left.push_back(e.path().filename());
         EXPECT_EQ(left, std::vector<std::string>{taken});
