@@ -305,12 +305,40 @@ std::vector<std::string> picture_paths(const CliOptions& options, const std::str
     return view_paths(image, options.views);
 }
 
-// Checks every file a run for `input` will write, before any work.
+// A path as the file it reaches: absolute, with the links of its existing part resolved.
+std::string file_identity(const std::string& path) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::path absolute = fs::absolute(path, ec);
+    if (ec) return path;
+    const fs::path resolved = fs::weakly_canonical(absolute, ec);
+    return (ec ? absolute : resolved).lexically_normal().string();
+}
+
+// Checks every file a run for `input` will write, before any work; two of them that reach one
+// file (by any spelling or link) would overwrite each other: Error(InvalidArgument).
 void check_outputs(const CliOptions& options, const std::string& output,
                    const std::string& image) {
-    if (!options.image_output) check_output(output, options.output_format);
-    for (const std::string& path : picture_paths(options, output, image))
-        if (path != kStdio) check_path(path);
+    std::vector<std::pair<const char*, std::string>> files;  // option, path
+    if (!options.image_output) {
+        check_output(output, options.output_format);
+        if (output != kStdio) files.emplace_back("-o", output);
+    }
+    for (const std::string& path : picture_paths(options, output, image)) {
+        if (path == kStdio) continue;
+        check_path(path);
+        files.emplace_back(options.image_output ? "-o" : "--image", path);
+    }
+    if (!options.areas.empty()) files.emplace_back("--areas", options.areas);
+    for (std::size_t i = 0; i < files.size(); ++i) {
+        for (std::size_t j = i + 1; j < files.size(); ++j) {
+            if (file_identity(files[i].second) != file_identity(files[j].second)) continue;
+            throw Error(ErrorCode::InvalidArgument,
+                        std::string(files[i].first) + " '" + files[i].second + "' and " +
+                            files[j].first + " '" + files[j].second +
+                            "' name the same file; each would overwrite the other");
+        }
+    }
 }
 
 // Whether -o FILE.png can draw the surface where it was computed (make_device_surface), or

@@ -88,6 +88,28 @@ TEST_F(CliAreasRun, StructureErrorsComeBeforeTheDevice) {
                    {"unknown extension '.tsv'"});
 }
 
+// Two files of one run that reach the same file, by any spelling or through a link, would
+// overwrite each other: exit 2 before any work, nothing written.
+TEST_F(CliAreasRun, FilesOfOneRunMustBeDistinct) {
+    const std::string mesh = path("same.json");
+    expect_failure(run({data("1crn.pdb"), "-o", mesh, "--areas", mesh, "--surface", "sas"}), 2,
+                   {"--areas and -o name the same file"});
+    expect_failure(run({data("1crn.pdb"), "-o", path("./same.json"), "--output-format", "glb",
+                        "--areas", mesh, "--surface", "sas", "--device", "no-such-device"}),
+                   2, {"-o '", "--areas '", "name the same file"});
+    expect_failure(run({data("1crn.pdb"), "-o", path("pic.png"), "--output-format", "ply",
+                        "--image", path("pic.png"), "--device", "no-such-device"}),
+                   2, {"--image '", "name the same file"});
+    fs::create_directory_symlink(path(""), path("link"));
+    const CliRun r = run({data("1crn.pdb"), "-o", path("link/m.csv"), "--output-format", "ply",
+                          "--surface", "sas", "--areas", path("m.csv"), "--device",
+                          "no-such-device"});
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_TRUE(contains(r.err, "name the same file")) << r.err;
+    EXPECT_FALSE(fs::exists(path("m.csv")));
+    fs::remove(path("link"));
+}
+
 TEST_F(CliAreasRun, AreasAloneNeedNoDevice) {
     const std::string areas = path("a.csv");
     const CliRun r = run({data("1crn.pdb"), "--surface", "sas", "--areas", areas, "--relative",
