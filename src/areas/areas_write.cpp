@@ -90,9 +90,13 @@ void write_csv(const AreasReport& r, detail::AtomicFile& out) {
         line = "atom," + std::to_string(i) + ",";
         if (meta) {
             const AtomMeta& m = atoms.meta[i];
-            line += std::to_string(m.serial) + "," + csv_field(m.chain) + "," +
-                    std::to_string(m.residue_number) + "," + csv_field(icode(m.insertion_code)) +
-                    "," + csv_field(m.residue_name) + "," + csv_field(m.name) + ",";
+            line += std::to_string(m.serial) + ",";
+            if (m.residue_name.empty())  // in no residue (an XYZRN name of another form)
+                line += ",,,,";
+            else
+                line += csv_field(m.chain) + "," + std::to_string(m.residue_number) + "," +
+                        csv_field(icode(m.insertion_code)) + "," + csv_field(m.residue_name) + ",";
+            line += csv_field(m.name) + ",";
         } else {
             line += ",,,,,,";
         }
@@ -235,11 +239,12 @@ void write_json(const AreasReport& r, detail::AtomicFile& out) {
         if (meta) {
             const AtomMeta& m = atoms.meta[i];
             j += ", \"serial\": " + std::to_string(m.serial) +
-                 ", \"name\": " + detail::json_quote(m.name) +
-                 ", \"chain\": " + detail::json_quote(m.chain) +
-                 ", \"residue_number\": " + std::to_string(m.residue_number) +
-                 ", \"insertion_code\": " + detail::json_quote(icode(m.insertion_code)) +
-                 ", \"residue_name\": " + detail::json_quote(m.residue_name);
+                 ", \"name\": " + detail::json_quote(m.name);
+            if (!m.residue_name.empty())  // else in no residue (an XYZRN name of another form)
+                j += ", \"chain\": " + detail::json_quote(m.chain) +
+                     ", \"residue_number\": " + std::to_string(m.residue_number) +
+                     ", \"insertion_code\": " + detail::json_quote(icode(m.insertion_code)) +
+                     ", \"residue_name\": " + detail::json_quote(m.residue_name);
         }
         if (atoms.element.size() == atoms.size())
             j += ", \"element\": " + detail::json_quote(atoms.element[i]);

@@ -94,10 +94,11 @@ const char* to_string(RelativeTable table) noexcept {
 
 std::vector<ResidueArea> residue_areas(const Atoms& atoms, const AtomAreas& areas,
                                        RelativeTable table) {
-    if (atoms.meta.size() != atoms.size())
+    if (!atoms.has_residues())
         throw Error(ErrorCode::InvalidArgument,
                     "per-residue areas need residues: the atoms have none (XYZR input has only "
-                    "coordinates and radii; give PDB, mmCIF, PQR or XYZRN)");
+                    "coordinates and radii, XYZRN names residues only in MSMS's "
+                    "chain_number_icode_residue_atom form; give PDB, mmCIF, PQR or XYZRN)");
     if (areas.area.size() != atoms.size() ||
         (!areas.mesh_area.empty() && areas.mesh_area.size() != atoms.size()))
         throw Error(ErrorCode::InvalidArgument, "residue_areas: one area per atom needed");
@@ -106,6 +107,7 @@ std::vector<ResidueArea> residue_areas(const Atoms& atoms, const AtomAreas& area
     std::string key;
     for (std::size_t i = 0; i < atoms.size(); ++i) {
         const AtomMeta& m = atoms.meta[i];
+        if (m.residue_name.empty()) continue;  // in no residue (an XYZRN name of another form)
         key = m.chain;
         key += '\x1f';
         key += std::to_string(m.residue_number);

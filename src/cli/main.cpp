@@ -192,12 +192,15 @@ AreasPlan plan_areas(const CliOptions& options, const Structure& structure,
     if (options.areas.empty()) return plan;
     plan.wanted = true;
     const Atoms& atoms = structure.atoms;
-    const bool residues = atoms.meta.size() == atoms.size();
+    const bool residues = atoms.has_residues();
     if (options.relative != RelativeTable::None && !residues)
         throw Error(ErrorCode::InvalidArgument,
                     input + ": --relative needs residues, and " + to_string(structure.info.format) +
-                        " input has none (only coordinates and radii): give PDB, mmCIF, PQR "
-                        "or XYZRN");
+                        (structure.info.format == StructureFormat::Xyzrn
+                             ? " input names none (MSMS's names are "
+                               "chain_number_icode_residue_atom)"
+                             : " input has none (only coordinates and radii)") +
+                        ": give PDB, mmCIF, PQR or XYZRN");
     if (!options.buried.empty()) {
         try {
             plan.groups =
@@ -217,7 +220,7 @@ void write_areas_file(const CliOptions& options, const std::string& input,
                       RunReport& report) {
     auto t = Clock::now();
     std::vector<ResidueArea> residues;
-    if (atoms.meta.size() == atoms.size()) residues = residue_areas(atoms, areas, options.relative);
+    if (atoms.has_residues()) residues = residue_areas(atoms, areas, options.relative);
     AreasReport file;
     file.input = input;
     file.output = output;
@@ -262,7 +265,7 @@ int areas_only(const CliOptions& options, const Structure& structure, double par
         report.warnings.push_back(message);
     }
     const std::string& input = options.inputs.front();
-    if (structure.atoms.meta.size() != structure.atoms.size()) {
+    if (!structure.atoms.has_residues()) {
         const std::string message = "--areas: " + input + " has no residues (" +
                                     to_string(structure.info.format) +
                                     " input): the file has per-atom and total areas only";
@@ -472,8 +475,7 @@ int run_one(const CliOptions& options, Engine& engine, Renderer* renderer, Progr
     // surface is computed on the same engine.
     const bool buried = areas_plan != nullptr && !areas_plan->groups.empty();
     BuriedAreas buried_result;
-    if (areas_plan != nullptr && areas_plan->wanted &&
-        structure.atoms.meta.size() != structure.atoms.size())
+    if (areas_plan != nullptr && areas_plan->wanted && !structure.atoms.has_residues())
         warn("--areas: " + input + " has no residues (" + to_string(structure.info.format) +
              " input): the file has per-atom and total areas only");
     if (buried && areas_plan->outside != 0)

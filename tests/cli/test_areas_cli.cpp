@@ -141,6 +141,40 @@ TEST_F(CliAreasRun, AreasAloneNeedNoDevice) {
 
 // The areas file is valid JSON whatever bytes the input's name holds: a byte that is not UTF-8
 // becomes U+FFFD, as in --stats json (the file once carried the raw byte).
+// XYZRN names of another form than MSMS's chain_number_icode_residue_atom name no residue: the
+// file has per-atom and total areas, as for XYZR (no made-up residue of every atom), and
+// --relative is a usage error that says why; with some MSMS names among them, those atoms alone
+// make residues.
+TEST_F(CliAreasRun, XyzrnWithoutMsmsNamesHasNoResidues) {
+    const std::string plain = write_file("plain.xyzrn", "0 0 0 1.7 1 N1\n3 0 0 1.5 1 N2\n");
+    expect_failure(run({plain, "--surface", "sas", "--areas", path("p.csv"), "--relative",
+                        "tien2013"}),
+                   2, {"--relative needs residues", "chain_number_icode_residue_atom"});
+    CliRun r = run({plain, "--surface", "sas", "--areas", path("p.csv"), "--quiet"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(contains(r.err, "has no residues")) << r.err;
+    std::vector<std::string> lines = lines_of(read_text(path("p.csv")));
+    ASSERT_EQ(lines.size(), 4u);  // header, two atoms, total
+    EXPECT_TRUE(lines[1].rfind("atom,0,0,,,,,N1,", 0) == 0) << lines[1];
+    EXPECT_TRUE(lines[3].rfind("total,", 0) == 0) << lines[3];
+    r = run({plain, "--surface", "sas", "--areas", path("p.json"), "--quiet"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto json = parse_json(read_text(path("p.json")));
+    ASSERT_TRUE(json.has_value());
+    EXPECT_TRUE(json->find("residues")->array.empty());
+    EXPECT_EQ(json->find("atoms")->array[0].find("chain"), nullptr);
+    EXPECT_EQ(json->find("atoms")->array[0].find("name")->string, "N1");
+
+    const std::string mixed =
+        write_file("mixed.xyzrn", "0 0 0 1.7 1 A_5_x_GLY_CA\n3 0 0 1.5 1 N2\n");
+    r = run({mixed, "--surface", "sas", "--areas", path("m.csv"), "--quiet"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_FALSE(contains(r.err, "has no residues")) << r.err;
+    lines = lines_of(read_text(path("m.csv")));
+    ASSERT_EQ(lines.size(), 5u);  // header, two atoms, one residue, total
+    EXPECT_TRUE(lines[3].rfind("residue,,,A,5,,GLY,", 0) == 0) << lines[3];
+}
+
 TEST_F(CliAreasRun, AreasJsonIsValidUtf8ForAnyFileName) {
     const std::string input = path("cr\xffn.pdb");
     fs::copy_file(data("1crn.pdb"), input);

@@ -46,6 +46,14 @@ struct Atoms {
     std::vector<AtomMeta> meta;
     std::size_t size() const { return radius.size(); }
     bool empty() const { return radius.empty(); }
+    // Whether the atoms have residues: metadata for every atom and a residue name on at least
+    // one (XYZRN names not in MSMS's chain_number_icode_residue_atom form give none).
+    bool has_residues() const {
+        if (meta.size() != size()) return false;
+        for (const AtomMeta& m : meta)
+            if (!m.residue_name.empty()) return true;
+        return false;
+    }
 };
 
 // Selection rules for PDB and mmCIF (PQR and XYZR are taken as they are, line by line).
