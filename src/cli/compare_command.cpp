@@ -15,6 +15,7 @@
 #include "cli/messages.hpp"
 #include "cli/options.hpp"
 #include "cli/summary.hpp"
+#include "core/text.hpp"
 #include "fdmsurf/compare.hpp"
 #include "fdmsurf/error.hpp"
 
@@ -46,6 +47,8 @@ std::string signed_fixed(double value, int decimals) {
 }
 
 std::string percent(double fraction, int decimals) {
+    // No reference volume (an open or flat mesh): no relative error.
+    if (!std::isfinite(fraction)) return "n/a";
     return signed_fixed(100.0 * fraction, decimals) + " %";
 }
 
@@ -145,7 +148,8 @@ Exit codes: 0 success, 2 usage error, 3 unreadable or unusable mesh, 1 other.
 std::string compare_text(const CompareReport& report) {
     const CompareResult& r = report.result;
     const double h = report.options.spacing;
-    std::string s = "fdmsurf compare: " + report.tested + " against " + report.reference +
+    std::string s = "fdmsurf compare: " + detail::printable(report.tested) + " against " +
+                    detail::printable(report.reference) +
                     (report.options.outer_only ? " (largest pieces only)" : "") + "\n";
     s += "  vertices        " + format_count(r.ref_vertices) + " reference, " +
          format_count(r.test_vertices) + " tested (after welding)\n";

@@ -7,16 +7,20 @@
 #include <string>
 
 #include "cli/options.hpp"
+#include "core/text.hpp"
 #include "fdmsurf/error.hpp"
 
 namespace fdmsurf::cli {
 
 // Messages go to stderr one per line, whatever the library put in them.
+// A message on one line: line breaks and tabs as spaces, other control characters as '?'
+// (detail::printable), so that a name in it cannot end the line or reach the terminal as an
+// escape sequence.
 inline std::string one_line(std::string text) {
     for (char& c : text) {
-        if (c == '\n' || c == '\r') c = ' ';
+        if (c == '\n' || c == '\r' || c == '\t') c = ' ';
     }
-    return text;
+    return detail::printable(text);
 }
 
 inline void print_error(const std::string& message) {

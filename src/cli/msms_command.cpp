@@ -15,6 +15,7 @@
 #include "cli/options.hpp"
 #include "cli/output_paths.hpp"
 #include "cli/summary.hpp"
+#include "core/text.hpp"
 #include "fdmsurf/areas.hpp"
 #include "fdmsurf/error.hpp"
 #include "fdmsurf/msms.hpp"
@@ -345,7 +346,7 @@ int msms_command(const std::vector<std::string>& args) {
         const double ms =
             std::chrono::duration<double, std::milli>(Clock::now() - start).count();
         std::printf("fdmsurf msms: %s, %s spheres, probe %s Å, spacing %s Å (%s)\n",
-                    o.input.c_str(), format_count(s.atoms.size()).c_str(),
+                    detail::printable(o.input).c_str(), format_count(s.atoms.size()).c_str(),
                     format_general(o.probe).c_str(), format_general(surface.spacing).c_str(),
                     o.method == SesMethod::Edt ? "exact SES" : "fdm");
         std::printf("  surface    %s vertices, %s triangles, %zu component(s)%s\n",

@@ -11,6 +11,7 @@
 
 #include "cli/json.hpp"
 #include "cli/options.hpp"
+#include "core/text.hpp"
 #include "fdmsurf/mesh.hpp"
 #include "fdmsurf/simplify.hpp"
 #include "fdmsurf/structure.hpp"
@@ -180,7 +181,7 @@ inline std::string areas_lines(const RunReport& r) {
     s += ") per atom" +
          std::string(r.areas_residues ? " and residue (" + format_count(r.areas_residues) + ")"
                                       : "") +
-         ": " + r.areas_file + "\n";
+         ": " + detail::printable(r.areas_file) + "\n";
     if (!r.buried.empty()) {
         const std::size_t colon = r.buried.find(':');
         s += "  buried       " + format_grouped(r.buried_area, 1) + " Å² between " +
@@ -266,7 +267,7 @@ inline std::string text_summary(const RunReport& r) {
     std::string s =
         "fdmsurf " + r.version + ": " + surface_name(r.surface) + " surface " +
         (r.surface == SurfaceKind::Ses && r.method == SesMethod::Edt ? "(exact, edt) " : "") +
-        "of " + r.input + "\n";
+        "of " + detail::printable(r.input) + "\n";
     const StructureInfo& info = r.info;
     const std::string source = info.assembly == 0
                                    ? "in file"
@@ -361,9 +362,9 @@ inline std::string text_summary(const RunReport& r) {
         s += t.name + " " + format_grouped(t.ms, 1) + (t.gpu ? " (gpu)" : "") + " | ";
     }
     s += "total " + format_grouped(r.total_ms, 1) + "\n";
-    s += "  output       " + r.output + "\n";
+    s += "  output       " + detail::printable(r.output) + "\n";
     for (const ImageReport& im : r.images) {
-        s += "  image        " + im.path + " (" + std::to_string(im.width) + " x " +
+        s += "  image        " + detail::printable(im.path) + " (" + std::to_string(im.width) + " x " +
              std::to_string(im.height) + ", " + im.view + " view";
         if (im.rotate[0] != 0.0f || im.rotate[1] != 0.0f || im.rotate[2] != 0.0f)
             s += " turned " + format_general(im.rotate[0]) + "," + format_general(im.rotate[1]) +
@@ -476,7 +477,7 @@ inline std::string json_summary(const RunReport& r) {
 // The summary of a run with --areas and no -o: no grid, mesh or device.
 inline std::string areas_only_text(const RunReport& r) {
     std::string s = "fdmsurf " + r.version + ": " + surface_name(r.surface) + " areas of " +
-                    r.input + " (exact sphere patches, no mesh)\n";
+                    detail::printable(r.input) + " (exact sphere patches, no mesh)\n";
     s += "  atoms        " + format_count(r.atoms_used) + " used (" +
          format_count(r.info.atoms_in_file) + " in file)\n";
     s += areas_lines(r);

@@ -6,6 +6,7 @@
 
 #include "core/cell_list.hpp"
 #include "core/parallel.hpp"
+#include "core/text.hpp"
 #include "fdmsurf/error.hpp"
 #include "fdmsurf/msms.hpp"
 #include "mesh/atomic_file.hpp"
@@ -163,7 +164,7 @@ void write_msms_surface(const Mesh& mesh, const Atoms& atoms, const std::vector<
 
     LineWriter vert(base + ".vert");
     if (o.header) {
-        vert.text("# MSMS solvent excluded surface vertices for " + o.source +
+        vert.text("# MSMS solvent excluded surface vertices for " + detail::printable(o.source) +
                   " (written by fdmsurf)\n");
         vert.text("#vertex #sphere density probe_r\n");
         count_line(vert, nv, atoms, o);
@@ -181,7 +182,7 @@ void write_msms_surface(const Mesh& mesh, const Atoms& atoms, const std::vector<
 
     LineWriter face(base + ".face");
     if (o.header) {
-        face.text("# MSMS solvent excluded surface triangles for " + o.source +
+        face.text("# MSMS solvent excluded surface triangles for " + detail::printable(o.source) +
                   " (written by fdmsurf)\n");
         face.text("#faces  #sphere density probe_r\n");
         count_line(face, mesh.triangle_count(), atoms, o);

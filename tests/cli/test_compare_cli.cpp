@@ -211,6 +211,19 @@ TEST_F(CompareProgram, UnreadableMeshIsAnInputError) {
     expect_failure(run({flat, sphere, "--spacing", "0.5"}), 3, "reference");
 }
 
+// A mesh of no volume (two triangles back to back) has no relative volume error: "n/a", not
+// "nan %"; a name with control characters is shown with '?' for them.
+TEST_F(CompareProgram, NoVolumeAndOddNamesReadWell) {
+    const std::string pillow =
+        write_file("a\x1b[31mb.off", "OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 2 1\n");
+    const ProgramRun r = run({pillow, pillow, "--spacing", "0.5"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("tested, n/a\n"), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find("nan"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("a?[31mb.off against"), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find('\x1b'), std::string::npos);
+}
+
 TEST_F(CompareProgram, BadSpacingIsAUsageError) {
     const std::string sphere = write_sphere("s.ply");
     expect_failure(run({sphere, sphere, "--spacing", "0"}), 2, "--spacing");

@@ -283,6 +283,26 @@ TEST_F(MsmsRuns, PlacementsGiveTheSameFiles) {
     EXPECT_EQ(slurp(dir_ / "a.face"), slurp(dir_ / "b.face"));
 }
 
+// An input whose name holds a line break: the headers keep their three lines (the name with
+// '?' for it), so MSMS's readers and fdmsurf compare still read the files.
+TEST_F(MsmsRuns, NamesWithLineBreaksKeepTheHeaders) {
+    fs::copy_file(data("1crn.xyzrn"), dir_ / "x\nyz.xyzrn");
+    const MsmsRun r =
+        run(std::string(FDMSURF_CLI_PATH) + " msms", "-if 'x\nyz.xyzrn' -of o -af o -density 1");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(has(r.out, "fdmsurf msms: x?yz.xyzrn,")) << r.out;
+    for (const char* file : {"o.vert", "o.face"}) {
+        std::ifstream in(dir_ / file);
+        std::string first, second, third;
+        std::getline(in, first), std::getline(in, second), std::getline(in, third);
+        EXPECT_TRUE(has(first, "for x?yz.xyzrn (written by fdmsurf)")) << first;
+        EXPECT_EQ(second[0], '#') << second;
+        EXPECT_NE(third[0], '#') << third;  // the count line
+    }
+    const fdmsurf::Mesh mesh = fdmsurf::read_mesh_any((dir_ / "o.vert").string());
+    EXPECT_GT(mesh.triangle_count(), 1000u);
+}
+
 TEST_F(MsmsRuns, BadInputIsAnErrorAndWritesNothing) {
     std::ofstream(dir_ / "short.xyzrn") << "1 2 3 1.5 1 A_1_x_GLY_N\n4 5 6\n";
     MsmsRun r = run(std::string(FDMSURF_CLI_PATH) + " msms", "-if short.xyzrn -of s -af s");
