@@ -47,8 +47,10 @@ void note_zero_radii(Structure& s, std::size_t zero, std::size_t first_line,
     if (s.atoms.empty())
         throw Error(ErrorCode::EmptySelection,
                     name + ": all " + std::to_string(zero) + " atoms have radius 0");
-    s.info.warnings.push_back(name + ": " + std::to_string(zero) +
-                              " atom(s) with radius 0 left out");
+    s.info.warnings.push_back(
+        name + ": " + std::to_string(zero) + " atom(s) with radius 0 left out (the first at line " +
+        std::to_string(first_line) +
+        "); atom numbers (the mesh's atom index, the areas files) count the atoms kept");
 }
 
 // PQR has no element column. Atom names start with the element, except ions, whose residue
@@ -139,7 +141,7 @@ AtomMeta xyzrn_meta(std::string_view field, std::string& element) {
 Structure finish(Structure s, StructureFormat format, const std::string& name, const char* what) {
     if (s.atoms.empty()) fail_format(name + ": no atoms (no " + what + " lines)");
     s.info.format = format;
-    s.info.atoms_in_file = s.atoms.size();
+    s.info.atoms_in_file = s.atoms.size() + s.info.zero_radius_skipped;
     s.info.models_in_file = 1;
     return s;
 }

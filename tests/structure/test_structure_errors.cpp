@@ -236,6 +236,20 @@ TEST(StructureErrors, ZeroRadiusAtomsAreLeftOutWithAWarning) {
     EXPECT_EQ(s.atoms.element.size(), 1u);
     ASSERT_EQ(s.info.warnings.size(), 1u);
     EXPECT_NE(s.info.warnings[0].find("radius 0"), std::string::npos);
+    // The warning names the first one's line and what shifts; the file's count still has it.
+    EXPECT_NE(s.info.warnings[0].find("the first at line 2"), std::string::npos)
+        << s.info.warnings[0];
+    EXPECT_NE(s.info.warnings[0].find("count the atoms kept"), std::string::npos);
+    EXPECT_EQ(s.info.atoms_in_file, 2u);
+    EXPECT_EQ(s.info.zero_radius_skipped, 1u);
+    const fdmsurf::Structure x = fdmsurf::read_structure_from_memory(
+        "# spheres\n1 2 3 1.5\n4 5 6 0\n7 8 9 0\n1 1 1 1.2\n", "z.xyzr");
+    EXPECT_EQ(x.atoms.size(), 2u);
+    EXPECT_EQ(x.info.atoms_in_file, 4u);
+    ASSERT_EQ(x.info.warnings.size(), 1u);
+    EXPECT_NE(x.info.warnings[0].find("2 atom(s) with radius 0 left out (the first at line 3)"),
+              std::string::npos)
+        << x.info.warnings[0];
 }
 
 TEST(StructureErrors, XyzrLinesWithTooFewOrBadFields) {
