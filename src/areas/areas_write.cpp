@@ -28,6 +28,11 @@ std::string lower_extension(const std::string& path) {
 std::string number(double value, int decimals = 4) {
     if (!std::isfinite(value)) return "";
     char text[64];
+    // Beyond 1e15 (a radius of 1e30 Å reads), fixed notation would pass the buffer: exponent.
+    if (std::fabs(value) >= 1e15) {
+        std::snprintf(text, sizeof text, "%.*e", decimals + 6, value);
+        return text;
+    }
     std::snprintf(text, sizeof text, "%.*f", decimals, value);
     // "-0.0000" reads oddly
     if (std::string_view(text).find_first_not_of("-0.") == std::string_view::npos)
@@ -35,7 +40,9 @@ std::string number(double value, int decimals = 4) {
     return text;
 }
 
-std::string csv_field(const std::string& text) {
+// A CSV field (RFC 4180), in UTF-8: bytes that are not become U+FFFD, as in the JSON file.
+std::string csv_field(const std::string& raw) {
+    const std::string text = detail::valid_utf8(raw);
     if (text.find_first_of(",\"\n\r") == std::string::npos) return text;
     std::string out = "\"";
     for (char c : text) {
@@ -143,6 +150,12 @@ void write_csv(const AreasReport& r, detail::AtomicFile& out) {
     out.write(line);
 }
 
+// A number for the JSON file: null where the CSV leaves the field empty (not finite).
+std::string json_number(double value, int decimals = 4) {
+    const std::string text = number(value, decimals);
+    return text.empty() ? "null" : text;
+}
+
 void write_json(const AreasReport& r, detail::AtomicFile& out) {
     const Atoms& atoms = *r.atoms;
     const AtomAreas& a = *r.areas;
@@ -165,8 +178,8 @@ void write_json(const AreasReport& r, detail::AtomicFile& out) {
               ? std::string(s.method == SesMethod::Edt ? "\"edt\"" : "\"fdm\"")
               : std::string("null")) +
          ",\n";
-    j += "  \"probe\": " + number(s.probe, 4) + ",\n";
-    j += "  \"spacing\": " + (r.has_mesh ? number(s.spacing, 4) : std::string("null")) + ",\n";
+    j += "  \"probe\": " + json_number(s.probe, 4) + ",\n";
+    j += "  \"spacing\": " + (r.has_mesh ? json_number(s.spacing, 4) : std::string("null")) + ",\n";
     j += "  \"area_method\": \"" +
          std::string(a.exact ? "exact sphere patches" : "mesh by vertex atom") + "\",\n";
     j += "  \"mesh_split\": " +
@@ -178,9 +191,9 @@ void write_json(const AreasReport& r, detail::AtomicFile& out) {
          (r.relative == RelativeTable::None ? std::string("null")
                                             : detail::json_quote(to_string(r.relative))) +
          ",\n";
-    j += "  \"total\": {\"area\": " + number(total) +
-         ", \"mesh_area\": " + (mesh ? number(mesh_total) : "null") +
-         ", \"mesh_area_on_patches\": " + (mesh && a.exact ? number(a.mesh_on_patches) : "null") +
+    j += "  \"total\": {\"area\": " + json_number(total) +
+         ", \"mesh_area\": " + (mesh ? json_number(mesh_total) : "null") +
+         ", \"mesh_area_on_patches\": " + (mesh && a.exact ? json_number(a.mesh_on_patches) : "null") +
          ", \"atoms\": " + std::to_string(atoms.size()) +
          ", \"residues\": " + std::to_string(r.residues ? r.residues->size() : 0) + "},\n";
     if (r.buried) {
@@ -189,15 +202,15 @@ void write_json(const AreasReport& r, detail::AtomicFile& out) {
         for (int g = 0; g < 2; ++g) {
             j += std::string(g ? ", " : "") + "{\"name\": " + detail::json_quote(b.names[g]) +
                  ", \"atoms\": " + std::to_string(b.atom_count[g]) +
-                 ", \"area_alone\": " + number(b.area_alone[g]) +
-                 ", \"area_in_complex\": " + number(b.area_in_complex[g]) +
-                 ", \"buried_area\": " + number(b.area_alone[g] - b.area_in_complex[g]) +
-                 ", \"mesh_area_alone\": " + (mesh ? number(b.mesh_area_alone[g]) : "null") +
+                 ", \"area_alone\": " + json_number(b.area_alone[g]) +
+                 ", \"area_in_complex\": " + json_number(b.area_in_complex[g]) +
+                 ", \"buried_area\": " + json_number(b.area_alone[g] - b.area_in_complex[g]) +
+                 ", \"mesh_area_alone\": " + (mesh ? json_number(b.mesh_area_alone[g]) : "null") +
                  ", \"mesh_area_in_complex\": " +
-                 (mesh ? number(b.mesh_area_in_complex[g]) : "null") + "}";
+                 (mesh ? json_number(b.mesh_area_in_complex[g]) : "null") + "}";
         }
-        j += "], \"buried_area\": " + number(b.buried()) +
-             ", \"mesh_buried_area\": " + (mesh ? number(b.mesh_buried()) : "null") + "},\n";
+        j += "], \"buried_area\": " + json_number(b.buried()) +
+             ", \"mesh_buried_area\": " + (mesh ? json_number(b.mesh_buried()) : "null") + "},\n";
     } else {
         j += "  \"buried\": null,\n";
     }
@@ -214,18 +227,18 @@ void write_json(const AreasReport& r, detail::AtomicFile& out) {
                  ", \"insertion_code\": " + detail::json_quote(icode(res.insertion_code)) +
                  ", \"name\": " + detail::json_quote(res.name) +
                  ", \"atoms\": " + std::to_string(res.atoms.size()) +
-                 ", \"area\": " + number(res.area) +
-                 ", \"mesh_area\": " + (mesh ? number(res.mesh_area) : "null") +
-                 ", \"max_area\": " + (res.max_area > 0 ? number(res.max_area, 1) : "null") +
-                 ", \"relative_area\": " + (res.relative >= 0 ? number(res.relative) : "null");
+                 ", \"area\": " + json_number(res.area) +
+                 ", \"mesh_area\": " + (mesh ? json_number(res.mesh_area) : "null") +
+                 ", \"max_area\": " + (res.max_area > 0 ? json_number(res.max_area, 1) : "null") +
+                 ", \"relative_area\": " + (res.relative >= 0 ? json_number(res.relative) : "null");
             if (r.buried) {
                 double alone = 0.0;
                 for (std::uint32_t i : res.atoms) alone += r.buried->alone.area[i];
                 j += ", \"group\": " +
                      detail::json_quote(res.atoms.empty() ? std::string()
                                                           : bv.name(res.atoms.front())) +
-                     ", \"area_alone\": " + number(alone) +
-                     ", \"buried_area\": " + number(alone - res.area);
+                     ", \"area_alone\": " + json_number(alone) +
+                     ", \"buried_area\": " + json_number(alone - res.area);
             }
             j += "}";
             out.write(j);
@@ -248,15 +261,15 @@ void write_json(const AreasReport& r, detail::AtomicFile& out) {
         }
         if (atoms.element.size() == atoms.size())
             j += ", \"element\": " + detail::json_quote(atoms.element[i]);
-        j += ", \"xyz\": [" + number(atoms.xyz[3 * i], 3) + ", " + number(atoms.xyz[3 * i + 1], 3) +
-             ", " + number(atoms.xyz[3 * i + 2], 3) + "]";
-        j += ", \"radius\": " + number(atoms.radius[i], 3) + ", \"area\": " + number(a.area[i]) +
-             ", \"mesh_area\": " + (mesh ? number(a.mesh_area[i]) : "null");
+        j += ", \"xyz\": [" + json_number(atoms.xyz[3 * i], 3) + ", " + json_number(atoms.xyz[3 * i + 1], 3) +
+             ", " + json_number(atoms.xyz[3 * i + 2], 3) + "]";
+        j += ", \"radius\": " + json_number(atoms.radius[i], 3) + ", \"area\": " + json_number(a.area[i]) +
+             ", \"mesh_area\": " + (mesh ? json_number(a.mesh_area[i]) : "null");
         if (r.buried) {
             const double alone = r.buried->alone.area[i];
             j += ", \"group\": " + detail::json_quote(bv.name(i)) +
-                 ", \"area_alone\": " + number(alone) +
-                 ", \"buried_area\": " + number(alone - a.area[i]);
+                 ", \"area_alone\": " + json_number(alone) +
+                 ", \"buried_area\": " + json_number(alone - a.area[i]);
         }
         j += "}";
         out.write(j);

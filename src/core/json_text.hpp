@@ -2,9 +2,10 @@
 // valid JSON out.
 #pragma once
 
-#include <cstdint>
 #include <string>
 #include <string_view>
+
+#include "core/text.hpp"
 
 namespace fdmsurf::detail {
 
@@ -53,30 +54,8 @@ inline std::string json_quote(std::string_view text) {
             ++i;
             continue;
         }
-        // A multi-byte sequence: its length from the lead byte, then the continuation bytes;
-        // overlong forms, surrogates and code points above U+10FFFF are rejected.
-        std::size_t length = 0;
-        std::uint32_t code = 0;
-        if (c >= 0xc2 && c <= 0xdf) {
-            length = 2;
-            code = c & 0x1f;
-        } else if (c >= 0xe0 && c <= 0xef) {
-            length = 3;
-            code = c & 0x0f;
-        } else if (c >= 0xf0 && c <= 0xf4) {
-            length = 4;
-            code = c & 0x07;
-        }
-        bool valid = length != 0 && i + length <= text.size();
-        for (std::size_t k = 1; valid && k < length; ++k) {
-            const auto next = static_cast<unsigned char>(text[i + k]);
-            valid = (next & 0xc0) == 0x80;
-            code = (code << 6) | (next & 0x3f);
-        }
-        if (valid) {
-            valid = !(length == 3 && (code < 0x800 || (code >= 0xd800 && code <= 0xdfff))) &&
-                    !(length == 4 && (code < 0x10000 || code > 0x10ffff));
-        }
+        const std::size_t length = utf8_sequence(text, i);
+        const bool valid = length != 0;
         if (valid) {
             out.append(text.substr(i, length));
             i += length;

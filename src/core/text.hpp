@@ -2,6 +2,7 @@
 // control character there would break the line or reach the terminal as an escape sequence.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <string_view>
 
@@ -14,6 +15,53 @@ inline std::string printable(std::string_view text) {
     for (char& c : out) {
         const auto b = static_cast<unsigned char>(c);
         if (b < 0x20 || b == 0x7f) c = '?';
+    }
+    return out;
+}
+
+// The length of the valid UTF-8 sequence (2 to 4 bytes) that starts at text[i] (a byte of 0x80
+// or more), or 0 where none does: overlong forms, surrogates and code points above U+10FFFF are
+// not valid.
+inline std::size_t utf8_sequence(std::string_view text, std::size_t i) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    std::size_t length = 0;
+    std::uint32_t code = 0;
+    if (c >= 0xc2 && c <= 0xdf) {
+        length = 2;
+        code = c & 0x1f;
+    } else if (c >= 0xe0 && c <= 0xef) {
+        length = 3;
+        code = c & 0x0f;
+    } else if (c >= 0xf0 && c <= 0xf4) {
+        length = 4;
+        code = c & 0x07;
+    }
+    if (length == 0 || i + length > text.size()) return 0;
+    for (std::size_t k = 1; k < length; ++k) {
+        const auto next = static_cast<unsigned char>(text[i + k]);
+        if ((next & 0xc0) != 0x80) return 0;
+        code = (code << 6) | (next & 0x3f);
+    }
+    if ((length == 3 && (code < 0x800 || (code >= 0xd800 && code <= 0xdfff))) ||
+        (length == 4 && (code < 0x10000 || code > 0x10ffff)))
+        return 0;
+    return length;
+}
+
+// `text` as valid UTF-8: each byte that starts no valid sequence becomes U+FFFD.
+inline std::string valid_utf8(std::string_view text) {
+    std::string out;
+    out.reserve(text.size());
+    for (std::size_t i = 0; i < text.size();) {
+        if (static_cast<unsigned char>(text[i]) < 0x80) {
+            out += text[i++];
+        } else if (const std::size_t n = utf8_sequence(text, i); n != 0) {
+            out.append(text.substr(i, n));
+            i += n;
+        } else {
+            out += "\xef\xbf\xbd";  // U+FFFD
+            ++i;
+        }
     }
     return out;
 }

@@ -189,6 +189,32 @@ TEST_F(CliAreasRun, AreasJsonIsValidUtf8ForAnyFileName) {
     EXPECT_TRUE(name.ends_with("/cr\xef\xbf\xbdn.pdb")) << name;
 }
 
+// The CSV file is UTF-8 as the JSON file (pandas reads it as such): a residue name with a byte
+// that is not becomes U+FFFD. Numbers too large for fixed notation (a radius of 1e30 Å) are
+// written with an exponent, and the JSON file stays valid.
+TEST_F(CliAreasRun, AreasFilesHoldValidTextAndNumbers) {
+    const std::string odd = write_file("odd.xyzrn", "0 0 0 1.7 1 A_5_x_GL\xffY_CA\n");
+    CliRun r = run({odd, "--surface", "sas", "--areas", path("o.csv"), "--quiet"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    std::vector<std::string> lines = lines_of(read_text(path("o.csv")));
+    ASSERT_EQ(lines.size(), 4u);
+    EXPECT_TRUE(lines[1].rfind("atom,0,0,A,5,,GL\xef\xbf\xbdY,CA,", 0) == 0) << lines[1];
+    EXPECT_TRUE(lines[2].rfind("residue,,,A,5,,GL\xef\xbf\xbdY,", 0) == 0) << lines[2];
+
+    const std::string big = write_file("big.xyzr", "0 0 0 1e30\n");
+    r = run({big, "--surface", "sas", "--areas", path("b.json"), "--quiet"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto json = parse_json(read_text(path("b.json")));
+    ASSERT_TRUE(json.has_value()) << read_text(path("b.json")).substr(0, 400);
+    const double area = json->find("atoms")->array[0].find("area")->number;
+    EXPECT_NEAR(area / (4.0 * 3.14159265358979 * 1e60), 1.0, 1e-6) << area;
+    r = run({big, "--surface", "sas", "--areas", path("b.csv"), "--quiet"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    lines = lines_of(read_text(path("b.csv")));
+    ASSERT_GE(lines.size(), 2u);
+    EXPECT_TRUE(contains(lines[1], ",1.000000015e+30,,1.2566370")) << lines[1];
+}
+
 TEST_F(CliAreasRun, AreasBesideTheMesh) {
     FDMSURF_REQUIRE_CLI_DEVICE();
     const std::string mesh = path("m.ply"), areas = path("a.json");
