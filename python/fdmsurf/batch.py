@@ -50,7 +50,7 @@ REPEATABLE = frozenset({"InvalidArgumentError", "FileError", "FormatError",
 # --- inputs and outputs ---------------------------------------------------------------------
 
 def _strip_gz(name):
-    return name[:-3] if name.endswith(".gz") else name
+    return name[:-3] if name.lower().endswith(".gz") else name
 
 
 def is_structure_file(name):

@@ -42,6 +42,7 @@ def test_inputs_outputs_and_hash(data, tmp_path):
     assert batch.find_inputs([listing]) == expected
     assert batch.find_inputs([f"@{listing}", tmp_path / "1crn.pdb"]) == expected
     assert batch.stem_of("/a/b/1abc.cif.gz") == "1abc"
+    assert batch.stem_of("/a/b/1ABC.CIF.GZ") == "1ABC"  # .gz in any case, as the CLI
     h = batch.options_hash({}, "ply", False)
     assert h == batch.options_hash({"spacing": 0.5, "probe": 1.4, "level": None}, "ply", False)
     assert h != batch.options_hash({"spacing": 1.0}, "ply", False)

@@ -151,6 +151,7 @@ constexpr std::array<OptionSpec, 58> kOptions{{
 }};
 
 [[noreturn]] void fail(const std::string& message);
+std::string lower(std::string_view text);
 
 }  // namespace
 
@@ -169,7 +170,7 @@ std::string output_with_extension(const std::string& input, const std::string& o
     std::filesystem::path name =
         input == kStdio ? std::filesystem::path("stdin") : std::filesystem::path(input).filename();
     // 1crn.pdb.gz -> 1crn.ply
-    if (name.extension() == ".gz") name = name.stem();
+    if (lower(name.extension().string()) == ".gz") name = name.stem();
     name.replace_extension(extension);
     return (std::filesystem::path(output) / name).string();
 }

@@ -147,6 +147,9 @@ TEST(CliOptions, ModelOutputNames) {
     using fdmsurf::cli::output_for;
     EXPECT_EQ(output_for("data/1d3z.pdb.gz", "meshes/", 3), "meshes/1d3z-m3.ply");
     EXPECT_EQ(output_for("x.cif", "out/", 10), "out/x-m10.ply");
+    // .gz in any case, as format detection reads it.
+    EXPECT_EQ(output_for("h.PDB.GZ", "out/", 1), "out/h-m1.ply");
+    EXPECT_EQ(output_for("h.cif.Gz", "out/", 2), "out/h-m2.ply");
 }
 
 TEST(CliOptions, Assembly) {
