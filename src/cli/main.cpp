@@ -909,11 +909,11 @@ int run_command(int argc, char** argv) {
     return report_errors([&] {
         const CliOptions options = parse_args(std::vector<std::string>(argv + 1, argv + argc));
         if (options.help) {
-            std::fputs(usage_text().c_str(), stdout);
+            put_noting_errors(usage_text(), stdout);
             return kExitOk;
         }
         if (options.version) {
-            std::printf("fdmsurf %s\n", version());
+            put_noting_errors(std::string("fdmsurf ") + version() + "\n", stdout);
             return kExitOk;
         }
         if (options.list_devices) return list_devices_command();

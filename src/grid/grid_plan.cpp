@@ -243,11 +243,20 @@ GridPlan plan_grid(const Atoms& atoms, const SurfaceOptions& options) {
         lo[a] -= padding + 2.0 * h;  // two more points keep the surface off the border
         hi[a] += padding + 2.0 * h;
         double points = std::ceil((hi[a] - lo[a]) / h) + 1.0;
-        if (points > 65536.0)
+        if (points > 65536.0) {
+            // A count past what an integer holds (a padding of 1e30 Å) is given in exponent form.
+            char count[32];
+            if (points < 1e15)
+                std::snprintf(count, sizeof count, "%.0f", points);
+            else
+                std::snprintf(count, sizeof count, "%.3g", points);
             throw Error(ErrorCode::DeviceLimit,
-                        "the grid would have " + std::to_string(static_cast<long long>(points)) +
+                        "the grid would have " + std::string(count) +
                             " points along one axis at spacing " + std::to_string(h) +
-                            " Å; use a coarser --spacing" + isolated_atoms_note(atoms));
+                            " Å; use a coarser --spacing" +
+                            (padding > 100.0 ? " or a smaller --padding" : "") +
+                            isolated_atoms_note(atoms));
+        }
         if (options.min_grid[a] > 65536)
             throw Error(ErrorCode::InvalidArgument, "min_grid asks for " +
                                                         std::to_string(options.min_grid[a]) +

@@ -248,6 +248,14 @@ TEST_F(CliFormats, ASummaryThatCannotBeWrittenSaysWhy) {
     EXPECT_NE(err.find("cannot write standard output: No space left on device"),
               std::string::npos)
         << err;
+    // --help and --version into a full disk: the same reason.
+    for (const char* option : {"--help", "--version"}) {
+        code = run_pipeline(std::string("\"$FDMSURF\" ") + option + " > /dev/full", err);
+        EXPECT_EQ(code, 3) << err;
+        EXPECT_NE(err.find("cannot write standard output: No space left on device"),
+                  std::string::npos)
+            << option << ": " << err;
+    }
     // A summary longer than the stream's buffer (both paths about 3,800 characters of "./"):
     // the write fails inside the print, not at the flush, and says why all the same.
     std::string dots;

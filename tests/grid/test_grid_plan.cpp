@@ -239,6 +239,24 @@ TEST(GridPlan, MinGridGrowsTheGridAroundTheSameCentre) {
 }
 
 
+// A padding of 1e30 Å: the count past an integer's range reads in exponent form (it was
+// -9223372036854775808), and the message names the padding.
+TEST(GridPlan, AnAbsurdPaddingIsRefusedWithAReadableCount) {
+    const fdmsurf::Structure s = fdmsurf::read_structure(data_path("1crn.pdb"));
+    SurfaceOptions o;
+    o.padding = 1e30f;
+    try {
+        plan_grid(s.atoms, o);
+        ADD_FAILURE() << "a grid of 4e30 points was planned";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ErrorCode::DeviceLimit);
+        const std::string what = e.what();
+        EXPECT_NE(what.find("would have 4e+30 points"), std::string::npos) << what;
+        EXPECT_NE(what.find("or a smaller --padding"), std::string::npos) << what;
+        EXPECT_EQ(what.find("-9223372036854775808"), std::string::npos) << what;
+    }
+}
+
 // A misplaced atom far from the rest: a refusal for the grid's size names it (issue: a HETATM
 // at 9999 Å must not mean a grid of 20,000³ points); groups closer than 30 Å are not named.
 TEST(GridPlan, IsolatedAtomsAreNamedWhenTheyStretchTheGrid) {
