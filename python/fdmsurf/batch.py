@@ -26,7 +26,6 @@ usage error.
 
 import argparse
 import datetime
-import glob
 import hashlib
 import json
 import os
@@ -87,6 +86,39 @@ def find_inputs(inputs):
         else:
             add(item)
     return found
+
+
+def is_temporary_of(name, stem, mesh_format):
+    """Whether NAME is the temporary file of a mesh named STEM[-mN].FORMAT: that name followed
+    by .tmp. and 12 hex digits, or, where both would pass 255 bytes, the name cut short in front
+    of the suffix, as the library's atomic writer makes it."""
+    m = re.fullmatch(r"(.*)\.tmp\.[0-9a-f]{12}", name, re.S)
+    if not m:
+        return False
+    head = m.group(1)
+    if re.fullmatch(re.escape(stem) + r"(-m[0-9]+)?\." + re.escape(mesh_format), head, re.S):
+        return True
+    if len(os.fsencode(name)) != 255:
+        return False
+    # Cut short: HEAD is the start of such a name.
+    if stem.startswith(head):
+        return True
+    if not head.startswith(stem):
+        return False
+    rest = re.fullmatch(r"(?:\.|-m[0-9]+\.)(.*)|-(?:m[0-9]*)?", head[len(stem):], re.S)
+    return rest is not None and mesh_format.startswith(rest.group(1) or "")
+
+
+def remove_stale_temporaries(outdir, stems, mesh_format):
+    """Removes the temporary files that the meshes STEMS (.FORMAT) of OUTDIR left."""
+    names = os.listdir(outdir) if os.path.isdir(outdir) else []
+    for stem in stems:
+        for name in names:
+            if ".tmp." in name and is_temporary_of(name, stem, mesh_format):
+                try:
+                    os.remove(os.path.join(outdir, name))
+                except FileNotFoundError:
+                    pass
 
 
 def stem_of(path):
@@ -431,13 +463,7 @@ def run(inputs, outdir, *, scheduler=None, workers=None, client=None, device=Non
                 cluster.close()
     # A worker killed while writing leaves its temporary file: remove those of this run's
     # meshes (every task has ended, so none is being written).
-    for path in todo:
-        stem = stem_of(path)
-        pattern = re.compile(re.escape(stem) + r"(-m[0-9]+)?\." + mesh_format +
-                             r"\.tmp\.[0-9a-f]{12}")
-        for temp in glob.glob(glob.escape(os.path.join(outdir, stem)) + "*.tmp.*"):
-            if pattern.fullmatch(os.path.basename(temp)):
-                os.remove(temp)
+    remove_stale_temporaries(outdir, [stem_of(path) for path in todo], mesh_format)
     summary["seconds"] = time.perf_counter() - start
     if progress is not None:
         rate = len(todo) / summary["seconds"] if summary["seconds"] > 0 else 0.0

@@ -68,6 +68,30 @@ def test_inputs_outputs_and_hash(data, tmp_path):
     assert args.mesh_format == "glb"
 
 
+def test_stale_temporaries_are_recognised_also_when_cut_short(tmp_path):
+    """The batch removes the temporary files of its meshes, also those whose names the atomic
+    writer cut short (names of 239 to 255 bytes), and no one else's."""
+    hexa = ".tmp.0123456789ab"
+    assert batch.is_temporary_of("1abc.ply" + hexa, "1abc", "ply")
+    assert batch.is_temporary_of("1abc-m2.ply" + hexa, "1abc", "ply")
+    assert not batch.is_temporary_of("1abcd.ply" + hexa, "1abc", "ply")
+    assert not batch.is_temporary_of("1abc.obj" + hexa, "1abc", "ply")
+    assert not batch.is_temporary_of("1abc.ply.tmp.xyz", "1abc", "ply")
+    long_stem = "s" * 240
+    for final in (long_stem + ".ply", long_stem + "-m12.ply"):
+        cut = final[:255 - len(hexa)] + hexa  # as AtomicFile names it
+        assert len(cut) == 255
+        assert batch.is_temporary_of(cut, long_stem, "ply"), final
+        assert not batch.is_temporary_of(cut, "t" * 240, "ply")
+    other = "s" * 230 + "x" * 20 + ".ply"  # differs within the part kept
+    assert not batch.is_temporary_of(other[:255 - len(hexa)] + hexa, long_stem, "ply")
+    (tmp_path / ("1abc.ply" + hexa)).write_text("x")
+    (tmp_path / ((long_stem + ".ply")[:238] + hexa)).write_text("x")
+    (tmp_path / ("other.ply" + hexa)).write_text("x")
+    batch.remove_stale_temporaries(str(tmp_path), ["1abc", long_stem], "ply")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["other.ply" + hexa]
+
+
 def test_local_cluster_of_two_workers_then_a_rerun_that_computes_nothing(cli, data, tmp_path):
     garbage = tmp_path / "garbage.pdb"
     garbage.write_text("not a structure\n")

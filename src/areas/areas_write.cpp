@@ -98,7 +98,7 @@ void write_csv(const AreasReport& r, detail::AtomicFile& out) {
         if (meta) {
             const AtomMeta& m = atoms.meta[i];
             line += std::to_string(m.serial) + ",";
-            if (m.residue_name.empty())  // in no residue (an XYZRN name of another form)
+            if (!m.in_residue)  // an XYZRN name of another form than MSMS's
                 line += ",,,,";
             else
                 line += csv_field(m.chain) + "," + std::to_string(m.residue_number) + "," +
@@ -253,7 +253,7 @@ void write_json(const AreasReport& r, detail::AtomicFile& out) {
             const AtomMeta& m = atoms.meta[i];
             j += ", \"serial\": " + std::to_string(m.serial) +
                  ", \"name\": " + detail::json_quote(m.name);
-            if (!m.residue_name.empty())  // else in no residue (an XYZRN name of another form)
+            if (m.in_residue)  // else an XYZRN name of another form than MSMS's
                 j += ", \"chain\": " + detail::json_quote(m.chain) +
                      ", \"residue_number\": " + std::to_string(m.residue_number) +
                      ", \"insertion_code\": " + detail::json_quote(icode(m.insertion_code)) +

@@ -71,10 +71,11 @@ std::vector<std::uint8_t> match_buried_groups(const Atoms& atoms, const std::str
     names = {spec.substr(0, colon), spec.substr(colon + 1)};
     for (const std::string& g : names)
         if (g.empty()) invalid("buried groups '" + spec + "': a group is empty");
-    if (atoms.meta.size() != atoms.size())
+    if (!atoms.has_residues())
         invalid("buried groups '" + spec +
-                "' need chains: the atoms have none (XYZR input has only coordinates and radii; "
-                "give PDB, mmCIF, PQR or XYZRN)");
+                "' need chains: the atoms have none (XYZR input has only coordinates and radii, "
+                "XYZRN names chains only in MSMS's chain_number_icode_residue_atom form; give "
+                "PDB, mmCIF, PQR or such XYZRN)");
     std::vector<std::string> chains;
     for (const AtomMeta& m : atoms.meta)
         if (std::find(chains.begin(), chains.end(), m.chain) == chains.end())

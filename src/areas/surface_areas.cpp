@@ -107,7 +107,7 @@ std::vector<ResidueArea> residue_areas(const Atoms& atoms, const AtomAreas& area
     std::string key;
     for (std::size_t i = 0; i < atoms.size(); ++i) {
         const AtomMeta& m = atoms.meta[i];
-        if (m.residue_name.empty()) continue;  // in no residue (an XYZRN name of another form)
+        if (!m.in_residue) continue;  // an XYZRN name of another form than MSMS's
         key = m.chain;
         key += '\x1f';
         key += std::to_string(m.residue_number);

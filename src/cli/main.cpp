@@ -197,10 +197,10 @@ AreasPlan plan_areas(const CliOptions& options, const Structure& structure,
         throw Error(ErrorCode::InvalidArgument,
                     input + ": --relative needs residues, and " + to_string(structure.info.format) +
                         (structure.info.format == StructureFormat::Xyzrn
-                             ? " input names none (MSMS's names are "
-                               "chain_number_icode_residue_atom)"
-                             : " input has none (only coordinates and radii)") +
-                        ": give PDB, mmCIF, PQR or XYZRN");
+                             ? " input names none: give names in MSMS's "
+                               "chain_number_icode_residue_atom form, or PDB, mmCIF or PQR"
+                             : " input has none (only coordinates and radii): give PDB, mmCIF, "
+                               "PQR or XYZRN"));
     if (!options.buried.empty()) {
         try {
             plan.groups =
@@ -308,16 +308,6 @@ std::vector<std::string> picture_paths(const CliOptions& options, const std::str
     return view_paths(image, options.views);
 }
 
-// A path as the file it reaches: absolute, with the links of its existing part resolved.
-std::string file_identity(const std::string& path) {
-    namespace fs = std::filesystem;
-    std::error_code ec;
-    const fs::path absolute = fs::absolute(path, ec);
-    if (ec) return path;
-    const fs::path resolved = fs::weakly_canonical(absolute, ec);
-    return (ec ? absolute : resolved).lexically_normal().string();
-}
-
 // Checks every file a run for `input` will write, before any work; two of them that reach one
 // file (by any spelling or link) would overwrite each other: Error(InvalidArgument).
 void check_outputs(const CliOptions& options, const std::string& output,
@@ -333,9 +323,13 @@ void check_outputs(const CliOptions& options, const std::string& output,
         files.emplace_back(options.image_output ? "-o" : "--image", path);
     }
     if (!options.areas.empty()) files.emplace_back("--areas", options.areas);
+    // Files written through (/dev/null twice, say) are not replaced: any number may share one.
+    std::vector<std::string> ids;
+    for (const auto& file : files) ids.push_back(output_identity(file.second));
     for (std::size_t i = 0; i < files.size(); ++i) {
+        if (written_through(ids[i])) continue;
         for (std::size_t j = i + 1; j < files.size(); ++j) {
-            if (file_identity(files[i].second) != file_identity(files[j].second)) continue;
+            if (ids[i] != ids[j]) continue;
             throw Error(ErrorCode::InvalidArgument,
                         std::string(files[i].first) + " '" + files[i].second + "' and " +
                             files[j].first + " '" + files[j].second +

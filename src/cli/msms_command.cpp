@@ -255,8 +255,11 @@ int msms_command(const std::vector<std::string>& args) {
                           o.output_base);
         // The files' folders and names, before any work.
         std::vector<std::string> paths;
-        if (write_surface)
+        if (write_surface) {
             paths.insert(paths.end(), {o.output_base + ".vert", o.output_base + ".face"});
+            // -all_components: BASE_N.vert for the cavities, N up to 6 digits here.
+            if (o.all_components) paths.push_back(o.output_base + "_999999.vert");
+        }
         if (write_areas) paths.push_back(o.area_base + ".area");
         for (const std::string& file : paths)
             if (const std::string e = output_path_problem(file); !e.empty())
@@ -352,12 +355,12 @@ int msms_command(const std::vector<std::string>& args) {
         std::printf("  surface    %s vertices, %s triangles, %zu component(s)%s\n",
                     format_count(vertices).c_str(), format_count(triangles).c_str(),
                     components.size(),
-                    write_surface ? (", written to " + o.output_base + ".vert/.face").c_str()
+                    write_surface ? (", written to " + detail::printable(o.output_base) + ".vert/.face").c_str()
                                   : "");
         if (o.areas)
             std::printf("  areas      SES %s Å², SAS %s Å²%s\n", format_grouped(ses_total, 1).c_str(),
                         format_grouped(sas_total, 1).c_str(),
-                        write_areas ? (", per atom in " + o.area_base + ".area").c_str() : "");
+                        write_areas ? (", per atom in " + detail::printable(o.area_base) + ".area").c_str() : "");
         const std::string on_host = host_stages(result.grid);
         std::printf("  time       %s ms on %s%s\n", format_grouped(ms, 0).c_str(),
                     engine.device().name.c_str(),

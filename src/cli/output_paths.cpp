@@ -3,17 +3,30 @@
 #include <unistd.h>
 
 #include <climits>
+#include <cstring>
 #include <filesystem>
 #include <system_error>
 
+#include "mesh/atomic_file.hpp"
+
 namespace fdmsurf::cli {
 
-std::string output_path_problem(const std::string& path) {
+bool written_through(const std::string& path) {
+    return path == "-" || path.starts_with("/dev/") || path.starts_with("/proc/");
+}
+
+std::string output_path_problem(const std::string& given) {
     namespace fs = std::filesystem;
-    if (path == "-" || path.starts_with("/dev/") || path.starts_with("/proc/")) return {};
+    if (written_through(given)) return {};
+    const std::string head = "cannot write '" + given + "': ";
+    // Where the file will be written: through symbolic links, as AtomicFile follows them (a link
+    // to a file not made yet included).
+    int link_error = 0;
+    const std::string path = detail::follow_links(given, link_error);
+    if (link_error != 0) return head + std::strerror(link_error);
+    if (path != given && written_through(path)) return {};
     std::error_code ec;
     const fs::path parent = fs::path(path).parent_path();
-    const std::string head = "cannot write '" + path + "': ";
     if (!parent.empty() && !fs::is_directory(parent, ec)) {
         return head + "'" + parent.string() +
                (fs::exists(parent, ec) ? "' is not a folder" : "' does not exist");
@@ -27,6 +40,17 @@ std::string output_path_problem(const std::string& path) {
                " bytes long; the file system allows " + std::to_string(limit);
     }
     return {};
+}
+
+std::string output_identity(const std::string& given) {
+    namespace fs = std::filesystem;
+    int link_error = 0;
+    const std::string path = detail::follow_links(given, link_error);
+    std::error_code ec;
+    const fs::path absolute = fs::absolute(path, ec);
+    if (ec) return path;
+    const fs::path resolved = fs::weakly_canonical(absolute, ec);
+    return (ec ? absolute : resolved).lexically_normal().string();
 }
 
 }  // namespace fdmsurf::cli

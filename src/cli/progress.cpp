@@ -1,5 +1,6 @@
 // The progress line: a thread redraws it five times a second once a run has lasted a second.
 #include "cli/progress.hpp"
+#include "core/text.hpp"
 
 #include <unistd.h>
 
@@ -78,7 +79,7 @@ Progress::~Progress() {
 void Progress::begin(const std::string& what) {
     if (!enabled_) return;
     std::lock_guard<std::mutex> lock(mutex_);
-    what_ = what;
+    what_ = detail::printable(what);
     last_.clear();
     done_ = 0.0;
     start_ = std::chrono::steady_clock::now();

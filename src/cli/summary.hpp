@@ -278,6 +278,8 @@ inline std::string text_summary(const RunReport& r) {
          format_count(info.waters_skipped) + " waters, " + format_count(info.hydrogens_skipped) +
          " hydrogens, ";
     if (info.ligands_skipped != 0) s += format_count(info.ligands_skipped) + " ligand atoms, ";
+    if (info.zero_radius_skipped != 0)
+        s += format_count(info.zero_radius_skipped) + " of radius 0, ";
     s += format_count(info.altlocs_skipped) + " altlocs left out";
     if (info.models_in_file > 1) {
         s += "; model " + std::to_string(r.model) + " of " + format_count(info.models_in_file);
@@ -479,7 +481,11 @@ inline std::string areas_only_text(const RunReport& r) {
     std::string s = "fdmsurf " + r.version + ": " + surface_name(r.surface) + " areas of " +
                     detail::printable(r.input) + " (exact sphere patches, no mesh)\n";
     s += "  atoms        " + format_count(r.atoms_used) + " used (" +
-         format_count(r.info.atoms_in_file) + " in file)\n";
+         format_count(r.info.atoms_in_file) + " in file" +
+         (r.info.zero_radius_skipped != 0
+              ? "; " + format_count(r.info.zero_radius_skipped) + " of radius 0 left out"
+              : std::string()) +
+         ")\n";
     s += areas_lines(r);
     s += "  time (ms)    ";
     for (const StageTime& t : merge_times(r.times))

@@ -1,5 +1,6 @@
 // Names (file names, structure fields) put into text for people or into line-based files: a
-// control character there would break the line or reach the terminal as an escape sequence.
+// control character there would break the line or reach the terminal as an escape sequence;
+// and text that must be UTF-8.
 #pragma once
 
 #include <cstdint>
@@ -7,17 +8,6 @@
 #include <string_view>
 
 namespace fdmsurf::detail {
-
-// `text` with every control character (below 0x20, and 0x7f) as '?', as `ls -q` shows names;
-// other bytes, UTF-8 included, as they are.
-inline std::string printable(std::string_view text) {
-    std::string out(text);
-    for (char& c : out) {
-        const auto b = static_cast<unsigned char>(c);
-        if (b < 0x20 || b == 0x7f) c = '?';
-    }
-    return out;
-}
 
 // The length of the valid UTF-8 sequence (2 to 4 bytes) that starts at text[i] (a byte of 0x80
 // or more), or 0 where none does: overlong forms, surrogates and code points above U+10FFFF are
@@ -61,6 +51,32 @@ inline std::string valid_utf8(std::string_view text) {
         } else {
             out += "\xef\xbf\xbd";  // U+FFFD
             ++i;
+        }
+    }
+    return out;
+}
+
+// `text` with every control character as '?', as `ls -q` shows names: C0 (below 0x20), DEL, C1
+// (U+0080 to U+009F: CSI and the like, which some terminals act on) and bytes that are not
+// UTF-8; other characters as they are.
+inline std::string printable(std::string_view text) {
+    std::string out;
+    out.reserve(text.size());
+    for (std::size_t i = 0; i < text.size();) {
+        const auto b = static_cast<unsigned char>(text[i]);
+        if (b < 0x80) {
+            out += b < 0x20 || b == 0x7f ? '?' : text[i];
+            ++i;
+            continue;
+        }
+        const std::size_t n = utf8_sequence(text, i);
+        const bool c1 = n == 2 && b == 0xc2 && static_cast<unsigned char>(text[i + 1]) < 0xa0;
+        if (n == 0 || c1) {
+            out += '?';
+            i += n == 0 ? 1 : n;
+        } else {
+            out.append(text.substr(i, n));
+            i += n;
         }
     }
     return out;

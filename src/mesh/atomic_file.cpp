@@ -26,6 +26,8 @@ constexpr std::size_t buffer_size = std::size_t{1} << 20;
 
 thread_local CommitGroup* current_group = nullptr;
 
+}  // namespace
+
 // `path` with its symbolic links followed to the file they name (which may not exist yet), the
 // path itself when it is no link; ELOOP after 40 links.
 std::string follow_links(std::string path, int& error) {
@@ -52,8 +54,6 @@ std::string follow_links(std::string path, int& error) {
     error = ELOOP;
     return path;
 }
-
-}  // namespace
 
 AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
     buffer_.resize(buffer_size);

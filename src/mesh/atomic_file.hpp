@@ -11,6 +11,11 @@ namespace fdmsurf::detail {
 
 class CommitGroup;
 
+// `path` with its symbolic links followed to the file they name (which may not exist yet): where
+// an AtomicFile at `path` writes. The path itself when it is no link; `error` ELOOP after 40
+// links (else 0).
+std::string follow_links(std::string path, int& error);
+
 // Opens a new temporary file next to `path`; write() buffers, commit() flushes, closes and
 // renames it onto `path`. Destroyed without commit(), it removes the temporary file. Every
 // failure throws Error(Io, "cannot write <path>: <reason>"). Not copyable.

@@ -72,6 +72,14 @@ std::vector<std::string> check_property_inputs(const Atoms& atoms, const Propert
         warnings.push_back(
             "colour by element: the atoms carry no elements (XYZR input?); every atom gets the "
             "colour of an unknown element");
+    const bool by_residue = po.color == ColorScheme::Chain || po.color == ColorScheme::Residue ||
+                            po.color == ColorScheme::Hydrophobicity ||
+                            wants(po, VertexProperty::Hydrophobicity);
+    if (by_residue && !atoms.has_residues())
+        warnings.push_back(
+            "colours and properties by chain, residue or hydrophobicity: the atoms name no "
+            "residues (XYZRN names not in MSMS's chain_number_icode_residue_atom form); every "
+            "atom gets those of an unknown residue");
     if (bfactor && std::all_of(atoms.meta.begin(), atoms.meta.end(),
                                [](const AtomMeta& m) { return m.b_factor == 0.0f; }))
         warnings.push_back(

@@ -117,6 +117,7 @@ AtomMeta xyzrn_meta(std::string_view field, std::string& element) {
     AtomMeta m;
     m.xyzrn_name = std::string(field);
     m.name = m.xyzrn_name;
+    m.in_residue = false;  // unless the name is MSMS's form
     element.clear();
     std::vector<std::string_view> parts;
     for (std::size_t start = 0;;) {
@@ -129,6 +130,7 @@ AtomMeta xyzrn_meta(std::string_view field, std::string& element) {
     if ((parts.size() != 5 && parts.size() != 6) || !parse_int(parts[1], number) ||
         parts[3].empty() || parts[4].empty())
         return m;
+    m.in_residue = true;
     m.chain = std::string(parts[0]);
     m.residue_number = number;
     m.insertion_code = parts[2].size() == 1 && parts[2] != "x" ? parts[2][0] : ' ';

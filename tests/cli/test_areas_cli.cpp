@@ -108,6 +108,22 @@ TEST_F(CliAreasRun, FilesOfOneRunMustBeDistinct) {
     EXPECT_TRUE(contains(r.err, "name the same file")) << r.err;
     EXPECT_FALSE(fs::exists(path("m.csv")));
     fs::remove(path("link"));
+    // A link to a file not made yet is followed as the writer follows it (weakly_canonical
+    // alone stops at it): the areas would have replaced the mesh.
+    fs::create_symlink("target.glb", path("a.json"));
+    CliRun d = run({data("1crn.pdb"), "-o", path("target.glb"), "--areas", path("a.json"),
+                    "--surface", "sas", "--device", "no-such-device"});
+    EXPECT_EQ(d.exit_code, 2) << d.err;
+    EXPECT_TRUE(contains(d.err, "name the same file")) << d.err;
+    fs::remove(path("a.json"));
+    // And a link into a folder that does not exist is refused before any work.
+    fs::create_symlink("nodir/x.ply", path("out.ply"));
+    d = run({data("1crn.pdb"), "-o", path("out.ply"), "--device", "no-such-device"});
+    EXPECT_EQ(d.exit_code, 3) << d.err;
+    EXPECT_TRUE(contains(d.err, "'nodir' does not exist") ||
+                contains(d.err, "/nodir' does not exist"))
+        << d.err;
+    fs::remove(path("out.ply"));
 }
 
 TEST_F(CliAreasRun, AreasAloneNeedNoDevice) {

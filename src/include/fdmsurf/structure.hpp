@@ -31,6 +31,9 @@ struct AtomMeta {
     float charge = 0.0f;      // e: PQR's partial charge; PDB/mmCIF: the formal charge column
     bool has_charge = false;  // true for PQR (partial charges a potential can use)
     std::string xyzrn_name;   // XYZRN: the name field as read (MSMS files write it back)
+    // False for an XYZRN atom whose name is not MSMS's chain_number_icode_residue_atom: it is
+    // in no residue (no chain, residue name or number; per-residue areas leave it out).
+    bool in_residue = true;
 };
 
 // Atoms as plain arrays. xyz holds 3 floats per atom (Å); radius one float per atom (Å, > 0).
@@ -46,12 +49,12 @@ struct Atoms {
     std::vector<AtomMeta> meta;
     std::size_t size() const { return radius.size(); }
     bool empty() const { return radius.empty(); }
-    // Whether the atoms have residues: metadata for every atom and a residue name on at least
-    // one (XYZRN names not in MSMS's chain_number_icode_residue_atom form give none).
+    // Whether the atoms have residues: metadata for every atom, at least one in a residue
+    // (XYZRN names not in MSMS's chain_number_icode_residue_atom form give none).
     bool has_residues() const {
         if (meta.size() != size()) return false;
         for (const AtomMeta& m : meta)
-            if (!m.residue_name.empty()) return true;
+            if (m.in_residue) return true;
         return false;
     }
 };
@@ -90,7 +93,7 @@ struct StructureInfo {
     std::size_t hydrogens_skipped = 0;
     std::size_t ligands_skipped = 0;
     std::size_t altlocs_skipped = 0;  // atoms dropped because another alternate location was kept
-    // XYZR, XYZRN and PQR: spheres of radius 0 left out (not in atoms_in_file), and the 1-based
+    // XYZR, XYZRN and PQR: spheres of radius 0 left out (counted in atoms_in_file), and the 1-based
     // line of the first of them (0: none).
     std::size_t zero_radius_skipped = 0;
     std::size_t first_zero_radius_line = 0;
