@@ -254,6 +254,13 @@ void write_areas_file(const CliOptions& options, const std::string& input,
     }
 }
 
+// The warning for --areas on a structure without residues (XYZR, or XYZRN whose names are not
+// MSMS's): per-atom and total areas only.
+std::string no_residues_warning(const std::string& input, const Structure& structure) {
+    return "--areas: " + input + " has no residues (" + to_string(structure.info.format) +
+           " input): the file has per-atom and total areas only";
+}
+
 // --areas with no -o: the exact vdw or sas areas, no mesh and no device.
 int areas_only(const CliOptions& options, const Structure& structure, double parse_ms,
                const AreasPlan& plan) {
@@ -266,9 +273,7 @@ int areas_only(const CliOptions& options, const Structure& structure, double par
     }
     const std::string& input = options.inputs.front();
     if (!structure.atoms.has_residues()) {
-        const std::string message = "--areas: " + input + " has no residues (" +
-                                    to_string(structure.info.format) +
-                                    " input): the file has per-atom and total areas only";
+        const std::string message = no_residues_warning(input, structure);
         print_warning(message);
         report.warnings.push_back(message);
     }
@@ -470,8 +475,7 @@ int run_one(const CliOptions& options, Engine& engine, Renderer* renderer, Progr
     const bool buried = areas_plan != nullptr && !areas_plan->groups.empty();
     BuriedAreas buried_result;
     if (areas_plan != nullptr && areas_plan->wanted && !structure.atoms.has_residues())
-        warn("--areas: " + input + " has no residues (" + to_string(structure.info.format) +
-             " input): the file has per-atom and total areas only");
+        warn(no_residues_warning(input, structure));
     if (buried && areas_plan->outside != 0)
         warn("--buried " + options.buried + ": the " + format_count(areas_plan->outside) +
              " atoms in neither group are left out of the surface and the areas");

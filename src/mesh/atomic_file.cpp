@@ -26,6 +26,15 @@ constexpr std::size_t buffer_size = std::size_t{1} << 20;
 
 thread_local CommitGroup* current_group = nullptr;
 
+// A temporary file's name with its ".tmp." turned into ".old.": as long, so within NAME_MAX.
+std::string backup_name(const std::string& temp_path) {
+    std::string name = temp_path;
+    const std::size_t at = name.rfind(".tmp.");
+    if (at != std::string::npos) name.replace(at, 5, ".old.");
+    else name += ".old";
+    return name;
+}
+
 }  // namespace
 
 // `path` with its symbolic links followed to the file they name (which may not exist yet), the
@@ -198,13 +207,54 @@ void CommitGroup::commit() {
         if (::stat(p.path.c_str(), &st) == 0 && S_ISDIR(st.st_mode))
             throw Error(ErrorCode::Io, "cannot write " + p.path + ": " + std::strerror(EISDIR));
     }
+    // Each file replaced is kept under a hard link (its temporary name with ".old." for ".tmp.")
+    // until every rename has succeeded: a rename that fails puts back what the earlier ones
+    // replaced, and removes the files they made.
+    struct Renamed {
+        std::string path, backup;  // backup empty: no file there, or no link could be made
+        bool tracked, made;        // made: there was no file at `path` before
+    };
+    std::vector<Renamed> renamed;
+    const auto drop_backups = [&renamed] {
+        for (const Renamed& r : renamed) {
+            if (r.backup.empty()) continue;
+            ::unlink(r.backup.c_str());
+            if (r.tracked) untrack_temp_file(r.backup);
+        }
+    };
     while (!pending_.empty()) {
         const Pending& p = pending_.front();
-        if (std::rename(p.temp_path.c_str(), p.path.c_str()) != 0)
-            throw Error(ErrorCode::Io, "cannot write " + p.path + ": " + std::strerror(errno));
+        Renamed r{p.path, backup_name(p.temp_path), false, false};
+        if (::link(p.path.c_str(), r.backup.c_str()) == 0) {
+            r.tracked = track_temp_file(r.backup);
+        } else {  // no file there; or one that cannot be linked (it then cannot be put back)
+            r.made = errno == ENOENT;
+            r.backup.clear();
+        }
+        if (std::rename(p.temp_path.c_str(), p.path.c_str()) != 0) {
+            const int error_number = errno;
+            if (!r.backup.empty()) {
+                ::unlink(r.backup.c_str());
+                if (r.tracked) untrack_temp_file(r.backup);
+            }
+            for (auto it = renamed.rbegin(); it != renamed.rend(); ++it) {
+                if (it->made) {
+                    ::unlink(it->path.c_str());
+                } else if (!it->backup.empty() &&
+                           std::rename(it->backup.c_str(), it->path.c_str()) == 0) {
+                    if (it->tracked) untrack_temp_file(it->backup);
+                    it->backup.clear();
+                }
+            }
+            drop_backups();  // any that could not be put back
+            throw Error(ErrorCode::Io,
+                        "cannot write " + p.path + ": " + std::strerror(error_number));
+        }
+        renamed.push_back(std::move(r));
         if (p.tracked) untrack_temp_file(p.temp_path);
         pending_.erase(pending_.begin());
     }
+    drop_backups();
 }
 
 void AtomicFile::fail(int error_number) {

@@ -66,7 +66,10 @@ public:
     ~CommitGroup();
     CommitGroup(const CommitGroup&) = delete;
     CommitGroup& operator=(const CommitGroup&) = delete;
-    // Throws Error(Io) naming the file that could not be renamed; files renamed before it stay.
+    // Renames every file committed under the group into place. A rename that fails throws
+    // Error(Io) naming its file, after the files renamed before it were put back as they were
+    // (each replaced file is kept under a hard link until all are renamed; one on a file system
+    // without hard links stays new) and the files they made removed.
     void commit();
 
 private:

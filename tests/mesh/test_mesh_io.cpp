@@ -328,8 +328,43 @@ TEST_F(MeshFiles, ACommitGroupRenamesItsFilesTogetherOrNone) {
         EXPECT_EQ(error_code_of([&] { group.commit(); }), ErrorCode::Io);
     }
     EXPECT_EQ(listing(), std::vector<std::string>{"b.ply"});
-    // Left without commit (an exception on the way): nothing.
+    // A rename that fails after others puts back the file they replaced and removes the file
+    // they made; no temporary or kept file is left.
     fs::remove(path("b.ply"));
+    {
+        std::ofstream(path("a.ply")) << "old";
+        detail::CommitGroup group;
+        write_mesh(small_sphere(), path("a.ply"));
+        write_mesh(small_sphere(), path("c.ply"));
+        write_mesh(small_sphere(), path("b.ply"));
+        for (const std::string& name : listing())  // b's temporary file goes: its rename fails
+            if (name.starts_with("b.ply.tmp.")) fs::remove(path(name));
+        try {
+            group.commit();
+            ADD_FAILURE() << "the commit did not throw";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.code(), ErrorCode::Io);
+            EXPECT_NE(std::string(e.what()).find("b.ply: No such file or directory"),
+                      std::string::npos)
+                << e.what();
+        }
+        EXPECT_EQ(listing(), std::vector<std::string>{"a.ply"});
+        std::ifstream in(path("a.ply"));
+        EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), "old");
+    }
+    EXPECT_EQ(listing(), std::vector<std::string>{"a.ply"});
+    // Without a failure, the kept files go too.
+    {
+        detail::CommitGroup group;
+        write_mesh(small_sphere(), path("a.ply"));
+        write_mesh(small_sphere(), path("c.ply"));
+        group.commit();
+    }
+    EXPECT_EQ(listing(), (std::vector<std::string>{"a.ply", "c.ply"}));
+    EXPECT_GT(fs::file_size(path("a.ply")), 3u);
+    // Left without commit (an exception on the way): nothing.
+    fs::remove(path("a.ply"));
+    fs::remove(path("c.ply"));
     {
         detail::CommitGroup group;
         write_mesh(small_sphere(), path("c.ply"));
