@@ -109,13 +109,51 @@ Charges atom_charges(const Atoms& atoms) {
         return c;
     }
     const std::vector<AtomLabel> labels = atom_labels(atoms);
-    // The first amino acid of each chain (N-terminus) and the residues that have OXT.
-    std::map<std::string, std::string> first_residue;  // chain -> residue key
+    // The residues in file order, with their N, CA and C atoms. An amino acid is one of the 20
+    // or any residue with N, CA and C (MSE, D-amino acids, other modified residues).
+    struct Residue {
+        std::string chain;
+        long n = -1, ca = -1, c = -1;
+        bool named_amino_acid = false;
+        bool amino_acid() const { return named_amino_acid || (n >= 0 && ca >= 0 && c >= 0); }
+    };
+    std::vector<Residue> residues;
+    std::vector<std::size_t> residue_of(atoms.size(), std::size_t(-1));
     std::map<std::string, bool> has_oxt;
-    for (const AtomLabel& l : labels) {
-        if (l.residue_key.empty() || !is_amino_acid(l.residue_name)) continue;
-        first_residue.emplace(l.chain, l.residue_key);
-        if (upper(l.atom_name) == "OXT") has_oxt[l.residue_key] = true;
+    for (std::size_t i = 0; i < atoms.size(); ++i) {
+        const AtomLabel& l = labels[i];
+        if (l.residue_key.empty()) continue;
+        if (residues.empty() || i == 0 || labels[i - 1].residue_key != l.residue_key)
+            residues.push_back({l.chain, -1, -1, -1, is_amino_acid(l.residue_name)});
+        residue_of[i] = residues.size() - 1;
+        Residue& r = residues.back();
+        const std::string a = upper(l.atom_name);
+        if (a == "N" && r.n < 0) r.n = long(i);
+        else if (a == "CA" && r.ca < 0) r.ca = long(i);
+        else if (a == "C" && r.c < 0) r.c = long(i);
+        else if (a == "OXT") has_oxt[l.residue_key] = true;
+    }
+    // The N-terminus of each chain: the N of its first amino acid, unless a cap (ACE, FOR, ...)
+    // is bonded to it: the residue before it in the file, of the same chain, with its C within
+    // 2 Å of that N. Gaps further on are not termini (the residues are only unobserved).
+    const auto distance2 = [&atoms](long i, long j) {
+        double d2 = 0.0;
+        for (int k = 0; k < 3; ++k) {
+            const double d = double(atoms.xyz[3 * i + k]) - double(atoms.xyz[3 * j + k]);
+            d2 += d * d;
+        }
+        return d2;
+    };
+    std::vector<char> n_terminal(atoms.size(), 0);
+    std::map<std::string, bool> chain_started;
+    for (std::size_t k = 0; k < residues.size(); ++k) {
+        const Residue& r = residues[k];
+        if (!r.amino_acid() || chain_started[r.chain]) continue;
+        chain_started[r.chain] = true;
+        if (r.n < 0) continue;  // its N unobserved: no charge to place
+        const bool capped = k > 0 && residues[k - 1].chain == r.chain && residues[k - 1].c >= 0 &&
+                            distance2(residues[k - 1].c, r.n) < 2.0 * 2.0;
+        if (!capped) n_terminal[std::size_t(r.n)] = 1;
     }
     for (std::size_t i = 0; i < atoms.size(); ++i) {
         const AtomLabel& l = labels[i];
@@ -126,9 +164,8 @@ Charges atom_charges(const Atoms& atoms) {
         else if (r == "LYS" && a == "NZ") q = 1.0f;
         else if (r == "ARG" && (a == "NE" || a == "NH1" || a == "NH2")) q = 1.0f / 3.0f;
         else if (a == "OP1" || a == "OP2" || a == "O1P" || a == "O2P") q = -0.5f;
-        if (is_amino_acid(r)) {
-            auto f = first_residue.find(l.chain);
-            if (a == "N" && f != first_residue.end() && f->second == l.residue_key) q += 1.0f;
+        if (n_terminal[i]) q += 1.0f;
+        if (residue_of[i] != std::size_t(-1) && residues[residue_of[i]].amino_acid()) {
             if ((a == "O" || a == "OXT") && has_oxt.count(l.residue_key)) q = -0.5f;
         } else if (!r.empty() && (r == a || (r == "IOD" && a == "I"))) {
             // monatomic ions: residue and atom named alike (iodide: IOD / I)

@@ -2,6 +2,8 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 
 #include "structure/detail.hpp"
 
@@ -212,12 +214,14 @@ Structure read_xyzr(std::string_view text, const std::string& name) {
 Structure read_xyzrn(std::string_view text, const std::string& name) {
     Structure s;
     std::size_t zero = 0, first_zero = 0;
+    std::int32_t sphere = 0;  // the serial: the sphere's number in the file, as MSMS's
     LineReader lines(text);
     std::string_view line;
     while (lines.next(line)) {
         std::string_view t = trim(line);
         if (t.empty() || t[0] == '#') continue;
         std::vector<std::string_view> f = split_fields(t);
+        if (sphere < std::numeric_limits<std::int32_t>::max()) ++sphere;
         if (f.size() < 4)
             fail_format(name + ": too few fields for an XYZRN atom" + at_line(lines.number()) +
                         " (" + std::to_string(f.size()) + "; expected: x y z radius n name)");
@@ -225,6 +229,7 @@ Structure read_xyzrn(std::string_view text, const std::string& name) {
             std::string element;
             s.atoms.meta.push_back(
                 xyzrn_meta(f.size() >= 5 ? f.back() : std::string_view(), element));
+            s.atoms.meta.back().serial = sphere;
             s.atoms.element.push_back(std::move(element));
         } else {
             if (zero++ == 0) first_zero = lines.number();

@@ -171,7 +171,7 @@ TEST_F(CliAreasRun, XyzrnWithoutMsmsNamesHasNoResidues) {
     EXPECT_TRUE(contains(r.err, "has no residues")) << r.err;
     std::vector<std::string> lines = lines_of(read_text(path("p.csv")));
     ASSERT_EQ(lines.size(), 4u);  // header, two atoms, total
-    EXPECT_TRUE(lines[1].rfind("atom,0,0,,,,,N1,", 0) == 0) << lines[1];
+    EXPECT_TRUE(lines[1].rfind("atom,0,1,,,,,N1,", 0) == 0) << lines[1];
     EXPECT_TRUE(lines[3].rfind("total,", 0) == 0) << lines[3];
     r = run({plain, "--surface", "sas", "--areas", path("p.json"), "--quiet"});
     ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -214,7 +214,7 @@ TEST_F(CliAreasRun, AreasFilesHoldValidTextAndNumbers) {
     ASSERT_EQ(r.exit_code, 0) << r.err;
     std::vector<std::string> lines = lines_of(read_text(path("o.csv")));
     ASSERT_EQ(lines.size(), 4u);
-    EXPECT_TRUE(lines[1].rfind("atom,0,0,A,5,,GL\xef\xbf\xbdY,CA,", 0) == 0) << lines[1];
+    EXPECT_TRUE(lines[1].rfind("atom,0,1,A,5,,GL\xef\xbf\xbdY,CA,", 0) == 0) << lines[1];
     EXPECT_TRUE(lines[2].rfind("residue,,,A,5,,GL\xef\xbf\xbdY,", 0) == 0) << lines[2];
 
     const std::string big = write_file("big.xyzr", "0 0 0 1e30\n");

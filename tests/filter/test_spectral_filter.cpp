@@ -163,7 +163,7 @@ TEST_F(SpectralFilter, HostGaussianInSpaceMatchesFftwOnCrambin) {
     const double sigma =
         fdmsurf::detail::gaussian_sigma_points(plan.info.cutoff, plan.info.spacing);
     const auto taps = fdmsurf::detail::gaussian_taps(sigma, std::uint32_t(std::ceil(6.0 * sigma)));
-    std::vector<float> host(std::size_t(d[0]) * d[1] * d[2]);
+    std::vector<float> host(static_cast<std::size_t>(d[0]) * d[1] * d[2]);
     std::vector<float> scratch;
     fdmsurf::detail::gaussian_filter_planes(density.data(), d[0], d[1], d[2], plan.pitch, taps, 0,
                                             d[2], host.data(), scratch);

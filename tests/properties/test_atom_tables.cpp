@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <numeric>
+#include <vector>
 
 #include "fdmsurf/fdmsurf.hpp"
 #include "properties/atom_tables.hpp"
@@ -38,6 +39,54 @@ TEST(AtomTables, BuiltInChargesOfCrambin) {
     std::size_t charged = 0;
     for (float q : c.q) charged += q != 0.0f;
     EXPECT_EQ(charged, 3u + 3u + 2u + 2u + 1u + 2u);
+}
+
+TEST(AtomTables, TheNTerminusIsTheFirstAminoAcidsNUnlessCapped) {
+    // Chain A starts with selenomethionine (HETATM MSE): its N carries the +1, not Thr 2's.
+    // Chain B's Glu 1 is capped by an acetyl group (ACE 0, its C 1.33 Å from Glu's N): none.
+    const Structure s = read_structure_from_memory(
+        "HETATM    1  N   MSE A   1       0.000   0.000   0.000  1.00 10.00           N\n"
+        "HETATM    2  CA  MSE A   1       1.460   0.000   0.000  1.00 10.00           C\n"
+        "HETATM    3  C   MSE A   1       2.000   1.400   0.000  1.00 10.00           C\n"
+        "HETATM    4  SE  MSE A   1       1.500  -1.500   1.500  1.00 10.00          SE\n"
+        "ATOM      5  N   THR A   2       3.300   1.500   0.000  1.00 10.00           N\n"
+        "ATOM      6  CA  THR A   2       4.000   2.700   0.000  1.00 10.00           C\n"
+        "ATOM      7  C   THR A   2       5.500   2.500   0.000  1.00 10.00           C\n"
+        "HETATM    8  C   ACE B   0      10.000   0.000   0.000  1.00 10.00           C\n"
+        "HETATM    9  O   ACE B   0      10.000   1.200   0.000  1.00 10.00           O\n"
+        "HETATM   10  CH3 ACE B   0       8.600  -0.500   0.000  1.00 10.00           C\n"
+        "ATOM     11  N   GLU B   1      11.200  -0.600   0.000  1.00 10.00           N\n"
+        "ATOM     12  CA  GLU B   1      12.500   0.000   0.000  1.00 10.00           C\n"
+        "ATOM     13  C   GLU B   1      13.500  -1.000   0.000  1.00 10.00           C\n",
+        "termini.pdb");
+    ASSERT_EQ(s.atoms.size(), 13u);
+    const Charges c = atom_charges(s.atoms);
+    std::vector<float> expected(13, 0.0f);
+    expected[0] = 1.0f;  // MSE 1 N
+    EXPECT_EQ(c.q, expected);
+    // The same chain B without its cap: Glu 1's N is the terminus.
+    const Structure uncapped = read_structure_from_memory(
+        "ATOM     11  N   GLU B   1      11.200  -0.600   0.000  1.00 10.00           N\n"
+        "ATOM     12  CA  GLU B   1      12.500   0.000   0.000  1.00 10.00           C\n"
+        "ATOM     13  C   GLU B   1      13.500  -1.000   0.000  1.00 10.00           C\n",
+        "glu.pdb");
+    EXPECT_EQ(atom_charges(uncapped.atoms).q, (std::vector<float>{1.0f, 0.0f, 0.0f}));
+}
+
+TEST(AtomTables, AcetylCappedPeptidesHaveNoNTerminalCharge) {
+    // 3AL1: two chains, each Ac-Glu 101 ...; every N is neutral, so the net charge is the side
+    // chains' and C-termini's alone.
+    const Atoms atoms = read_structure(fdmsurf::test::data_path("3al1.pdb")).atoms;
+    const Charges c = atom_charges(atoms);
+    const std::vector<AtomLabel> labels = atom_labels(atoms);
+    std::size_t aces = 0;
+    for (std::size_t i = 0; i < atoms.size(); ++i) {
+        aces += labels[i].residue_name == "ACE";
+        if (labels[i].atom_name == "N") {
+            EXPECT_EQ(c.q[i], 0.0f) << labels[i].residue_key;
+        }
+    }
+    EXPECT_GT(aces, 0u);  // the caps are read
 }
 
 TEST(AtomTables, PqrChargesWin) {

@@ -219,6 +219,11 @@ TEST(Xyzrn, NameIsTheLastFieldAndTheElementComesFromMsmsNames) {
     EXPECT_EQ(s.atoms.meta[0].insertion_code, ' ');  // 'x': none
     EXPECT_EQ(s.atoms.meta[4].residue_number, -4);
     EXPECT_EQ(s.atoms.meta[4].insertion_code, 'B');
+    // The serial is the sphere's number among the sphere lines (MSMS's atom number): the
+    // radius-0 sphere keeps its number 4.
+    std::vector<std::int32_t> serials;
+    for (const AtomMeta& m : s.atoms.meta) serials.push_back(m.serial);
+    EXPECT_EQ(serials, (std::vector<std::int32_t>{1, 2, 3, 5, 6}));
     EXPECT_EQ(s.info.warnings.size(), 1u);
 }
 

@@ -19,7 +19,9 @@ enum class StructureFormat { Auto, Pdb, Mmcif, Pqr, Xyzr, Xyzrn };
 // chain_resnum_icode_resname_atomname[_colour] convention, chain, residue number, insertion
 // code ('x': none), residue and atom name from it (else `name` is the whole field).
 struct AtomMeta {
-    std::int32_t serial = 0;          // atom serial number (PDB columns 7-11, _atom_site.id)
+    std::int32_t serial = 0;          // atom serial number (PDB columns 7-11, _atom_site.id;
+                                      // XYZRN: the sphere's line among the file's sphere lines,
+                                      // from 1, MSMS's atom number)
     std::string name;                 // atom name, "CA"
     std::string residue_name;         // "LYS"
     std::int32_t residue_number = 0;  // author sequence number
