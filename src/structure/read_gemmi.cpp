@@ -409,6 +409,9 @@ void select_atoms(const gemmi::Model& model, const ReadOptions& options, const s
         const bool chain_selected =
             model_selected && (!filter.select || filter.select->matches(chain));
         std::unordered_set<std::string> seen_altloc;  // "seqid atom" of alternate locations kept
+        // seqid -> the residue name whose alternate locations are kept there: where two residues
+        // share a position (microheterogeneity: altloc A SER, altloc B THR), the first one's.
+        std::unordered_map<std::string, std::string> altloc_residue;
         for (const gemmi::Residue& res : chain.residues) {
             bool water = res.is_water() || res.entity_type == gemmi::EntityType::Water;
             bool ligand =
@@ -424,7 +427,8 @@ void select_atoms(const gemmi::Model& model, const ReadOptions& options, const s
                                 std::to_string(atom.serial) + " (" + chain.name + "/" + res.name +
                                 " " + res.seqid.str() + "/" + atom.name + ")");
                 if (atom.altloc != '\0' &&
-                    !seen_altloc.insert(res.seqid.str() + ' ' + atom.name).second) {
+                    (altloc_residue.emplace(res.seqid.str(), res.name).first->second != res.name ||
+                     !seen_altloc.insert(res.seqid.str() + ' ' + atom.name).second)) {
                     ++info.altlocs_skipped;
                 } else if (water && !options.keep_waters) {
                     ++info.waters_skipped;

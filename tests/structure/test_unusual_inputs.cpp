@@ -10,6 +10,7 @@
 // CIF document does not compile with clang in C++20; tests/CMakeLists.txt).
 #include <gtest/gtest.h>
 
+#include <gemmi/modify.hpp>
 #include <gemmi/cif.hpp>
 #include <gemmi/mmcif.hpp>
 #include <gemmi/pdb.hpp>
@@ -213,6 +214,56 @@ TEST(UnusualInputs, PdbInsertionCodesAndAltlocsWhoseOccupanciesSumOverOne) {
     expect_same(fdmsurf_reading(s), gemmi_reading(text, false));
     EXPECT_EQ(s.atoms.size(), 327u);
     EXPECT_GT(s.info.altlocs_skipped, 0u);
+}
+
+TEST(UnusualInputs, PdbMicroheterogeneityKeepsTheFirstResidue) {
+    // Residue 5 as two residues at one position: altloc A as in the file, altloc B renamed TRP (not in crambin),
+    // moved and with an atom the first lacks. The position keeps the first residue whole and
+    // nothing of the second (the B residue's own atom included), as gemmi's
+    // remove_alternative_conformations does.
+    std::vector<std::string> out;
+    std::vector<std::string> second;
+    for (std::string l : lines_of(read_text_file(data_path("1crn.pdb")))) {
+        if (is_atom_line(l) && l.substr(22, 4) == "   5") {
+            std::string a = l, b = l;
+            a[16] = 'A';
+            b[16] = 'B';
+            b.replace(17, 3, "TRP");
+            b.replace(30, 8, "   1.000");
+            out.push_back(a);
+            second.push_back(b);
+            continue;
+        }
+        if (!second.empty()) {  // right after residue 5: the B residue, then one atom more
+            std::string extra = second.back();
+            extra.replace(12, 4, " OH ");
+            second.push_back(extra);
+            out.insert(out.end(), second.begin(), second.end());
+            second.clear();
+        }
+        out.push_back(l);
+    }
+    const std::string text = joined(out);
+    const Structure s = read_structure_from_memory(text, "micro.pdb", keep_everything());
+    gemmi::Structure st = gemmi::read_pdb_from_memory(text.data(), text.size(), "ref");
+    gemmi::remove_alternative_conformations(st);
+    std::vector<Seen> gemmis;
+    for (const gemmi::Chain& ch : st.models.at(0).chains)
+        for (const gemmi::Residue& r : ch.residues)
+            for (const gemmi::Atom& a : r.atoms)
+                gemmis.push_back({ch.name, *r.seqid.num, r.seqid.icode == '\0' ? ' ' : r.seqid.icode,
+                                  a.name, upper(a.element.name()), float(a.pos.x), float(a.pos.y),
+                                  float(a.pos.z)});
+    expect_same(fdmsurf_reading(s), gemmis);
+    EXPECT_EQ(s.atoms.size(), 327u);
+    std::size_t trp = 0, residue_5 = 0;
+    for (const AtomMeta& m : s.atoms.meta) {
+        trp += m.residue_name == "TRP";
+        residue_5 += m.residue_number == 5;
+    }
+    EXPECT_EQ(trp, 0u);
+    EXPECT_GT(residue_5, 0u);
+    EXPECT_EQ(s.info.altlocs_skipped, residue_5 + 1);  // the B residue, its extra atom too
 }
 
 TEST(UnusualInputs, PdbModelsOfDifferentSizes) {
