@@ -783,6 +783,16 @@ SurfaceResult Engine::make_surface(const Atoms& atoms, const SurfaceOptions& opt
             detail::remove_cavities_without_probe(result.mesh, atoms, options.probe);
     }
     // (By default the exact SES, vdw and sas keep every cavity.)
+    if (result.mesh.triangle_count() == 0 && !atoms.empty()) {
+        float r_max = 0.0f;
+        for (float r : atoms.radius) r_max = std::max(r_max, r);
+        char buf[240];
+        std::snprintf(buf, sizeof buf,
+                      "the surface is empty: no grid point lies inside it (spacing %.3g Å, "
+                      "atoms of radius %.3g Å at most); a finer spacing would find it",
+                      double(options.spacing), double(r_max));
+        result.warnings.emplace_back(buf);
+    }
     result.times.push_back({"cavities", detail::now_ms() - t0, false});
     impl_->report("cavities");
     detail::trace("engine: cavities");

@@ -18,8 +18,10 @@ AtomBins bin_atoms(const Atoms& atoms, const GridPlan& plan) {
     bins.r2_max = r_max * r_max;
     // With bins of r_max + 0.5 Å, a point inside the van der Waals surface (pi <= 0) is certified
     // after the 27 nearest bins: farther atoms have pi >= (s-1)^2 b^2 - r_max^2 > 0.
-    bins.size = r_max + 0.5f;
+    // Never finer than the grid (a coarse grid over a wide box: 64³ points 20 Å apart would
+    // otherwise be 500³ bins, gigabytes): larger bins keep the certificate.
     const GridInfo& g = plan.info;
+    bins.size = std::max(r_max + 0.5f, g.spacing);
     for (int a = 0; a < 3; ++a) {
         bins.origin[a] = g.origin[a];
         float extent = (g.dims[a] - 1) * g.spacing;

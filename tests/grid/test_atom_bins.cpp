@@ -87,4 +87,31 @@ TEST(AtomBins, ReachedBoxesCoverEveryNonZeroPoint) {
     }
 }
 
+// A grid far coarser than the atoms (crambin on 64³ points 20 Å apart, 1,260 Å wide): bins of
+// the atoms' size would number 500³ (gigabytes); they are never finer than the grid, and the
+// boxes reached are still every box with a non-zero density.
+TEST(AtomBins, NeverFinerThanTheGrid) {
+    const Atoms atoms =
+        fdmsurf::read_structure(std::string(FDMSURF_TEST_DATA_DIR) + "/1crn.pdb").atoms;
+    const GridPlan plan = plan_grid(atoms, SurfaceOptions{.spacing = 20.0f, .min_grid = {64, 64, 64}});
+    const auto bins = bin_atoms(atoms, plan);
+    EXPECT_GE(bins.size, plan.info.spacing);
+    EXPECT_LE(bins.bin_count(), std::size_t(plan.info.dims[0]) * plan.info.dims[1] * plan.info.dims[2]);
+    const std::uint32_t group[3] = {4, 4, 4};
+    const std::vector<std::uint32_t> reached = reached_boxes(bins, plan, group);
+    std::uint32_t nb[3];
+    for (int a = 0; a < 3; ++a) nb[a] = (plan.info.dims[a] + 3) / 4;
+    std::size_t missing = 0, needed = 0;
+    for (std::uint32_t z = 0; z < nb[2]; ++z)
+        for (std::uint32_t y = 0; y < nb[1]; ++y)
+            for (std::uint32_t x = 0; x < nb[0]; ++x) {
+                if (box_min_power(atoms, plan, group, x, y, z) > plan.density.pi_cut) continue;
+                ++needed;
+                missing += !std::binary_search(reached.begin(), reached.end(),
+                                               (z * nb[1] + y) * nb[0] + x);
+            }
+    EXPECT_GT(needed, 0u);
+    EXPECT_EQ(missing, 0u);
+}
+
 }  // namespace

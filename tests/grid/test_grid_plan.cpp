@@ -186,6 +186,15 @@ TEST(GridPlan, RejectsBadOptionsWithInvalidArgument) {
     expect_invalid(atoms, {.sigma = -3.0f}, "sigma -3");
     expect_invalid(atoms, {.sigma = nan}, "sigma NaN");
     expect_invalid(atoms, {.surface = SurfaceKind::Vdw, .sigma = 0.0f}, "vdw sigma 0");
+    // A sigma so small that T exp(r²/σ²) overflows single precision through the FFT (radius
+    // 1.5 Å: sigma >= 1.5/√60 = 0.194 Å; sas: (1.5 + 1.4)/√60 = 0.374 Å).
+    expect_invalid(atoms, {.sigma = 0.19f}, "sigma 0.19");
+    expect_invalid(atoms, {.surface = SurfaceKind::Vdw, .sigma = 1e-6f}, "vdw sigma 1e-6");
+    expect_invalid(atoms, {.surface = SurfaceKind::Sas, .sigma = 0.37f}, "sas sigma 0.37");
+    EXPECT_NO_THROW(plan_grid(atoms, {.sigma = 0.2f}));
+    EXPECT_NO_THROW(plan_grid(atoms, {.surface = SurfaceKind::Sas, .sigma = 0.38f}));
+    // The exact SES has no density.
+    EXPECT_NO_THROW(plan_grid(atoms, {.method = fdmsurf::SesMethod::Edt, .sigma = 1e-6f}));
 }
 
 TEST(GridPlan, RejectsBadAtoms) {
