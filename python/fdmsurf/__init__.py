@@ -57,7 +57,7 @@ def _structure_of(source, radii, given):
     if isinstance(source, (str, bytes, os.PathLike)):
         if radii is not None:
             raise TypeError("radii goes with an xyz array, not with a path")
-        return _fdmsurf._read_structure(os.fsdecode(source), options), options
+        return _fdmsurf._read_structure(source, options), options
     read = sorted(name for name, value in given.items()
                   if name in _options.READ_NAMES and value is not None
                   and value != _options.KEYWORDS[name].default)
@@ -151,7 +151,7 @@ class Engine:
         {keywords}
         """
         options = _options.parse(keywords, ["--models=all"])
-        structures = _fdmsurf._read_models(os.fsdecode(path), options)
+        structures = _fdmsurf._read_models(path, options)
         grid = list(options.min_grid)
         if len(structures) > 1:
             for structure in structures:
@@ -227,7 +227,7 @@ def read_structure(path, **keywords):
     Raises FileError, FormatError or EmptySelectionError with a message that names the file
     and, where it can, the line.
     """
-    return _fdmsurf._read_structure(os.fsdecode(path), _options.parse(keywords))
+    return _fdmsurf._read_structure(path, _options.parse(keywords))
 
 
 @with_keywords(READ, exclude=("model",))
@@ -237,7 +237,7 @@ def read_models(path, **keywords):
 
     {keywords}
     """
-    return _fdmsurf._read_models(os.fsdecode(path), _options.parse(keywords, ["--models=all"]))
+    return _fdmsurf._read_models(path, _options.parse(keywords, ["--models=all"]))
 
 
 @with_keywords(READ)

@@ -28,6 +28,7 @@ import argparse
 import datetime
 import hashlib
 import json
+import math
 import os
 import re
 import sys
@@ -324,6 +325,35 @@ def compute(path, outdir, keywords, mesh_format, all_models, digest, engine=None
     return row
 
 
+def _finite_or_none(value):
+    """VALUE with every float that is not finite replaced by None (strict JSON has no NaN)."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    if isinstance(value, dict):
+        return {k: _finite_or_none(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [_finite_or_none(v) for v in value]
+    return value
+
+
+def _printable(name):
+    """NAME with the bytes of a file name that are not UTF-8 as U+FFFD (for Dask's keys)."""
+    return os.fsencode(name).decode("utf-8", "replace")
+
+
+def _row_text(row):
+    """A manifest row as one line of strict JSON. File names that are not UTF-8 (str with
+    surrogate escapes, as os.fsdecode gives them) are written as \\udcXX escapes, which read
+    back to the same str."""
+    return json.dumps(_finite_or_none(row), allow_nan=False)
+
+
+def _compute_text(*args):
+    """compute() for a Dask task: its row as JSON text, which Dask's transport carries whatever
+    the file names hold (it refuses str that are not valid UTF-8)."""
+    return _row_text(compute(*args))
+
+
 # --- on the client --------------------------------------------------------------------------
 
 def default_workers():
@@ -357,6 +387,26 @@ class _Progress:
         print(line, file=self.stream, flush=True)
 
 
+def _check_memory_limit(limit):
+    """InvalidArgumentError unless LIMIT is one that LocalCluster takes: 'auto', 0 or None (no
+    limit), a positive number of bytes, or a size such as '4GB'."""
+    if limit is None or (isinstance(limit, str) and limit in ("auto", "0")):
+        return
+    if isinstance(limit, (int, float)) and not isinstance(limit, bool):
+        if limit >= 0 and math.isfinite(limit):
+            return
+    elif isinstance(limit, str):
+        from dask.utils import parse_bytes
+        try:
+            if parse_bytes(limit) > 0:
+                return
+        except (ValueError, TypeError):
+            pass
+    raise fdmsurf.InvalidArgumentError(
+        f"memory limit must be 'auto', 0 (none), a number of bytes or a size such as '4GB', "
+        f"not {limit!r}")
+
+
 def run(inputs, outdir, *, scheduler=None, workers=None, client=None, device=None,
         validation=False, mesh_format="ply", all_models=False, retry_failed=False,
         memory_limit="auto", progress=sys.stderr, **keywords):
@@ -373,7 +423,13 @@ def run(inputs, outdir, *, scheduler=None, workers=None, client=None, device=Non
         raise fdmsurf.InvalidArgumentError(
             f"mesh format must be {', '.join(MESH_FORMATS[:-1])} or {MESH_FORMATS[-1]}, "
             f"not {mesh_format!r}")
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int)
+                                or workers < 1):
+        raise fdmsurf.InvalidArgumentError(f"workers must be a whole number >= 1, not {workers!r}")
+    _check_memory_limit(memory_limit)
     digest = options_hash(keywords, mesh_format, all_models)  # bad options fail here, early
+    if isinstance(inputs, (str, bytes, os.PathLike)):  # one path, not its characters
+        inputs = [inputs]
     paths = find_inputs(inputs)
     by_stem = {}
     for path in paths:
@@ -431,8 +487,8 @@ def run(inputs, outdir, *, scheduler=None, workers=None, client=None, device=Non
             where = scheduler or ("LocalCluster" if cluster else client.scheduler.address)
             print(f"fdmsurf.batch: {len(responses)} worker(s) on {where}", file=progress,
                   flush=True)
-        futures = {client.submit(compute, path, outdir, keywords, mesh_format, all_models,
-                                 digest, pure=False, key=f"fdmsurf-{stem_of(path)}-{digest}-"
+        futures = {client.submit(_compute_text, path, outdir, keywords, mesh_format, all_models,
+                                 digest, pure=False, key=f"fdmsurf-{_printable(stem_of(path))}-{digest}-"
                                  f"{os.urandom(4).hex()}"): path
                    for path in todo}
         report = _Progress(progress, len(todo))
@@ -440,7 +496,7 @@ def run(inputs, outdir, *, scheduler=None, workers=None, client=None, device=Non
             for future in as_completed(futures):
                 path = futures[future]
                 if future.status == "finished":
-                    row = future.result()
+                    row = json.loads(future.result())
                 else:  # the task itself could not run: a worker died on it, repeatedly
                     error = future.exception()
                     row = {"input": path, "key": os.path.abspath(path), "options_hash": digest,
@@ -450,7 +506,7 @@ def run(inputs, outdir, *, scheduler=None, workers=None, client=None, device=Non
                 future.release()
                 row["finished"] = datetime.datetime.now(datetime.timezone.utc).isoformat(
                     timespec="seconds")
-                out.write(json.dumps(row) + "\n")
+                out.write(_row_text(row) + "\n")
                 out.flush()
                 os.fsync(out.fileno())
                 summary["rows"].append(row)

@@ -26,6 +26,17 @@ py::array share(const std::shared_ptr<void>& owner, T* data, std::vector<py::ssi
     return py::array_t<T>(std::move(shape), data, base);
 }
 
+// A file path from Python (str, bytes or os.PathLike) as the bytes the file system sees
+// (os.fsencode: a str name that is not UTF-8 keeps its bytes). Raises TypeError for another
+// type and ValueError for an embedded NUL, as open() does (the C++ side would cut the name short
+// there and read or replace another file).
+std::string path_argument(py::handle path);
+
+// Text from C++ (messages, names read from files) as Python str: bytes that are not UTF-8
+// (a file name's, a structure field's) become U+FFFD, as in error messages.
+py::str text(const std::string& value);
+py::list text_list(const std::vector<std::string>& values);
+
 // A numpy array of Python str (dtype '<U...'), for per-atom names, chains and elements.
 py::array string_array(const std::vector<std::string>& values);
 

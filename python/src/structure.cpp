@@ -10,13 +10,27 @@ namespace fdmsurf::python {
 
 using namespace pybind11::literals;
 
-py::array string_array(const std::vector<std::string>& values) {
+std::string path_argument(py::handle path) {
+    const py::bytes encoded = py::module_::import("os").attr("fsencode")(path);
+    std::string bytes = encoded;
+    if (bytes.find('\0') != std::string::npos) throw py::value_error("embedded null byte");
+    return bytes;
+}
+
+py::str text(const std::string& value) {
+    PyObject* decoded = PyUnicode_DecodeUTF8(value.data(), py::ssize_t(value.size()), "replace");
+    if (decoded == nullptr) throw py::error_already_set();
+    return py::reinterpret_steal<py::str>(decoded);
+}
+
+py::list text_list(const std::vector<std::string>& values) {
     py::list items(values.size());
-    for (std::size_t i = 0; i < values.size(); ++i) {
-        items[i] = py::reinterpret_steal<py::object>(
-            PyUnicode_DecodeUTF8(values[i].data(), py::ssize_t(values[i].size()), "replace"));
-    }
-    return py::module_::import("numpy").attr("array")(items, "dtype"_a = "U");
+    for (std::size_t i = 0; i < values.size(); ++i) items[i] = text(values[i]);
+    return items;
+}
+
+py::array string_array(const std::vector<std::string>& values) {
+    return py::module_::import("numpy").attr("array")(text_list(values), "dtype"_a = "U");
 }
 
 namespace {
@@ -128,10 +142,10 @@ py::dict info_dict(const StructureInfo& info) {
     d["model"] = info.model;
     d["assemblies_in_file"] = info.assemblies_in_file;
     d["assembly"] = info.assembly;
-    d["assembly_name"] = info.assembly_name;
+    d["assembly_name"] = text(info.assembly_name);
     d["assembly_operators"] = info.assembly_operators;
     d["assembly_chains"] = info.assembly_chains;
-    d["warnings"] = info.warnings;
+    d["warnings"] = text_list(info.warnings);
     return d;
 }
 
@@ -304,7 +318,7 @@ are numpy arrays in atom order, or None for atoms without metadata (XYZR input, 
             },
             "XYZRN input: the name field as read, (N,) str, or None.")
         .def_property_readonly(
-            "chains", &chains_of,
+            "chains", [](const PyStructure& s) { return text_list(chains_of(s)); },
             "Distinct chain ids in order of appearance (empty without metadata).")
         .def_property_readonly(
             "info", [](const PyStructure& s) { return info_dict(s.data->info); },
@@ -320,7 +334,8 @@ are numpy arrays in atom order, or None for atoms without metadata (XYZR input, 
 
     m.def(
         "_read_structure",
-        [](const std::string& path, const PyOptions& options) {
+        [](py::handle path_object, const PyOptions& options) {
+            const std::string path = path_argument(path_object);
             Structure s;
             {
                 py::gil_scoped_release release;
@@ -331,7 +346,8 @@ are numpy arrays in atom order, or None for atoms without metadata (XYZR input, 
         py::arg("path"), py::arg("options"));
     m.def(
         "_read_models",
-        [](const std::string& path, const PyOptions& options) {
+        [](py::handle path_object, const PyOptions& options) {
+            const std::string path = path_argument(path_object);
             std::vector<Structure> models;
             {
                 py::gil_scoped_release release;

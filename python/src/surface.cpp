@@ -117,17 +117,17 @@ py::object simplify_dict(const PySurface& s) {
     return d;
 }
 
-std::string fspath(py::handle path) {
-    return py::module_::import("os").attr("fspath")(path).cast<std::string>();
-}
 
-std::shared_ptr<Mesh> mesh_of(py::handle source) {
-    if (py::isinstance<PyMesh>(source)) return source.cast<PyMesh&>().mesh;
-    const std::string path = fspath(source);
+std::shared_ptr<Mesh> read_mesh_at(const std::string& path) {
     auto mesh = std::make_shared<Mesh>();
     py::gil_scoped_release release;
     *mesh = read_mesh_any(path);
     return mesh;
+}
+
+std::shared_ptr<Mesh> mesh_of(py::handle source) {
+    if (py::isinstance<PyMesh>(source)) return source.cast<PyMesh&>().mesh;
+    return read_mesh_at(path_argument(source));
 }
 
 std::string mesh_repr(PyMesh& m, const char* type) {
@@ -373,7 +373,7 @@ area, volume, pieces, closed_manifold and stats describe the mesh as it was made
         .def(
             "write",
             [](PyMesh& s, py::handle path_object, py::object format) {
-                const std::string path = fspath(path_object);
+                const std::string path = path_argument(path_object);
                 const MeshFormat f = format_named(format, path);
                 py::gil_scoped_release release;
                 write_mesh(*s.mesh, path, f);
@@ -414,7 +414,7 @@ max_triangles= did), optimized, total_ms.)")
             "Every stage as it ran, (name, ms, gpu) in order (a stage per slab repeats): gpu is "
             "True where the time comes from GPU timestamps, False for host work.")
         .def_property_readonly(
-            "warnings", [](const PySurface& s) { return s.warnings; },
+            "warnings", [](const PySurface& s) { return text_list(s.warnings); },
             "The engine's warnings (the CLI prints them as `fdmsurf: warning:` lines), and the "
             "validation layer's messages with Engine(validation=True).")
         .def_property_readonly(
@@ -511,7 +511,7 @@ the host with every thread (docs/areas.md).)");
         "read_mesh",
         [](py::handle path) {
             PyMesh out;
-            out.mesh = mesh_of(py::str(fspath(path)));
+            out.mesh = read_mesh_at(path_argument(path));
             return out;
         },
         py::arg("path"),

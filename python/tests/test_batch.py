@@ -230,3 +230,26 @@ def test_joining_a_running_cluster(data, tmp_path):
         assert cluster.scheduler_info["workers"]  # still up
     finally:
         cluster.close()
+
+
+def test_one_path_a_name_that_is_not_utf8_and_bad_cluster_options(data, tmp_path):
+    # Refused before any cluster starts: exit 2 naming the option.
+    for bad in (["--workers", "-1"], ["--workers", "0"], ["--memory-limit", "bogus"]):
+        done = run_batch(data / "1crn.pdb", "-o", tmp_path / "no", *bad)
+        assert done.returncode == 2, (bad, done.stderr)
+        assert ("workers must be" if bad[0] == "--workers" else "memory limit must be") \
+            in done.stderr
+    assert not (tmp_path / "no").exists()
+    # One path given as a str is one input (not its characters), here a file name that is not
+    # UTF-8: its row goes through Dask and into the manifest, which reads it back.
+    name = os.fsdecode(b"\xff-1crn.pdb")
+    (tmp_path / name).symlink_to(data / "1crn.pdb")
+    summary = batch.run(str(tmp_path / name), tmp_path / "out", workers=1, spacing=1.0,
+                        progress=None)
+    assert (summary["inputs"], summary["computed"], summary["failed"]) == (1, 1, 0)
+    (row,) = rows_of(tmp_path / "out")
+    assert row["status"] == "ok" and row["input"] == str(tmp_path / name)
+    assert os.path.exists(row["output"]) and row["output"].endswith(name[:-4] + ".ply")
+    again = batch.run(str(tmp_path / name), tmp_path / "out", workers=1, spacing=1.0,
+                      progress=None)
+    assert again["skipped"] == 1 and again["computed"] == 0

@@ -1,6 +1,8 @@
 """Bad input raises clear exceptions: fdmsurf.Error subclasses with the CLI's messages, TypeError
 for wrong types and unknown keywords."""
 
+import os
+
 import numpy as np
 import pytest
 
@@ -161,3 +163,31 @@ def test_engine_errors(data):
     assert engine.closed and "closed" in repr(engine)
     with pytest.raises(fdmsurf.InvalidArgumentError, match="this Engine was closed"):
         engine.surface(data / "1crn.pdb")
+
+
+def test_paths_with_nul_or_bytes_that_are_not_utf8(engine, data, tmp_path):
+    # A NUL inside a path is refused as open() refuses it: the name cut short there would read
+    # or replace another file.
+    for call in (lambda: fdmsurf.read_structure(f"{data / '1crn.pdb'}\0.xyzr"),
+                 lambda: engine.surface(f"{data / '1crn.pdb'}\0x", spacing=1.0),
+                 lambda: fdmsurf.read_mesh(f"{data / '1crn-fdm-0.5.ply'}\0zz")):
+        with pytest.raises(ValueError, match="embedded null byte"):
+            call()
+    r = engine.surface(data / "1crn.pdb", spacing=1.0)
+    with pytest.raises(ValueError, match="embedded null byte"):
+        r.write(str(tmp_path / "a\0b.ply"))
+    assert os.listdir(tmp_path) == []
+    # A file name that is not UTF-8, as bytes or as os.fsdecode's str: read, written, named in
+    # warnings and errors with U+FFFD.
+    odd = tmp_path / os.fsdecode(b"\xff.xyzr")
+    odd.write_text("0 0 0 1.5\n3 0 0 0\n")
+    for path in (os.fsencode(odd), odd, str(odd)):
+        s = fdmsurf.read_structure(path)
+        assert len(s) == 1 and "\ufffd.xyzr" in s.info["warnings"][0]
+    r = engine.surface(os.fsencode(odd), spacing=0.5)
+    for path in (os.fsencode(tmp_path / os.fsdecode(b"\xfe.ply")),
+                 str(tmp_path / os.fsdecode(b"\xfd.ply"))):
+        r.write(path)
+        assert fdmsurf.read_mesh(path).triangle_count == r.triangle_count
+    with pytest.raises(fdmsurf.FileError, match="\ufffd"):
+        fdmsurf.read_mesh(os.fsencode(tmp_path / os.fsdecode(b"\xfc.ply")))
