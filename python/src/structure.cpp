@@ -99,6 +99,13 @@ PyStructure wrap(Structure structure) {
     return PyStructure{std::make_shared<Structure>(std::move(structure)), py::dict()};
 }
 
+// `array` made read-only: the metadata is the file's, and the library reads its own copy (an
+// edit would show in the array and change nothing).
+py::object read_only(py::object array) {
+    array.attr("setflags")("write"_a = false);
+    return array;
+}
+
 // One per-atom field of the metadata as a numpy array; None when the atoms have none (XYZR,
 // or atoms from arrays).
 template <class T, class Get>
@@ -110,7 +117,7 @@ py::object meta_numbers(PyStructure& s, const char* key, Get get) {
         py::array_t<T> array(py::ssize_t(meta.size()));
         T* p = array.mutable_data();
         for (std::size_t i = 0; i < meta.size(); ++i) p[i] = static_cast<T>(get(meta[i]));
-        out = array;
+        out = read_only(array);
     }
     s.metadata[key] = out;
     return out;
@@ -124,7 +131,7 @@ py::object meta_strings(PyStructure& s, const char* key, Get get) {
     if (!meta.empty()) {
         std::vector<std::string> values(meta.size());
         for (std::size_t i = 0; i < meta.size(); ++i) values[i] = get(meta[i]);
-        out = string_array(values);
+        out = read_only(string_array(values));
     }
     s.metadata[key] = out;
     return out;
@@ -237,7 +244,7 @@ are numpy arrays in atom order, or None for atoms without metadata (XYZR input, 
                 const auto& element = s.data->atoms.element;
                 if (std::any_of(element.begin(), element.end(),
                                 [](const std::string& e) { return !e.empty(); }))
-                    out = string_array(element);
+                    out = read_only(string_array(element));
                 s.metadata["element"] = out;
                 return out;
             },

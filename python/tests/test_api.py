@@ -298,6 +298,11 @@ def test_read_structure_metadata(data):
     assert s.b_factor.dtype == np.float32 and s.occupancy[0] == 1.0
     assert s.info["format"] == "pdb" and s.info["atoms_in_file"] == 327
     assert s.chain is s.chain  # built once
+    # Read-only: the library reads the metadata it was given, so an edit would change nothing.
+    for field in ("b_factor", "serial", "name", "chain", "element", "hetero"):
+        assert not getattr(s, field).flags.writeable, field
+    with pytest.raises(ValueError, match="read-only"):
+        s.b_factor[:] = 99.0
     with_h = fdmsurf.read_structure(data / "1d3z.pdb.gz", model=3, hydrogens=True)
     assert with_h.info["model"] == 3 and "H" in set(with_h.element)
     assert len(fdmsurf.read_models(data / "1d3z.pdb.gz")) == 10
