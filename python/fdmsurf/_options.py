@@ -177,7 +177,10 @@ def _color(name, value):
 
 
 def _flag(name, value):
-    if not isinstance(value, (bool, int)) or value not in (0, 1):
+    numpy_bool = getattr(getattr(value, "dtype", None), "kind", None) == "b" and \
+        getattr(value, "ndim", None) == 0  # np.True_, np.bool_(x)
+    if not numpy_bool and (isinstance(value, bool) or not isinstance(value, numbers.Integral)
+                           or value not in (0, 1)) and not isinstance(value, bool):
         raise TypeError(f"{name} must be True or False, not {value!r}")
     return bool(value)
 
@@ -194,6 +197,9 @@ def _grid(name, value):
     grid = tuple(int(_integer(name, n)) for n in grid)
     if min(grid) < 0:
         raise _fdmsurf.InvalidArgumentError(f"{name} must be >= 0 on every axis")
+    if max(grid) >= 2**32:
+        raise _fdmsurf.InvalidArgumentError(f"{name} must be below 2**32 points on every axis "
+                                            f"(got {max(grid)})")
     return grid
 
 

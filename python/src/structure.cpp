@@ -84,7 +84,13 @@ Atoms atoms_from_arrays(py::handle xyz_object, py::handle radii_object, py::hand
     if (!element.is_none()) {
         if (py::isinstance<py::str>(element))
             throw py::type_error("element must be a sequence of element symbols, not a str");
-        auto symbols = element.cast<std::vector<std::string>>();
+        std::vector<std::string> symbols;
+        for (py::handle item : element) {
+            if (!py::isinstance<py::str>(item))
+                throw py::type_error("element must hold str element symbols, not " +
+                                     std::string(py::str(item.get_type().attr("__name__"))));
+            symbols.push_back(item.cast<std::string>());
+        }
         if (symbols.size() != n)
             invalid("element has " + std::to_string(symbols.size()) + " entries for " +
                     std::to_string(n) + " atoms");

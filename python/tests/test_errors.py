@@ -191,3 +191,20 @@ def test_paths_with_nul_or_bytes_that_are_not_utf8(engine, data, tmp_path):
         assert fdmsurf.read_mesh(path).triangle_count == r.triangle_count
     with pytest.raises(fdmsurf.FileError, match="\ufffd"):
         fdmsurf.read_mesh(os.fsencode(tmp_path / os.fsdecode(b"\xfc.ply")))
+
+
+def test_wrong_types_are_type_errors_and_bad_atoms_value_errors(engine, data, tmp_path):
+    r = engine.surface(data / "1crn.pdb", spacing=1.0, no_cavities=np.True_)  # numpy's bool
+    with pytest.raises(TypeError, match="format must be a str"):
+        r.write(str(tmp_path / "y.ply"), format=1)
+    with pytest.raises(TypeError, match="element must hold str"):
+        fdmsurf.Structure(np.zeros((2, 3)), np.ones(2), element=[1, 2])
+    with pytest.raises(TypeError, match="no_cavities must be True or False"):
+        engine.surface(data / "1crn.pdb", spacing=1.0, no_cavities=2)
+    with pytest.raises(fdmsurf.InvalidArgumentError, match="below 2\\*\\*32"):
+        engine.surface(data / "1crn.pdb", spacing=1.0, min_grid=(2**32, 1, 1))
+    s = fdmsurf.read_structure(data / "1crn.pdb")
+    s.xyz[1, 2] = np.nan
+    with pytest.raises(fdmsurf.InvalidArgumentError, match="atom 2 has a non-finite coordinate"):
+        fdmsurf.sas_areas(s)
+    assert os.listdir(tmp_path) == []

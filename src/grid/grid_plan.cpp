@@ -203,26 +203,6 @@ GridPlan plan_grid(const Atoms& atoms, const SurfaceOptions& options) {
     plan.density.pi_cut = options.sigma * options.sigma * std::log(1.0f / options.density_cut);
     plan.density.radius_add = options.surface == SurfaceKind::Sas ? options.probe : 0.0f;
     plan.iso = effective_level(options) * plan.density.level_t;
-    if (!plan.exact_ses) {
-        // The density peaks at T exp(r²/σ²) on an atom's centre, and the filter's FFT sums it
-        // over up to 1e9 points: beyond e^60 single precision overflows into inf and NaN.
-        float r_max = 0.0f;
-        for (float r : atoms.radius) r_max = std::max(r_max, r + plan.density.radius_add);
-        constexpr double kMaxExponent = 60.0;
-        const double exponent = double(r_max) * r_max / (double(options.sigma) * options.sigma);
-        if (!(exponent <= kMaxExponent)) {
-            char buf[320];
-            std::snprintf(buf, sizeof buf,
-                          "sigma %.3g Å is too small for atoms of radius %.3g Å%s: the density "
-                          "at their centres, T exp(r²/σ²) = T e^%.3g, would overflow single "
-                          "precision; sigma must be at least r/√%g = %.3g Å (the method's "
-                          "default: 3 Å)",
-                          double(options.sigma), double(r_max),
-                          plan.density.radius_add > 0.0f ? " (with the probe)" : "", exponent,
-                          kMaxExponent, double(r_max) / std::sqrt(kMaxExponent) + 0.0005);
-            throw Error(ErrorCode::InvalidArgument, buf);
-        }
-    }
     if (plan.exact_ses) {
         // Exact up to two grid steps on either side of the surface: every value the crossings
         // and the central-difference normals read (a crossed edge's ends lie within h of the
@@ -257,6 +237,26 @@ GridPlan plan_grid(const Atoms& atoms, const SurfaceOptions& options) {
                             "atom " + std::to_string(i + 1) + " has a non-finite coordinate");
             lo[a] = std::min(lo[a], c - reach);
             hi[a] = std::max(hi[a], c + reach);
+        }
+    }
+    if (!plan.exact_ses) {
+        // The density peaks at T exp(r²/σ²) on an atom's centre, and the filter's FFT sums it
+        // over up to 1e9 points: beyond e^60 single precision overflows into inf and NaN.
+        float r_max = 0.0f;
+        for (float r : atoms.radius) r_max = std::max(r_max, r + plan.density.radius_add);
+        constexpr double kMaxExponent = 60.0;
+        const double exponent = double(r_max) * r_max / (double(options.sigma) * options.sigma);
+        if (!(exponent <= kMaxExponent)) {
+            char buf[320];
+            std::snprintf(buf, sizeof buf,
+                          "sigma %.3g Å is too small for atoms of radius %.3g Å%s: the density "
+                          "at their centres, T exp(r²/σ²) = T e^%.3g, would overflow single "
+                          "precision; sigma must be at least r/√%g = %.3g Å (the method's "
+                          "default: 3 Å)",
+                          double(options.sigma), double(r_max),
+                          plan.density.radius_add > 0.0f ? " (with the probe)" : "", exponent,
+                          kMaxExponent, double(r_max) / std::sqrt(kMaxExponent) + 0.0005);
+            throw Error(ErrorCode::InvalidArgument, buf);
         }
     }
     for (int a = 0; a < 3; ++a) {

@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
+#include <string>
+#include <utility>
 #include <numbers>
 #include <numeric>
 
@@ -31,6 +34,29 @@ TEST(AtomSasAreas, OneBallIsItsWholeSphere) {
     const std::vector<double> a = atom_sas_areas(make_atoms({{1, 2, 3, 1.7f}}), 1.4f, 500);
     ASSERT_EQ(a.size(), 1u);
     EXPECT_NEAR(a[0], 4 * kPi * 3.1 * 3.1, 1e-4);  // float radii
+}
+
+TEST(AtomAreas, BadAtomsAreInvalidArgumentsNamingTheAtom) {
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const auto code_and_message = [](auto&& f) -> std::pair<ErrorCode, std::string> {
+        try {
+            f();
+        } catch (const Error& e) {
+            return {e.code(), e.what()};
+        }
+        return {ErrorCode::Internal, "no error"};
+    };
+    const Atoms nan_xyz = make_atoms({{0, 0, 0, 1.5f}, {nan, 0, 0, 1.5f}});
+    const Atoms zero_radius = make_atoms({{0, 0, 0, 1.5f}, {2, 0, 0, 0.0f}});
+    for (const Atoms* atoms : {&nan_xyz, &zero_radius}) {
+        const auto sas = code_and_message([&] { atom_sas_areas(*atoms, 1.4f); });
+        const auto exact = code_and_message([&] { atom_exact_areas(*atoms, 1.4f); });
+        EXPECT_EQ(sas.first, ErrorCode::InvalidArgument) << sas.second;
+        EXPECT_EQ(exact.first, ErrorCode::InvalidArgument) << exact.second;
+        EXPECT_NE(sas.second.find("atom_sas_areas: atom 2 has"), std::string::npos) << sas.second;
+        EXPECT_NE(exact.second.find("atom_exact_areas: atom 2 has"), std::string::npos)
+            << exact.second;
+    }
 }
 
 TEST(AtomSasAreas, OverlappingBallsMatchTheClosedForm) {
