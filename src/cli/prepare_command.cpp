@@ -73,16 +73,27 @@ int prepare_command(const std::vector<std::string>& args) {
         const std::vector<Engine::PreparedPlan> plans = e.prepare();
         const std::vector<std::string> messages = e.take_validation_messages();
         for (const std::string& m : messages) print_error("validation: " + m);
-        if (!messages.empty()) return kExitFailure;
+        if (!messages.empty()) return kExitValidation;
+        const std::string cache = detail::PlanCache::default_directory();
+        bool unwritable = false;
+        for (const Engine::PreparedPlan& p : plans) unwritable |= !p.from_cache && !p.stored;
+        unwritable &= !cache.empty();
+        if (unwritable)
+            print_warning("the plan cache " + cache +
+                          " cannot be written (a file in the way, or no permission): every run "
+                          "builds its FFT plans again; set FDMSURF_CACHE_DIR to a folder that "
+                          "can be written");
         if (quiet) return kExitOk;
         std::printf("device    %s (%s)\n", e.device().name.c_str(), e.device().driver.c_str());
         std::printf("pipelines %.0f ms (the engine's own kernels)\n", init_ms);
-        const bool cache_off = detail::PlanCache::default_directory().empty();
         for (const Engine::PreparedPlan& p : plans) {
-            std::printf("FFT %ux%ux%u  %6.0f ms  %s\n", p.dims[0], p.dims[1], p.dims[2], p.ms,
-                        p.from_cache  ? "plan read from the plan cache"
-                        : cache_off   ? "plan built (plan cache off: FDMSURF_CACHE_DIR=off)"
-                                      : "plan built and cached");
+            char size[48];
+            std::snprintf(size, sizeof size, "%ux%ux%u", p.dims[0], p.dims[1], p.dims[2]);
+            std::printf("FFT %-11s  %6.0f ms  %s\n", size, p.ms,
+                        p.from_cache   ? "plan read from the plan cache"
+                        : cache.empty() ? "plan built (plan cache off: FDMSURF_CACHE_DIR=off)"
+                        : p.stored      ? "plan built and cached"
+                                        : "plan built, not cached (the cache cannot be written)");
         }
         const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() -
                                                            start)

@@ -738,7 +738,9 @@ std::vector<Engine::PreparedPlan> Engine::prepare() {
         PreparedPlan row;
         row.dims = {c, c, c};
         const double t0 = detail::now_ms();
-        row.from_cache = impl_->filter.prepare(row.dims);
+        const auto status = impl_->filter.prepare(row.dims);
+        row.from_cache = status.from_cache;
+        row.stored = status.stored;
         SurfaceOptions fdm;
         fdm.min_grid = row.dims;
         make_surface(atom, fdm);

@@ -65,8 +65,8 @@ std::optional<std::vector<std::uint32_t>> PlanCache::load(const std::string& key
     return payload;
 }
 
-void PlanCache::store(const std::string& key, const void* data, std::size_t bytes) const {
-    if (directory_.empty() || bytes == 0 || bytes > kMaxPayload) return;
+bool PlanCache::store(const std::string& key, const void* data, std::size_t bytes) const {
+    if (directory_.empty() || bytes == 0 || bytes > kMaxPayload) return false;
     namespace fs = std::filesystem;
     std::error_code ec;
     fs::create_directories(directory_, ec);
@@ -75,7 +75,7 @@ void PlanCache::store(const std::string& key, const void* data, std::size_t byte
     const std::string tmp = path + ".tmp" + std::to_string(rd());
     {
         std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        if (!out) return;
+        if (!out) return false;
         const std::uint64_t key_size = key.size(), payload_size = bytes;
         std::uint64_t h = fnv1a64(key.data(), key.size());
         h = fnv1a64(data, bytes, h);
@@ -88,11 +88,13 @@ void PlanCache::store(const std::string& key, const void* data, std::size_t byte
         out.close();
         if (!out) {
             fs::remove(tmp, ec);
-            return;
+            return false;
         }
     }
     fs::rename(tmp, path, ec);
-    if (ec) fs::remove(tmp, ec);
+    if (!ec) return true;
+    fs::remove(tmp, ec);
+    return false;
 }
 
 }  // namespace fdmsurf::detail

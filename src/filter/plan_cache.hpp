@@ -20,9 +20,9 @@ public:
     // The payload stored under `key`, or nothing when absent, unreadable, truncated, of another
     // key (a hash collision), or failing its checksum: a bad entry is treated as a miss.
     std::optional<std::vector<std::uint32_t>> load(const std::string& key) const;
-    // Stores atomically (temporary file and rename); failures are ignored (the cache is an
-    // optimisation, never a reason to fail).
-    void store(const std::string& key, const void* data, std::size_t bytes) const;
+    // Stores atomically (temporary file and rename); true when the entry is in place. A failure
+    // is never a reason to fail the run (the cache is an optimisation); `fdmsurf prepare` says so.
+    bool store(const std::string& key, const void* data, std::size_t bytes) const;
 
     const std::string& directory() const { return directory_; }
     std::string path_for(const std::string& key) const;

@@ -110,6 +110,7 @@ struct FftPlan {
     }
     bool initialised = false;
     bool from_cache = false;  // loaded from the plan cache
+    bool stored = false;      // built and written to the plan cache
     ~FftPlan() {
         if (initialised) deleteVkFFT(&app);
     }
@@ -201,7 +202,8 @@ FftPlan& SpectralFilter::plan_for(const std::array<std::uint32_t, 3>& dims, cons
         plan->config.saveApplicationToString = cache_.directory().empty() ? 0 : 1;
         check_fft(initializeVkFFT(&plan->app, plan->config), "plan creation");
         if (plan->config.saveApplicationToString && plan->app.saveApplicationString)
-            cache_.store(key, plan->app.saveApplicationString, plan->app.applicationStringSize);
+            plan->stored = cache_.store(key, plan->app.saveApplicationString,
+                                        plan->app.applicationStringSize);
     }
     plan->initialised = true;
     if (trace_on()) {
@@ -220,12 +222,14 @@ FftPlan& SpectralFilter::plan_for(const std::array<std::uint32_t, 3>& dims, cons
     return ref;
 }
 
-bool SpectralFilter::prepare(const std::array<std::uint32_t, 3>& dims) {
-    if (auto it = plans_.find(dims); it != plans_.end()) return it->second->from_cache;
+SpectralFilter::PlanStatus SpectralFilter::prepare(const std::array<std::uint32_t, 3>& dims) {
+    if (auto it = plans_.find(dims); it != plans_.end())
+        return {it->second->from_cache, it->second->stored};
     // VkFFT builds its descriptors on the buffer it is planned with; every launch rebinds the
     // field (FftPlan::bind), so this one may go when the plan is built.
     const Buffer field(ctx_, r2c_field_bytes(dims), MemoryUse::Device, "prepare_field");
-    return plan_for(dims, field).from_cache;
+    const FftPlan& plan = plan_for(dims, field);
+    return {plan.from_cache, plan.stored};
 }
 
 void SpectralFilter::record(Commands& cmds, const Buffer& field, const GridPlan& plan,

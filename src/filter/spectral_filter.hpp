@@ -35,8 +35,12 @@ public:
     void record(Commands& cmds, const Buffer& field, const GridPlan& plan, FilterShape shape);
 
     // Builds the plan of `dims` (R2C layout) ahead of its first use, on a field buffer of its
-    // own; true when the plan cache had its SPIR-V. A plan already in memory is left as it is.
-    bool prepare(const std::array<std::uint32_t, 3>& dims);
+    // own. A plan already in memory is left as it is.
+    struct PlanStatus {
+        bool from_cache = false;  // the plan cache had its SPIR-V
+        bool stored = false;      // built, and written to the plan cache
+    };
+    PlanStatus prepare(const std::array<std::uint32_t, 3>& dims);
 
 private:
     FftPlan& plan_for(const std::array<std::uint32_t, 3>& dims, const Buffer& field);

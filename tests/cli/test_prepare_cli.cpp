@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -62,6 +63,25 @@ TEST_F(PrepareCli, BuildsEveryPlanIntoThePlanCacheThenReadsThem) {
                 line.find("read from the plan cache") != std::string::npos;
     EXPECT_EQ(read, 7) << second.out;
     EXPECT_EQ(run({"prepare", "--quiet"}, env).out, "");
+}
+
+TEST_F(PrepareCli, ACacheThatCannotBeWrittenIsSaid) {
+    FDMSURF_REQUIRE_CLI_DEVICE();
+    // A file where the cache's parent folder would be: nothing can be stored.
+    std::ofstream(path("file")) << "x";
+    const CliRun r = run({"prepare"}, "FDMSURF_CACHE_DIR=" + path("file") + "/plans");
+    ASSERT_EQ(r.exit_code, 0) << r.err;  // the cache is an optimisation
+    EXPECT_NE(r.err.find("warning: the plan cache " + path("file") + "/plans cannot be written"),
+              std::string::npos)
+        << r.err;
+    int not_cached = 0;
+    for (const std::string& line : lines_of(r.out)) {
+        if (line.rfind("FFT ", 0) != 0) continue;
+        not_cached += line.find("not cached (the cache cannot be written)") != std::string::npos;
+        EXPECT_EQ(line.find("plan built and cached"), std::string::npos) << line;
+        EXPECT_EQ(line.find(" ms  "), 23u) << line;  // one column, 112x112x112 too
+    }
+    EXPECT_EQ(not_cached, 7) << r.out;
 }
 
 }  // namespace

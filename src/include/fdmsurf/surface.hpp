@@ -232,7 +232,9 @@ public:
     // (plan and surface).
     struct PreparedPlan {
         std::array<std::uint32_t, 3> dims{};
-        bool from_cache = false;
+        bool from_cache = false;  // read from the plan cache
+        bool stored = false;      // built and written to it (false: the cache is off or its
+                                  // folder cannot be written)
         double ms = 0.0;
     };
     std::vector<PreparedPlan> prepare();
