@@ -737,6 +737,17 @@ std::optional<Renderer> make_renderer(const CliOptions& options, Engine& engine)
     return renderer;
 }
 
+// --stats json among several inputs or models: a line for one that failed, where its summary
+// would have gone, so that the lines stand for every input (JSON Lines).
+void report_failure(const CliOptions& options, const std::string& input, int model,
+                    const std::string& output, const Error& e) {
+    if (!options.json) return;
+    std::FILE* const stream = options.output == kStdio ? stderr : stdout;
+    put_noting_errors(json_failure(version(), input, model, output, e, exit_code_for(e)) + "\n",
+                      stream);
+    flush_noting_errors(stream);
+}
+
 int run(const CliOptions& options) {
     detail::trace("cli: start");
     // Option checks that need neither the structure nor the device come first. The warning
@@ -832,6 +843,9 @@ int run(const CliOptions& options) {
             } catch (const Error& e) {
                 progress.end();
                 print_error(naming(input, e.what()));
+                report_failure(options, input, -1,
+                               options.all_models ? std::string() : output_of(options, input, 1),
+                               e);
                 if (status == kExitOk) status = exit_code_for(e);
                 continue;
             }
@@ -862,6 +876,8 @@ int run(const CliOptions& options) {
                 progress.end();
                 print_error(naming(input, e.what()) +
                             (options.all_models ? " (model " + std::to_string(model) + ")" : ""));
+                report_failure(options, input, options.all_models ? model : -1,
+                               output_of(options, input, model), e);
                 code = exit_code_for(e);
                 // A failed device (lost, out of memory) would fail every later input too.
                 if (e.code() == ErrorCode::Vulkan) {

@@ -376,6 +376,27 @@ inline std::string text_summary(const RunReport& r) {
     return s;
 }
 
+// The line --stats json gives an input (or a model, model > 0) that failed among several: one
+// line, no trailing newline.
+inline std::string json_failure(const std::string& version, const std::string& input, int model,
+                                const std::string& output, const Error& e, int exit_code) {
+    JsonWriter w;
+    w.begin_object();
+    w.member("version", version);
+    w.member("input", input);
+    if (model > 0) w.member("model", model);
+    if (output.empty())
+        w.member("output", nullptr);  // the models of a file that could not be read
+    else
+        w.member("output", output);
+    w.member("status", "failed");
+    w.member("error", std::string(e.what()));
+    w.member("error_code", to_string(e.code()));
+    w.member("exit_code", exit_code);
+    w.end_object();
+    return w.str();
+}
+
 // One line, no trailing newline.
 inline std::string json_summary(const RunReport& r) {
     JsonWriter w;
@@ -383,6 +404,7 @@ inline std::string json_summary(const RunReport& r) {
     w.member("version", r.version);
     w.member("input", r.input);
     w.member("output", r.output);
+    w.member("status", "ok");
     w.member("input_format", to_string(r.info.format));
     w.member("output_format", r.output_format);
     w.member("surface", surface_name(r.surface));

@@ -292,6 +292,33 @@ TEST_F(CliProgram, ModelsAllWritesOneClosedMeshPerModel) {
     EXPECT_EQ(files, 10u);
 }
 
+// Several inputs with --stats json: one line per input, in order, the one that failed included
+// (JSON Lines), and the run's exit code that of the failure.
+TEST_F(CliProgram, SeveralInputsGiveOneJsonLineEachFailuresIncluded) {
+    FDMSURF_REQUIRE_CLI_DEVICE();
+    const std::string crambin = std::string(kDataDir) + "/1crn.xyzr";
+    const std::string folder = path("meshes") + "/";
+    const std::string peptide = std::string(kDataDir) + "/3al1.pdb";
+    const CliRun r = run({crambin, path("missing.pdb"), peptide, "-o", folder, "--stats", "json",
+                          "--spacing", "1.0"});
+    EXPECT_EQ(r.exit_code, 3) << r.err;
+    const std::vector<std::string> lines = lines_of(r.out);
+    ASSERT_EQ(lines.size(), 3u) << r.out;
+    const auto ok = parse_json(lines[0]);
+    const auto failed = parse_json(lines[1]);
+    const auto last = parse_json(lines[2]);
+    ASSERT_TRUE(ok && failed && last) << r.out;
+    EXPECT_EQ(ok->find("status")->string, "ok");
+    EXPECT_EQ(last->find("status")->string, "ok");
+    EXPECT_EQ(last->find("input")->string, peptide);
+    EXPECT_EQ(failed->find("status")->string, "failed");
+    EXPECT_EQ(failed->find("input")->string, path("missing.pdb"));
+    EXPECT_EQ(failed->find("output")->string, folder + "missing.ply");
+    EXPECT_EQ(failed->find("error_code")->string, "io");
+    EXPECT_EQ(failed->find("exit_code")->number, 3);
+    EXPECT_NE(failed->find("error")->string.find("missing.pdb"), std::string::npos);
+}
+
 }  // namespace
 
 // --refine through the program: the stage appears in the JSON times, the mesh has four times
