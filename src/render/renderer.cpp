@@ -82,6 +82,14 @@ struct RendererImpl {
         return (o.width * 2 <= max && o.height * 2 <= max) ? 2 : 1;
     }
 
+    // Bytes of device memory the targets of `o` at `samples` per axis take: the scene's colour,
+    // normal and depth per sample, the picture and its readback per pixel.
+    std::uint64_t target_bytes(const RenderOptions& o, std::uint32_t samples) const {
+        const std::uint64_t pixels = std::uint64_t(o.width) * o.height;
+        const std::uint64_t depth = pipelines.depth_format() == VK_FORMAT_D16_UNORM ? 2 : 4;
+        return pixels * samples * samples * (4 + 4 + depth) + pixels * (4 + 4);
+    }
+
     void check(const RenderOptions& o) const;
     BoundingSphere bounds(const DeviceMesh& mesh, const GpuMesh& gpu);
     RenderResult render(const DeviceMesh& mesh, const GpuMesh& gpu, const Buffer* attributes,
@@ -196,12 +204,26 @@ RenderResult RendererImpl::render(const DeviceMesh& mesh, const GpuMesh& gpu,
     const Framing f = frame_sphere(sphere, o.width, o.height);
     result.frame = f.sphere;
     result.pixel_size = f.pixel_size;
-    const std::uint32_t s = samples_for(o);
-    result.supersample = s;
+    std::uint32_t s = samples_for(o);
     if (!targets || !targets->matches(o.width, o.height, s)) {
         targets.reset();
+        // The targets' memory, checked before any is allocated (a 16384² picture takes 4.3
+        // GB; on lavapipe, of the host's): supersampling is dropped where it alone does not fit.
+        const VkDeviceSize available = context.available_device_memory();
+        if (available > 0 && s > 1 && target_bytes(o, s) > available) s = 1;
+        if (available > 0 && target_bytes(o, s) > available) {
+            char text[320];
+            std::snprintf(text, sizeof text,
+                          "rendering: a %u x %u picture needs %.2f GiB of device memory for its "
+                          "targets, more than the %.2f GiB %s has free; ask for a smaller "
+                          "--image-size",
+                          o.width, o.height, double(target_bytes(o, s)) / 1073741824.0,
+                          double(available) / 1073741824.0, context.info().name.c_str());
+            throw Error(ErrorCode::DeviceLimit, text);
+        }
         targets = std::make_unique<RenderTargets>(context, pipelines, o.width, o.height, s);
     }
+    result.supersample = s;
     RenderTargets& t = *targets;
     pipelines.bind_inputs(t.scene_color.view(), t.scene_depth.view(), t.scene_normal.view());
     const std::uint32_t w = o.width * s, h = o.height * s;

@@ -3,6 +3,8 @@
 // bad size, 3 for an unwritable path, nothing partial left).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -293,4 +295,32 @@ TEST_F(CliRender, BadSizesAndPathsFailBeforeAnythingIsWritten) {
     expect_failure(
         run({input, "-o", path("m.ply"), "--image", path("a.png"), "--image-size", "10x100000"}), 2,
         {"maxImageDimension2D"});
+}
+
+// A picture whose targets do not fit the device's memory is refused before any is allocated
+// (16384² took 8 GB of lavapipe's host memory and 48 s, then was written); supersampling is
+// dropped first where that alone makes it fit.
+TEST_F(CliRender, PicturesLargerThanTheDevicesMemoryAreRefusedFirst) {
+    FDMSURF_REQUIRE_CLI_DEVICE();
+    std::uint64_t memory = 0;
+    for (const fdmsurf::DeviceInfo& d : fdmsurf::list_devices())
+        if (d.usable) memory = std::max(memory, d.device_memory);
+    if (memory == 0 || memory >= (std::uint64_t(5) << 30))
+        GTEST_SKIP() << "a device with 5 GiB or more would draw the picture";
+    const std::string input = write_file("atoms.xyzr", kTwoAtomsXyzr);
+    const CliRun r = run({input, "-o", path("big.png"), "--image-size", "16384x16384"});
+    if (contains(r.err, "maxImageDimension2D")) GTEST_SKIP() << "16384 exceeds the device's";
+    expect_failure(r, 4, {"16384 x 16384 picture needs 5.00 GiB of device memory", "--image-size"});
+    EXPECT_FALSE(fs::exists(path("big.png")));
+    // 6400²: 2 samples per axis would need 2.13 GiB (12 bytes a sample, 8 a pixel); one fits
+    // (0.76 GiB).
+    const std::uint64_t pixels = 6400ull * 6400ull;
+    if (memory < pixels * 20 || memory >= pixels * 56)
+        GTEST_SKIP() << "the device's memory is outside 0.76-2.13 GiB";
+    const CliRun mid = run({input, "-o", path("mid.png"), "--image-size", "6400x6400", "--stats",
+                            "json", "--occlusion", "0"});
+    ASSERT_EQ(mid.exit_code, 0) << mid.err;
+    const auto json = parse_json(mid.out);
+    ASSERT_TRUE(json) << mid.out;
+    EXPECT_EQ(json->find("images")->array.at(0).find("supersample")->number, 1);
 }
