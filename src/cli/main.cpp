@@ -449,6 +449,10 @@ int run_one(const CliOptions& options, Engine& engine, Renderer* renderer, Progr
         warn(std::string(format == MeshFormat::Obj ? "OBJ" : format == MeshFormat::Stl ? "STL" : "OFF") +
              " has no place for per-vertex atoms or --properties values: '" + output +
              "' is written without them (PLY and GLB keep them all)");
+    if (!options.image_output && format == MeshFormat::Stl &&
+        options.surface.properties.color != ColorScheme::None)
+        warn("STL has no place for colours: '" + output + "' is written without --color's (PLY, "
+             "OBJ, OFF and GLB keep them)");
 
     auto t = Clock::now();
     const Structure structure = read ? *read : std::move(read_input(options, input).front());
@@ -484,6 +488,7 @@ int run_one(const CliOptions& options, Engine& engine, Renderer* renderer, Progr
     auto fill_report = [&](const GridInfo& grid) {
         report.patch = options.patch;
         report.color = options.surface.properties.color;
+        report.color_rgb = options.surface.properties.rgb;
         for (VertexProperty p : options.surface.properties.scalars)
             report.properties.push_back(to_string(p));
         report.version = version();

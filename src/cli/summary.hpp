@@ -51,6 +51,7 @@ struct RunReport {
     std::string patch;                  // --patch EXPR (empty: the whole surface)
     std::size_t patch_atoms = 0;        // atoms EXPR matched
     ColorScheme color = ColorScheme::None;
+    std::array<std::uint8_t, 3> color_rgb{200, 200, 200};  // ColorScheme::Uniform's colour
     std::vector<std::string> properties;  // per-vertex scalars written
     bool simplified = false;              // --simplify or --max-triangles
     SimplifyOptions simplify_options;     // what was asked
@@ -263,6 +264,15 @@ inline std::string host_stages(const GridInfo& g) {
     return s;
 }
 
+// The colour scheme as --color takes it: the scheme's name, or #RRGGBB for one colour.
+inline std::string color_name(const RunReport& r) {
+    if (r.color != ColorScheme::Uniform) return to_string(r.color);
+    char hex[8];
+    std::snprintf(hex, sizeof hex, "#%02x%02x%02x", r.color_rgb[0], r.color_rgb[1],
+                  r.color_rgb[2]);
+    return hex;
+}
+
 inline std::string text_summary(const RunReport& r) {
     std::string s =
         "fdmsurf " + r.version + ": " + surface_name(r.surface) + " surface " +
@@ -354,7 +364,7 @@ inline std::string text_summary(const RunReport& r) {
     s += areas_lines(r);
     if (r.color != ColorScheme::None || !r.properties.empty()) {
         s += "  properties   atom per vertex";
-        if (r.color != ColorScheme::None) s += ", coloured by " + std::string(to_string(r.color));
+        if (r.color != ColorScheme::None) s += ", coloured by " + color_name(r);
         for (const std::string& p : r.properties) s += ", " + p;
         s += "\n";
     }
@@ -448,7 +458,7 @@ inline std::string json_summary(const RunReport& r) {
     member_or_null(w, "closed_manifold", r.mesh_on_host, r.closed_manifold);
     w.member("patch", r.patch);
     w.member("patch_atoms", r.patch_atoms);
-    w.member("color", to_string(r.color));
+    w.member("color", color_name(r));
     w.key("properties").begin_array();
     for (const std::string& p : r.properties) w.value(p);
     w.end_array();

@@ -56,7 +56,7 @@ TEST(CliProperties, PropertyListsInOrderOnce) {
 
 struct PropRun {
     int exit_code = -1;
-    std::string err;
+    std::string err, out;
 };
 
 class CliPropertyRuns : public ::testing::Test {
@@ -72,16 +72,23 @@ protected:
     void TearDown() override { fs::remove_all(dir_); }
 
     PropRun run(const std::string& input, const std::string& args) {
-        const fs::path err = dir_ / "stderr.txt";
+        const fs::path err = dir_ / "stderr.txt", out = dir_ / "stdout.txt";
         const std::string command = std::string(FDMSURF_CLI_PATH) + " " + FDMSURF_TEST_DATA_DIR +
-                                    "/" + input + " " + args + " --quiet 2> " + err.string();
+                                    "/" + input + " " + args + " --quiet 2> " + err.string() +
+                                    " > " + out.string();
         const int status = std::system(command.c_str());
         PropRun r;
         if (WIFEXITED(status)) r.exit_code = WEXITSTATUS(status);
-        std::ifstream in(err);
-        std::ostringstream text;
-        text << in.rdbuf();
-        r.err = text.str();
+        const auto text_of = [](const fs::path& path) {
+            std::ifstream in(path);
+            std::ostringstream text;
+            text << in.rdbuf();
+            return text.str();
+        };
+        r.err = text_of(err);
+        r.out = text_of(out);
+        fs::remove(err);
+        fs::remove(out);
         return r;
     }
     fs::path dir_;
@@ -102,7 +109,7 @@ TEST_F(CliPropertyRuns, BadSchemeOrEmptyPatchWritesNothing) {
     EXPECT_EQ(r.exit_code, 2) << r.err;
     EXPECT_TRUE(contains(r.err, "--patch")) << r.err;
     EXPECT_FALSE(fs::exists(out));
-    EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 1);
+    EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 0);
 }
 
 TEST_F(CliPropertyRuns, WarnsWhereAPropertyIsUniformOrAFormatDropsIt) {
@@ -116,6 +123,14 @@ TEST_F(CliPropertyRuns, WarnsWhereAPropertyIsUniformOrAFormatDropsIt) {
     r = run("1crn.pdb", "-o " + obj.string() + " --properties coulombic");
     EXPECT_EQ(r.exit_code, 0) << r.err;
     EXPECT_TRUE(contains(r.err, "OBJ has no place for per-vertex atoms")) << r.err;
+    // STL has no colours at all; the summary names one colour by its value.
+    const fs::path stl = dir_ / "x.stl";
+    r = run("1crn.pdb", "-o " + stl.string() + " --color '#123456' --stats json");
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(contains(r.err, "STL has no place for colours")) << r.err;
+    EXPECT_TRUE(contains(r.out, "\"color\":\"#123456\"")) << r.out;
+    r = run("1crn.pdb", "-o " + ply.string() + " --color '#123456'");
+    EXPECT_FALSE(contains(r.err, "no place for colours")) << r.err;
 }
 
 TEST_F(CliPropertyRuns, PatchOfOneChainIsOpenAndColoured) {
