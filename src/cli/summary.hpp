@@ -226,7 +226,8 @@ inline void areas_json(JsonWriter& w, const RunReport& r) {
         w.member("exact", r.areas_exact);
         w.member("total", r.areas_total);
         member_or_null(w, "mesh_total", mesh, r.areas_mesh_total);
-        member_or_null(w, "mesh_on_patches", mesh, r.areas_on_patches);
+        // Split by sphere patch: vdw and sas (exact areas); null for ses, as in the areas file.
+        member_or_null(w, "mesh_on_patches", mesh && r.areas_exact, r.areas_on_patches);
         w.member("residues", r.areas_residues);
     });
     object_or_null(w, "buried", !r.buried.empty(), [&] {
@@ -386,6 +387,22 @@ inline std::string text_summary(const RunReport& r) {
     return s;
 }
 
+// The structure's members of a summary: the model, the atoms used and what the reader left out.
+inline void structure_json(JsonWriter& w, const RunReport& r) {
+    w.member("model", r.model);
+    w.member("atoms_used", r.atoms_used);
+    w.member("atoms_in_file", r.info.atoms_in_file);
+    w.member("models_in_file", r.info.models_in_file);
+    w.member("assembly", r.info.assembly);
+    w.member("assembly_name", r.info.assembly_name);
+    w.member("assemblies_in_file", r.info.assemblies_in_file);
+    w.member("assembly_chains", r.info.assembly_chains);
+    w.member("waters_skipped", r.info.waters_skipped);
+    w.member("hydrogens_skipped", r.info.hydrogens_skipped);
+    w.member("altlocs_skipped", r.info.altlocs_skipped);
+    w.member("ligands_skipped", r.info.ligands_skipped);
+}
+
 // The line --stats json gives an input (or a model, model > 0) that failed among several: one
 // line, no trailing newline.
 inline std::string json_failure(const std::string& version, const std::string& input, int model,
@@ -419,18 +436,7 @@ inline std::string json_summary(const RunReport& r) {
     w.member("output_format", r.output_format);
     w.member("surface", surface_name(r.surface));
     if (r.surface == SurfaceKind::Ses) w.member("method", to_string(r.method));
-    w.member("model", r.model);
-    w.member("atoms_used", r.atoms_used);
-    w.member("atoms_in_file", r.info.atoms_in_file);
-    w.member("models_in_file", r.info.models_in_file);
-    w.member("assembly", r.info.assembly);
-    w.member("assembly_name", r.info.assembly_name);
-    w.member("assemblies_in_file", r.info.assemblies_in_file);
-    w.member("assembly_chains", r.info.assembly_chains);
-    w.member("waters_skipped", r.info.waters_skipped);
-    w.member("hydrogens_skipped", r.info.hydrogens_skipped);
-    w.member("altlocs_skipped", r.info.altlocs_skipped);
-    w.member("ligands_skipped", r.info.ligands_skipped);
+    structure_json(w, r);
 
     w.key("grid").begin_object();
     w.key("dims").begin_array();
@@ -532,11 +538,10 @@ inline std::string areas_only_json(const RunReport& r) {
     w.member("version", r.version);
     w.member("input", r.input);
     w.member("output", nullptr);
+    w.member("status", "ok");
     w.member("input_format", to_string(r.info.format));
     w.member("surface", surface_name(r.surface));
-    w.member("model", r.model);
-    w.member("atoms_used", r.atoms_used);
-    w.member("atoms_in_file", r.info.atoms_in_file);
+    structure_json(w, r);
     areas_json(w, r);
     times_json(w, r);
     w.end_object();

@@ -149,6 +149,11 @@ TEST_F(CliAreasRun, AreasAloneNeedNoDevice) {
     ASSERT_TRUE(summary.has_value()) << x.out;
     EXPECT_TRUE(summary->find("areas")->find("exact")->boolean);
     EXPECT_EQ(summary->find("areas")->find("residues")->number, 0);
+    // Without -o: the structure's members as with a mesh, none of the mesh's.
+    for (const char* member : {"status", "models_in_file", "assembly", "waters_skipped",
+                               "altlocs_skipped", "warnings"})
+        EXPECT_NE(summary->find(member), nullptr) << member;
+    EXPECT_EQ(summary->find("vertices"), nullptr);
     const auto file = parse_json(read_text(path("x.json")));
     ASSERT_TRUE(file.has_value());
     EXPECT_EQ(file->find("atoms")->array.size(), 327u);
@@ -300,6 +305,8 @@ TEST_F(CliAreasRun, AreasBesideAPicture) {
     EXPECT_TRUE(ses_summary->find("mesh_on_host")->boolean);
     EXPECT_NEAR(ses_summary->find("areas")->find("total")->number,
                 ses_summary->find("area")->number, 1e-6 * ses_summary->find("area")->number);
+    // No sphere patches for ses: null, as the file's mesh_area_on_patches.
+    EXPECT_EQ(ses_summary->find("areas")->find("mesh_on_patches")->type, JsonValue::Type::Null);
     const auto ses_file = parse_json(read_text(ses_areas));
     ASSERT_TRUE(ses_file.has_value());
     EXPECT_NE(ses_file->find("atoms")->array[0].find("mesh_area")->type, JsonValue::Type::Null);
