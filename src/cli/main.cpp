@@ -124,7 +124,7 @@ protected:
                                                std::strerror(error_number) +
                                                (error_number == EPIPE
                                                     ? " (the reading end of the pipe was closed; "
-                                                      "the mesh is incomplete)"
+                                                      "the output is incomplete)"
                                                     : ""));
             }
             done += n;

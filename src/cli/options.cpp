@@ -853,6 +853,8 @@ CliOptions parse_args(const std::vector<std::string>& args) {
         if (!o.explicit_cavities) o.surface.min_cavity_volume = paper.min_cavity_volume;
     }
 
+    if (o.list_devices && !o.help && !o.version && !o.inputs.empty())
+        fail("--list-devices takes no INPUT (got '" + o.inputs.front() + "')");
     if (o.help || o.version || o.list_devices) return o;
     if (o.inputs.empty()) fail("missing INPUT, the structure file to read; see fdmsurf --help");
     if (o.areas.empty()) {

@@ -310,8 +310,8 @@ inline std::string text_summary(const RunReport& r) {
     if (!r.mesh_on_host) {
         s += "  mesh         " + format_count(m.vertices) + " vertices, " +
              format_count(m.triangles) +
-             " triangles, left on the device for the picture (pieces, area and volume are not "
-             "computed: write a mesh with --image for them)\n";
+             " triangles, drawn from the device (pieces, area and volume are not computed: "
+             "write a mesh with --image for them)\n";
     } else {
     s += "  mesh         " + format_count(m.vertices) + " vertices, " + format_count(m.triangles) +
          " triangles, " + format_count(m.pieces) + " piece(s)";

@@ -162,6 +162,7 @@ TEST_F(CliProgram, ListDevicesNeedsNoInput) {
     EXPECT_EQ(r.exit_code, 0) << r.err;
     EXPECT_NE(r.out, "");
     EXPECT_TRUE(r.error_lines().empty()) << r.err;
+    expect_failure(run({"--list-devices", "extra"}), 2, {"--list-devices takes no INPUT", "extra"});
 }
 
 TEST_F(CliProgram, CrambinSurfaceAsJson) {

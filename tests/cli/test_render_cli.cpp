@@ -166,7 +166,7 @@ TEST(CliRenderSummary, PicturesAndTheDeviceMeshInTextAndJson) {
     r.images.push_back(im);
     r.times = {{"render-scene", 12.5, true}, {"png", 3.0, false}};
     const std::string text = fdmsurf::cli::text_summary(r);
-    EXPECT_TRUE(contains(text, "1,234 vertices, 2,460 triangles, left on the device")) << text;
+    EXPECT_TRUE(contains(text, "1,234 vertices, 2,460 triangles, drawn from the device")) << text;
     EXPECT_FALSE(contains(text, "\n  area ")) << text;
     EXPECT_TRUE(contains(text,
                          "image        out.png (640 x 480, left view turned 0,30,0°, "
@@ -226,7 +226,7 @@ TEST_F(CliRender, PictureOnlyRunWritesThePngAndReportsIt) {
 
     r = run({crambin(), "-o", path("1crn.png"), "--image-size", "64x48"});
     ASSERT_EQ(r.exit_code, 0) << r.err;
-    EXPECT_TRUE(contains(r.out, "left on the device for the picture")) << r.out;
+    EXPECT_TRUE(contains(r.out, "drawn from the device (pieces, area and volume are not computed")) << r.out;
     EXPECT_TRUE(contains(r.out, "image        " + path("1crn.png") + " (64 x 48, front view"))
         << r.out;
     EXPECT_TRUE(contains(r.out, "render-scene")) << r.out;
