@@ -253,7 +253,8 @@ def parse_structure(text, name="structure.pdb", **keywords):
 @with_keywords(SURFACE, READ)
 def plan_grid(source, radii=None, **keywords):
     """The grid Engine.surface would use for `source` (no device work): a dict of dims,
-    spacing, origin, cutoff and slabs. Useful to estimate the work and memory of a batch.
+    spacing, origin and cutoff (slabs and the stages' places are the engine's choice when it
+    runs: result.grid). Useful to estimate the work and memory of a batch.
     Keywords as Engine.surface:
 
     {keywords}

@@ -27,12 +27,15 @@ const MeshStats& PyMesh::get_stats() {
 
 namespace {
 
-py::dict grid_dict(const GridInfo& g) {
+// The grid of a run; `planned` (plan_grid, no device): the grid alone, without what only the
+// engine decides when it runs (slabs, the stages' places), which would all read as defaults.
+py::dict grid_dict(const GridInfo& g, bool planned = false) {
     py::dict d;
     d["dims"] = py::make_tuple(g.dims[0], g.dims[1], g.dims[2]);
     d["spacing"] = g.spacing;
     d["origin"] = py::make_tuple(g.origin[0], g.origin[1], g.origin[2]);
     d["cutoff"] = g.cutoff;
+    if (planned) return d;
     d["slabs"] = g.slabs;
     d["host_filter"] = g.host_filter;
     d["host_marching_cubes"] = g.host_marching_cubes;
@@ -103,6 +106,7 @@ py::object simplify_dict(const PySurface& s) {
     py::dict d;
     d["ratio"] = s.simplify_options->ratio;
     d["max_triangles"] = s.simplify_options->max_triangles;
+    d["simplifier"] = to_string(s.simplify_options->simplifier);
     d["target_triangles"] = q.target_triangles;
     d["triangles_in"] = q.triangles_in;
     d["vertices_in"] = q.vertices_in;
@@ -474,7 +478,7 @@ is the area. Atoms that own no vertex get 0.)")
                 py::gil_scoped_release release;
                 grid = plan_surface_grid(structure.data->atoms, options.surface);
             }
-            return grid_dict(grid);
+            return grid_dict(grid, true);
         },
         py::arg("structure"), py::arg("options"));
 

@@ -269,6 +269,9 @@ def test_result_describes_the_run(engine, data):
     assert len(result) == result.triangle_count
     grid = fdmsurf.plan_grid(data / "1crn.pdb", spacing=1.0)
     assert grid["dims"] == result.grid["dims"]
+    assert set(grid) == {"dims", "spacing", "origin", "cutoff"}  # no run, no places
+    simplified = engine.surface(data / "1crn.pdb", spacing=1.0, simplify=0.5)
+    assert simplified.simplify["simplifier"] == "collapse"  # as --stats json
 
 
 def test_colours_and_properties(engine, data):
