@@ -218,13 +218,22 @@ _FLAG_VALUE = {"flag": True, "negflag": False}
 _LIBRARY_VALUE = {"fraction": _fraction, "grid": _grid}
 
 
+# Settings of the FDM method that the exact SES refuses (as the CLI refuses --sigma with
+# --method edt); given at their defaults alongside method="edt", they are taken as not given, so
+# that a dict of every keyword at its default works with either method.
+_FDM_ONLY = ("cutoff", "sigma", "level", "filter")
+
+
 def _option_args(given):
     """The CLI arguments of the keywords in `given` (name -> value), and the library-only
     settings. A keyword given as None is left at its default."""
     args, library = [], {}
+    edt = given.get("method") == "edt"
     for name, value in given.items():
         k = KEYWORDS[name]
         if value is None:
+            continue
+        if edt and name in _FDM_ONLY and not isinstance(value, bool) and value == k.default:
             continue
         if k.kind in _OPTION_TEXT:
             text = _OPTION_TEXT[k.kind](name, value)

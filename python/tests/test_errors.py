@@ -208,3 +208,13 @@ def test_wrong_types_are_type_errors_and_bad_atoms_value_errors(engine, data, tm
     with pytest.raises(fdmsurf.InvalidArgumentError, match="atom 2 has a non-finite coordinate"):
         fdmsurf.sas_areas(s)
     assert os.listdir(tmp_path) == []
+
+
+def test_fdm_settings_at_their_defaults_go_with_the_exact_ses(engine, data):
+    # Every keyword at its default, as a config file might list them, works with method="edt";
+    # another value is still refused, as by the CLI.
+    r = engine.surface(data / "1crn.pdb", spacing=1.0, method="edt", sigma=3.0, cutoff=0.0,
+                       filter="gaussian", level=None)
+    assert r.triangle_count > 0
+    with pytest.raises(fdmsurf.InvalidArgumentError, match="sigma"):
+        engine.surface(data / "1crn.pdb", spacing=1.0, method="edt", sigma=2.0)
