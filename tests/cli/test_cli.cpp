@@ -157,6 +157,27 @@ TEST_F(CliProgram, CoarseSpacingWarnsButSucceeds) {
     EXPECT_TRUE(fs::exists(path("out.ply")));
 }
 
+// A surface with no triangles (a grid far coarser than the atoms) and coordinates where single
+// precision is coarse are said, not silent; a normal run says neither.
+TEST_F(CliProgram, EmptySurfacesAndFarCoordinatesAreWarned) {
+    FDMSURF_REQUIRE_CLI_DEVICE();
+    const std::string input = write_file("atoms.xyzr", kTwoAtomsXyzr);
+    CliRun r = run({input, "-o", path("out.ply"), "--spacing", "20", "--quiet"});
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.err.find("the surface is empty"), std::string::npos) << r.err;
+    const std::string far = write_file("far.xyzr", "1000000 1000000 1000000 1.5\n"
+                                                   "1000001.5 1000000 1000000 1.5\n");
+    r = run({far, "-o", path("far.ply"), "--surface", "vdw", "--quiet"});
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.err.find("coordinates reach 1e+06 Å from the origin, where single precision "
+                         "steps by 0.062 Å"),
+              std::string::npos)
+        << r.err;
+    r = run({input, "-o", path("near.ply"), "--quiet"});
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
+}
+
 TEST_F(CliProgram, ListDevicesNeedsNoInput) {
     const CliRun r = run({"--list-devices"});
     EXPECT_EQ(r.exit_code, 0) << r.err;
