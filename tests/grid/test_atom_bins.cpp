@@ -50,6 +50,29 @@ double box_min_power(const Atoms& atoms, const GridPlan& plan, const std::uint32
     return best;
 }
 
+// The boxes of 4³ points holding a point with pi <= pi_cut (a non-zero density), and how many of
+// them `reached` lacks.
+struct Coverage {
+    std::size_t needed = 0, missing = 0, boxes = 0;
+};
+Coverage coverage(const Atoms& atoms, const GridPlan& plan,
+                  const std::vector<std::uint32_t>& reached) {
+    const std::uint32_t group[3] = {4, 4, 4};
+    std::uint32_t nb[3];
+    for (int a = 0; a < 3; ++a) nb[a] = (plan.info.dims[a] + 3) / 4;
+    Coverage c;
+    c.boxes = std::size_t(nb[0]) * nb[1] * nb[2];
+    for (std::uint32_t z = 0; z < nb[2]; ++z)
+        for (std::uint32_t y = 0; y < nb[1]; ++y)
+            for (std::uint32_t x = 0; x < nb[0]; ++x) {
+                if (box_min_power(atoms, plan, group, x, y, z) > plan.density.pi_cut) continue;
+                ++c.needed;
+                const std::uint32_t id = (z * nb[1] + y) * nb[0] + x;
+                c.missing += !std::binary_search(reached.begin(), reached.end(), id);
+            }
+    return c;
+}
+
 // Every box holding a point with pi <= pi_cut (a non-zero density) is listed; boxes far from
 // both clusters of two crambins 40 Å apart are not.
 TEST(AtomBins, ReachedBoxesCoverEveryNonZeroPoint) {
@@ -67,23 +90,14 @@ TEST(AtomBins, ReachedBoxesCoverEveryNonZeroPoint) {
         const std::vector<std::uint32_t> reached =
             reached_boxes(bin_atoms(atoms, plan), plan, group);
         EXPECT_TRUE(std::is_sorted(reached.begin(), reached.end()));
-        std::uint32_t nb[3];
-        for (int a = 0; a < 3; ++a) nb[a] = (plan.info.dims[a] + 3) / 4;
-        std::size_t needed = 0, missing = 0;
-        for (std::uint32_t z = 0; z < nb[2]; ++z)
-            for (std::uint32_t y = 0; y < nb[1]; ++y)
-                for (std::uint32_t x = 0; x < nb[0]; ++x) {
-                    if (box_min_power(atoms, plan, group, x, y, z) > plan.density.pi_cut) continue;
-                    ++needed;
-                    const std::uint32_t id = (z * nb[1] + y) * nb[0] + x;
-                    missing += !std::binary_search(reached.begin(), reached.end(), id);
-                }
-        EXPECT_EQ(missing, 0u) << to_string(kind);
+        const Coverage c = coverage(atoms, plan, reached);
+        const std::size_t needed = c.needed;
+        EXPECT_EQ(c.missing, 0u) << to_string(kind);
         EXPECT_GT(needed, 0u);
         // Conservative, but not by much: the extra boxes are the ones the continuous box
         // distance lets in (a ring one box wide at most).
         EXPECT_LE(double(reached.size()), 1.5 * double(needed)) << to_string(kind);
-        EXPECT_LT(double(reached.size()), 0.6 * double(nb[0]) * nb[1] * nb[2]) << to_string(kind);
+        EXPECT_LT(double(reached.size()), 0.6 * double(c.boxes)) << to_string(kind);
     }
 }
 
@@ -99,19 +113,9 @@ TEST(AtomBins, NeverFinerThanTheGrid) {
     EXPECT_LE(bins.bin_count(), std::size_t(plan.info.dims[0]) * plan.info.dims[1] * plan.info.dims[2]);
     const std::uint32_t group[3] = {4, 4, 4};
     const std::vector<std::uint32_t> reached = reached_boxes(bins, plan, group);
-    std::uint32_t nb[3];
-    for (int a = 0; a < 3; ++a) nb[a] = (plan.info.dims[a] + 3) / 4;
-    std::size_t missing = 0, needed = 0;
-    for (std::uint32_t z = 0; z < nb[2]; ++z)
-        for (std::uint32_t y = 0; y < nb[1]; ++y)
-            for (std::uint32_t x = 0; x < nb[0]; ++x) {
-                if (box_min_power(atoms, plan, group, x, y, z) > plan.density.pi_cut) continue;
-                ++needed;
-                missing += !std::binary_search(reached.begin(), reached.end(),
-                                               (z * nb[1] + y) * nb[0] + x);
-            }
-    EXPECT_GT(needed, 0u);
-    EXPECT_EQ(missing, 0u);
+    const Coverage c = coverage(atoms, plan, reached);
+    EXPECT_GT(c.needed, 0u);
+    EXPECT_EQ(c.missing, 0u);
 }
 
 }  // namespace
