@@ -7,7 +7,7 @@ import numpy.typing as npt
 
 __version__: str
 
-PathLike = Union[str, bytes, os.PathLike[str]]
+PathLike = Union[str, bytes, os.PathLike[str], os.PathLike[bytes]]
 ArrayLike = npt.ArrayLike
 Color = Union[str, Tuple[int, int, int], None]
 Names = Union[str, Iterable[str], None]

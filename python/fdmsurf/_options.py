@@ -179,8 +179,7 @@ def _color(name, value):
 def _flag(name, value):
     numpy_bool = getattr(getattr(value, "dtype", None), "kind", None) == "b" and \
         getattr(value, "ndim", None) == 0  # np.True_, np.bool_(x)
-    if not numpy_bool and (isinstance(value, bool) or not isinstance(value, numbers.Integral)
-                           or value not in (0, 1)) and not isinstance(value, bool):
+    if not numpy_bool and not (isinstance(value, numbers.Integral) and value in (0, 1)):
         raise TypeError(f"{name} must be True or False, not {value!r}")
     return bool(value)
 
@@ -228,12 +227,13 @@ def _option_args(given):
     """The CLI arguments of the keywords in `given` (name -> value), and the library-only
     settings. A keyword given as None is left at its default."""
     args, library = [], {}
-    edt = given.get("method") == "edt"
+    edt = isinstance(given.get("method"), str) and given["method"].lower() == "edt"
     for name, value in given.items():
         k = KEYWORDS[name]
         if value is None:
             continue
-        if edt and name in _FDM_ONLY and not isinstance(value, bool) and value == k.default:
+        if edt and name in _FDM_ONLY and isinstance(value, (str, numbers.Real)) and \
+                not isinstance(value, bool) and value == k.default:
             continue
         if k.kind in _OPTION_TEXT:
             text = _OPTION_TEXT[k.kind](name, value)

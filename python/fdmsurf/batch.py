@@ -59,7 +59,10 @@ def is_structure_file(name):
 
 def find_inputs(inputs):
     """The structure files that INPUTS name, in order, each once (by absolute path). A path
-    that does not exist is kept: it becomes one failed row."""
+    that does not exist is kept: it becomes one failed row. One path (str, bytes or
+    os.PathLike) is one input."""
+    if isinstance(inputs, (str, bytes, os.PathLike)):  # not its characters
+        inputs = [inputs]
     found, seen = [], set()
 
     def add(path):
@@ -69,7 +72,7 @@ def find_inputs(inputs):
             found.append(path)
 
     for item in inputs:
-        item = os.fspath(item)
+        item = os.fsdecode(item)  # str, bytes or os.PathLike
         if item.startswith("@") or (os.path.isfile(item) and item.endswith(LIST_SUFFIXES)):
             list_path = item[1:] if item.startswith("@") else item
             folder = os.path.dirname(list_path)
@@ -388,23 +391,27 @@ class _Progress:
 
 
 def _check_memory_limit(limit):
-    """InvalidArgumentError unless LIMIT is one that LocalCluster takes: 'auto', 0 or None (no
-    limit), a positive number of bytes, or a size such as '4GB'."""
-    if limit is None or (isinstance(limit, str) and limit in ("auto", "0")):
+    """InvalidArgumentError unless LIMIT is one that LocalCluster takes: 'auto', None or 0 (no
+    limit), a number of bytes, a fraction of the memory (a number up to 1, as '0.5'), or a size
+    such as '4GB' ('0GB': no limit)."""
+    if limit is None or limit == "auto":
         return
+    if isinstance(limit, str):
+        try:
+            limit = float(limit)
+        except ValueError:
+            from dask.utils import parse_bytes
+            try:
+                if parse_bytes(limit) >= 0:
+                    return
+            except (ValueError, TypeError):
+                pass
     if isinstance(limit, (int, float)) and not isinstance(limit, bool):
         if limit >= 0 and math.isfinite(limit):
             return
-    elif isinstance(limit, str):
-        from dask.utils import parse_bytes
-        try:
-            if parse_bytes(limit) > 0:
-                return
-        except (ValueError, TypeError):
-            pass
     raise fdmsurf.InvalidArgumentError(
-        f"memory limit must be 'auto', 0 (none), a number of bytes or a size such as '4GB', "
-        f"not {limit!r}")
+        f"memory limit must be 'auto', 0 (none), a fraction of the memory (0.5), a number of "
+        f"bytes or a size such as '4GB', not {limit!r}")
 
 
 def run(inputs, outdir, *, scheduler=None, workers=None, client=None, device=None,
@@ -428,8 +435,6 @@ def run(inputs, outdir, *, scheduler=None, workers=None, client=None, device=Non
         raise fdmsurf.InvalidArgumentError(f"workers must be a whole number >= 1, not {workers!r}")
     _check_memory_limit(memory_limit)
     digest = options_hash(keywords, mesh_format, all_models)  # bad options fail here, early
-    if isinstance(inputs, (str, bytes, os.PathLike)):  # one path, not its characters
-        inputs = [inputs]
     paths = find_inputs(inputs)
     by_stem = {}
     for path in paths:

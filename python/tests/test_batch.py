@@ -41,6 +41,12 @@ def test_inputs_outputs_and_hash(data, tmp_path):
     expected = [str(tmp_path / "1crn.pdb"), str(tmp_path / "3al1.pdb")]
     assert batch.find_inputs([listing]) == expected
     assert batch.find_inputs([f"@{listing}", tmp_path / "1crn.pdb"]) == expected
+    assert batch.find_inputs(os.fsencode(listing)) == batch.find_inputs([listing])  # bytes
+    for limit in ("auto", None, 0, "0", "0GB", "4GB", "0.5", 0.5, 2**33):
+        batch._check_memory_limit(limit)  # as LocalCluster takes them
+    for limit in ("bogus", -1, "-1", float("nan"), True):
+        with pytest.raises(fdmsurf.InvalidArgumentError, match="memory limit must be"):
+            batch._check_memory_limit(limit)
     assert batch.stem_of("/a/b/1abc.cif.gz") == "1abc"
     assert batch.stem_of("/a/b/1ABC.CIF.GZ") == "1ABC"  # .gz in any case, as the CLI
     h = batch.options_hash({}, "ply", False)

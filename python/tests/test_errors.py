@@ -216,5 +216,6 @@ def test_fdm_settings_at_their_defaults_go_with_the_exact_ses(engine, data):
     r = engine.surface(data / "1crn.pdb", spacing=1.0, method="edt", sigma=3.0, cutoff=0.0,
                        filter="gaussian", level=None)
     assert r.triangle_count > 0
+    assert fdmsurf.plan_grid(data / "1crn.pdb", method="EDT", sigma=3.0)["dims"]  # any case
     with pytest.raises(fdmsurf.InvalidArgumentError, match="sigma"):
         engine.surface(data / "1crn.pdb", spacing=1.0, method="edt", sigma=2.0)

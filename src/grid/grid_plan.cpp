@@ -240,22 +240,34 @@ GridPlan plan_grid(const Atoms& atoms, const SurfaceOptions& options) {
         }
     }
     if (!plan.exact_ses) {
-        // The density peaks at T exp(r²/σ²) on an atom's centre, and the filter's FFT sums it
-        // over up to 1e9 points: beyond e^60 single precision overflows into inf and NaN.
-        float r_max = 0.0f;
-        for (float r : atoms.radius) r_max = std::max(r_max, r + plan.density.radius_add);
-        constexpr double kMaxExponent = 60.0;
-        const double exponent = double(r_max) * r_max / (double(options.sigma) * options.sigma);
-        if (!(exponent <= kMaxExponent)) {
-            char buf[320];
+        // The density T exp(-pi/σ²) must stay finite where it matters. ses (filtered): at every
+        // point, since the FFT sums it over up to 1e9 points, so r²/σ² <= 60 (the peak on a
+        // centre). vdw and sas: only at the points of the edges that cross the level, which lie
+        // within a cell's diagonal of the balls' spheres (pi >= -(r² - (r - √3 h)²)), so that
+        // exponent <= 80 (float overflows at e^88.7): a 25 Å coarse-grained bead keeps the
+        // default sigma. Beyond, the mesh had NaN vertices and normals.
+        const double h3 = std::sqrt(3.0) * double(h);
+        double exponent = 0.0, r_worst = 0.0;
+        for (float radius : atoms.radius) {
+            const double r = double(radius) + plan.density.radius_add;
+            const double inner = plan.filtered ? 0.0 : std::max(0.0, r - h3);
+            const double e = (r * r - inner * inner) / (double(options.sigma) * options.sigma);
+            if (e > exponent) exponent = e, r_worst = r;
+        }
+        const double bound = plan.filtered ? 60.0 : 80.0;
+        if (!(exponent <= bound)) {
+            // The smallest sigma that passes, from the worst atom's exponent.
+            const double least = double(options.sigma) * std::sqrt(exponent / bound);
+            char buf[360];
             std::snprintf(buf, sizeof buf,
-                          "sigma %.3g Å is too small for atoms of radius %.3g Å%s: the density "
-                          "at their centres, T exp(r²/σ²) = T e^%.3g, would overflow single "
-                          "precision; sigma must be at least r/√%g = %.3g Å (the method's "
-                          "default: 3 Å)",
-                          double(options.sigma), double(r_max),
-                          plan.density.radius_add > 0.0f ? " (with the probe)" : "", exponent,
-                          kMaxExponent, double(r_max) / std::sqrt(kMaxExponent) + 0.0005);
+                          "sigma %.3g Å is too small for atoms of radius %.3g Å%s at spacing "
+                          "%.3g Å: the density %s, T e^%.3g, would overflow single precision; "
+                          "sigma must be at least %.3g Å (the method's default: 3 Å)",
+                          double(options.sigma), r_worst,
+                          plan.density.radius_add > 0.0f ? " (with the probe)" : "", double(h),
+                          plan.filtered ? "at their centres, which the filter sums"
+                                        : "near their spheres",
+                          exponent, least + 0.0005);
             throw Error(ErrorCode::InvalidArgument, buf);
         }
     }

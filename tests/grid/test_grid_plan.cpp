@@ -186,15 +186,21 @@ TEST(GridPlan, RejectsBadOptionsWithInvalidArgument) {
     expect_invalid(atoms, {.sigma = -3.0f}, "sigma -3");
     expect_invalid(atoms, {.sigma = nan}, "sigma NaN");
     expect_invalid(atoms, {.surface = SurfaceKind::Vdw, .sigma = 0.0f}, "vdw sigma 0");
-    // A sigma so small that T exp(r²/σ²) overflows single precision through the FFT (radius
-    // 1.5 Å: sigma >= 1.5/√60 = 0.194 Å; sas: (1.5 + 1.4)/√60 = 0.374 Å).
+    // A sigma so small that T exp(-pi/σ²) overflows single precision. ses: through the FFT,
+    // anywhere (radius 1.5 Å: sigma >= 1.5/√60 = 0.194 Å). vdw and sas: near the spheres only
+    // (radius 1.5 Å at 0.5 Å: pi >= -(1.5² - 0.634²) = -1.848, sigma >= √(1.848/80) = 0.152 Å;
+    // sas: 2.9² - 2.034² = 4.27, sigma >= 0.231 Å); a coarse-grained bead of 25 Å keeps the
+    // default sigma. The exact SES has no density.
     expect_invalid(atoms, {.sigma = 0.19f}, "sigma 0.19");
-    expect_invalid(atoms, {.surface = SurfaceKind::Vdw, .sigma = 1e-6f}, "vdw sigma 1e-6");
-    expect_invalid(atoms, {.surface = SurfaceKind::Sas, .sigma = 0.37f}, "sas sigma 0.37");
     EXPECT_NO_THROW(plan_grid(atoms, {.sigma = 0.2f}));
-    EXPECT_NO_THROW(plan_grid(atoms, {.surface = SurfaceKind::Sas, .sigma = 0.38f}));
-    // The exact SES has no density.
+    expect_invalid(atoms, {.surface = SurfaceKind::Vdw, .sigma = 0.15f}, "vdw sigma 0.15");
+    EXPECT_NO_THROW(plan_grid(atoms, {.surface = SurfaceKind::Vdw, .sigma = 0.155f}));
+    expect_invalid(atoms, {.surface = SurfaceKind::Sas, .sigma = 0.22f}, "sas sigma 0.22");
+    EXPECT_NO_THROW(plan_grid(atoms, {.surface = SurfaceKind::Sas, .sigma = 0.235f}));
     EXPECT_NO_THROW(plan_grid(atoms, {.method = fdmsurf::SesMethod::Edt, .sigma = 1e-6f}));
+    Atoms bead = one_atom();
+    bead.radius[0] = 25.0f;
+    EXPECT_NO_THROW(plan_grid(bead, {.surface = SurfaceKind::Vdw, .spacing = 2.0f}));
 }
 
 TEST(GridPlan, RejectsBadAtoms) {
