@@ -972,7 +972,7 @@ Surface:
   --probe R              solvent probe radius, Å (>= 0, default 1.4)
   --cutoff F             filter cut-off, 1/Å (>= 0; default 0: 1.3/(4 R) for the
                          Gaussian filter, 1/(4 R) for the ideal one); ses only
-  --sigma S              Gaussian width σ of each atom's density, Å (> 0 and at least
+  --sigma S              Gaussian width σ of each atom's density, Å (> 0; for ses at least
                          r/√60 for the largest radius r; default 3)
   --level L              iso-level in units of T, the density on each atom's
                          van der Waals sphere (> 0; default 0.9 for ses with the

@@ -777,6 +777,25 @@ std::vector<Engine::PreparedPlan> Engine::prepare() {
     return rows;
 }
 
+namespace {
+
+// The warning for a surface without triangles: no grid point inside it, which a finer spacing
+// (or, with --level, a lower level) would change.
+std::string empty_surface_warning(const Atoms& atoms, const SurfaceOptions& options) {
+    const float add = options.surface == SurfaceKind::Sas ? options.probe : 0.0f;
+    float r_max = 0.0f;
+    for (float r : atoms.radius) r_max = std::max(r_max, r + add);
+    char buf[300];
+    std::snprintf(buf, sizeof buf,
+                  "the surface is empty: no grid point lies inside it (spacing %.3g Å, atoms of "
+                  "radius %.3g Å at most%s); a finer spacing%s would find it",
+                  double(options.spacing), double(r_max), add > 0.0f ? " with the probe" : "",
+                  options.level > 0.0f ? " or a lower level" : "");
+    return buf;
+}
+
+}  // namespace
+
 SurfaceResult Engine::make_surface(const Atoms& atoms, const SurfaceOptions& options) {
     std::vector<std::string> property_warnings =
         detail::check_property_inputs(atoms, options.properties);
@@ -802,16 +821,8 @@ SurfaceResult Engine::make_surface(const Atoms& atoms, const SurfaceOptions& opt
             detail::remove_cavities_without_probe(result.mesh, atoms, options.probe);
     }
     // (By default the exact SES, vdw and sas keep every cavity.)
-    if (result.mesh.triangle_count() == 0 && !atoms.empty()) {
-        float r_max = 0.0f;
-        for (float r : atoms.radius) r_max = std::max(r_max, r);
-        char buf[240];
-        std::snprintf(buf, sizeof buf,
-                      "the surface is empty: no grid point lies inside it (spacing %.3g Å, "
-                      "atoms of radius %.3g Å at most); a finer spacing would find it",
-                      double(options.spacing), double(r_max));
-        result.warnings.emplace_back(buf);
-    }
+    if (result.mesh.triangle_count() == 0 && !atoms.empty())
+        result.warnings.push_back(empty_surface_warning(atoms, options));
     result.times.push_back({"cavities", detail::now_ms() - t0, false});
     impl_->report("cavities");
     detail::trace("engine: cavities");
@@ -849,6 +860,8 @@ DeviceSurfaceResult Engine::make_device_surface(const Atoms& atoms, const Surfac
     out.times = std::move(host.times);
     out.warnings = std::move(host.warnings);
     out.warnings.insert(out.warnings.end(), property_warnings.begin(), property_warnings.end());
+    if (out.mesh.triangle_count() == 0 && !atoms.empty())
+        out.warnings.push_back(empty_surface_warning(atoms, options));
     return out;
 }
 

@@ -82,10 +82,11 @@ struct RendererImpl {
         return (o.width * 2 <= max && o.height * 2 <= max) ? 2 : 1;
     }
 
-    // Bytes of device memory the targets of `o` at `samples` per axis take: the scene's colour,
-    // normal and depth per sample, the picture and its readback per pixel.
-    std::uint64_t target_bytes(const RenderOptions& o, std::uint32_t samples) const {
-        const std::uint64_t pixels = std::uint64_t(o.width) * o.height;
+    // Bytes of device memory a picture's targets take at `samples` per axis: the scene's
+    // colour, normal and depth per sample, the picture and its readback per pixel.
+    std::uint64_t target_bytes(std::uint32_t width, std::uint32_t height,
+                               std::uint32_t samples) const {
+        const std::uint64_t pixels = std::uint64_t(width) * height;
         const std::uint64_t depth = pipelines.depth_format() == VK_FORMAT_D16_UNORM ? 2 : 4;
         return pixels * samples * samples * (4 + 4 + depth) + pixels * (4 + 4);
     }
@@ -204,23 +205,32 @@ RenderResult RendererImpl::render(const DeviceMesh& mesh, const GpuMesh& gpu,
     const Framing f = frame_sphere(sphere, o.width, o.height);
     result.frame = f.sphere;
     result.pixel_size = f.pixel_size;
+    // The targets' memory, checked before any is allocated (a 16384² picture takes 5 GiB; on
+    // lavapipe, of the host's): supersampling is dropped where it alone does not fit. The
+    // targets held now count as free (they would be replaced), where the device reports its
+    // budget (else the heap's size is all there is to go by).
     std::uint32_t s = samples_for(o);
-    if (!targets || !targets->matches(o.width, o.height, s)) {
-        targets.reset();
-        // The targets' memory, checked before any is allocated (a 16384² picture takes 4.3
-        // GB; on lavapipe, of the host's): supersampling is dropped where it alone does not fit.
-        const VkDeviceSize available = context.available_device_memory();
-        if (available > 0 && s > 1 && target_bytes(o, s) > available) s = 1;
-        if (available > 0 && target_bytes(o, s) > available) {
+    if (const VkDeviceSize available = context.available_device_memory(); available > 0) {
+        const std::uint64_t held =
+            targets && context.has_memory_budget()
+                ? target_bytes(targets->width(), targets->height(), targets->samples())
+                : 0;
+        const std::uint64_t room = available + held;
+        if (s > 1 && target_bytes(o.width, o.height, s) > room) s = 1;
+        if (target_bytes(o.width, o.height, s) > room) {
             char text[320];
             std::snprintf(text, sizeof text,
                           "rendering: a %u x %u picture needs %.2f GiB of device memory for its "
                           "targets, more than the %.2f GiB %s has free; ask for a smaller "
                           "--image-size",
-                          o.width, o.height, double(target_bytes(o, s)) / 1073741824.0,
-                          double(available) / 1073741824.0, context.info().name.c_str());
+                          o.width, o.height,
+                          double(target_bytes(o.width, o.height, s)) / 1073741824.0,
+                          double(room) / 1073741824.0, context.info().name.c_str());
             throw Error(ErrorCode::DeviceLimit, text);
         }
+    }
+    if (!targets || !targets->matches(o.width, o.height, s)) {
+        targets.reset();
         targets = std::make_unique<RenderTargets>(context, pipelines, o.width, o.height, s);
     }
     result.supersample = s;

@@ -165,6 +165,9 @@ TEST_F(CliProgram, EmptySurfacesAndFarCoordinatesAreWarned) {
     CliRun r = run({input, "-o", path("out.ply"), "--spacing", "20", "--quiet"});
     EXPECT_EQ(r.exit_code, 0) << r.err;
     EXPECT_NE(r.err.find("the surface is empty"), std::string::npos) << r.err;
+    r = run({input, "-o", path("out.png"), "--spacing", "20", "--quiet"});  // on the device
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.err.find("the surface is empty"), std::string::npos) << r.err;
     const std::string far = write_file("far.xyzr", "1000000 1000000 1000000 1.5\n"
                                                    "1000001.5 1000000 1000000 1.5\n");
     r = run({far, "-o", path("far.ply"), "--surface", "vdw", "--quiet"});
