@@ -26,13 +26,52 @@ constexpr std::size_t buffer_size = std::size_t{1} << 20;
 
 thread_local CommitGroup* current_group = nullptr;
 
-// A temporary file's name with its ".tmp." turned into ".old.": as long, so within NAME_MAX.
-std::string backup_name(const std::string& temp_path) {
+// A hard link to the file at `path`, named as `temp_path` with ".old." for ".tmp." (as long, so
+// within NAME_MAX; another random suffix where that name is taken), tracked so that an
+// interrupt removes it. Empty when there is no file at `path` (`made` set) or it cannot be
+// linked (another file system's rule: it then cannot be put back).
+std::string link_backup(const std::string& path, const std::string& temp_path, bool& tracked,
+                        bool& made) {
+    tracked = made = false;
     std::string name = temp_path;
-    const std::size_t at = name.rfind(".tmp.");
-    if (at != std::string::npos) name.replace(at, 5, ".old.");
-    else name += ".old";
-    return name;
+    std::size_t at = name.rfind(".tmp.");
+    if (at == std::string::npos) {
+        at = name.size();
+        name += ".old.000000000000";
+    } else {
+        name.replace(at, 5, ".old.");
+    }
+    std::random_device seed;
+    std::mt19937_64 random(seed() ^ (std::uint64_t(::getpid()) << 32));
+    for (int attempt = 0; attempt < 100; ++attempt) {
+        if (attempt > 0) {
+            char suffix[16];
+            std::snprintf(suffix, sizeof suffix, "%012llx",
+                          static_cast<unsigned long long>(random() & 0xffffffffffffULL));
+            name.replace(at + 5, std::string::npos, suffix);
+        }
+        // As a temporary file is made (AtomicFile's constructor): an interrupt waits until the
+        // link is tracked, so that it removes every link it leaves.
+        sigset_t block, previous;
+        sigemptyset(&block);
+        for (int sig : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&block, sig);
+        pthread_sigmask(SIG_BLOCK, &block, &previous);
+        int link_errno = 0;
+        {
+            const TempFileCreation creating;
+            if (::link(path.c_str(), name.c_str()) == 0)
+                tracked = track_temp_file(name);
+            else
+                link_errno = errno;
+        }
+        pthread_sigmask(SIG_SETMASK, &previous, nullptr);
+        if (link_errno == 0) return name;
+        if (link_errno != EEXIST) {
+            made = link_errno == ENOENT;
+            return {};
+        }
+    }
+    return {};
 }
 
 }  // namespace
@@ -207,12 +246,12 @@ void CommitGroup::commit() {
         if (::stat(p.path.c_str(), &st) == 0 && S_ISDIR(st.st_mode))
             throw Error(ErrorCode::Io, "cannot write " + p.path + ": " + std::strerror(EISDIR));
     }
-    // Each file replaced is kept under a hard link (its temporary name with ".old." for ".tmp.")
-    // until every rename has succeeded: a rename that fails puts back what the earlier ones
-    // replaced, and removes the files they made.
+    // Each file replaced is kept under a hard link (link_backup) until every rename has
+    // succeeded: a rename that fails puts back what the earlier ones replaced, and removes the
+    // files they made.
     struct Renamed {
         std::string path, backup;  // backup empty: no file there, or no link could be made
-        bool tracked, made;        // made: there was no file at `path` before
+        bool tracked = false, made = false;  // made: there was no file at `path` before
     };
     std::vector<Renamed> renamed;
     const auto drop_backups = [&renamed] {
@@ -224,31 +263,30 @@ void CommitGroup::commit() {
     };
     while (!pending_.empty()) {
         const Pending& p = pending_.front();
-        Renamed r{p.path, backup_name(p.temp_path), false, false};
-        if (::link(p.path.c_str(), r.backup.c_str()) == 0) {
-            r.tracked = track_temp_file(r.backup);
-        } else {  // no file there; or one that cannot be linked (it then cannot be put back)
-            r.made = errno == ENOENT;
-            r.backup.clear();
-        }
+        Renamed r;
+        r.path = p.path;
+        r.backup = link_backup(p.path, p.temp_path, r.tracked, r.made);
         if (std::rename(p.temp_path.c_str(), p.path.c_str()) != 0) {
             const int error_number = errno;
             if (!r.backup.empty()) {
                 ::unlink(r.backup.c_str());
                 if (r.tracked) untrack_temp_file(r.backup);
             }
+            std::string kept;  // files that could not be put back, and where their content is
             for (auto it = renamed.rbegin(); it != renamed.rend(); ++it) {
                 if (it->made) {
                     ::unlink(it->path.c_str());
-                } else if (!it->backup.empty() &&
-                           std::rename(it->backup.c_str(), it->path.c_str()) == 0) {
+                } else if (!it->backup.empty()) {
                     if (it->tracked) untrack_temp_file(it->backup);
-                    it->backup.clear();
+                    if (std::rename(it->backup.c_str(), it->path.c_str()) != 0)
+                        kept += "; " + it->path + " could not be put back: its former content "
+                                "is in " + it->backup;
+                    it->backup.clear();  // put back, or left for the user: not dropped
                 }
             }
-            drop_backups();  // any that could not be put back
+            drop_backups();
             throw Error(ErrorCode::Io,
-                        "cannot write " + p.path + ": " + std::strerror(error_number));
+                        "cannot write " + p.path + ": " + std::strerror(error_number) + kept);
         }
         renamed.push_back(std::move(r));
         if (p.tracked) untrack_temp_file(p.temp_path);

@@ -337,8 +337,15 @@ TEST_F(MeshFiles, ACommitGroupRenamesItsFilesTogetherOrNone) {
         write_mesh(small_sphere(), path("a.ply"));
         write_mesh(small_sphere(), path("c.ply"));
         write_mesh(small_sphere(), path("b.ply"));
-        for (const std::string& name : listing())  // b's temporary file goes: its rename fails
+        std::string stale;
+        for (const std::string& name : listing()) {
+            // b's temporary file goes: its rename fails.
             if (name.starts_with("b.ply.tmp.")) fs::remove(path(name));
+            // A stale file holds the first name a's kept link would take: another is taken.
+            if (name.starts_with("a.ply.tmp.")) stale = "a.ply.old." + name.substr(10);
+        }
+        ASSERT_FALSE(stale.empty());
+        std::ofstream(path(stale)) << "stale";
         try {
             group.commit();
             ADD_FAILURE() << "the commit did not throw";
@@ -348,9 +355,11 @@ TEST_F(MeshFiles, ACommitGroupRenamesItsFilesTogetherOrNone) {
                       std::string::npos)
                 << e.what();
         }
-        EXPECT_EQ(listing(), std::vector<std::string>{"a.ply"});
+        EXPECT_EQ(listing(), (std::vector<std::string>{"a.ply", stale}));
         std::ifstream in(path("a.ply"));
         EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), "old");
+        EXPECT_EQ(fs::file_size(path(stale)), 5u);  // untouched
+        fs::remove(path(stale));
     }
     EXPECT_EQ(listing(), std::vector<std::string>{"a.ply"});
     // Without a failure, the kept files go too.
