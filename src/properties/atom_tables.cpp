@@ -8,6 +8,7 @@
 #include <map>
 #include <unordered_map>
 
+#include "core/cell_list.hpp"
 #include "fdmsurf/error.hpp"
 
 namespace fdmsurf::detail {
@@ -133,27 +134,43 @@ Charges atom_charges(const Atoms& atoms) {
         else if (a == "C" && r.c < 0) r.c = long(i);
         else if (a == "OXT") has_oxt[l.residue_key] = true;
     }
-    // The N-terminus of each chain: the N of its first amino acid, unless a cap (ACE, FOR, ...)
-    // is bonded to it: the residue before it in the file, of the same chain, with its C within
-    // 2 Å of that N. Gaps further on are not termini (the residues are only unobserved).
-    const auto distance2 = [&atoms](long i, long j) {
-        double d2 = 0.0;
-        for (int k = 0; k < 3; ++k) {
-            const double d = double(atoms.xyz[3 * i + k]) - double(atoms.xyz[3 * j + k]);
-            d2 += d * d;
-        }
-        return d2;
+    // The N-terminus of each chain: the N of its first amino acid, unless something is bonded
+    // to it: a heavy atom of another residue within 1.9 Å, wherever it stands in the file (an
+    // acetyl ACE, a formyl, a myristoyl's C1; a metal's bond is longer), or pyroglutamate (PCA),
+    // whose N closes its own lactam ring. Gaps further on are not termini (the residues are
+    // only unobserved).
+    const auto heavy = [&atoms, &labels](std::size_t i) {
+        const std::string e = i < atoms.element.size() ? upper(atoms.element[i]) : std::string();
+        if (!e.empty()) return e != "H" && e != "D";
+        const std::string a = upper(labels[i].atom_name);
+        return a.empty() || (a[0] != 'H' && a[0] != 'D');
     };
     std::vector<char> n_terminal(atoms.size(), 0);
     std::map<std::string, bool> chain_started;
-    for (std::size_t k = 0; k < residues.size(); ++k) {
-        const Residue& r = residues[k];
+    std::vector<std::size_t> candidates;
+    for (const Residue& r : residues) {
         if (!r.amino_acid() || chain_started[r.chain]) continue;
         chain_started[r.chain] = true;
-        if (r.n < 0) continue;  // its N unobserved: no charge to place
-        const bool capped = k > 0 && residues[k - 1].chain == r.chain && residues[k - 1].c >= 0 &&
-                            distance2(residues[k - 1].c, r.n) < 2.0 * 2.0;
-        if (!capped) n_terminal[std::size_t(r.n)] = 1;
+        if (r.n >= 0 && upper(labels[std::size_t(r.n)].residue_name) != "PCA")
+            candidates.push_back(std::size_t(r.n));
+    }
+    if (!candidates.empty()) {
+        constexpr double kBond = 1.9;  // Å
+        const CellList cells = make_cell_list(atoms.xyz, kBond);
+        for (std::size_t n : candidates) {
+            const double p[3] = {atoms.xyz[3 * n], atoms.xyz[3 * n + 1], atoms.xyz[3 * n + 2]};
+            bool capped = false;
+            cells.for_each_near(p, [&](std::uint32_t j) {
+                if (capped || residue_of[j] == residue_of[n] || !heavy(j)) return;
+                double d2 = 0.0;
+                for (int k = 0; k < 3; ++k) {
+                    const double d = double(atoms.xyz[3 * j + k]) - p[k];
+                    d2 += d * d;
+                }
+                capped = d2 < kBond * kBond;
+            });
+            if (!capped) n_terminal[n] = 1;
+        }
     }
     for (std::size_t i = 0; i < atoms.size(); ++i) {
         const AtomLabel& l = labels[i];

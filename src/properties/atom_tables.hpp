@@ -43,8 +43,9 @@ std::vector<AtomLabel> atom_labels(const Atoms& atoms);
 // Charges (e) for the Coulomb potential: PQR's when the atoms have them; else the built-in
 // model (formal charges of the groups ionised at pH 7 spread over their atoms: Asp OD1/OD2 and
 // Glu OE1/OE2 -1/2 each, Lys NZ +1, Arg NE/NH1/NH2 +1/3 each, the N of each chain's first amino
-// acid (one of the 20, or any residue with N, CA and C: MSE) +1 unless a cap's C is bonded to it
-// (ACE: the residue before it with its C within 2 Å), O and OXT of
+// acid (one of the 20, or any residue with N, CA and C: MSE) +1 unless a heavy atom of another
+// residue lies within 1.9 Å of it (a cap: ACE, a myristoyl) or it is pyroglutamate's (PCA), O and
+// OXT of
 // a C-terminus that has OXT -1/2 each, nucleic-acid phosphate OP1/OP2 (O1P/O2P) -1/2 each,
 // monatomic ions by name; His neutral). `from_file` tells which.
 struct Charges {

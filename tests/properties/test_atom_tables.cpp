@@ -71,6 +71,23 @@ TEST(AtomTables, TheNTerminusIsTheFirstAminoAcidsNUnlessCapped) {
         "ATOM     13  C   GLU B   1      13.500  -1.000   0.000  1.00 10.00           C\n",
         "glu.pdb");
     EXPECT_EQ(atom_charges(uncapped.atoms).q, (std::vector<float>{1.0f, 0.0f, 0.0f}));
+    // The cap listed after the chain (trailing HETATM), and a myristoyl bonded through C1: no
+    // charge either. Pyroglutamate's N closes its own ring: none.
+    const Structure trailing = read_structure_from_memory(
+        "ATOM     11  N   GLU B   1      11.200  -0.600   0.000  1.00 10.00           N\n"
+        "ATOM     12  CA  GLU B   1      12.500   0.000   0.000  1.00 10.00           C\n"
+        "ATOM     13  C   GLU B   1      13.500  -1.000   0.000  1.00 10.00           C\n"
+        "HETATM   14  C1  MYR B   0      10.000   0.000   0.000  1.00 10.00           C\n"
+        "HETATM   15  O1  MYR B   0      10.000   1.200   0.000  1.00 10.00           O\n",
+        "myristoyl.pdb");
+    EXPECT_EQ(atom_charges(trailing.atoms).q, std::vector<float>(5, 0.0f));
+    const Structure pyroglutamate = read_structure_from_memory(
+        "HETATM    1  N   PCA C   1       0.000   0.000   0.000  1.00 10.00           N\n"
+        "HETATM    2  CA  PCA C   1       1.460   0.000   0.000  1.00 10.00           C\n"
+        "HETATM    3  C   PCA C   1       2.000   1.400   0.000  1.00 10.00           C\n"
+        "HETATM    4  CD  PCA C   1      -0.700  -1.100   0.000  1.00 10.00           C\n",
+        "pca.pdb");
+    EXPECT_EQ(atom_charges(pyroglutamate.atoms).q, std::vector<float>(4, 0.0f));
 }
 
 TEST(AtomTables, AcetylCappedPeptidesHaveNoNTerminalCharge) {
