@@ -753,7 +753,9 @@ void report_failure(const CliOptions& options, const std::string& input, int mod
     flush_noting_errors(stream);
 }
 
-int run(const CliOptions& options) {
+// The run of every input; `done` counts the inputs whose summary or failure line is out (for
+// run's lines of the others when an error ends it).
+int run_inputs(const CliOptions& options, std::size_t& done) {
     detail::trace("cli: start");
     // Option checks that need neither the structure nor the device come first. The warning
     // for a spacing too coarse for the filter comes from the engine, with result.warnings.
@@ -781,7 +783,9 @@ int run(const CliOptions& options) {
                 std::move(read_input(options, options.inputs.front()).front());
             const double parse_ms = ms_since(t0);
             const AreasPlan areas_plan = plan_areas(options, structure, options.inputs.front());
-            return areas_only(options, structure, parse_ms, areas_plan);
+            const int code = areas_only(options, structure, parse_ms, areas_plan);
+            done = 1;
+            return code;
         }
         // The structure is read while the device starts; a bad input is reported before any
         // device error, as if it had been read first.
@@ -817,6 +821,7 @@ int run(const CliOptions& options) {
                                  image_for(options, options.inputs.front(), 1), &structure,
                                  parse_ms, ms_since(t), &areas_plan);
         renderer.reset();  // before the engine
+        done = 1;
         return code;
     }
 
@@ -852,6 +857,7 @@ int run(const CliOptions& options) {
                                options.all_models ? std::string() : output_of(options, input, 1),
                                e);
                 if (status == kExitOk) status = exit_code_for(e);
+                done = i + 1;
                 continue;
             }
         }
@@ -889,14 +895,45 @@ int run(const CliOptions& options) {
                     print_error(
                         "stopping: the Vulkan device failed; the remaining inputs were "
                         "not processed");
+                    done = i + 1;
+                    const Error skipped(ErrorCode::Vulkan,
+                                        "not processed: the Vulkan device failed on " + input);
+                    for (std::size_t j = i + 1; j < options.inputs.size(); ++j) {
+                        report_failure(options, options.inputs[j], -1,
+                                       options.all_models
+                                           ? std::string()
+                                           : output_of(options, options.inputs[j], 1),
+                                       skipped);
+                        done = j + 1;
+                    }
                     return status == kExitOk ? code : status;
                 }
             }
             init_ms = 0.0;
             if (status == kExitOk) status = code;
         }
+        done = i + 1;
     }
     return status;
+}
+
+// run_inputs, and with --stats json a failure line for each input left without one when an
+// error ends the run (a single input that cannot be read, no device): a line per input.
+int run(const CliOptions& options) {
+    std::size_t done = 0;
+    try {
+        return run_inputs(options, done);
+    } catch (const Error& e) {
+        for (std::size_t i = done; options.json && i < options.inputs.size(); ++i) {
+            const std::string& input = options.inputs[i];
+            report_failure(options, input, -1,
+                           options.all_models || options.output.empty()
+                               ? std::string()
+                               : output_of(options, input, 1),
+                           e);
+        }
+        throw;
+    }
 }
 
 // A summary that could not be printed (stdout a closed pipe) fails the run, as in coreutils.

@@ -342,6 +342,17 @@ TEST_F(CliProgram, SeveralInputsGiveOneJsonLineEachFailuresIncluded) {
     EXPECT_EQ(failed->find("error_code")->string, "io");
     EXPECT_EQ(failed->find("exit_code")->number, 3);
     EXPECT_NE(failed->find("error")->string.find("missing.pdb"), std::string::npos);
+    // A single input that cannot be read has its line too, with --models all as without.
+    for (const bool all : {false, true}) {
+        std::vector<std::string> args = {path("missing.pdb"), "-o", folder, "--stats", "json"};
+        if (all) args.insert(args.end(), {"--models", "all"});
+        const CliRun one = run(args);
+        EXPECT_EQ(one.exit_code, 3) << one.err;
+        const auto line = parse_json(one.out);
+        ASSERT_TRUE(line) << one.out;
+        EXPECT_EQ(line->find("status")->string, "failed");
+        EXPECT_EQ(line->find("exit_code")->number, 3);
+    }
 }
 
 }  // namespace
