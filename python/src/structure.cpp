@@ -86,10 +86,13 @@ Atoms atoms_from_arrays(py::handle xyz_object, py::handle radii_object, py::hand
             throw py::type_error("element must be a sequence of element symbols, not a str");
         std::vector<std::string> symbols;
         for (py::handle item : element) {
-            if (!py::isinstance<py::str>(item))
-                throw py::type_error("element must hold str element symbols, not " +
+            if (py::isinstance<py::bytes>(item))  // np.array([b"C"]) holds np.bytes_
+                symbols.push_back(std::string(py::reinterpret_borrow<py::bytes>(item)));
+            else if (py::isinstance<py::str>(item))
+                symbols.push_back(item.cast<std::string>());
+            else
+                throw py::type_error("element must hold element symbols (str or bytes), not " +
                                      std::string(py::str(item.get_type().attr("__name__"))));
-            symbols.push_back(item.cast<std::string>());
         }
         if (symbols.size() != n)
             invalid("element has " + std::to_string(symbols.size()) + " entries for " +

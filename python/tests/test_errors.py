@@ -197,8 +197,10 @@ def test_wrong_types_are_type_errors_and_bad_atoms_value_errors(engine, data, tm
     r = engine.surface(data / "1crn.pdb", spacing=1.0, no_cavities=np.True_)  # numpy's bool
     with pytest.raises(TypeError, match="format must be a str"):
         r.write(str(tmp_path / "y.ply"), format=1)
-    with pytest.raises(TypeError, match="element must hold str"):
+    with pytest.raises(TypeError, match="element must hold element symbols"):
         fdmsurf.Structure(np.zeros((2, 3)), np.ones(2), element=[1, 2])
+    assert list(fdmsurf.Structure(np.zeros((2, 3)), np.ones(2),
+                                  element=np.array([b"C", b"n"])).element) == ["C", "N"]
     with pytest.raises(TypeError, match="no_cavities must be True or False"):
         engine.surface(data / "1crn.pdb", spacing=1.0, no_cavities=2)
     with pytest.raises(fdmsurf.InvalidArgumentError, match="below 2\\*\\*32"):

@@ -11,8 +11,9 @@
 namespace fdmsurf::detail {
 
 // Error(InvalidArgument) naming `function` and the first atom with a coordinate that is not
-// finite, a radius that is not a positive finite number, or xyz not 3 floats per radius.
-void check_area_atoms(const Atoms& atoms, const char* function);
+// finite, a radius that is negative, not finite or (with no probe) 0, or xyz not 3 floats per
+// radius.
+void check_area_atoms(const Atoms& atoms, float probe, const char* function);
 
 // The exposed area (Å²) of each ball of radius sqrt((r + radius_add)² + pi_iso) in the union of
 // all of them (the vdw and sas surfaces at any level); 0 for balls that vanish (r² + pi_iso <= 0).

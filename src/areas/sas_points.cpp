@@ -39,7 +39,7 @@ std::vector<double> atom_sas_areas(const Atoms& atoms, float probe, int points) 
                         std::to_string(probe) + ")");
     if (points < 1)
         throw Error(ErrorCode::InvalidArgument, "atom_sas_areas: at least one point per atom");
-    detail::check_area_atoms(atoms, "atom_sas_areas");
+    detail::check_area_atoms(atoms, probe, "atom_sas_areas");
     const std::size_t n = atoms.size();
     std::vector<double> area(n, 0.0);
     if (n == 0) return area;

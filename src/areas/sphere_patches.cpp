@@ -325,19 +325,20 @@ std::vector<double> atom_exact_areas(const Atoms& atoms, float probe) {
         throw Error(
             ErrorCode::InvalidArgument,
             "atom_exact_areas: the probe radius must be >= 0 (got " + std::to_string(probe) + ")");
-    detail::check_area_atoms(atoms, "atom_exact_areas");
+    detail::check_area_atoms(atoms, probe, "atom_exact_areas");
     return detail::exact_ball_areas(atoms, probe, 0.0);
 }
 
 namespace detail {
 
-void check_area_atoms(const Atoms& atoms, const char* function) {
+void check_area_atoms(const Atoms& atoms, float probe, const char* function) {
     const std::string who = std::string(function) + ": ";
     if (atoms.xyz.size() != 3 * atoms.radius.size())
         throw Error(ErrorCode::InvalidArgument, who + "xyz must hold 3 floats per radius");
     for (std::size_t i = 0; i < atoms.size(); ++i) {
         const float r = atoms.radius[i];
-        if (!(r > 0.0f) || !std::isfinite(r))
+        // As plan_grid: a radius of 0 is a ball of the probe's radius in the sas.
+        if (!(r >= 0.0f && r + probe > 0.0f) || !std::isfinite(r))
             throw Error(ErrorCode::InvalidArgument,
                         who + "atom " + std::to_string(i + 1) + " has radius " + std::to_string(r));
         for (int a = 0; a < 3; ++a)

@@ -48,9 +48,14 @@ TEST(AtomAreas, BadAtomsAreInvalidArgumentsNamingTheAtom) {
     };
     const Atoms nan_xyz = make_atoms({{0, 0, 0, 1.5f}, {nan, 0, 0, 1.5f}});
     const Atoms zero_radius = make_atoms({{0, 0, 0, 1.5f}, {2, 0, 0, 0.0f}});
-    for (const Atoms* atoms : {&nan_xyz, &zero_radius}) {
-        const auto sas = code_and_message([&] { atom_sas_areas(*atoms, 1.4f); });
-        const auto exact = code_and_message([&] { atom_exact_areas(*atoms, 1.4f); });
+    const Atoms negative_radius = make_atoms({{0, 0, 0, 1.5f}, {2, 0, 0, -1.0f}});
+    // A radius of 0 is a ball of the probe's radius in the sas, as for the surface.
+    EXPECT_GT(atom_exact_areas(zero_radius, 1.4f)[1], 0.0);
+    EXPECT_GT(atom_sas_areas(zero_radius, 1.4f)[1], 0.0);
+    for (const auto& [atoms, probe] : {std::pair{&nan_xyz, 1.4f}, std::pair{&zero_radius, 0.0f},
+                                       std::pair{&negative_radius, 1.4f}}) {
+        const auto sas = code_and_message([&] { atom_sas_areas(*atoms, probe); });
+        const auto exact = code_and_message([&] { atom_exact_areas(*atoms, probe); });
         EXPECT_EQ(sas.first, ErrorCode::InvalidArgument) << sas.second;
         EXPECT_EQ(exact.first, ErrorCode::InvalidArgument) << exact.second;
         EXPECT_NE(sas.second.find("atom_sas_areas: atom 2 has"), std::string::npos) << sas.second;
