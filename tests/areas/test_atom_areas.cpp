@@ -52,8 +52,10 @@ TEST(AtomAreas, BadAtomsAreInvalidArgumentsNamingTheAtom) {
     // A radius of 0 is a ball of the probe's radius in the sas, as for the surface.
     EXPECT_GT(atom_exact_areas(zero_radius, 1.4f)[1], 0.0);
     EXPECT_GT(atom_sas_areas(zero_radius, 1.4f)[1], 0.0);
-    for (const auto& [atoms, probe] : {std::pair{&nan_xyz, 1.4f}, std::pair{&zero_radius, 0.0f},
-                                       std::pair{&negative_radius, 1.4f}}) {
+    for (const auto& bad : {std::pair{&nan_xyz, 1.4f}, std::pair{&zero_radius, 0.0f},
+                            std::pair{&negative_radius, 1.4f}}) {
+        const Atoms* atoms = bad.first;  // not a structured binding: clang 14 cannot capture one
+        const float probe = bad.second;
         const auto sas = code_and_message([&] { atom_sas_areas(*atoms, probe); });
         const auto exact = code_and_message([&] { atom_exact_areas(*atoms, probe); });
         EXPECT_EQ(sas.first, ErrorCode::InvalidArgument) << sas.second;
