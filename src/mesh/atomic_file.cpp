@@ -26,6 +26,38 @@ constexpr std::size_t buffer_size = std::size_t{1} << 20;
 
 thread_local CommitGroup* current_group = nullptr;
 
+// Runs `create` (true when it made the file `name`, else errno says why) with SIGINT, SIGTERM
+// and SIGHUP blocked on this thread and a TempFileCreation held, and tracks `name` once made:
+// an interrupt waits until then, on this thread or another (temp_files.hpp), so its handler
+// removes every file this leaves (cli/interrupts.cpp). Returns 0 when made, else the errno.
+template <class Create>
+int create_tracked(const std::string& name, bool& tracked, Create&& create) {
+    sigset_t block, previous;
+    sigemptyset(&block);
+    for (int sig : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&block, sig);
+    pthread_sigmask(SIG_BLOCK, &block, &previous);
+    int error_number = 0;
+    {
+        const TempFileCreation creating;
+        if (create())
+            tracked = track_temp_file(name);
+        else
+            error_number = errno;
+    }
+    pthread_sigmask(SIG_SETMASK, &previous, nullptr);
+    return error_number;
+}
+
+// The random generator of the temporary files' 12-hex-digit suffixes.
+std::mt19937_64 suffix_random() {
+    std::random_device seed;
+    return std::mt19937_64(seed() ^ (std::uint64_t(::getpid()) << 32));
+}
+
+unsigned long long random_suffix(std::mt19937_64& random) {
+    return static_cast<unsigned long long>(random() & 0xffffffffffffULL);
+}
+
 // A hard link to the file at `path`, named as `temp_path` with ".old." for ".tmp." (as long, so
 // within NAME_MAX; another random suffix where that name is taken), tracked so that an
 // interrupt removes it. Empty when there is no file at `path` (`made` set) or it cannot be
@@ -41,30 +73,16 @@ std::string link_backup(const std::string& path, const std::string& temp_path, b
     } else {
         name.replace(at, 5, ".old.");
     }
-    std::random_device seed;
-    std::mt19937_64 random(seed() ^ (std::uint64_t(::getpid()) << 32));
+    std::mt19937_64 random = suffix_random();
     for (int attempt = 0; attempt < 100; ++attempt) {
         if (attempt > 0) {
             char suffix[16];
-            std::snprintf(suffix, sizeof suffix, "%012llx",
-                          static_cast<unsigned long long>(random() & 0xffffffffffffULL));
+            std::snprintf(suffix, sizeof suffix, "%012llx", random_suffix(random));
             name.replace(at + 5, std::string::npos, suffix);
         }
-        // As a temporary file is made (AtomicFile's constructor): an interrupt waits until the
-        // link is tracked, so that it removes every link it leaves.
-        sigset_t block, previous;
-        sigemptyset(&block);
-        for (int sig : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&block, sig);
-        pthread_sigmask(SIG_BLOCK, &block, &previous);
-        int link_errno = 0;
-        {
-            const TempFileCreation creating;
-            if (::link(path.c_str(), name.c_str()) == 0)
-                tracked = track_temp_file(name);
-            else
-                link_errno = errno;
-        }
-        pthread_sigmask(SIG_SETMASK, &previous, nullptr);
+        // Made as a temporary file is: an interrupt removes every link it leaves.
+        const int link_errno = create_tracked(
+            name, tracked, [&] { return ::link(path.c_str(), name.c_str()) == 0; });
         if (link_errno == 0) return name;
         if (link_errno != EEXIST) {
             made = link_errno == ENOENT;
@@ -126,8 +144,7 @@ AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
     if (link_error != 0) fail(link_error);
     // open(O_EXCL) with a random suffix instead of mkstemp: mkstemp makes the file 0600,
     // while a renamed output should get the usual 0666 & ~umask.
-    std::random_device seed;
-    std::mt19937_64 random(seed() ^ (std::uint64_t(::getpid()) << 32));
+    std::mt19937_64 random = suffix_random();
     // The temporary name is the file's with the suffix, its name cut short where both would
     // exceed the folder's NAME_MAX (a name of 239 to 255 bytes is still written).
     const std::size_t slash = path_.find_last_of('/');
@@ -138,27 +155,16 @@ AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
     for (int attempt = 0; attempt < 100 && fd_ < 0; ++attempt) {
         char suffix[32];
         const int suffix_length =
-            std::snprintf(suffix, sizeof suffix, ".tmp.%012llx",
-                          static_cast<unsigned long long>(random() & 0xffffffffffffULL));
+            std::snprintf(suffix, sizeof suffix, ".tmp.%012llx", random_suffix(random));
         const std::size_t room = std::size_t(name_max) - std::size_t(suffix_length);
         temp_path_ = name_length > room && name_length <= std::size_t(name_max)
                          ? path_.substr(0, path_.size() - (name_length - room)) + suffix
                          : path_ + suffix;
-        // Interrupts wait until the file is open and tracked, so an interrupt handler removes
-        // every temporary file it leaves (cli/interrupts.cpp).
-        sigset_t block, previous;
-        sigemptyset(&block);
-        for (int sig : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&block, sig);
-        pthread_sigmask(SIG_BLOCK, &block, &previous);
-        int open_errno = 0;
-        {
-            // ... and an interrupt handled on another thread waits for it (temp_files.hpp).
-            const TempFileCreation creating;
+        // Interrupts wait until the file is open and tracked (create_tracked).
+        const int open_errno = create_tracked(temp_path_, tracked_, [&] {
             fd_ = ::open(temp_path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-            open_errno = errno;
-            if (fd_ >= 0) tracked_ = track_temp_file(temp_path_);
-        }
-        pthread_sigmask(SIG_SETMASK, &previous, nullptr);
+            return fd_ >= 0;
+        });
         errno = open_errno;
         if (fd_ < 0 && errno != EEXIST) break;
     }
@@ -254,12 +260,13 @@ void CommitGroup::commit() {
         bool tracked = false, made = false;  // made: there was no file at `path` before
     };
     std::vector<Renamed> renamed;
-    const auto drop_backups = [&renamed] {
-        for (const Renamed& r : renamed) {
-            if (r.backup.empty()) continue;
-            ::unlink(r.backup.c_str());
-            if (r.tracked) untrack_temp_file(r.backup);
-        }
+    const auto drop_backup = [](const Renamed& r) {
+        if (r.backup.empty()) return;
+        ::unlink(r.backup.c_str());
+        if (r.tracked) untrack_temp_file(r.backup);
+    };
+    const auto drop_backups = [&renamed, &drop_backup] {
+        for (const Renamed& r : renamed) drop_backup(r);
     };
     while (!pending_.empty()) {
         const Pending& p = pending_.front();
@@ -268,10 +275,7 @@ void CommitGroup::commit() {
         r.backup = link_backup(p.path, p.temp_path, r.tracked, r.made);
         if (std::rename(p.temp_path.c_str(), p.path.c_str()) != 0) {
             const int error_number = errno;
-            if (!r.backup.empty()) {
-                ::unlink(r.backup.c_str());
-                if (r.tracked) untrack_temp_file(r.backup);
-            }
+            drop_backup(r);
             std::string kept;  // files that could not be put back, and where their content is
             for (auto it = renamed.rbegin(); it != renamed.rend(); ++it) {
                 if (it->made) {
