@@ -21,6 +21,7 @@
 #include <sstream>
 #include <string>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include "fdmsurf/structure.hpp"
@@ -57,12 +58,16 @@ std::string upper(std::string s) {
 }
 
 // gemmi's reading: model `model` (1-based), every atom in file order but the second and later
-// alternate locations of an atom (chain, residue number, insertion code, name).
-std::vector<Seen> gemmi_reading(const std::string& text, bool cif, int model = 1) {
+// alternate locations of an atom (chain, residue number, insertion code, name); with
+// `first_conformer`, gemmi's own remove_alternative_conformations instead (which also keeps
+// only the first residue at a position).
+std::vector<Seen> gemmi_reading(const std::string& text, bool cif, int model = 1,
+                                bool first_conformer = false) {
     gemmi::Structure st =
         cif ? gemmi::make_structure(gemmi::cif::read_memory(text.data(), text.size(), "ref"))
             : gemmi::read_pdb_from_memory(text.data(), text.size(), "ref");
     EXPECT_GE(st.models.size(), std::size_t(model));
+    if (first_conformer) gemmi::remove_alternative_conformations(st);
     std::vector<Seen> out;
     std::set<std::tuple<std::string, int, char, std::string>> seen;
     for (const gemmi::Chain& ch : st.models.at(std::size_t(model - 1)).chains)
@@ -189,6 +194,15 @@ std::string edited_pdb(Edit edit) {
     return joined(lines);
 }
 
+// An ATOM line as two alternate locations: A where it is, B moved to x = 1.000.
+std::pair<std::string, std::string> altloc_copies(const std::string& line) {
+    std::string a = line, b = line;
+    a[16] = 'A';
+    b[16] = 'B';
+    b.replace(30, 8, "   1.000");
+    return {a, b};
+}
+
 TEST(UnusualInputs, PdbInsertionCodesAndAltlocsWhoseOccupanciesSumOverOne) {
     // Residue 5's atoms twice, as altlocs A and B of occupancy 0.80 each (sum 1.6), and
     // insertion codes on residues 10-12.
@@ -196,12 +210,9 @@ TEST(UnusualInputs, PdbInsertionCodesAndAltlocsWhoseOccupanciesSumOverOne) {
     std::vector<std::string> out;
     for (std::string l : lines) {
         if (is_atom_line(l) && l.substr(22, 4) == "   5") {
-            std::string a = l, b = l;
-            a[16] = 'A';
-            b[16] = 'B';
+            auto [a, b] = altloc_copies(l);
             a.replace(54, 6, "  0.80");
             b.replace(54, 6, "  0.80");
-            b.replace(30, 8, "   1.000");  // B elsewhere
             out.push_back(a);
             out.push_back(b);
             continue;
@@ -217,19 +228,16 @@ TEST(UnusualInputs, PdbInsertionCodesAndAltlocsWhoseOccupanciesSumOverOne) {
 }
 
 TEST(UnusualInputs, PdbMicroheterogeneityKeepsTheFirstResidue) {
-    // Residue 5 as two residues at one position: altloc A as in the file, altloc B renamed TRP (not in crambin),
-    // moved and with an atom the first lacks. The position keeps the first residue whole and
-    // nothing of the second (the B residue's own atom included), as gemmi's
+    // Residue 5 as two residues at one position: altloc A as in the file, altloc B renamed TRP
+    // (not in crambin), moved and with an atom the first lacks. The position keeps the first
+    // residue whole and nothing of the second (the B residue's own atom included), as gemmi's
     // remove_alternative_conformations does.
     std::vector<std::string> out;
     std::vector<std::string> second;
     for (std::string l : lines_of(read_text_file(data_path("1crn.pdb")))) {
         if (is_atom_line(l) && l.substr(22, 4) == "   5") {
-            std::string a = l, b = l;
-            a[16] = 'A';
-            b[16] = 'B';
+            auto [a, b] = altloc_copies(l);
             b.replace(17, 3, "TRP");
-            b.replace(30, 8, "   1.000");
             out.push_back(a);
             second.push_back(b);
             continue;
@@ -245,16 +253,7 @@ TEST(UnusualInputs, PdbMicroheterogeneityKeepsTheFirstResidue) {
     }
     const std::string text = joined(out);
     const Structure s = read_structure_from_memory(text, "micro.pdb", keep_everything());
-    gemmi::Structure st = gemmi::read_pdb_from_memory(text.data(), text.size(), "ref");
-    gemmi::remove_alternative_conformations(st);
-    std::vector<Seen> gemmis;
-    for (const gemmi::Chain& ch : st.models.at(0).chains)
-        for (const gemmi::Residue& r : ch.residues)
-            for (const gemmi::Atom& a : r.atoms)
-                gemmis.push_back({ch.name, *r.seqid.num, r.seqid.icode == '\0' ? ' ' : r.seqid.icode,
-                                  a.name, upper(a.element.name()), float(a.pos.x), float(a.pos.y),
-                                  float(a.pos.z)});
-    expect_same(fdmsurf_reading(s), gemmis);
+    expect_same(fdmsurf_reading(s), gemmi_reading(text, false, 1, true));
     EXPECT_EQ(s.atoms.size(), 327u);
     std::size_t trp = 0, residue_5 = 0;
     for (const AtomMeta& m : s.atoms.meta) {
