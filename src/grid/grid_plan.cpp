@@ -223,11 +223,22 @@ GridPlan plan_grid(const Atoms& atoms, const SurfaceOptions& options) {
         lo[a] = std::numeric_limits<double>::max();
         hi[a] = -lo[a];
     }
+    // The density T exp(-pi/σ²) must stay finite where it matters. ses (filtered): at every
+    // point, since the FFT sums it over up to 1e9 points, so r²/σ² <= 60 (the peak on a centre).
+    // vdw and sas: only at the points of the edges that cross the level, which lie within a
+    // cell's diagonal of the balls' spheres (pi >= -(r² - (r - √3 h)²)), so that exponent <= 80
+    // (float overflows at e^88.7): a 25 Å coarse-grained bead keeps the default sigma. Beyond,
+    // the mesh had NaN vertices and normals. The largest exponent, and its atom's radius:
+    const double h3 = std::sqrt(3.0) * double(h);
+    double exponent = 0.0, r_worst = 0.0;
     for (std::size_t i = 0; i < atoms.size(); ++i) {
         float r = atoms.radius[i] + plan.density.radius_add;
         if (!(r > 0.0f) || !std::isfinite(r))
             throw Error(ErrorCode::InvalidArgument,
                         "atom " + std::to_string(i + 1) + " has radius " + std::to_string(r));
+        const double inner = plan.filtered ? 0.0 : std::max(0.0, double(r) - h3);
+        const double e = (double(r) * r - inner * inner) / (double(options.sigma) * options.sigma);
+        if (e > exponent) exponent = e, r_worst = r;
         // ses: the whole Gaussian support enters the filter; vdw and sas only need the balls.
         double reach = plan.filtered ? std::sqrt(double(r) * r + plan.density.pi_cut) : r;
         for (int a = 0; a < 3; ++a) {
@@ -239,21 +250,7 @@ GridPlan plan_grid(const Atoms& atoms, const SurfaceOptions& options) {
             hi[a] = std::max(hi[a], c + reach);
         }
     }
-    if (!plan.exact_ses) {
-        // The density T exp(-pi/σ²) must stay finite where it matters. ses (filtered): at every
-        // point, since the FFT sums it over up to 1e9 points, so r²/σ² <= 60 (the peak on a
-        // centre). vdw and sas: only at the points of the edges that cross the level, which lie
-        // within a cell's diagonal of the balls' spheres (pi >= -(r² - (r - √3 h)²)), so that
-        // exponent <= 80 (float overflows at e^88.7): a 25 Å coarse-grained bead keeps the
-        // default sigma. Beyond, the mesh had NaN vertices and normals.
-        const double h3 = std::sqrt(3.0) * double(h);
-        double exponent = 0.0, r_worst = 0.0;
-        for (float radius : atoms.radius) {
-            const double r = double(radius) + plan.density.radius_add;
-            const double inner = plan.filtered ? 0.0 : std::max(0.0, r - h3);
-            const double e = (r * r - inner * inner) / (double(options.sigma) * options.sigma);
-            if (e > exponent) exponent = e, r_worst = r;
-        }
+    if (!plan.exact_ses) {  // (the exact SES has no density)
         const double bound = plan.filtered ? 60.0 : 80.0;
         if (!(exponent <= bound)) {
             // The smallest sigma that passes, from the worst atom's exponent.

@@ -124,7 +124,7 @@ Charges atom_charges(const Atoms& atoms) {
     for (std::size_t i = 0; i < atoms.size(); ++i) {
         const AtomLabel& l = labels[i];
         if (l.residue_key.empty()) continue;
-        if (residues.empty() || i == 0 || labels[i - 1].residue_key != l.residue_key)
+        if (residues.empty() || labels[i - 1].residue_key != l.residue_key)  // i > 0 there
             residues.push_back({l.chain, -1, -1, -1, is_amino_acid(l.residue_name)});
         residue_of[i] = residues.size() - 1;
         Residue& r = residues.back();
