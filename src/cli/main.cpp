@@ -742,13 +742,18 @@ std::optional<Renderer> make_renderer(const CliOptions& options, Engine& engine)
     return renderer;
 }
 
-// --stats json among several inputs or models: a line for one that failed, where its summary
-// would have gone, so that the lines stand for every input (JSON Lines).
+// --stats json: a line for an input (or a model of it, model > 0) that failed, where its
+// summary would have gone, so that the lines stand for every input (JSON Lines). Its output is
+// named where one is known: not for the models of a file that could not be read, nor without -o.
 void report_failure(const CliOptions& options, const std::string& input, int model,
-                    const std::string& output, const Error& e) {
+                    const Error& e) {
     if (!options.json) return;
+    const bool named = !options.output.empty() && (model > 0 || !options.all_models);
+    const std::string output = named ? output_of(options, input, std::max(model, 1)) : "";
     std::FILE* const stream = options.output == kStdio ? stderr : stdout;
-    put_noting_errors(json_failure(version(), input, model, output, e, exit_code_for(e)) + "\n",
+    put_noting_errors(json_failure(version(), input, options.all_models ? model : -1, output, e,
+                                   exit_code_for(e)) +
+                          "\n",
                       stream);
     flush_noting_errors(stream);
 }
@@ -853,9 +858,7 @@ int run_inputs(const CliOptions& options, std::size_t& done) {
             } catch (const Error& e) {
                 progress.end();
                 print_error(naming(input, e.what()));
-                report_failure(options, input, -1,
-                               options.all_models ? std::string() : output_of(options, input, 1),
-                               e);
+                report_failure(options, input, -1, e);
                 if (status == kExitOk) status = exit_code_for(e);
                 done = i + 1;
                 continue;
@@ -887,8 +890,7 @@ int run_inputs(const CliOptions& options, std::size_t& done) {
                 progress.end();
                 print_error(naming(input, e.what()) +
                             (options.all_models ? " (model " + std::to_string(model) + ")" : ""));
-                report_failure(options, input, options.all_models ? model : -1,
-                               output_of(options, input, model), e);
+                report_failure(options, input, model, e);
                 code = exit_code_for(e);
                 // A failed device (lost, out of memory) would fail every later input too.
                 if (e.code() == ErrorCode::Vulkan) {
@@ -899,11 +901,7 @@ int run_inputs(const CliOptions& options, std::size_t& done) {
                     const Error skipped(ErrorCode::Vulkan,
                                         "not processed: the Vulkan device failed on " + input);
                     for (std::size_t j = i + 1; j < options.inputs.size(); ++j) {
-                        report_failure(options, options.inputs[j], -1,
-                                       options.all_models
-                                           ? std::string()
-                                           : output_of(options, options.inputs[j], 1),
-                                       skipped);
+                        report_failure(options, options.inputs[j], -1, skipped);
                         done = j + 1;
                     }
                     return status == kExitOk ? code : status;
@@ -924,14 +922,8 @@ int run(const CliOptions& options) {
     try {
         return run_inputs(options, done);
     } catch (const Error& e) {
-        for (std::size_t i = done; options.json && i < options.inputs.size(); ++i) {
-            const std::string& input = options.inputs[i];
-            report_failure(options, input, -1,
-                           options.all_models || options.output.empty()
-                               ? std::string()
-                               : output_of(options, input, 1),
-                           e);
-        }
+        for (std::size_t i = done; options.json && i < options.inputs.size(); ++i)
+            report_failure(options, options.inputs[i], -1, e);
         throw;
     }
 }

@@ -413,7 +413,7 @@ inline std::string json_failure(const std::string& version, const std::string& i
     w.member("input", input);
     if (model > 0) w.member("model", model);
     if (output.empty())
-        w.member("output", nullptr);  // the models of a file that could not be read
+        w.member("output", nullptr);  // none known (report_failure)
     else
         w.member("output", output);
     w.member("status", "failed");
