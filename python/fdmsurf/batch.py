@@ -493,7 +493,8 @@ def run(inputs, outdir, *, scheduler=None, workers=None, client=None, device=Non
             print(f"fdmsurf.batch: {len(responses)} worker(s) on {where}", file=progress,
                   flush=True)
         futures = {client.submit(_compute_text, path, outdir, keywords, mesh_format, all_models,
-                                 digest, pure=False, key=f"fdmsurf-{_printable(stem_of(path))}-{digest}-"
+                                 digest, pure=False,
+                                 key=f"fdmsurf-{_printable(stem_of(path))}-{digest}-"
                                  f"{os.urandom(4).hex()}"): path
                    for path in todo}
         report = _Progress(progress, len(todo))

@@ -37,6 +37,9 @@ std::string path_argument(py::handle path);
 py::str text(const std::string& value);
 py::list text_list(const std::vector<std::string>& values);
 
+// The name of `value`'s type, for TypeError messages ("int").
+std::string type_name(py::handle value);
+
 // A numpy array of Python str (dtype '<U...'), for per-atom names, chains and elements.
 py::array string_array(const std::vector<std::string>& values);
 

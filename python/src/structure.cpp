@@ -17,6 +17,10 @@ std::string path_argument(py::handle path) {
     return bytes;
 }
 
+std::string type_name(py::handle value) {
+    return py::str(value.get_type().attr("__name__"));
+}
+
 py::str text(const std::string& value) {
     PyObject* decoded = PyUnicode_DecodeUTF8(value.data(), py::ssize_t(value.size()), "replace");
     if (decoded == nullptr) throw py::error_already_set();
@@ -92,7 +96,7 @@ Atoms atoms_from_arrays(py::handle xyz_object, py::handle radii_object, py::hand
                 symbols.push_back(item.cast<std::string>());
             else
                 throw py::type_error("element must hold element symbols (str or bytes), not " +
-                                     std::string(py::str(item.get_type().attr("__name__"))));
+                                     type_name(item));
         }
         if (symbols.size() != n)
             invalid("element has " + std::to_string(symbols.size()) + " entries for " +

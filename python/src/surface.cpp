@@ -90,7 +90,7 @@ MeshFormat format_named(const py::object& format, const std::string& path) {
     if (format.is_none()) return mesh_format_for_path(path);
     if (!py::isinstance<py::str>(format))
         throw py::type_error("format must be a str ('ply', 'obj', 'glb', 'stl' or 'off') or "
-                             "None, not " + std::string(py::str(format.get_type().attr("__name__"))));
+                             "None, not " + type_name(format));
     const std::string name = format.cast<std::string>();
     for (MeshFormat f :
          {MeshFormat::Ply, MeshFormat::Obj, MeshFormat::Glb, MeshFormat::Stl, MeshFormat::Off})
