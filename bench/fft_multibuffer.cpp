@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "bench_common.hpp"
-#include "core/engine_impl.hpp"
+#include "engine/engine_impl.hpp"
 #include "fdmsurf/error.hpp"
 #include "filter/vkfft_compat.hpp"
 #include "vulkan/buffer.hpp"

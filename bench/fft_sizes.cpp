@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "bench_common.hpp"
-#include "core/engine_impl.hpp"
+#include "engine/engine_impl.hpp"
 #include "fdmsurf/error.hpp"
 
 using namespace fdmsurf;

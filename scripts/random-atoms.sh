@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Longer runs of the randomized property test (tests/core/test_random_atoms.cpp): SEEDS seeds
+# Longer runs of the randomized property test (tests/engine/test_random_atoms.cpp): SEEDS seeds
 # (default 5) of CASES random atom sets each (default 25), every surface kind and method, with
 # the test's checks (closed manifolds, byte-identical reruns, slabs, vdw/sas against Monte Carlo
 # and Shrake-Rupley). CI runs the fixed seed with 5 sets.

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Sets up and builds fdmsurf (scripts/setup-debian.sh), then runs every test with ctest.
+# Sets up and builds fdmsurf (scripts/setup-debian.sh), checks that no two src/ folders include
+# each other (scripts/include-graph.py), then runs every test with ctest.
 #
 # GPU tests run on whatever Vulkan device there is (lavapipe on a machine without a GPU).
 # FDMSURF_REQUIRE_DEVICE=1 makes a GPU test fail instead of skipping when no device is found
@@ -15,6 +16,13 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 build_dir=${FDMSURF_BUILD_DIR:-build}
 
 ./scripts/setup-debian.sh
+
+# No two folders under src/ include each other (CONTRIBUTING.md): the include arrows between
+# them, and a failure on a cycle.
+if ! ./scripts/include-graph.py >"$build_dir/include-graph.txt"; then
+    echo "test.sh: src/ folders include each other (scripts/include-graph.py above)" >&2
+    exit 1
+fi
 
 # The Khronos glTF validator for the GltfValidator test (tests/tools/gltf_validator.sh), from
 # npm into the build folder. Without the npm registry the test skips, and only that skip is

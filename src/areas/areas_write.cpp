@@ -6,11 +6,11 @@
 #include <cstdio>
 #include <string>
 
-#include "core/json_text.hpp"
+#include "base/json_text.hpp"
 #include "fdmsurf/areas.hpp"
 #include "fdmsurf/error.hpp"
 #include "fdmsurf/fdmsurf.hpp"
-#include "mesh/atomic_file.hpp"
+#include "io/atomic_file.hpp"
 
 namespace fdmsurf {
 

@@ -9,8 +9,8 @@
 #include <string>
 
 #include "areas/areas_detail.hpp"
-#include "core/cell_list.hpp"
-#include "core/parallel.hpp"
+#include "base/cell_list.hpp"
+#include "base/parallel.hpp"
 #include "fdmsurf/error.hpp"
 
 namespace fdmsurf::detail {

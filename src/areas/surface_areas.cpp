@@ -17,7 +17,7 @@ BallParameters ball_parameters(const SurfaceOptions& options) {
     b.radius_add = options.surface == SurfaceKind::Sas ? options.probe : 0.0;
     // The vdw and sas field is T exp(−π/σ²) (π the power distance, T = 1): the level L is the
     // power distance π_iso = −σ² ln L, the balls of radius sqrt((r + add)² + π_iso); 0 at the
-    // default level 1 (src/core/snap_stage.cpp).
+    // default level 1 (src/engine/snap_stage.cpp).
     const double sigma2 = double(options.sigma) * options.sigma;
     b.pi_iso = -sigma2 * std::log(double(effective_level(options)));
     return b;

@@ -15,7 +15,7 @@
 #include "cli/messages.hpp"
 #include "cli/options.hpp"
 #include "cli/summary.hpp"
-#include "core/text.hpp"
+#include "base/text.hpp"
 #include "fdmsurf/compare.hpp"
 #include "fdmsurf/error.hpp"
 

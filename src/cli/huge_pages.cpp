@@ -14,7 +14,7 @@
 #include <unistd.h>
 #endif
 
-#include "core/trace.hpp"
+#include "base/trace.hpp"
 
 namespace fdmsurf::cli {
 

@@ -7,7 +7,7 @@
 #include <csignal>
 #include <cstring>
 
-#include "core/temp_files.hpp"
+#include "base/temp_files.hpp"
 
 namespace fdmsurf::cli {
 

@@ -9,7 +9,7 @@
 #include <string_view>
 #include <vector>
 
-#include "core/json_text.hpp"
+#include "base/json_text.hpp"
 
 namespace fdmsurf::cli {
 

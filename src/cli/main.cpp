@@ -30,8 +30,8 @@
 #include "cli/output_paths.hpp"
 #include "cli/progress.hpp"
 #include "cli/summary.hpp"
-#include "core/trace.hpp"
-#include "mesh/atomic_file.hpp"
+#include "base/trace.hpp"
+#include "io/atomic_file.hpp"
 #include "fdmsurf/fdmsurf.hpp"
 
 namespace {

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "cli/options.hpp"
-#include "core/text.hpp"
+#include "base/text.hpp"
 #include "fdmsurf/error.hpp"
 
 namespace fdmsurf::cli {

@@ -15,12 +15,12 @@
 #include "cli/options.hpp"
 #include "cli/output_paths.hpp"
 #include "cli/summary.hpp"
-#include "core/text.hpp"
+#include "base/text.hpp"
 #include "fdmsurf/areas.hpp"
 #include "fdmsurf/error.hpp"
 #include "fdmsurf/msms.hpp"
 #include "fdmsurf/structure.hpp"
-#include "mesh/atomic_file.hpp"
+#include "io/atomic_file.hpp"
 #include "structure/detail.hpp"
 
 namespace fdmsurf::cli {

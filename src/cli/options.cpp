@@ -14,7 +14,7 @@
 
 #include <vulkan/vulkan_core.h>
 
-#include "mesh/refine.hpp"
+#include "refine/refine.hpp"
 
 namespace fdmsurf::cli {
 namespace {

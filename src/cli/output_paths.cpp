@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <system_error>
 
-#include "mesh/atomic_file.hpp"
+#include "io/atomic_file.hpp"
 
 namespace fdmsurf::cli {
 

@@ -10,7 +10,7 @@
 #include "cli/options.hpp"
 #include "fdmsurf/error.hpp"
 #include "fdmsurf/surface.hpp"
-#include "core/engine_impl.hpp"
+#include "engine/engine_impl.hpp"
 #include "filter/plan_cache.hpp"
 
 namespace fdmsurf::cli {

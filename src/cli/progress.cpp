@@ -1,6 +1,6 @@
 // The progress line: a thread redraws it five times a second once a run has lasted a second.
 #include "cli/progress.hpp"
-#include "core/text.hpp"
+#include "base/text.hpp"
 
 #include <unistd.h>
 

@@ -11,7 +11,7 @@
 
 #include "cli/json.hpp"
 #include "cli/options.hpp"
-#include "core/text.hpp"
+#include "base/text.hpp"
 #include "fdmsurf/mesh.hpp"
 #include "fdmsurf/simplify.hpp"
 #include "fdmsurf/structure.hpp"

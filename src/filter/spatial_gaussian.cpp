@@ -9,7 +9,7 @@
 #include <cstring>
 #include <numbers>
 
-#include "core/parallel.hpp"
+#include "base/parallel.hpp"
 
 namespace fdmsurf::detail {
 

@@ -1,7 +1,7 @@
 // Spectral filter (Giard & Macq 2010; ALGORITHM.md §3) on VkFFT; VkFFT's C result codes become
 // fdmsurf::Error here and nowhere else.
 #include "filter/spectral_filter.hpp"
-#include "core/trace.hpp"
+#include "base/trace.hpp"
 
 #include <clocale>
 #include <cstdio>
@@ -11,7 +11,7 @@
 #include <vector>
 #include <string>
 
-#include "core/shaders.hpp"
+#include "vulkan/shaders.hpp"
 #include "filter/vkfft_compat.hpp"
 #include "shader_interface.h"
 #include "vulkan/buffer.hpp"

@@ -3,7 +3,7 @@
 
 #include <atomic>
 
-#include "core/parallel.hpp"
+#include "base/parallel.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <string>
 
-#include "core/shaders.hpp"
-#include "core/trace.hpp"
+#include "vulkan/shaders.hpp"
+#include "base/trace.hpp"
 #include "fdmsurf/error.hpp"
 #include "shader_interface.h"
 #include "vulkan/commands.hpp"

@@ -2,7 +2,7 @@
 // (shaders/ses_distance.comp).
 #include "grid/ses_distance_gpu.hpp"
 
-#include "core/shaders.hpp"
+#include "vulkan/shaders.hpp"
 #include "grid/ses_distance_cpu.hpp"
 #include "shader_interface.h"
 #include "vulkan/commands.hpp"

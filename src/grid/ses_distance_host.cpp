@@ -11,7 +11,7 @@
 #include <numeric>
 #include <string>
 
-#include "core/parallel.hpp"
+#include "base/parallel.hpp"
 #include "fdmsurf/error.hpp"
 #include "grid/ses_distance_cpu.hpp"
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <utility>
 
-#include "core/parallel.hpp"
+#include "base/parallel.hpp"
 #include "fdmsurf/error.hpp"
 #include "grid/v3.hpp"
 

@@ -1,14 +1,14 @@
 // Marching-cubes dispatches (shaders/mc_*.comp): sizes come from a counting pass and a prefix
 // sum, so no fixed cap can drop triangles.
 #include "isosurface/marching_cubes_gpu.hpp"
-#include "core/trace.hpp"
+#include "base/trace.hpp"
 
 #include <algorithm>
 #include <cstring>
 #include <string>
 
-#include "core/parallel.hpp"
-#include "core/shaders.hpp"
+#include "base/parallel.hpp"
+#include "vulkan/shaders.hpp"
 #include "fdmsurf_generated/mc_tables.hpp"
 #include "fdmsurf/error.hpp"
 #include "shader_interface.h"

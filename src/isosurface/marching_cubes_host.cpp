@@ -10,7 +10,7 @@
 #include <bit>
 #include <limits>
 
-#include "core/parallel.hpp"
+#include "base/parallel.hpp"
 #include "fdmsurf/error.hpp"
 #include "fdmsurf_generated/mc_tables.hpp"
 

@@ -12,7 +12,7 @@
 #include <optional>
 #include <vector>
 
-#include "core/parallel.hpp"
+#include "base/parallel.hpp"
 #include "fdmsurf/mesh.hpp"
 #include "mesh/mesh_attributes.hpp"
 #include "mesh/mesh_pieces.hpp"

@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <atomic>
 
-#include "core/parallel.hpp"
+#include "base/parallel.hpp"
 #include "mesh/union_find.hpp"
 
 namespace fdmsurf::detail {

@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/parallel.hpp"
+#include "base/parallel.hpp"
 #include "fdmsurf/mesh.hpp"
 
 namespace fdmsurf::detail {

@@ -9,7 +9,7 @@
 #include <numeric>
 #include <vector>
 
-#include "core/parallel.hpp"
+#include "base/parallel.hpp"
 #include "fdmsurf/mesh.hpp"
 #include "mesh/mesh_pieces.hpp"
 #include "mesh/mesh_stats_detail.hpp"

@@ -8,7 +8,7 @@
 #include <map>
 #include <unordered_map>
 
-#include "core/cell_list.hpp"
+#include "base/cell_list.hpp"
 #include "fdmsurf/error.hpp"
 
 namespace fdmsurf::detail {

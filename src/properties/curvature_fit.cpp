@@ -6,7 +6,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "core/parallel.hpp"
+#include "base/parallel.hpp"
 #include "fdmsurf/error.hpp"
 #include "properties/curvature.hpp"
 

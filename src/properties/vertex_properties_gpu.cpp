@@ -1,7 +1,7 @@
 // Dispatch of the vertex-property passes: the atoms binned into cells on the host, vertices in
 // chunks that fit one storage-buffer binding.
 #include "properties/vertex_properties_gpu.hpp"
-#include "core/trace.hpp"
+#include "base/trace.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,8 +9,8 @@
 #include <deque>
 #include <limits>
 
-#include "core/parallel.hpp"
-#include "core/shaders.hpp"
+#include "base/parallel.hpp"
+#include "vulkan/shaders.hpp"
 #include "fdmsurf/error.hpp"
 #include "shader_interface.h"
 #include "vulkan/commands.hpp"

@@ -1,5 +1,5 @@
 // PNG files through libpng's simplified API (encoding to memory, so that no C++ exception ever
-// crosses libpng's C frames), written atomically (mesh/atomic_file.hpp).
+// crosses libpng's C frames), written atomically (io/atomic_file.hpp).
 #include <png.h>
 
 #include <cstring>
@@ -9,8 +9,8 @@
 
 #include "fdmsurf/error.hpp"
 #include "fdmsurf/render.hpp"
-#include "formats/formats.hpp"
-#include "mesh/atomic_file.hpp"
+#include "io/formats.hpp"
+#include "io/atomic_file.hpp"
 
 namespace fdmsurf {
 namespace {

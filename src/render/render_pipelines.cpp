@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "core/shaders.hpp"
+#include "vulkan/shaders.hpp"
 #include "fdmsurf/error.hpp"
 #include "shader_interface.h"
 #include "vulkan/check.hpp"

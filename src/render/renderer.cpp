@@ -9,8 +9,8 @@
 #include <memory>
 #include <string>
 
-#include "core/engine_impl.hpp"
-#include "core/shaders.hpp"
+#include "engine/engine_impl.hpp"
+#include "vulkan/shaders.hpp"
 #include "fdmsurf/render.hpp"
 #include "fdmsurf/vulkan_interop.hpp"
 #include "render/camera.hpp"

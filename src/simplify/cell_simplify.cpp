@@ -12,8 +12,8 @@
 #include <limits>
 #include <vector>
 
-#include "core/parallel.hpp"
-#include "core/trace.hpp"
+#include "base/parallel.hpp"
+#include "base/trace.hpp"
 #include "simplify/simplify_detail.hpp"
 
 namespace fdmsurf::detail {

@@ -17,10 +17,10 @@
 #include <string>
 #include <vector>
 
-#include "core/parallel.hpp"
-#include "core/trace.hpp"
+#include "base/parallel.hpp"
+#include "base/trace.hpp"
 #include "fdmsurf/error.hpp"
-#include "mesh/compare_detail.hpp"
+#include "compare/compare_detail.hpp"
 #include "mesh/mesh_attributes.hpp"
 #include "mesh/mesh_validate.hpp"
 #include "simplify/simplify_detail.hpp"

@@ -3,7 +3,7 @@
 
 #include <vector>
 
-#include "core/trace.hpp"
+#include "base/trace.hpp"
 #include "vulkan/check.hpp"
 #include "vulkan/context.hpp"
 

@@ -14,8 +14,7 @@
 #include "cli/msms_command.hpp"
 #include "cli/options.hpp"
 #include "fuzz/fuzz_common.hpp"
-#include "mesh/compare_detail.hpp"
-#include "mesh/mesh_io.hpp"
+#include "io/mesh_io.hpp"
 
 namespace fdmsurf::fuzz {
 

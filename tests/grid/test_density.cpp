@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "core/engine_impl.hpp"
+#include "engine/engine_impl.hpp"
 #include "fdmsurf/structure.hpp"
 #include "fdmsurf/surface.hpp"
 #include "grid/atom_bins.hpp"

@@ -19,7 +19,7 @@
 #include "mesh/cavities.hpp"
 #include "mesh/mesh_attributes.hpp"
 #include "mesh/mesh_shapes.hpp"
-#include "mesh/refine.hpp"
+#include "refine/refine.hpp"
 #include "support/mesh_checks.hpp"
 #include "support/meshstat_tool.hpp"
 #include "support/temp_folder.hpp"

@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "core/engine_impl.hpp"
+#include "engine/engine_impl.hpp"
 #include "fdmsurf/error.hpp"
 #include "fdmsurf/surface.hpp"
 

@@ -9,8 +9,8 @@
 #include "fdmsurf/error.hpp"
 #include "fdmsurf/surface.hpp"
 #include "support/gpu_fixture.hpp"
-#include "core/engine_impl.hpp"
-#include "core/shaders.hpp"
+#include "engine/engine_impl.hpp"
+#include "vulkan/shaders.hpp"
 #include "vulkan/buffer.hpp"
 #include "vulkan/pipeline.hpp"
 
