@@ -20,7 +20,11 @@ bin=$(realpath "$1")/fdmsurf
 out=$2
 mkdir -p "$out"
 out=$(realpath "$out")
-data=$PWD/tests/data
+# The inputs from one fixed folder, so that outputs that name their input (summaries, MSMS
+# headers, areas files) are the same whichever checkout runs the script.
+data=/tmp/fdmsurf-snapshot-data
+mkdir -p "$data"
+cp tests/data/1crn.pdb tests/data/4hhb.pdb.gz tests/data/1crn.xyzrn tests/data/4hhb.xyzrn "$data/"
 cd "$out"  # outputs are named relative to it, so that two snapshots name them alike
 
 run() {  # run NAME ARGS...: fdmsurf ARGS, its standard output kept as NAME.log (times removed)
