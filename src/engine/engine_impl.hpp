@@ -2,6 +2,7 @@
 // that compare each GPU stage with its CPU reference.
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include "fdmsurf/surface.hpp"
@@ -31,6 +32,19 @@ struct DeviceMeshBuffers {
 // surface: vdw, sas, edt), and the chord tolerance it uses for vdw and sas (Å).
 bool snaps(const SurfaceOptions& options, const GridPlan& plan);
 double chord_tolerance_for(const SurfaceOptions& options);
+
+// What the field of a one-piece surface is made from (EngineImpl::find_field_sources): the
+// atoms binned on the grid (fdm, vdw, sas) or the exact SES's features and their host index,
+// and where the field is computed and marched.
+struct FieldSources {
+    AtomBins bins;
+    SesFeatures features;
+    std::unique_ptr<SesHostField> ses;     // reads `features`: for the field on the host, the snap
+                                           // and refinement; null where none of them needs it
+    std::unique_ptr<float[]> host_values;  // the exact SES field computed on the host (plan's layout)
+    bool host_ses = false;                 // the exact SES field on the host
+    bool host_mc = false;                  // marching cubes on the host
+};
 
 struct EngineImpl {
     explicit EngineImpl(const EngineOptions& options)
@@ -96,6 +110,22 @@ struct EngineImpl {
     Buffer upload_attributes(const Mesh& mesh);
     // Bytes one field buffer may take: maxStorageBufferRange, and a quarter of device memory.
     std::uint64_t field_budget() const;
+    // Bytes of field that one piece may take (preflight.cpp): the device's field_budget, or for
+    // the exact SES computed and marched on the host, the host's budget.
+    double one_piece_limit(const GridPlan& plan, bool on_device) const;
+    // The bins or features of the one-piece field, and the exact SES field where the host
+    // computes it (its stage times and progress into `result`; t0: the run's start).
+    void find_field_sources(const Atoms& atoms, const SurfaceOptions& options,
+                            const GridPlan& plan, bool on_device, double t0, FieldSources& src,
+                            SurfaceResult& result);
+    // The one-piece paths: marching cubes on the host (host_path.cpp) or on the device
+    // (device_path.cpp), then the host stages.
+    SurfaceResult run_on_host(const Atoms& atoms, const SurfaceOptions& options,
+                              const GridPlan& plan, FieldSources& src, SurfaceResult result);
+    SurfaceResult run_on_device(const Atoms& atoms, const SurfaceOptions& options,
+                                const GridPlan& plan, FieldSources& src, GpuMesh* on_device,
+                                SurfaceResult result);
+    // A field larger than one piece, in z-slabs (slabs.cpp, slab_plan.hpp).
     SurfaceResult run_in_slabs(const Atoms& atoms, const SurfaceOptions& options, GridPlan plan,
                                SurfaceResult result);
     // The refine stage (refine_stage.cpp): options.refine levels of subdivision of result.mesh,
