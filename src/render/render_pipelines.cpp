@@ -136,168 +136,181 @@ RenderPipelines::RenderPipelines(const Context& ctx) : ctx_(ctx), device_(ctx.de
                     "rendering: the device has no depth format that can also be sampled "
                     "(D32_SFLOAT, X8_D24_UNORM_PACK32 or D16_UNORM)");
     try {
-        // The scene: colour (linear light, sRGB-encoded), normal and depth, all read by the
-        // compositing pass afterwards.
-        {
-            VkAttachmentDescription att[3]{};
-            att[0].format = kColorFormat;
-            att[0].samples = VK_SAMPLE_COUNT_1_BIT;
-            att[0].loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-            att[0].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-            att[0].stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
-            att[0].stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-            att[0].initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-            att[0].finalLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
-            att[1] = att[0];
-            att[1].format = kNormalFormat;
-            att[2] = att[0];
-            att[2].format = depth_format_;
-            att[2].finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL;
-            VkAttachmentReference color[2] = {{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL},
-                                              {1, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL}};
-            VkAttachmentReference depth{2, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
-            VkSubpassDescription sub{};
-            sub.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
-            sub.colorAttachmentCount = 2;
-            sub.pColorAttachments = color;
-            sub.pDepthStencilAttachment = &depth;
-            VkSubpassDependency dep[2]{};
-            // The previous render's compositing pass read these images (write after read).
-            dep[0].srcSubpass = VK_SUBPASS_EXTERNAL;
-            dep[0].dstSubpass = 0;
-            dep[0].srcStageMask = VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT;
-            dep[0].dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT |
-                                  VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT |
-                                  VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
-            dep[0].dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT |
-                                   VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT |
-                                   VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
-            // This pass's writes, then sampled by the compositing pass.
-            dep[1].srcSubpass = 0;
-            dep[1].dstSubpass = VK_SUBPASS_EXTERNAL;
-            dep[1].srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT |
-                                  VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT |
-                                  VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
-            dep[1].srcAccessMask =
-                VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
-            dep[1].dstStageMask = VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT;
-            dep[1].dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
-            VkRenderPassCreateInfo info{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
-            info.attachmentCount = 3;
-            info.pAttachments = att;
-            info.subpassCount = 1;
-            info.pSubpasses = &sub;
-            info.dependencyCount = 2;
-            info.pDependencies = dep;
-            FDM_VK_CHECK(vkCreateRenderPass(device_, &info, nullptr, &scene_pass_));
-        }
-        // The composited picture, then copied to the host buffer.
-        {
-            VkAttachmentDescription att{};
-            att.format = kColorFormat;
-            att.samples = VK_SAMPLE_COUNT_1_BIT;
-            att.loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;  // every pixel is written
-            att.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-            att.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
-            att.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-            att.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-            att.finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
-            VkAttachmentReference color{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
-            VkSubpassDescription sub{};
-            sub.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
-            sub.colorAttachmentCount = 1;
-            sub.pColorAttachments = &color;
-            VkSubpassDependency dep[2]{};
-            // The previous render's copy read this image (write after read).
-            dep[0].srcSubpass = VK_SUBPASS_EXTERNAL;
-            dep[0].dstSubpass = 0;
-            dep[0].srcStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
-            dep[0].dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
-            dep[0].dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
-            dep[1].srcSubpass = 0;
-            dep[1].dstSubpass = VK_SUBPASS_EXTERNAL;
-            dep[1].srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
-            dep[1].srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
-            dep[1].dstStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
-            dep[1].dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
-            VkRenderPassCreateInfo info{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
-            info.attachmentCount = 1;
-            info.pAttachments = &att;
-            info.subpassCount = 1;
-            info.pSubpasses = &sub;
-            info.dependencyCount = 2;
-            info.pDependencies = dep;
-            FDM_VK_CHECK(vkCreateRenderPass(device_, &info, nullptr, &composite_pass_));
-        }
-        {
-            VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(shader::RenderPush)};
-            VkPipelineLayoutCreateInfo info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-            info.pushConstantRangeCount = 1;
-            info.pPushConstantRanges = &range;
-            FDM_VK_CHECK(vkCreatePipelineLayout(device_, &info, nullptr, &scene_layout_));
-        }
-        {
-            VkSamplerCreateInfo info{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
-            info.magFilter = VK_FILTER_NEAREST;
-            info.minFilter = VK_FILTER_NEAREST;
-            info.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
-            info.addressModeU = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-            info.addressModeV = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-            info.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-            info.maxLod = 0.0f;
-            FDM_VK_CHECK(vkCreateSampler(device_, &info, nullptr, &sampler_));
-        }
-        {
-            VkDescriptorSetLayoutBinding b[3]{};
-            for (std::uint32_t i = 0; i < 3; ++i) {
-                b[i].binding = i;
-                b[i].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-                b[i].descriptorCount = 1;
-                b[i].stageFlags = VK_SHADER_STAGE_FRAGMENT_BIT;
-                b[i].pImmutableSamplers = &sampler_;
-            }
-            VkDescriptorSetLayoutCreateInfo info{
-                VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-            info.bindingCount = 3;
-            info.pBindings = b;
-            FDM_VK_CHECK(
-                vkCreateDescriptorSetLayout(device_, &info, nullptr, &composite_set_layout_));
-            VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 3};
-            VkDescriptorPoolCreateInfo pool{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-            pool.maxSets = 1;
-            pool.poolSizeCount = 1;
-            pool.pPoolSizes = &size;
-            FDM_VK_CHECK(vkCreateDescriptorPool(device_, &pool, nullptr, &descriptor_pool_));
-            VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-            alloc.descriptorPool = descriptor_pool_;
-            alloc.descriptorSetCount = 1;
-            alloc.pSetLayouts = &composite_set_layout_;
-            FDM_VK_CHECK(vkAllocateDescriptorSets(device_, &alloc, &composite_set_));
-            VkPushConstantRange range{VK_SHADER_STAGE_FRAGMENT_BIT, 0,
-                                      sizeof(shader::CompositePush)};
-            VkPipelineLayoutCreateInfo layout{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-            layout.setLayoutCount = 1;
-            layout.pSetLayouts = &composite_set_layout_;
-            layout.pushConstantRangeCount = 1;
-            layout.pPushConstantRanges = &range;
-            FDM_VK_CHECK(vkCreatePipelineLayout(device_, &layout, nullptr, &composite_layout_));
-        }
-        {
-            const Modules modules(device_, Shader::CompositeVert, Shader::CompositeFrag);
-            const PipelineState state(modules, 1);
-            VkPipelineVertexInputStateCreateInfo input{
-                VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
-            VkGraphicsPipelineCreateInfo info = state.info(composite_layout_, composite_pass_);
-            info.pVertexInputState = &input;
-            FDM_VK_CHECK(vkCreateGraphicsPipelines(device_, VK_NULL_HANDLE, 1, &info, nullptr,
-                                                   &composite_pipeline_));
-            ctx.set_name(VK_OBJECT_TYPE_PIPELINE,
-                         reinterpret_cast<std::uint64_t>(composite_pipeline_), "composite");
-        }
+        make_scene_pass();
+        make_composite_pass();
+        make_scene_layout();
+        make_sampler();
+        make_composite_layout();
+        make_composite_pipeline();
     } catch (...) {
         release();
         throw;
     }
+}
+
+// The scene pass: colour (linear light, sRGB-encoded), normal and depth, all read by the
+// compositing pass afterwards.
+void RenderPipelines::make_scene_pass() {
+    VkAttachmentDescription att[3]{};
+    att[0].format = kColorFormat;
+    att[0].samples = VK_SAMPLE_COUNT_1_BIT;
+    att[0].loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    att[0].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    att[0].stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+    att[0].stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    att[0].initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    att[0].finalLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+    att[1] = att[0];
+    att[1].format = kNormalFormat;
+    att[2] = att[0];
+    att[2].format = depth_format_;
+    att[2].finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL;
+    VkAttachmentReference color[2] = {{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL},
+                                      {1, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL}};
+    VkAttachmentReference depth{2, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
+    VkSubpassDescription sub{};
+    sub.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+    sub.colorAttachmentCount = 2;
+    sub.pColorAttachments = color;
+    sub.pDepthStencilAttachment = &depth;
+    VkSubpassDependency dep[2]{};
+    // The previous render's compositing pass read these images (write after read).
+    dep[0].srcSubpass = VK_SUBPASS_EXTERNAL;
+    dep[0].dstSubpass = 0;
+    dep[0].srcStageMask = VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT;
+    dep[0].dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT |
+                          VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT |
+                          VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
+    dep[0].dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT |
+                           VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT |
+                           VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+    // This pass's writes, then sampled by the compositing pass.
+    dep[1].srcSubpass = 0;
+    dep[1].dstSubpass = VK_SUBPASS_EXTERNAL;
+    dep[1].srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT |
+                          VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT |
+                          VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
+    dep[1].srcAccessMask =
+        VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+    dep[1].dstStageMask = VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT;
+    dep[1].dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
+    VkRenderPassCreateInfo info{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
+    info.attachmentCount = 3;
+    info.pAttachments = att;
+    info.subpassCount = 1;
+    info.pSubpasses = &sub;
+    info.dependencyCount = 2;
+    info.pDependencies = dep;
+    FDM_VK_CHECK(vkCreateRenderPass(device_, &info, nullptr, &scene_pass_));
+}
+
+// The compositing pass: the composited picture, then copied to the host buffer.
+void RenderPipelines::make_composite_pass() {
+    VkAttachmentDescription att{};
+    att.format = kColorFormat;
+    att.samples = VK_SAMPLE_COUNT_1_BIT;
+    att.loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;  // every pixel is written
+    att.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    att.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+    att.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    att.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    att.finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+    VkAttachmentReference color{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
+    VkSubpassDescription sub{};
+    sub.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+    sub.colorAttachmentCount = 1;
+    sub.pColorAttachments = &color;
+    VkSubpassDependency dep[2]{};
+    // The previous render's copy read this image (write after read).
+    dep[0].srcSubpass = VK_SUBPASS_EXTERNAL;
+    dep[0].dstSubpass = 0;
+    dep[0].srcStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
+    dep[0].dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+    dep[0].dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+    dep[1].srcSubpass = 0;
+    dep[1].dstSubpass = VK_SUBPASS_EXTERNAL;
+    dep[1].srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+    dep[1].srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+    dep[1].dstStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
+    dep[1].dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+    VkRenderPassCreateInfo info{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
+    info.attachmentCount = 1;
+    info.pAttachments = &att;
+    info.subpassCount = 1;
+    info.pSubpasses = &sub;
+    info.dependencyCount = 2;
+    info.pDependencies = dep;
+    FDM_VK_CHECK(vkCreateRenderPass(device_, &info, nullptr, &composite_pass_));
+}
+
+// The scene pipelines' layout: the RenderPush constants.
+void RenderPipelines::make_scene_layout() {
+    VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(shader::RenderPush)};
+    VkPipelineLayoutCreateInfo info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    info.pushConstantRangeCount = 1;
+    info.pPushConstantRanges = &range;
+    FDM_VK_CHECK(vkCreatePipelineLayout(device_, &info, nullptr, &scene_layout_));
+}
+
+// The sampler of the scene's images: nearest, clamped.
+void RenderPipelines::make_sampler() {
+    VkSamplerCreateInfo info{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+    info.magFilter = VK_FILTER_NEAREST;
+    info.minFilter = VK_FILTER_NEAREST;
+    info.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+    info.addressModeU = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+    info.addressModeV = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+    info.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+    info.maxLod = 0.0f;
+    FDM_VK_CHECK(vkCreateSampler(device_, &info, nullptr, &sampler_));
+}
+
+// The compositing pass's descriptor set (the scene's three images) and layout.
+void RenderPipelines::make_composite_layout() {
+    VkDescriptorSetLayoutBinding b[3]{};
+    for (std::uint32_t i = 0; i < 3; ++i) {
+        b[i].binding = i;
+        b[i].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+        b[i].descriptorCount = 1;
+        b[i].stageFlags = VK_SHADER_STAGE_FRAGMENT_BIT;
+        b[i].pImmutableSamplers = &sampler_;
+    }
+    VkDescriptorSetLayoutCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    info.bindingCount = 3;
+    info.pBindings = b;
+    FDM_VK_CHECK(vkCreateDescriptorSetLayout(device_, &info, nullptr, &composite_set_layout_));
+    VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 3};
+    VkDescriptorPoolCreateInfo pool{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    pool.maxSets = 1;
+    pool.poolSizeCount = 1;
+    pool.pPoolSizes = &size;
+    FDM_VK_CHECK(vkCreateDescriptorPool(device_, &pool, nullptr, &descriptor_pool_));
+    VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    alloc.descriptorPool = descriptor_pool_;
+    alloc.descriptorSetCount = 1;
+    alloc.pSetLayouts = &composite_set_layout_;
+    FDM_VK_CHECK(vkAllocateDescriptorSets(device_, &alloc, &composite_set_));
+    VkPushConstantRange range{VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(shader::CompositePush)};
+    VkPipelineLayoutCreateInfo layout{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    layout.setLayoutCount = 1;
+    layout.pSetLayouts = &composite_set_layout_;
+    layout.pushConstantRangeCount = 1;
+    layout.pPushConstantRanges = &range;
+    FDM_VK_CHECK(vkCreatePipelineLayout(device_, &layout, nullptr, &composite_layout_));
+}
+
+// The compositing pipeline: one full-screen triangle.
+void RenderPipelines::make_composite_pipeline() {
+    const Modules modules(device_, Shader::CompositeVert, Shader::CompositeFrag);
+    const PipelineState state(modules, 1);
+    VkPipelineVertexInputStateCreateInfo input{
+        VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+    VkGraphicsPipelineCreateInfo info = state.info(composite_layout_, composite_pass_);
+    info.pVertexInputState = &input;
+    FDM_VK_CHECK(vkCreateGraphicsPipelines(device_, VK_NULL_HANDLE, 1, &info, nullptr,
+                                           &composite_pipeline_));
+    ctx_.set_name(VK_OBJECT_TYPE_PIPELINE, reinterpret_cast<std::uint64_t>(composite_pipeline_),
+                  "composite");
 }
 
 RenderPipelines::~RenderPipelines() { release(); }

@@ -45,6 +45,13 @@ public:
 
 private:
     void release();
+    // The constructor's steps (render_pipelines.cpp).
+    void make_scene_pass();
+    void make_composite_pass();
+    void make_scene_layout();
+    void make_sampler();
+    void make_composite_layout();
+    void make_composite_pipeline();
     const Context& ctx_;
     VkDevice device_ = VK_NULL_HANDLE;
     VkFormat depth_format_ = VK_FORMAT_UNDEFINED;
@@ -86,6 +93,13 @@ public:
 
 private:
     void release();
+    // The constructor's steps (render_pipelines.cpp).
+    void make_scene_pass();
+    void make_composite_pass();
+    void make_scene_layout();
+    void make_sampler();
+    void make_composite_layout();
+    void make_composite_pipeline();
     VkDevice device_ = VK_NULL_HANDLE;
     std::uint32_t width_ = 0, height_ = 0, samples_ = 0;
 };

@@ -10,7 +10,6 @@
 #include <string>
 
 #include "engine/engine_impl.hpp"
-#include "vulkan/shaders.hpp"
 #include "fdmsurf/render.hpp"
 #include "fdmsurf/vulkan_interop.hpp"
 #include "render/camera.hpp"
@@ -20,6 +19,7 @@
 #include "vulkan/commands.hpp"
 #include "vulkan/context.hpp"
 #include "vulkan/pipeline.hpp"
+#include "vulkan/shaders.hpp"
 
 namespace fdmsurf {
 namespace detail {
@@ -49,6 +49,49 @@ void straighten_alpha(std::vector<std::uint8_t>& rgba) {
             for (int k = 0; k < 3; ++k) rgba[i + k] = linear_to_srgb8(decode[rgba[i + k]] * scale);
         }
     }
+}
+
+// The scene pass's push constants: the view's rotation `rot` and the framing `f`.
+shader::RenderPush scene_push(const std::array<float, 9>& rot, const Framing& f) {
+    shader::RenderPush rp{};
+    rp.row0_x = rot[0], rp.row0_y = rot[1], rp.row0_z = rot[2];
+    rp.row1_x = rot[3], rp.row1_y = rot[4], rp.row1_z = rot[5];
+    rp.row2_x = rot[6], rp.row2_y = rot[7], rp.row2_z = rot[8];
+    rp.center_x = f.sphere.center[0];
+    rp.center_y = f.sphere.center[1];
+    rp.center_z = f.sphere.center[2];
+    rp.scale_x = 1.0f / f.half_width;
+    rp.scale_y = 1.0f / f.half_height;
+    rp.depth_scale = 0.5f / f.half_depth;
+    return rp;
+}
+
+// The compositing pass's push constants: background, ambient occlusion, depth cue and outline
+// of `o`, for the framing `f` at `s` samples per axis.
+shader::CompositePush composite_push(const RenderOptions& o, const Framing& f, std::uint32_t s) {
+    const bool transparent = o.background[3] == 0;
+    shader::CompositePush cp{};
+    if (!transparent) {
+        cp.background_r = srgb_to_linear(o.background[0] / 255.0f);
+        cp.background_g = srgb_to_linear(o.background[1] / 255.0f);
+        cp.background_b = srgb_to_linear(o.background[2] / 255.0f);
+        cp.background_a = 1.0f;
+    }
+    cp.depth_range = 2.0f * f.half_depth;
+    cp.pixel_size = f.pixel_size / float(s);
+    cp.ao_strength = o.ambient_occlusion;
+    cp.ao_radius = o.ambient_occlusion_radius > 0.0f ? o.ambient_occlusion_radius
+                                                     : std::max(4.0f, 0.05f * f.sphere.radius);
+    cp.depth_cue = o.depth_cue;
+    cp.samples = s;
+    if (o.outline) {
+        const std::uint32_t width_px = std::max<std::uint32_t>(1, (o.width + 256) / 512);
+        cp.outline = float(width_px * s);
+        // A step in depth worth a line: larger than the surface's own slope can make between
+        // neighbours a line's width apart (grazing faces), and than a probe's radius.
+        cp.outline_step = std::max(1.4f, 4.0f * f.pixel_size * float(width_px));
+    }
+    return cp;
 }
 
 }  // namespace
@@ -95,6 +138,13 @@ struct RendererImpl {
     BoundingSphere bounds(const DeviceMesh& mesh, const GpuMesh& gpu);
     RenderResult render(const DeviceMesh& mesh, const GpuMesh& gpu, const Buffer* attributes,
                         const RenderOptions& o);
+    // render's steps.
+    std::uint32_t samples_within_memory(const RenderOptions& o) const;
+    void record_scene(VkCommandBuffer cmd, const DeviceMesh& mesh, const GpuMesh& gpu,
+                      const Buffer* attributes, bool colored, VkPipeline scene,
+                      const shader::RenderPush& rp, float rot_zz, std::uint32_t w, std::uint32_t h);
+    void record_composite(VkCommandBuffer cmd, const RenderOptions& o,
+                          const shader::CompositePush& cp);
 
     EngineImpl& engine;
     Context& context;
@@ -185,30 +235,12 @@ BoundingSphere RendererImpl::bounds(const DeviceMesh& mesh, const GpuMesh& gpu) 
     return sphere;
 }
 
-RenderResult RendererImpl::render(const DeviceMesh& mesh, const GpuMesh& gpu,
-                                  const Buffer* attributes, const RenderOptions& o) {
-    check(o);
-    const double t0 = now_ms();
-    RenderResult result;
-    if (mesh.vertex_count() > 0 && mesh.vertex_count() - 1 > max_index)
-        throw Error(ErrorCode::DeviceLimit,
-                    "rendering: the mesh has " + std::to_string(mesh.vertex_count()) +
-                        " vertices, more than this device draws with 32-bit indices (" +
-                        std::to_string(max_index + 1ull) +
-                        ": fullDrawIndexUint32 is not supported)");
-    std::vector<StageTime> times;
-    BoundingSphere sphere = o.frame;
-    if (!(sphere.radius > 0.0f)) {
-        sphere = bounds(mesh, gpu);
-        times = commands.stage_times();
-    }
-    const Framing f = frame_sphere(sphere, o.width, o.height);
-    result.frame = f.sphere;
-    result.pixel_size = f.pixel_size;
-    // The targets' memory, checked before any is allocated (a 16384² picture takes 5 GiB; on
-    // lavapipe, of the host's): supersampling is dropped where it alone does not fit. The
-    // targets held now count as free (they would be replaced), where the device reports its
-    // budget (else the heap's size is all there is to go by).
+// The supersampling a picture of `o` gets where its targets fit the device's free memory (a
+// 16384² picture takes 5 GiB; on lavapipe, of the host's): dropped to 1 where supersampling alone
+// does not fit; DeviceLimit where nothing does. The targets held now count as free (they would
+// be replaced), where the device reports its budget (else the heap's size is all there is to go
+// by).
+std::uint32_t RendererImpl::samples_within_memory(const RenderOptions& o) const {
     std::uint32_t s = samples_for(o);
     if (const VkDeviceSize available = context.available_device_memory(); available > 0) {
         const std::uint64_t held =
@@ -229,74 +261,15 @@ RenderResult RendererImpl::render(const DeviceMesh& mesh, const GpuMesh& gpu,
             throw Error(ErrorCode::DeviceLimit, text);
         }
     }
-    if (!targets || !targets->matches(o.width, o.height, s)) {
-        targets.reset();
-        targets = std::make_unique<RenderTargets>(context, pipelines, o.width, o.height, s);
-    }
-    result.supersample = s;
+    return s;
+}
+
+// The scene pass: the mesh drawn into the supersampled colour, normal and depth targets.
+void RendererImpl::record_scene(VkCommandBuffer cmd, const DeviceMesh& mesh, const GpuMesh& gpu,
+                                const Buffer* attributes, bool colored, VkPipeline scene,
+                                const shader::RenderPush& rp, float rot_zz, std::uint32_t w,
+                                std::uint32_t h) {
     RenderTargets& t = *targets;
-    pipelines.bind_inputs(t.scene_color.view(), t.scene_depth.view(), t.scene_normal.view());
-    const std::uint32_t w = o.width * s, h = o.height * s;
-
-    const std::array<float, 9> rot = view_rotation(o.view, o.rotate);
-    shader::RenderPush rp{};
-    rp.row0_x = rot[0], rp.row0_y = rot[1], rp.row0_z = rot[2];
-    rp.row1_x = rot[3], rp.row1_y = rot[4], rp.row1_z = rot[5];
-    rp.row2_x = rot[6], rp.row2_y = rot[7], rp.row2_z = rot[8];
-    rp.center_x = f.sphere.center[0];
-    rp.center_y = f.sphere.center[1];
-    rp.center_z = f.sphere.center[2];
-    rp.scale_x = 1.0f / f.half_width;
-    rp.scale_y = 1.0f / f.half_height;
-    rp.depth_scale = 0.5f / f.half_depth;
-
-    const bool transparent = o.background[3] == 0;
-    shader::CompositePush cp{};
-    if (!transparent) {
-        cp.background_r = srgb_to_linear(o.background[0] / 255.0f);
-        cp.background_g = srgb_to_linear(o.background[1] / 255.0f);
-        cp.background_b = srgb_to_linear(o.background[2] / 255.0f);
-        cp.background_a = 1.0f;
-    }
-    cp.depth_range = 2.0f * f.half_depth;
-    cp.pixel_size = f.pixel_size / float(s);
-    cp.ao_strength = o.ambient_occlusion;
-    cp.ao_radius = o.ambient_occlusion_radius > 0.0f ? o.ambient_occlusion_radius
-                                                     : std::max(4.0f, 0.05f * f.sphere.radius);
-    cp.depth_cue = o.depth_cue;
-    cp.samples = s;
-    if (o.outline) {
-        const std::uint32_t width_px = std::max<std::uint32_t>(1, (o.width + 256) / 512);
-        cp.outline = float(width_px * s);
-        // A step in depth worth a line: larger than the surface's own slope can make between
-        // neighbours a line's width apart (grazing faces), and than a probe's radius.
-        cp.outline_step = std::max(1.4f, 4.0f * f.pixel_size * float(width_px));
-    }
-
-    const bool colored = attributes != nullptr && *attributes;
-    if (!colored) {
-        const std::uint32_t words[2] = {0xffffffffu,
-                                        std::uint32_t(o.color[0]) | std::uint32_t(o.color[1]) << 8 |
-                                            std::uint32_t(o.color[2]) << 16 | 0xff000000u};
-        std::memcpy(uniform_color.mapped(), words, sizeof words);
-        uniform_color.flush();
-    }
-    const VkPipeline scene = mesh.triangle_count() > 0
-                                 ? pipelines.scene_pipeline(colored, o.double_sided)
-                                 : VK_NULL_HANDLE;
-
-    commands.begin();
-    VkCommandBuffer cmd = commands.handle();
-    // The barrier fdmsurf/vulkan_interop.hpp documents: the mesh's compute (or transfer) writes
-    // made visible to vertex input.
-    {
-        VkMemoryBarrier b{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-        b.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
-        b.dstAccessMask = VK_ACCESS_VERTEX_ATTRIBUTE_READ_BIT | VK_ACCESS_INDEX_READ_BIT;
-        vkCmdPipelineBarrier(cmd,
-                             VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                             VK_PIPELINE_STAGE_VERTEX_INPUT_BIT, 0, 1, &b, 0, nullptr, 0, nullptr);
-    }
     const VkViewport viewport{0.0f, 0.0f, float(w), float(h), 0.0f, 1.0f};
     const VkRect2D area{{0, 0}, {w, h}};
     {
@@ -328,7 +301,7 @@ RenderResult RendererImpl::render(const DeviceMesh& mesh, const GpuMesh& gpu,
             const std::uint32_t tris = mesh.triangle_count();
             const std::uint32_t slices = std::clamp<std::uint32_t>(tris / 16384, 1, 64);
             const std::uint32_t per = (tris + slices - 1) / slices;
-            const bool near_last = rot[8] > 0.0f;  // the viewer on the +z side
+            const bool near_last = rot_zz > 0.0f;  // the viewer on the +z side
             for (std::uint32_t k = 0; k < slices; ++k) {
                 const std::uint32_t slice = near_last ? slices - 1 - k : k;
                 const std::uint32_t first = slice * per;
@@ -340,6 +313,12 @@ RenderResult RendererImpl::render(const DeviceMesh& mesh, const GpuMesh& gpu,
         vkCmdEndRenderPass(cmd);
     }
     commands.mark("render-scene");
+}
+
+// The compositing pass: one fragment per pixel of the picture from the scene's targets.
+void RendererImpl::record_composite(VkCommandBuffer cmd, const RenderOptions& o,
+                                    const shader::CompositePush& cp) {
+    RenderTargets& t = *targets;
     {
         // One fragment per pixel of the picture, averaging its samples.
         const VkViewport out_viewport{0.0f, 0.0f, float(o.width), float(o.height), 0.0f, 1.0f};
@@ -361,6 +340,70 @@ RenderResult RendererImpl::render(const DeviceMesh& mesh, const GpuMesh& gpu,
         vkCmdEndRenderPass(cmd);
     }
     commands.mark("render-shade");
+}
+
+RenderResult RendererImpl::render(const DeviceMesh& mesh, const GpuMesh& gpu,
+                                  const Buffer* attributes, const RenderOptions& o) {
+    check(o);
+    const double t0 = now_ms();
+    RenderResult result;
+    if (mesh.vertex_count() > 0 && mesh.vertex_count() - 1 > max_index)
+        throw Error(ErrorCode::DeviceLimit,
+                    "rendering: the mesh has " + std::to_string(mesh.vertex_count()) +
+                        " vertices, more than this device draws with 32-bit indices (" +
+                        std::to_string(max_index + 1ull) +
+                        ": fullDrawIndexUint32 is not supported)");
+    std::vector<StageTime> times;
+    BoundingSphere sphere = o.frame;
+    if (!(sphere.radius > 0.0f)) {
+        sphere = bounds(mesh, gpu);
+        times = commands.stage_times();
+    }
+    const Framing f = frame_sphere(sphere, o.width, o.height);
+    result.frame = f.sphere;
+    result.pixel_size = f.pixel_size;
+    const std::uint32_t s = samples_within_memory(o);
+    if (!targets || !targets->matches(o.width, o.height, s)) {
+        targets.reset();
+        targets = std::make_unique<RenderTargets>(context, pipelines, o.width, o.height, s);
+    }
+    result.supersample = s;
+    RenderTargets& t = *targets;
+    pipelines.bind_inputs(t.scene_color.view(), t.scene_depth.view(), t.scene_normal.view());
+    const std::uint32_t w = o.width * s, h = o.height * s;
+
+    const std::array<float, 9> rot = view_rotation(o.view, o.rotate);
+    const shader::RenderPush rp = scene_push(rot, f);
+
+    const bool transparent = o.background[3] == 0;
+    const shader::CompositePush cp = composite_push(o, f, s);
+
+    const bool colored = attributes != nullptr && *attributes;
+    if (!colored) {
+        const std::uint32_t words[2] = {0xffffffffu,
+                                        std::uint32_t(o.color[0]) | std::uint32_t(o.color[1]) << 8 |
+                                            std::uint32_t(o.color[2]) << 16 | 0xff000000u};
+        std::memcpy(uniform_color.mapped(), words, sizeof words);
+        uniform_color.flush();
+    }
+    const VkPipeline scene = mesh.triangle_count() > 0
+                                 ? pipelines.scene_pipeline(colored, o.double_sided)
+                                 : VK_NULL_HANDLE;
+
+    commands.begin();
+    VkCommandBuffer cmd = commands.handle();
+    // The barrier fdmsurf/vulkan_interop.hpp documents: the mesh's compute (or transfer) writes
+    // made visible to vertex input.
+    {
+        VkMemoryBarrier b{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+        b.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+        b.dstAccessMask = VK_ACCESS_VERTEX_ATTRIBUTE_READ_BIT | VK_ACCESS_INDEX_READ_BIT;
+        vkCmdPipelineBarrier(cmd,
+                             VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                             VK_PIPELINE_STAGE_VERTEX_INPUT_BIT, 0, 1, &b, 0, nullptr, 0, nullptr);
+    }
+    record_scene(cmd, mesh, gpu, attributes, colored, scene, rp, rot[8], w, h);
+    record_composite(cmd, o, cp);
     const VkImageSubresourceLayers layers{VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
     VkBufferImageCopy copy{};
     copy.imageSubresource = layers;
