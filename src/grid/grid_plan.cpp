@@ -161,6 +161,158 @@ std::string describe_atom(const Atoms& atoms, std::uint32_t i) {
     return text + " " + where;
 }
 
+// The density's and the level's settings of `options` (h: the spacing, cutoff: the filter's).
+void set_field_settings(GridPlan& plan, const SurfaceOptions& options, float h, float cutoff) {
+    plan.exact_ses = options.surface == SurfaceKind::Ses && options.method == SesMethod::Edt;
+    plan.filtered = options.surface == SurfaceKind::Ses && !plan.exact_ses;
+    plan.density.sigma = options.sigma;
+    plan.density.level_t = 1.0f;
+    plan.density.pi_cut = options.sigma * options.sigma * std::log(1.0f / options.density_cut);
+    plan.density.radius_add = options.surface == SurfaceKind::Sas ? options.probe : 0.0f;
+    plan.iso = effective_level(options) * plan.density.level_t;
+    if (plan.exact_ses) {
+        // Exact up to two grid steps on either side of the surface: every value the crossings
+        // and the central-difference normals read (a crossed edge's ends lie within h of the
+        // level r_s, d being 1-Lipschitz, and their neighbours within 2h). Farther points only
+        // need their side, which the clamps keep; a smaller d_max also shrinks every box's
+        // candidates, and boxes wholly beyond a clamp are not evaluated (ses_boxes.comp).
+        plan.iso = options.probe;
+        plan.ses_d_min = options.probe - 2.0f * h;
+        plan.ses_d_max = options.probe + 2.0f * h;
+    }
+    plan.info.spacing = h;
+    plan.info.cutoff = cutoff;
+}
+
+// The box the atoms' fields reach (the Gaussian support for ses, the balls otherwise), with the
+// largest exponent of the density T exp(-pi/σ²) where it must stay finite, and its atom's
+// radius; throws on a radius that is not positive or a coordinate that is not finite.
+struct AtomExtent {
+    double lo[3], hi[3];
+    double exponent = 0.0, r_worst = 0.0;
+};
+
+AtomExtent atom_extent(const Atoms& atoms, const SurfaceOptions& options, const GridPlan& plan,
+                       float h) {
+    AtomExtent e;
+    double* lo = e.lo;
+    double* hi = e.hi;
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = std::numeric_limits<double>::max();
+        hi[a] = -lo[a];
+    }
+    // The density T exp(-pi/σ²) must stay finite where it matters. ses (filtered): at every
+    // point, since the FFT sums it over up to 1e9 points, so r²/σ² <= 60 (the peak on a centre).
+    // vdw and sas: only at the points of the edges that cross the level, which lie within a
+    // cell's diagonal of the balls' spheres (pi >= -(r² - (r - √3 h)²)), so that exponent <= 80
+    // (float overflows at e^88.7): a 25 Å coarse-grained bead keeps the default sigma. Beyond,
+    // the mesh had NaN vertices and normals. The largest exponent, and its atom's radius:
+    const double h3 = std::sqrt(3.0) * double(h);
+    for (std::size_t i = 0; i < atoms.size(); ++i) {
+        float r = atoms.radius[i] + plan.density.radius_add;
+        if (!(r > 0.0f) || !std::isfinite(r))
+            throw Error(ErrorCode::InvalidArgument,
+                        "atom " + std::to_string(i + 1) + " has radius " + std::to_string(r));
+        const double inner = plan.filtered ? 0.0 : std::max(0.0, double(r) - h3);
+        const double x = (double(r) * r - inner * inner) / (double(options.sigma) * options.sigma);
+        if (x > e.exponent) e.exponent = x, e.r_worst = r;
+        // ses: the whole Gaussian support enters the filter; vdw and sas only need the balls.
+        double reach = plan.filtered ? std::sqrt(double(r) * r + plan.density.pi_cut) : r;
+        for (int a = 0; a < 3; ++a) {
+            double c = atoms.xyz[3 * i + a];
+            if (!std::isfinite(c))
+                throw Error(ErrorCode::InvalidArgument,
+                            "atom " + std::to_string(i + 1) + " has a non-finite coordinate");
+            lo[a] = std::min(lo[a], c - reach);
+            hi[a] = std::max(hi[a], c + reach);
+        }
+    }
+    return e;
+}
+
+// Refuses a sigma whose density would overflow single precision (atom_extent's exponent).
+void check_sigma(const GridPlan& plan, const SurfaceOptions& options, const AtomExtent& e,
+                 float h) {
+    if (plan.exact_ses) return;  // (the exact SES has no density)
+    const double exponent = e.exponent, r_worst = e.r_worst;
+    const double bound = plan.filtered ? 60.0 : 80.0;
+    if (!(exponent <= bound)) {
+        // The smallest sigma that passes, from the worst atom's exponent.
+        const double least = double(options.sigma) * std::sqrt(exponent / bound);
+        char buf[360];
+        std::snprintf(buf, sizeof buf,
+                      "sigma %.3g Å is too small for atoms of radius %.3g Å%s at spacing "
+                      "%.3g Å: the density %s, T e^%.3g, would overflow single precision; "
+                      "sigma must be at least %.3g Å (the method's default: 3 Å)",
+                      double(options.sigma), r_worst,
+                      plan.density.radius_add > 0.0f ? " (with the probe)" : "", double(h),
+                      plan.filtered ? "at their centres, which the filter sums"
+                                    : "near their spheres",
+                      exponent, least + 0.0005);
+        throw Error(ErrorCode::InvalidArgument, buf);
+    }
+}
+
+// The grid's points and origin along each axis: the extent, padded, in points of `h` (FFT
+// sizes for the filtered SES), centred.
+void place_axes(GridPlan& plan, const Atoms& atoms, const SurfaceOptions& options,
+                AtomExtent& e, float padding, float h) {
+    double* lo = e.lo;
+    double* hi = e.hi;
+    for (int a = 0; a < 3; ++a) {
+        lo[a] -= padding + 2.0 * h;  // two more points keep the surface off the border
+        hi[a] += padding + 2.0 * h;
+        double points = std::ceil((hi[a] - lo[a]) / h) + 1.0;
+        if (points > 65536.0) {
+            // A count past what an integer holds (a padding of 1e30 Å) is given in exponent form.
+            char count[32];
+            if (points < 1e15)
+                std::snprintf(count, sizeof count, "%.0f", points);
+            else
+                std::snprintf(count, sizeof count, "%.3g", points);
+            throw Error(ErrorCode::DeviceLimit,
+                        "the grid would have " + std::string(count) +
+                            " points along one axis at spacing " + std::to_string(h) +
+                            " Å; use a coarser --spacing" +
+                            (padding > 100.0 ? " or a smaller --padding" : "") +
+                            isolated_atoms_note(atoms));
+        }
+        if (options.min_grid[a] > 65536)
+            throw Error(ErrorCode::InvalidArgument, "min_grid asks for " +
+                                                        std::to_string(options.min_grid[a]) +
+                                                        " points along one axis; at most 65536");
+        std::uint32_t n = std::max(static_cast<std::uint32_t>(points), options.min_grid[a]);
+        // VkFFT 1.2.26 is only right for sizes with factors 2, 3, 5, 7 (NOTES.md), and wants
+        // the contiguous R2C axis even (and fast: r2c_axis_size).
+        if (plan.filtered)
+            n = a == 0 ? r2c_axis_size(n) : fft_friendly_size(n, false);
+        else
+            n = std::max<std::uint32_t>(n, 2);
+        plan.info.dims[a] = n;
+        double extra = (n - 1) * double(h) - (hi[a] - lo[a]);  // centred in a larger grid
+        plan.info.origin[a] = static_cast<float>(lo[a] - extra / 2.0);
+    }
+}
+
+// Gaussian filter only: its kernel is the same on any box, while the ideal mask, sampled at
+// steps of 1/(n h), passes other frequencies on another n (1CRN --paper moved 0.05 Å RMS).
+void round_to_canonical(GridPlan& plan, const SurfaceOptions& options, float h) {
+    if (plan.filtered && options.canonical_grid && options.filter == FilterShape::Gaussian) {
+        // Points added on both sides on the grid's own lattice: the points of the smaller grid
+        // keep their places (and densities), and the surface moves only as much as the
+        // filter's periodic images farther apart move it.
+        if (const std::uint32_t c = canonical_grid_size(plan.info.dims)) {
+            for (int a = 0; a < 3; ++a) {
+                const std::uint32_t before = (c - plan.info.dims[a]) / 2;
+                plan.info.origin[a] =
+                    static_cast<float>(double(plan.info.origin[a]) - double(before) * h);
+                plan.info.dims[a] = c;
+            }
+        }
+    }
+}
+
+
 }  // namespace
 
 std::string isolated_atoms_note(const Atoms& atoms) {
@@ -196,126 +348,14 @@ GridPlan plan_grid(const Atoms& atoms, const SurfaceOptions& options) {
     if (atoms.xyz.size() != atoms.size() * 3)
         throw Error(ErrorCode::InvalidArgument, "atoms: xyz must hold 3 floats per radius");
     const float h = options.spacing;
-    plan.exact_ses = options.surface == SurfaceKind::Ses && options.method == SesMethod::Edt;
-    plan.filtered = options.surface == SurfaceKind::Ses && !plan.exact_ses;
-    plan.density.sigma = options.sigma;
-    plan.density.level_t = 1.0f;
-    plan.density.pi_cut = options.sigma * options.sigma * std::log(1.0f / options.density_cut);
-    plan.density.radius_add = options.surface == SurfaceKind::Sas ? options.probe : 0.0f;
-    plan.iso = effective_level(options) * plan.density.level_t;
-    if (plan.exact_ses) {
-        // Exact up to two grid steps on either side of the surface: every value the crossings
-        // and the central-difference normals read (a crossed edge's ends lie within h of the
-        // level r_s, d being 1-Lipschitz, and their neighbours within 2h). Farther points only
-        // need their side, which the clamps keep; a smaller d_max also shrinks every box's
-        // candidates, and boxes wholly beyond a clamp are not evaluated (ses_boxes.comp).
-        plan.iso = options.probe;
-        plan.ses_d_min = options.probe - 2.0f * h;
-        plan.ses_d_max = options.probe + 2.0f * h;
-    }
-    plan.info.spacing = h;
-    plan.info.cutoff = cutoff;
+    set_field_settings(plan, options, h, cutoff);
 
     float padding = options.padding;
     if (padding < 0.0f) padding = plan.filtered ? 1.0f / cutoff : 1.0f;
-    double lo[3], hi[3];
-    for (int a = 0; a < 3; ++a) {
-        lo[a] = std::numeric_limits<double>::max();
-        hi[a] = -lo[a];
-    }
-    // The density T exp(-pi/σ²) must stay finite where it matters. ses (filtered): at every
-    // point, since the FFT sums it over up to 1e9 points, so r²/σ² <= 60 (the peak on a centre).
-    // vdw and sas: only at the points of the edges that cross the level, which lie within a
-    // cell's diagonal of the balls' spheres (pi >= -(r² - (r - √3 h)²)), so that exponent <= 80
-    // (float overflows at e^88.7): a 25 Å coarse-grained bead keeps the default sigma. Beyond,
-    // the mesh had NaN vertices and normals. The largest exponent, and its atom's radius:
-    const double h3 = std::sqrt(3.0) * double(h);
-    double exponent = 0.0, r_worst = 0.0;
-    for (std::size_t i = 0; i < atoms.size(); ++i) {
-        float r = atoms.radius[i] + plan.density.radius_add;
-        if (!(r > 0.0f) || !std::isfinite(r))
-            throw Error(ErrorCode::InvalidArgument,
-                        "atom " + std::to_string(i + 1) + " has radius " + std::to_string(r));
-        const double inner = plan.filtered ? 0.0 : std::max(0.0, double(r) - h3);
-        const double e = (double(r) * r - inner * inner) / (double(options.sigma) * options.sigma);
-        if (e > exponent) exponent = e, r_worst = r;
-        // ses: the whole Gaussian support enters the filter; vdw and sas only need the balls.
-        double reach = plan.filtered ? std::sqrt(double(r) * r + plan.density.pi_cut) : r;
-        for (int a = 0; a < 3; ++a) {
-            double c = atoms.xyz[3 * i + a];
-            if (!std::isfinite(c))
-                throw Error(ErrorCode::InvalidArgument,
-                            "atom " + std::to_string(i + 1) + " has a non-finite coordinate");
-            lo[a] = std::min(lo[a], c - reach);
-            hi[a] = std::max(hi[a], c + reach);
-        }
-    }
-    if (!plan.exact_ses) {  // (the exact SES has no density)
-        const double bound = plan.filtered ? 60.0 : 80.0;
-        if (!(exponent <= bound)) {
-            // The smallest sigma that passes, from the worst atom's exponent.
-            const double least = double(options.sigma) * std::sqrt(exponent / bound);
-            char buf[360];
-            std::snprintf(buf, sizeof buf,
-                          "sigma %.3g Å is too small for atoms of radius %.3g Å%s at spacing "
-                          "%.3g Å: the density %s, T e^%.3g, would overflow single precision; "
-                          "sigma must be at least %.3g Å (the method's default: 3 Å)",
-                          double(options.sigma), r_worst,
-                          plan.density.radius_add > 0.0f ? " (with the probe)" : "", double(h),
-                          plan.filtered ? "at their centres, which the filter sums"
-                                        : "near their spheres",
-                          exponent, least + 0.0005);
-            throw Error(ErrorCode::InvalidArgument, buf);
-        }
-    }
-    for (int a = 0; a < 3; ++a) {
-        lo[a] -= padding + 2.0 * h;  // two more points keep the surface off the border
-        hi[a] += padding + 2.0 * h;
-        double points = std::ceil((hi[a] - lo[a]) / h) + 1.0;
-        if (points > 65536.0) {
-            // A count past what an integer holds (a padding of 1e30 Å) is given in exponent form.
-            char count[32];
-            if (points < 1e15)
-                std::snprintf(count, sizeof count, "%.0f", points);
-            else
-                std::snprintf(count, sizeof count, "%.3g", points);
-            throw Error(ErrorCode::DeviceLimit,
-                        "the grid would have " + std::string(count) +
-                            " points along one axis at spacing " + std::to_string(h) +
-                            " Å; use a coarser --spacing" +
-                            (padding > 100.0 ? " or a smaller --padding" : "") +
-                            isolated_atoms_note(atoms));
-        }
-        if (options.min_grid[a] > 65536)
-            throw Error(ErrorCode::InvalidArgument, "min_grid asks for " +
-                                                        std::to_string(options.min_grid[a]) +
-                                                        " points along one axis; at most 65536");
-        std::uint32_t n = std::max(static_cast<std::uint32_t>(points), options.min_grid[a]);
-        // VkFFT 1.2.26 is only right for sizes with factors 2, 3, 5, 7 (NOTES.md), and wants
-        // the contiguous R2C axis even (and fast: r2c_axis_size).
-        if (plan.filtered)
-            n = a == 0 ? r2c_axis_size(n) : fft_friendly_size(n, false);
-        else
-            n = std::max<std::uint32_t>(n, 2);
-        plan.info.dims[a] = n;
-        double extra = (n - 1) * double(h) - (hi[a] - lo[a]);  // centred in a larger grid
-        plan.info.origin[a] = static_cast<float>(lo[a] - extra / 2.0);
-    }
-    // Gaussian filter only: its kernel is the same on any box, while the ideal mask, sampled at
-    // steps of 1/(n h), passes other frequencies on another n (1CRN --paper moved 0.05 Å RMS).
-    if (plan.filtered && options.canonical_grid && options.filter == FilterShape::Gaussian) {
-        // Points added on both sides on the grid's own lattice: the points of the smaller grid
-        // keep their places (and densities), and the surface moves only as much as the
-        // filter's periodic images farther apart move it.
-        if (const std::uint32_t c = canonical_grid_size(plan.info.dims)) {
-            for (int a = 0; a < 3; ++a) {
-                const std::uint32_t before = (c - plan.info.dims[a]) / 2;
-                plan.info.origin[a] =
-                    static_cast<float>(double(plan.info.origin[a]) - double(before) * h);
-                plan.info.dims[a] = c;
-            }
-        }
-    }
+    AtomExtent extent = atom_extent(atoms, options, plan, h);
+    check_sigma(plan, options, extent, h);
+    place_axes(plan, atoms, options, extent, padding, h);
+    round_to_canonical(plan, options, h);
     plan.pitch = plan.filtered ? 2 * (plan.info.dims[0] / 2 + 1) : plan.info.dims[0];
     return plan;
 }
