@@ -23,6 +23,7 @@
 #include "areas/areas_detail.hpp"
 #include "base/cell_list.hpp"
 #include "base/parallel.hpp"
+#include "base/vec3.hpp"
 #include "fdmsurf/areas.hpp"
 #include "fdmsurf/error.hpp"
 
@@ -32,30 +33,21 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-struct Vec {
-    double x, y, z;
-};
-inline Vec operator+(Vec a, Vec b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-inline Vec operator*(double s, Vec a) { return {s * a.x, s * a.y, s * a.z}; }
-inline double dot(Vec a, Vec b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-inline Vec cross(Vec a, Vec b) {
-    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-
 // A buried cap of the unit sphere: n·u > h, of angular radius θ (cos θ = h, sin θ = s), with an
 // orthonormal basis (e1, e2) of the plane of its circle for azimuths.
 struct Cap {
-    Vec u, e1, e2;
+    Vec3 u, e1, e2;
     double h, s;
 };
 
-Vec on_circle(const Cap& c, double phi) {
-    return c.h * c.u + (c.s * std::cos(phi)) * c.e1 + (c.s * std::sin(phi)) * c.e2;
+Vec3 on_circle(const Cap& c, double phi) {
+    return add(add(scale(c.u, c.h), scale(c.e1, c.s * std::cos(phi))),
+               scale(c.e2, c.s * std::sin(phi)));
 }
 
 // Signed solid angle of the geodesic triangle (a, b, c), unit vectors; positive when they turn
 // counter-clockwise seen from outside.
-double solid_angle(Vec a, Vec b, Vec c) {
+double solid_angle(const Vec3& a, const Vec3& b, const Vec3& c) {
     return 2.0 * std::atan2(dot(a, cross(b, c)), 1.0 + dot(a, b) + dot(b, c) + dot(c, a));
 }
 
@@ -70,7 +62,7 @@ double circular_segment(double cos_t, double dphi) {
 
 // An exposed crossing point of two circles.
 struct Crossing {
-    Vec n;
+    Vec3 n;
 };
 
 // One crossing on a circle: the point, the other circle, and a pseudo-angle that orders the
@@ -133,7 +125,7 @@ double exposed_solid_angle(const std::vector<Cap>& caps, Scratch& w) {
     // A point of circle j inside another cap (that cap meets cap j: it is in j's list). The cap
     // that buried the last point is tried first: neighbouring points share it.
     std::uint32_t last = 0;
-    auto buried_by = [&](const Vec& n, std::size_t j, std::size_t skip) {
+    auto buried_by = [&](const Vec3& n, std::size_t j, std::size_t skip) {
         if (last != skip && last < m && !w.dropped[last] &&
             dot(n, caps[last].u) > caps[last].h + eps)
             return true;
@@ -161,10 +153,10 @@ double exposed_solid_angle(const std::vector<Cap>& caps, Scratch& w) {
             const double rest = 1.0 - (p * p + q * q + 2.0 * p * q * g);
             if (rest <= 0.0) continue;  // tangent (within rounding)
             const double t = std::sqrt(rest / w2);
-            const Vec base = p * a.u + q * b.u, c = cross(a.u, b.u);
+            const Vec3 base = add(scale(a.u, p), scale(b.u, q)), c = cross(a.u, b.u);
             w.crossed[j] = w.crossed[k] = 1;
             for (const double sign : {1.0, -1.0}) {
-                const Vec n = base + (sign * t) * c;
+                const Vec3 n = add(base, scale(c, sign * t));
                 if (buried_by(n, j, k)) continue;
                 const std::uint32_t id = std::uint32_t(w.crossings.size());
                 w.crossings.push_back({n});
@@ -179,11 +171,11 @@ double exposed_solid_angle(const std::vector<Cap>& caps, Scratch& w) {
     std::size_t largest = m;
     for (std::size_t j = 0; j < m; ++j)
         if (!w.dropped[j] && (largest == m || caps[j].h < caps[largest].h)) largest = j;
-    const Vec pole = -1.0 * caps[largest].u;
+    const Vec3 pole = scale(caps[largest].u, -1.0);
 
     // One exposed arc of circle j from `from` to `to` (counter-clockwise about u_j, spanning
     // `dphi`), integrated from `to` back to `from`: the cap on the right.
-    auto arc = [&](const Cap& c, const Vec& from, const Vec& to, double dphi) {
+    auto arc = [&](const Cap& c, const Vec3& from, const Vec3& to, double dphi) {
         // The great circle through the ends cuts into the cap for θ <= π/2 (the arc bounds less
         // than the chord's triangle) and into the exposed side otherwise.
         auto segment = [&](double step) {
@@ -194,9 +186,9 @@ double exposed_solid_angle(const std::vector<Cap>& caps, Scratch& w) {
         const double step = dphi / pieces;
         const double phi0 = std::atan2(dot(from, c.e2), dot(from, c.e1));
         double sum = 0.0;
-        Vec a = to;
+        Vec3 a = to;
         for (int s = 1; s <= pieces; ++s) {
-            const Vec b = s == pieces ? from : on_circle(c, phi0 + dphi - s * step);
+            const Vec3 b = s == pieces ? from : on_circle(c, phi0 + dphi - s * step);
             sum += solid_angle(pole, a, b) + segment(step);
             a = b;
         }
@@ -209,7 +201,7 @@ double exposed_solid_angle(const std::vector<Cap>& caps, Scratch& w) {
         std::vector<OnCircle>& around = w.around[j];
         if (!w.crossed[j]) {
             // No crossing: the whole circle is boundary unless another cap buries it.
-            const Vec p = on_circle(c, 0.0);
+            const Vec3 p = on_circle(c, 0.0);
             if (!buried_by(p, j, m)) total += arc(c, p, p, 2.0 * kPi);
             continue;
         }
@@ -224,21 +216,21 @@ double exposed_solid_angle(const std::vector<Cap>& caps, Scratch& w) {
             const Crossing& p = w.crossings[from.crossing];
             const Crossing& q = w.crossings[to.crossing];
             // In the circle's plane: the ends' directions from its centre, the angle between.
-            const Vec pa = p.n + (-c.h) * c.u, pb = q.n + (-c.h) * c.u;
+            const Vec3 pa = add(p.n, scale(c.u, -c.h)), pb = add(q.n, scale(c.u, -c.h));
             const double cosine = dot(pa, pb), sine = dot(cross(pa, pb), c.u);
             double dphi = std::atan2(sine, cosine);
             if (dphi < 0.0) dphi += 2.0 * kPi;
             if (dphi < 1e-12) continue;  // three circles through one point
             // The midpoint outside every other cap? (Buried crossings between the ends would
             // make the whole arc buried, and then its midpoint too.)
-            Vec mid_dir = pa + pb;
+            Vec3 mid_dir = add(pa, pb);
             double len = std::sqrt(dot(mid_dir, mid_dir));
-            if (dphi > kPi) mid_dir = -1.0 * mid_dir;
+            if (dphi > kPi) mid_dir = scale(mid_dir, -1.0);
             if (len < 1e-9 * c.s) {  // ends opposite each other: the perpendicular
                 mid_dir = cross(c.u, pa);
                 len = std::sqrt(dot(mid_dir, mid_dir));
             }
-            const Vec mid = c.h * c.u + (c.s / len) * mid_dir;
+            const Vec3 mid = add(scale(c.u, c.h), scale(mid_dir, c.s / len));
             if (buried_by(mid, j, m)) continue;
             total += arc(c, p.n, q.n, dphi);
         }
@@ -279,7 +271,7 @@ std::vector<double> exact_ball_areas(const Atoms& atoms, double radius_add, doub
                 if (j == i || buried || radius[j] == 0.0) return;
                 const double cj[3] = {atoms.xyz[3 * j], atoms.xyz[3 * j + 1], atoms.xyz[3 * j + 2]};
                 const double rj = radius[j];
-                const Vec e{cj[0] - ci[0], cj[1] - ci[1], cj[2] - ci[2]};
+                const Vec3 e{cj[0] - ci[0], cj[1] - ci[1], cj[2] - ci[2]};
                 const double d2 = dot(e, e);
                 if (d2 >= (ri + rj) * (ri + rj)) return;
                 if (d2 == 0.0) {
@@ -296,13 +288,13 @@ std::vector<double> exact_ball_areas(const Atoms& atoms, double radius_add, doub
                 }
                 if (h >= 1.0) return;  // ball j inside this one
                 Cap cap;
-                cap.u = (1.0 / d) * e;
+                cap.u = scale(e, 1.0 / d);
                 cap.h = h;
                 cap.s = std::sqrt(std::max(0.0, 1.0 - h * h));
                 // Any unit vector not along u for the azimuth basis.
-                const Vec helper = std::abs(cap.u.x) < 0.6 ? Vec{1, 0, 0} : Vec{0, 1, 0};
-                Vec e1 = cross(cap.u, helper);
-                e1 = (1.0 / std::sqrt(dot(e1, e1))) * e1;
+                const Vec3 helper = std::abs(cap.u[0]) < 0.6 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+                Vec3 e1 = cross(cap.u, helper);
+                e1 = scale(e1, 1.0 / std::sqrt(dot(e1, e1)));
                 cap.e1 = e1;
                 cap.e2 = cross(cap.u, e1);
                 caps.push_back(cap);

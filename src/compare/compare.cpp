@@ -24,17 +24,13 @@
 #include "compare/compare_detail.hpp"
 #include "base/parallel.hpp"
 #include "base/trace.hpp"
+#include "base/vec3.hpp"
 #include "mesh/union_find.hpp"
 
 namespace fdmsurf {
 namespace detail {
 namespace {
 
-Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-Vec3 cross(const Vec3& a, const Vec3& b) {
-    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
 template <class T>
 Vec3 at(const std::vector<T>& p, std::size_t i) {
     return {double(p[3 * i]), double(p[3 * i + 1]), double(p[3 * i + 2])};

@@ -8,6 +8,7 @@
 #include <string_view>
 #include <vector>
 
+#include "base/vec3.hpp"
 #include "fdmsurf/mesh.hpp"
 
 namespace fdmsurf::detail {
@@ -39,8 +40,6 @@ std::vector<double> vertex_weights(const CleanMesh& mesh);
 
 double mesh_area(const CleanMesh& mesh);
 double mesh_volume(const CleanMesh& mesh);
-
-using Vec3 = std::array<double, 3>;
 
 // Closest point to p on triangle (a, b, c) (Ericson, Real-Time Collision Detection 5.1.5);
 // a degenerate triangle is treated as its three edges.

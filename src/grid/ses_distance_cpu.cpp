@@ -6,33 +6,28 @@
 #include <cmath>
 #include <limits>
 
-#include "grid/v3.hpp"
+#include "base/vec3.hpp"
 #include "shader_interface.h"
 
 namespace fdmsurf::detail {
 
 namespace {
 
-using geom::cross;
-using geom::dot;
-using geom::norm;
-using geom::V3;
-
 // The radial projection of p onto the sphere (c, R) (any point of it when p = c; the shader's
 // choice, +x, below 1e-6 Å).
-V3 projection(V3 c, double R, V3 p) {
-    const V3 v = p - c;
+Vec3 projection(const Vec3& c, double R, const Vec3& p) {
+    const Vec3 v = sub(p, c);
     const double len = norm(v);
-    return len > 1e-6 ? c + (R / len) * v : c + V3{R, 0, 0};
+    return len > 1e-6 ? add(c, scale(v, R / len)) : add(c, Vec3{R, 0, 0});
 }
 
 // Bins of `f` within `reach` of p (inclusive ranges, clamped like the shader's).
 struct BinRange {
     int lo[3], hi[3];
 };
-BinRange bins_near(const SesFeatures& f, V3 p, double reach) {
+BinRange bins_near(const SesFeatures& f, const Vec3& p, double reach) {
     BinRange r;
-    const double q[3] = {p.x, p.y, p.z};
+    const double q[3] = {p[0], p[1], p[2]};
     for (int a = 0; a < 3; ++a) {
         auto cell = [&](double x) {
             return static_cast<int>(
@@ -56,40 +51,40 @@ void for_bins(const SesFeatures& f, const BinRange& r, Fn&& fn) {
 
 double ses_distance(const SesFeatures& f, const double p_in[3], double d_max, double* gradient,
                     bool every_face) {
-    const V3 p{p_in[0], p_in[1], p_in[2]};
-    auto sphere = [&](std::uint32_t s, V3& c, double& R) {
+    const Vec3 p{p_in[0], p_in[1], p_in[2]};
+    auto sphere = [&](std::uint32_t s, Vec3& c, double& R) {
         c = {f.spheres[4 * s], f.spheres[4 * s + 1], f.spheres[4 * s + 2]};
         R = f.spheres[4 * s + 3];
     };
-    auto set_gradient = [&](V3 g) {
-        if (gradient) gradient[0] = g.x, gradient[1] = g.y, gradient[2] = g.z;
+    auto set_gradient = [&](const Vec3& g) {
+        if (gradient) gradient[0] = g[0], gradient[1] = g[1], gradient[2] = g[2];
     };
     const BinRange near = bins_near(f, p, f.r_max + d_max);
     double lb = -std::numeric_limits<double>::infinity();
-    V3 lb_centre{0, 0, 0};
+    Vec3 lb_centre{0, 0, 0};
     double lb_radius = 0.0;
     std::uint32_t deepest = 0;
     bool tie = false;  // another ball exactly as deep as the deepest
     for_bins(f, near, [&](std::size_t b) {
         for (std::uint32_t s = f.sphere_start[b]; s < f.sphere_start[b + 1]; ++s) {
-            V3 c;
+            Vec3 c;
             double R;
             sphere(s, c, R);
-            const double v = R - norm(p - c);
+            const double v = R - norm(sub(p, c));
             tie = v == lb || (tie && v < lb);
             if (v > lb) lb = v, lb_centre = c, lb_radius = R, deepest = s;
         }
     });
     // Is q (on sphere `self`) inside another ball?
-    auto buried = [&](V3 q, std::uint32_t self) {
+    auto buried = [&](const Vec3& q, std::uint32_t self) {
         bool inside = false;
         for_bins(f, bins_near(f, q, f.r_max), [&](std::size_t qb) {
             for (std::uint32_t k = f.sphere_start[qb]; k < f.sphere_start[qb + 1] && !inside; ++k) {
                 if (k == self) continue;
-                V3 ck;
+                Vec3 ck;
                 double Rk;
                 sphere(k, ck, Rk);
-                const V3 w = q - ck;
+                const Vec3 w = sub(q, ck);
                 inside = dot(w, w) < Rk * Rk;
             }
         });
@@ -101,9 +96,9 @@ double ses_distance(const SesFeatures& f, const double p_in[3], double d_max, do
             set_gradient({0, 0, 0});
             return -d_max;
         }
-        const V3 v = p - lb_centre;
+        const Vec3 v = sub(p, lb_centre);
         const double len = norm(v);
-        set_gradient(len > 0.0 ? (-1.0 / len) * v : V3{0, 0, 0});
+        set_gradient(len > 0.0 ? scale(v, -1.0 / len) : Vec3{0, 0, 0});
         return lb;
     }
     if (lb >= d_max) {
@@ -112,15 +107,15 @@ double ses_distance(const SesFeatures& f, const double p_in[3], double d_max, do
     }
     // The deepest ball's face is lb away, the least d can be: exposed, it is the answer.
     {
-        const V3 q = projection(lb_centre, lb_radius, p);
+        const Vec3 q = projection(lb_centre, lb_radius, p);
         if (!buried(q, deepest)) {
-            const double len = norm(p - q);
-            set_gradient(len > 0.0 ? (1.0 / len) * (p - q) : V3{0, 0, 0});
+            const double len = norm(sub(p, q));
+            set_gradient(len > 0.0 ? scale(sub(p, q), 1.0 / len) : Vec3{0, 0, 0});
             return lb;
         }
     }
     double best = d_max;
-    V3 nearest{0, 0, 0};
+    Vec3 nearest{0, 0, 0};
     bool found = false;
     // The nearest arc's point is only needed for the gradient, of the arc that ends nearest.
     constexpr std::uint32_t kNoArc = std::numeric_limits<std::uint32_t>::max();
@@ -129,7 +124,7 @@ double ses_distance(const SesFeatures& f, const double p_in[3], double d_max, do
         for (std::uint32_t a = f.arc_start[b]; a < f.arc_start[b + 1]; ++a) {
             // No point of the circle is nearer than |p - m| - rho.
             const SesArc& arc = f.arcs[a];
-            const V3 v = p - V3{arc.m[0], arc.m[1], arc.m[2]};
+            const Vec3 v = sub(p, Vec3{arc.m[0], arc.m[1], arc.m[2]});
             const double reach = arc.rho + best;
             if (dot(v, v) >= reach * reach) continue;
             const double d = arc_distance(arc, p_in, nullptr, best);
@@ -140,14 +135,14 @@ double ses_distance(const SesFeatures& f, const double p_in[3], double d_max, do
     // a ball exactly as deep as the deepest can be nearer than the arcs (ses_distance.comp).
     if (every_face || tie) for_bins(f, near, [&](std::size_t b) {
         for (std::uint32_t s = f.sphere_start[b]; s < f.sphere_start[b + 1]; ++s) {
-            V3 c;
+            Vec3 c;
             double R;
             sphere(s, c, R);
-            const double face = std::abs(norm(p - c) - R);
+            const double face = std::abs(norm(sub(p, c)) - R);
             // d >= lb: an exposed face is never nearer than lb, so a nearer one is buried (every
             // ball holding p but the deepest, done above).
             if (s == deepest || face < lb || face >= best) continue;
-            const V3 q = projection(c, R, p);
+            const Vec3 q = projection(c, R, p);
             if (!buried(q, s)) best = face, nearest = q, found = true, best_arc = kNoArc;
         }
     });
@@ -156,33 +151,33 @@ double ses_distance(const SesFeatures& f, const double p_in[3], double d_max, do
         arc_distance(f.arcs[best_arc], p_in, q);
         nearest = {q[0], q[1], q[2]};
     }
-    const double len = norm(p - nearest);
+    const double len = norm(sub(p, nearest));
     if (found && len > 0.0)
-        set_gradient((1.0 / len) * (p - nearest));
+        set_gradient(scale(sub(p, nearest), 1.0 / len));
     else
         set_gradient({0, 0, 0});
     return best;
 }
 
 double ses_distance_brute(const Atoms& atoms, float probe, const double p_in[3], double d_max) {
-    const V3 p{p_in[0], p_in[1], p_in[2]};
-    std::vector<V3> c;
+    const Vec3 p{p_in[0], p_in[1], p_in[2]};
+    std::vector<Vec3> c;
     std::vector<double> R;
     for (std::size_t i = 0; i < atoms.size(); ++i) {
-        const V3 ci{atoms.xyz[3 * i], atoms.xyz[3 * i + 1], atoms.xyz[3 * i + 2]};
+        const Vec3 ci{atoms.xyz[3 * i], atoms.xyz[3 * i + 1], atoms.xyz[3 * i + 2]};
         const double Ri = double(atoms.radius[i]) + probe;
-        if (norm(p - ci) < Ri + d_max) c.push_back(ci), R.push_back(Ri);
+        if (norm(sub(p, ci)) < Ri + d_max) c.push_back(ci), R.push_back(Ri);
     }
     const std::size_t n = c.size();
     double lb = -d_max;
-    for (std::size_t i = 0; i < n; ++i) lb = std::max(lb, R[i] - norm(p - c[i]));
+    for (std::size_t i = 0; i < n; ++i) lb = std::max(lb, R[i] - norm(sub(p, c[i])));
     if (lb <= 0.0) return lb;
     if (lb >= d_max) return d_max;
     // q lies on the spheres in `on` (up to three); is it inside any other ball?
-    auto exposed = [&](V3 q, std::size_t i, std::size_t j, std::size_t k) {
+    auto exposed = [&](const Vec3& q, std::size_t i, std::size_t j, std::size_t k) {
         for (std::size_t l = 0; l < n; ++l) {
             if (l == i || l == j || l == k) continue;
-            const V3 w = q - c[l];
+            const Vec3 w = sub(q, c[l]);
             if (dot(w, w) < R[l] * R[l] - 1e-9) return false;
         }
         return true;
@@ -190,41 +185,42 @@ double ses_distance_brute(const Atoms& atoms, float probe, const double p_in[3],
     const std::size_t none = n;
     double best = d_max;
     for (std::size_t i = 0; i < n; ++i) {
-        const V3 q = projection(c[i], R[i], p);
-        if (exposed(q, i, none, none)) best = std::min(best, std::abs(norm(p - c[i]) - R[i]));
+        const Vec3 q = projection(c[i], R[i], p);
+        if (exposed(q, i, none, none)) best = std::min(best, std::abs(norm(sub(p, c[i])) - R[i]));
     }
     for (std::size_t i = 0; i < n; ++i)
         for (std::size_t j = i + 1; j < n; ++j) {
-            const V3 dij = c[j] - c[i];
+            const Vec3 dij = sub(c[j], c[i]);
             const double d = norm(dij);
             if (d >= R[i] + R[j] || d <= std::abs(R[i] - R[j])) continue;
-            const V3 u = (1.0 / d) * dij;
+            const Vec3 u = scale(dij, 1.0 / d);
             const double a = (d * d + R[i] * R[i] - R[j] * R[j]) / (2.0 * d);
             const double rho = std::sqrt(std::max(R[i] * R[i] - a * a, 0.0));
-            const V3 m = c[i] + a * u;
+            const Vec3 m = add(c[i], scale(u, a));
             // The circle's nearest point: p projected onto its plane, pushed out to radius rho.
-            V3 w = (p - m) - dot(p - m, u) * u;
+            Vec3 w = sub(sub(p, m), scale(u, dot(sub(p, m), u)));
             double wl = norm(w);
             if (wl < 1e-12) {
-                w = cross(u, std::abs(u.x) < 0.6 ? V3{1, 0, 0} : V3{0, 1, 0});
+                w = cross(u, std::abs(u[0]) < 0.6 ? Vec3{1, 0, 0} : Vec3{0, 1, 0});
                 wl = norm(w);
             }
-            const V3 q = m + (rho / wl) * w;
-            if (exposed(q, i, j, none)) best = std::min(best, norm(p - q));
+            const Vec3 q = add(m, scale(w, rho / wl));
+            if (exposed(q, i, j, none)) best = std::min(best, norm(sub(p, q)));
             // Points where a third sphere meets this circle.
-            const V3 e1 = (1.0 / wl) * w;
-            const V3 e2 = cross(u, e1);
+            const Vec3 e1 = scale(w, 1.0 / wl);
+            const Vec3 e2 = cross(u, e1);
             for (std::size_t k = j + 1; k < n; ++k) {
                 // |m + rho (cos t e1 + sin t e2) - c_k|^2 = R_k^2
-                const V3 wk = m - c[k];
+                const Vec3 wk = sub(m, c[k]);
                 const double A = dot(wk, e1), B = dot(wk, e2);
                 const double M = std::sqrt(A * A + B * B);
                 const double E = R[k] * R[k] - dot(wk, wk) - rho * rho;
                 if (M == 0.0 || std::abs(E) > 2.0 * rho * M) continue;
                 const double phi = std::atan2(B, A), open = std::acos(E / (2.0 * rho * M));
                 for (double t : {phi + open, phi - open}) {
-                    const V3 v = m + rho * (std::cos(t) * e1 + std::sin(t) * e2);
-                    if (exposed(v, i, j, k)) best = std::min(best, norm(p - v));
+                    const Vec3 v =
+                        add(m, scale(add(scale(e1, std::cos(t)), scale(e2, std::sin(t))), rho));
+                    if (exposed(v, i, j, k)) best = std::min(best, norm(sub(p, v)));
                 }
             }
         }

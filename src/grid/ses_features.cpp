@@ -10,8 +10,8 @@
 #include <utility>
 
 #include "base/parallel.hpp"
+#include "base/vec3.hpp"
 #include "fdmsurf/error.hpp"
-#include "grid/v3.hpp"
 
 namespace fdmsurf::detail {
 
@@ -19,16 +19,12 @@ namespace {
 
 constexpr double kTwoPi = 6.283185307179586;
 
-using geom::cross;
-using geom::dot;
-using geom::norm;
-using geom::V3;
-
 // A unit vector perpendicular to the unit vector u.
-V3 perpendicular(V3 u) {
-    V3 t = std::abs(u.x) < 0.6 ? V3{1, 0, 0} : (std::abs(u.y) < 0.6 ? V3{0, 1, 0} : V3{0, 0, 1});
-    V3 p = cross(u, t);
-    return (1.0 / std::sqrt(dot(p, p))) * p;
+Vec3 perpendicular(const Vec3& u) {
+    Vec3 t = std::abs(u[0]) < 0.6 ? Vec3{1, 0, 0}
+                                  : (std::abs(u[1]) < 0.6 ? Vec3{0, 1, 0} : Vec3{0, 0, 1});
+    Vec3 p = cross(u, t);
+    return scale(p, 1.0 / std::sqrt(dot(p, p)));
 }
 
 // A pseudo-angle of the direction (x, y) in [0, 4): increasing with its angle from +x like the
@@ -133,10 +129,10 @@ void exposed_parts(const std::vector<Interval>& buried, std::vector<Interval>& c
 }  // namespace
 
 double arc_distance(const SesArc& arc, const double p[3], double* nearest, double bound) {
-    const V3 m{arc.m[0], arc.m[1], arc.m[2]};
-    const V3 e1{arc.e1[0], arc.e1[1], arc.e1[2]};
-    const V3 e2{arc.e2[0], arc.e2[1], arc.e2[2]};
-    const V3 v = V3{p[0], p[1], p[2]} - m;
+    const Vec3 m{arc.m[0], arc.m[1], arc.m[2]};
+    const Vec3 e1{arc.e1[0], arc.e1[1], arc.e1[2]};
+    const Vec3 e2{arc.e2[0], arc.e2[1], arc.e2[2]};
+    const Vec3 v = sub(Vec3{p[0], p[1], p[2]}, m);
     const double height = dot(v, cross(e1, e2));
     if (std::abs(height) >= bound) return bound;
     const double a = dot(v, e1), b = dot(v, e2);
@@ -152,8 +148,9 @@ double arc_distance(const SesArc& arc, const double p[3], double* nearest, doubl
             rel <= arc.length
                 ? arc.start + rel
                 : (rel - arc.length < kTwoPi - rel ? arc.start + arc.length : arc.start);
-        const V3 q = m + arc.rho * (std::cos(theta) * e1 + std::sin(theta) * e2);
-        nearest[0] = q.x, nearest[1] = q.y, nearest[2] = q.z;
+        const Vec3 q =
+            add(m, scale(add(scale(e1, std::cos(theta)), scale(e2, std::sin(theta))), arc.rho));
+        nearest[0] = q[0], nearest[1] = q[1], nearest[2] = q[2];
     }
     const double s = std::sin(0.5 * delta);
     const double rr = r - arc.rho;
@@ -169,7 +166,7 @@ SesFeatures build_ses_features(const Atoms& atoms, float probe) {
                     "the exact SES needs a probe radius > 0 Å (probe 0 is the vdw surface)");
     const std::size_t n = atoms.size();
     SesFeatures f;
-    std::vector<V3> c(n);
+    std::vector<Vec3> c(n);
     std::vector<double> R(n);
     double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
     for (std::size_t i = 0; i < n; ++i) {
@@ -184,7 +181,7 @@ SesFeatures build_ses_features(const Atoms& atoms, float probe) {
         c[i] = {atoms.xyz[3 * i], atoms.xyz[3 * i + 1], atoms.xyz[3 * i + 2]};
         R[i] = double(r) + probe;
         f.r_max = std::max(f.r_max, static_cast<float>(R[i]));
-        const double p[3] = {c[i].x, c[i].y, c[i].z};
+        const double p[3] = {c[i][0], c[i][1], c[i][2]};
         for (int a = 0; a < 3; ++a) {
             lo[a] = std::min(lo[a], p[a]);
             hi[a] = std::max(hi[a], p[a]);
@@ -229,8 +226,8 @@ SesFeatures build_ses_features(const Atoms& atoms, float probe) {
         f.origin[a] = static_cast<float>(lo[a]);
         f.dims[a] = static_cast<std::uint32_t>(std::floor((hi[a] - lo[a]) / f.bin_size)) + 1;
     }
-    auto bin_index = [&](const V3& p, int(&cell)[3]) {
-        const double q[3] = {p.x, p.y, p.z};
+    auto bin_index = [&](const Vec3& p, int(&cell)[3]) {
+        const double q[3] = {p[0], p[1], p[2]};
         for (int a = 0; a < 3; ++a) {
             const double t = std::floor((q[a] - f.origin[a]) / f.bin_size);
             cell[a] = static_cast<int>(std::clamp(t, 0.0, double(f.dims[a] - 1)));
@@ -284,7 +281,7 @@ SesFeatures build_ses_features(const Atoms& atoms, float probe) {
                             for (std::uint32_t s = start[b]; s < start[b + 1]; ++s) {
                                 const std::uint32_t j = order[s];
                                 if (j == i) continue;
-                                const V3 d = c[j] - c[i];
+                                const Vec3 d = sub(c[j], c[i]);
                                 const double reach = R[i] + R[j];
                                 if (dot(d, d) < reach * reach) out.push_back(j);
                             }
@@ -329,17 +326,17 @@ SesFeatures build_ses_features(const Atoms& atoms, float probe) {
             for (std::uint32_t q = nb_start[i]; q < nb_start[i + 1]; ++q) {
                 const std::uint32_t j = nb[q];
                 if (j <= i) continue;
-                const V3 dij = c[j] - c[i];
+                const Vec3 dij = sub(c[j], c[i]);
                 const double d = std::sqrt(dot(dij, dij));
                 if (d <= std::abs(R[i] - R[j]) || d == 0.0) continue;  // one ball inside the other
-                const V3 u = (1.0 / d) * dij;
+                const Vec3 u = scale(dij, 1.0 / d);
                 const double a = (d * d + R[i] * R[i] - R[j] * R[j]) / (2.0 * d);
                 const double rho2 = R[i] * R[i] - a * a;
                 if (rho2 <= 0.0) continue;
                 const double rho = std::sqrt(rho2);
-                const V3 m = c[i] + a * u;
-                const V3 e1 = perpendicular(u);
-                const V3 e2 = cross(u, e1);
+                const Vec3 m = add(c[i], scale(u, a));
+                const Vec3 e1 = perpendicular(u);
+                const Vec3 e2 = cross(u, e1);
                 ++out.circles;
                 buried.clear();
                 // What ball k does to the circle: with w = m - c_k,
@@ -349,7 +346,7 @@ SesFeatures build_ses_features(const Atoms& atoms, float probe) {
                     bool misses, covers;  // no point inside ball k; every point inside it
                 };
                 auto cut_by = [&](std::uint32_t k) {
-                    const V3 w = m - c[k];
+                    const Vec3 w = sub(m, c[k]);
                     Cut cut{dot(w, e1), dot(w, e2), 0.0, R[k] * R[k] - dot(w, w) - rho2, false, false};
                     cut.M = std::sqrt(cut.A * cut.A + cut.B * cut.B);
                     cut.misses = cut.E <= -2.0 * rho * cut.M;
@@ -417,10 +414,10 @@ SesFeatures build_ses_features(const Atoms& atoms, float probe) {
                         if (!(len > 1e-9)) continue;
                     }
                     SesArc arc{};
-                    arc.m[0] = float(m.x), arc.m[1] = float(m.y), arc.m[2] = float(m.z);
+                    arc.m[0] = float(m[0]), arc.m[1] = float(m[1]), arc.m[2] = float(m[2]);
                     arc.rho = float(rho);
-                    arc.e1[0] = float(e1.x), arc.e1[1] = float(e1.y), arc.e1[2] = float(e1.z);
-                    arc.e2[0] = float(e2.x), arc.e2[1] = float(e2.y), arc.e2[2] = float(e2.z);
+                    arc.e1[0] = float(e1[0]), arc.e1[1] = float(e1[1]), arc.e1[2] = float(e1[2]);
+                    arc.e2[0] = float(e2[0]), arc.e2[1] = float(e2[1]), arc.e2[2] = float(e2[2]);
                     arc.start = float(from);
                     arc.length = float(len);
                     out.arcs.push_back(arc);
@@ -441,7 +438,7 @@ SesFeatures build_ses_features(const Atoms& atoms, float probe) {
     f.arc_start.assign(f.bin_count() + 1, 0);
     for (std::size_t k = 0; k < arcs.size(); ++k) {
         int cell[3];
-        arc_bin[k] = bin_index(V3{arcs[k].m[0], arcs[k].m[1], arcs[k].m[2]}, cell);
+        arc_bin[k] = bin_index(Vec3{arcs[k].m[0], arcs[k].m[1], arcs[k].m[2]}, cell);
         ++f.arc_start[arc_bin[k] + 1];
     }
     for (std::size_t b = 0; b < f.bin_count(); ++b) f.arc_start[b + 1] += f.arc_start[b];

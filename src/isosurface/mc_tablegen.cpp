@@ -15,17 +15,16 @@
 #include <string>
 #include <vector>
 
+#include "base/vec3.hpp"
+
 namespace {
 
-using Vec = std::array<double, 3>;
-
-Vec sub(const Vec& a, const Vec& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-Vec add(const Vec& a, const Vec& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
-Vec scale(const Vec& a, double s) { return {a[0] * s, a[1] * s, a[2] * s}; }
-double dot(const Vec& a, const Vec& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-Vec cross(const Vec& a, const Vec& b) {
-    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
+using fdmsurf::detail::add;
+using fdmsurf::detail::cross;
+using fdmsurf::detail::dot;
+using fdmsurf::detail::scale;
+using fdmsurf::detail::sub;
+using fdmsurf::detail::Vec3;
 
 // A broken invariant means the derivation is wrong: no table is better than a wrong one.
 void check(bool ok, const char* what, int cube = -1) {
@@ -37,7 +36,7 @@ void check(bool ok, const char* what, int cube = -1) {
 
 int corner_coord(int c, int axis) { return (c >> axis) & 1; }
 
-Vec corner_pos(int c) {
+Vec3 corner_pos(int c) {
     return {double(corner_coord(c, 0)), double(corner_coord(c, 1)), double(corner_coord(c, 2))};
 }
 
@@ -115,7 +114,7 @@ CaseTable make_case(const std::array<Edge, 12>& edges, int cube) {
         for (int s = 0; s < 2; ++s) {
             const int u = d == 0 ? 1 : 0;
             const int v = d == 2 ? 1 : 2;
-            Vec normal{0.0, 0.0, 0.0};
+            Vec3 normal{0.0, 0.0, 0.0};
             normal[d] = s == 1 ? 1.0 : -1.0;
             // The face's corners in cyclic order, so that consecutive ones share an edge.
             std::array<int, 4> ring{};
@@ -131,13 +130,13 @@ CaseTable make_case(const std::array<Edge, 12>& edges, int cube) {
             }
             if (n_inside == 0 || n_inside == 4) continue;
 
-            Vec face_centre{0.0, 0.0, 0.0};
+            Vec3 face_centre{0.0, 0.0, 0.0};
             for (int c : ring) face_centre = add(face_centre, scale(corner_pos(c), 0.25));
 
             // Segments as (edge, edge, direction towards the outside corners they separate).
             struct Segment {
                 int a, b;
-                Vec out;
+                Vec3 out;
             };
             std::vector<Segment> segments;
             const bool ambiguous = n_inside == 2 && inside(ring[0]) == inside(ring[2]);
@@ -149,8 +148,8 @@ CaseTable make_case(const std::array<Edge, 12>& edges, int cube) {
                                         sub(face_centre, corner_pos(ring[i]))});
                 }
             } else {
-                Vec in_mean{0.0, 0.0, 0.0};
-                Vec out_mean{0.0, 0.0, 0.0};
+                Vec3 in_mean{0.0, 0.0, 0.0};
+                Vec3 out_mean{0.0, 0.0, 0.0};
                 std::vector<int> cut;
                 for (int i = 0; i < 4; ++i) {
                     if (inside(ring[i])) {
@@ -199,16 +198,16 @@ CaseTable make_case(const std::array<Edge, 12>& edges, int cube) {
 
         // Orientation: the loop's vector area must point from its inside corners to its
         // outside corners (out of the molecule); a wrong sign here would flip whole cases.
-        const Vec centre{0.5, 0.5, 0.5};
-        Vec area{0.0, 0.0, 0.0};
-        Vec in_to_out{0.0, 0.0, 0.0};
+        const Vec3 centre{0.5, 0.5, 0.5};
+        Vec3 area{0.0, 0.0, 0.0};
+        Vec3 in_to_out{0.0, 0.0, 0.0};
         for (std::size_t i = 0; i < loop.size(); ++i) {
-            const Vec p = sub(midpoint(loop[i]), centre);
-            const Vec q = sub(midpoint(loop[(i + 1) % loop.size()]), centre);
+            const Vec3 p = sub(midpoint(loop[i]), centre);
+            const Vec3 q = sub(midpoint(loop[(i + 1) % loop.size()]), centre);
             area = add(area, cross(p, q));
             const Edge& edge = edges[loop[i]];
             const bool owner_inside = inside(edge.corners[0]);
-            const Vec step = sub(corner_pos(edge.corners[1]), corner_pos(edge.corners[0]));
+            const Vec3 step = sub(corner_pos(edge.corners[1]), corner_pos(edge.corners[0]));
             in_to_out = add(in_to_out, owner_inside ? step : scale(step, -1.0));
         }
         check(dot(area, in_to_out) > 0.0, "loop oriented into the molecule", cube);

@@ -9,22 +9,14 @@
 #include <numbers>
 #include <vector>
 
+#include "base/vec3.hpp"
 #include "fdmsurf/error.hpp"
 #include "mesh/mesh_validate.hpp"
 
 namespace fdmsurf::detail {
 namespace {
 
-using V3 = std::array<double, 3>;
-
-V3 sub(const V3& a, const V3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-double dot(const V3& a, const V3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-V3 cross(const V3& a, const V3& b) {
-    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-double norm(const V3& a) { return std::sqrt(dot(a, a)); }
-
-V3 position(const Mesh& mesh, std::uint32_t v) {
+Vec3 position(const Mesh& mesh, std::uint32_t v) {
     const float* p = &mesh.positions[3 * std::size_t{v}];
     return {p[0], p[1], p[2]};
 }
@@ -33,8 +25,8 @@ V3 position(const Mesh& mesh, std::uint32_t v) {
 struct Accumulated {
     std::vector<double> area;   // mixed Voronoi area
     std::vector<double> angle;  // sum of the triangles' angles at the vertex
-    std::vector<V3> laplace;    // Σ_j (cot α_ij + cot β_ij)(x_i - x_j)
-    std::vector<V3> normal;     // Σ of the triangles' cross products (twice their area normal)
+    std::vector<Vec3> laplace;  // Σ_j (cot α_ij + cot β_ij)(x_i - x_j)
+    std::vector<Vec3> normal;   // Σ of the triangles' cross products (twice their area normal)
 };
 
 Accumulated accumulate(const Mesh& mesh, bool with_curvature) {
@@ -43,18 +35,18 @@ Accumulated accumulate(const Mesh& mesh, bool with_curvature) {
     acc.area.assign(nv, 0.0);
     if (with_curvature) {
         acc.angle.assign(nv, 0.0);
-        acc.laplace.assign(nv, V3{});
-        acc.normal.assign(nv, V3{});
+        acc.laplace.assign(nv, Vec3{});
+        acc.normal.assign(nv, Vec3{});
     }
     for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
         const std::uint32_t* tri = &mesh.indices[3 * t];
-        const V3 x[3] = {position(mesh, tri[0]), position(mesh, tri[1]), position(mesh, tri[2])};
-        const V3 n = cross(sub(x[1], x[0]), sub(x[2], x[0]));
+        const Vec3 x[3] = {position(mesh, tri[0]), position(mesh, tri[1]), position(mesh, tri[2])};
+        const Vec3 n = cross(sub(x[1], x[0]), sub(x[2], x[0]));
         const double twice_area = norm(n);
         // Corner k: its angle's cosine numerator (dot of the two edges leaving it) and cotangent.
         double dots[3], cots[3];
         for (int k = 0; k < 3; ++k) {
-            const V3 e1 = sub(x[(k + 1) % 3], x[k]), e2 = sub(x[(k + 2) % 3], x[k]);
+            const Vec3 e1 = sub(x[(k + 1) % 3], x[k]), e2 = sub(x[(k + 2) % 3], x[k]);
             dots[k] = dot(e1, e2);
             if (with_curvature) acc.angle[tri[k]] += std::atan2(norm(cross(e1, e2)), dots[k]);
         }
@@ -65,7 +57,7 @@ Accumulated accumulate(const Mesh& mesh, bool with_curvature) {
                 for (int a = 0; a < 3; ++a) acc.normal[tri[k]][a] += n[a];
                 // The edge opposite corner k joins i = k + 1 and j = k + 2, weighted cot k.
                 const int i = (k + 1) % 3, j = (k + 2) % 3;
-                const V3 d = sub(x[i], x[j]);
+                const Vec3 d = sub(x[i], x[j]);
                 for (int a = 0; a < 3; ++a) {
                     acc.laplace[tri[i]][a] += cots[k] * d[a];
                     acc.laplace[tri[j]][a] -= cots[k] * d[a];
@@ -79,7 +71,7 @@ Accumulated accumulate(const Mesh& mesh, bool with_curvature) {
             if (obtuse < 0) {
                 // Voronoi region of P = k: 1/8 (|PR|² cot Q + |PQ|² cot R), Q = k + 1, R = k + 2.
                 const int q = (k + 1) % 3, r = (k + 2) % 3;
-                const V3 pq = sub(x[q], x[k]), pr = sub(x[r], x[k]);
+                const Vec3 pq = sub(x[q], x[k]), pr = sub(x[r], x[k]);
                 a = (dot(pr, pr) * cots[q] + dot(pq, pq) * cots[r]) / 8.0;
             } else {
                 a = obtuse == k ? 0.5 * area : 0.25 * area;
@@ -164,11 +156,11 @@ VertexCurvature vertex_curvature(const Mesh& mesh, int smoothing_passes) {
     for (std::size_t v = 0; v < nv; ++v) {
         const double area = acc.area[v];
         if (!(area > 0.0)) continue;
-        const V3 normal =
-            own_normals ? V3{mesh.normals[3 * v], mesh.normals[3 * v + 1], mesh.normals[3 * v + 2]}
-                        : acc.normal[v];
+        const Vec3 normal = own_normals ? Vec3{mesh.normals[3 * v], mesh.normals[3 * v + 1],
+                                               mesh.normals[3 * v + 2]}
+                                        : acc.normal[v];
         const double normal_length = norm(normal);
-        V3 kn;  // the mean-curvature normal 2 H n
+        Vec3 kn;  // the mean-curvature normal 2 H n
         for (int a = 0; a < 3; ++a) kn[a] = acc.laplace[v][a] / (2.0 * area);
         const double along = normal_length > 0.0 ? dot(kn, normal) / normal_length : 0.0;
         if (boundary[v]) {

@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "base/parallel.hpp"
+#include "base/vec3.hpp"
 #include "fdmsurf/error.hpp"
 #include "properties/curvature.hpp"
 
@@ -18,16 +19,10 @@ namespace {
 // fit radius); at the default radius of two grid spacings there are some 30 to 60.
 constexpr std::size_t kMaxNeighbours = 4096;
 
-using V3 = std::array<double, 3>;
-
-V3 vertex(const Mesh& m, std::size_t v) {
+Vec3 vertex(const Mesh& m, std::size_t v) {
     return {m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]};
 }
-double dot(const V3& a, const V3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-V3 cross(const V3& a, const V3& b) {
-    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-V3 unit(V3 a) {
+Vec3 unit(Vec3 a) {
     const double n = std::sqrt(dot(a, a));
     if (n > 0) a = {a[0] / n, a[1] / n, a[2] / n};
     return a;
@@ -91,12 +86,12 @@ VertexCurvature fitted_curvature(const Mesh& mesh, float radius) {
         const std::size_t end = std::min(nv, (chunk + 1) * per_chunk);
         for (std::size_t v = chunk * per_chunk; v < end; ++v) {
             const std::uint32_t visit = static_cast<std::uint32_t>(v) + 1;
-            const V3 p = vertex(mesh, v);
-            const V3 n = unit({mesh.normals[3 * v], mesh.normals[3 * v + 1],
-                               mesh.normals[3 * v + 2]});
+            const Vec3 p = vertex(mesh, v);
+            const Vec3 n =
+                unit({mesh.normals[3 * v], mesh.normals[3 * v + 1], mesh.normals[3 * v + 2]});
             // Tangent frame (u, w, n).
-            const V3 helper = std::abs(n[0]) < 0.9 ? V3{1, 0, 0} : V3{0, 1, 0};
-            const V3 u = unit(cross(n, helper)), w = cross(n, u);
+            const Vec3 helper = std::abs(n[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+            const Vec3 u = unit(cross(n, helper)), w = cross(n, u);
             // Neighbours by breadth-first search through the mesh, within `radius` of p.
             ring.assign(1, static_cast<std::uint32_t>(v));
             stamp[v] = visit;
@@ -108,8 +103,8 @@ VertexCurvature fitted_curvature(const Mesh& mesh, float radius) {
                     const std::uint32_t nb = adj[k];
                     if (stamp[nb] == visit) continue;
                     stamp[nb] = visit;  // near or far, looked at once
-                    const V3 d0 = vertex(mesh, nb);
-                    const V3 d{d0[0] - p[0], d0[1] - p[1], d0[2] - p[2]};
+                    const Vec3 d0 = vertex(mesh, nb);
+                    const Vec3 d{d0[0] - p[0], d0[1] - p[1], d0[2] - p[2]};
                     if (dot(d, d) > r2) continue;
                     ring.push_back(nb);
                     // h = c0 x² + c1 x y + c2 y² + c3 x + c4 y, least squares.

@@ -24,8 +24,6 @@ constexpr Index kNone = kNoHalfEdge;
 // Fans longer than this are treated as open (marching-cubes valences stay far below it).
 constexpr int kMaxValence = 64;
 
-double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-
 // The neighbours of the start vertex of h in fan order, from the end of h on; closed when the
 // fan comes back to h, open when it reaches an edge without a twin (or passes kMaxValence).
 struct Ring {

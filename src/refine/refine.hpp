@@ -13,12 +13,11 @@
 #include <string>
 #include <vector>
 
+#include "base/vec3.hpp"
 #include "fdmsurf/mesh.hpp"
 #include "fdmsurf/structure.hpp"
 
 namespace fdmsurf::detail {
-
-using Vec3 = std::array<double, 3>;
 
 // Refinement levels accepted (SurfaceOptions::refine): each level multiplies the triangles by 4.
 inline constexpr int kMaxRefineLevels = 4;

@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "base/parallel.hpp"
+#include "base/vec3.hpp"
 #include "fdmsurf/error.hpp"
 #include "mesh/half_edges.hpp"
 #include "mesh/mesh_attributes.hpp"
@@ -81,19 +82,10 @@ BallUnion::BallUnion(const Atoms& atoms, double radius_add, double pi_iso) {
 
 namespace {
 
-using Vec = std::array<double, 3>;
 using Index = std::uint32_t;
 constexpr Index kNone = ~Index{0};
 
-Vec sub(const Vec& a, const Vec& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-Vec add(const Vec& a, const Vec& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
-Vec scale(const Vec& a, double s) { return {a[0] * s, a[1] * s, a[2] * s}; }
-double dot(const Vec& a, const Vec& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-Vec cross(const Vec& a, const Vec& b) {
-    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-double norm(const Vec& a) { return std::sqrt(dot(a, a)); }
-double dist(const Vec& a, const Vec& b) { return norm(sub(a, b)); }
+double dist(const Vec3& a, const Vec3& b) { return norm(sub(a, b)); }
 
 // The spheres a vertex lies on: one on a sphere's open patch, two on a crease, three at a corner.
 struct Label {
@@ -125,7 +117,7 @@ bool subset(const Label& x, const Label& y) {
 }
 
 struct Circle {
-    Vec m, u;  // centre, unit axis
+    Vec3 m, u;  // centre, unit axis
     double rho;
 };
 
@@ -143,7 +135,7 @@ class Geometry {
 public:
     explicit Geometry(const BallUnion& balls) : balls_(balls) {}
 
-    Vec centre(Index i) const {
+    Vec3 centre(Index i) const {
         const double* c = balls_.centre(i);
         return {c[0], c[1], c[2]};
     }
@@ -153,7 +145,7 @@ public:
     // `label` (q lies on that sphere, so any ball that reaches q meets it), else every ball
     // whose centre lies within the largest radius.
     template <class F>
-    void for_each_reaching(const Vec& q, const Label& label, F&& f) const {
+    void for_each_reaching(const Vec3& q, const Label& label, F&& f) const {
         if (label.n == 0) {
             balls_.for_each_within(q.data(), balls_.max_radius() + kOnSphere, f);
             return;
@@ -167,7 +159,7 @@ public:
     // True when q (on the spheres of `label`) lies inside no ball but those of `label`, which
     // gains every other sphere q lies on; false when some ball buries it (its index in
     // `burier`).
-    bool classify(const Vec& q, Label& label, Index* burier = nullptr) const {
+    bool classify(const Vec3& q, Label& label, Index* burier = nullptr) const {
         bool exposed = true;
         const Label on = label;
         for_each_reaching(q, on, [&](Index j) {
@@ -184,7 +176,7 @@ public:
     }
 
     // Every ball that buries q (on the spheres of `label`), other than those of `label`.
-    void buriers(const Vec& q, const Label& label, std::vector<Index>& out) const {
+    void buriers(const Vec3& q, const Label& label, std::vector<Index>& out) const {
         out.clear();
         for_each_reaching(q, label, [&](Index j) {
             if (!label.has(j) && dist(q, centre(j)) < radius(j) - kOnSphere) out.push_back(j);
@@ -192,7 +184,7 @@ public:
     }
 
     // Every ball whose sphere passes within `reach` of q.
-    void near(const Vec& q, double reach, std::vector<Index>& out) const {
+    void near(const Vec3& q, double reach, std::vector<Index>& out) const {
         out.clear();
         balls_.for_each_within(q.data(), balls_.max_radius() + reach, [&](Index j) {
             if (std::abs(dist(q, centre(j)) - radius(j)) <= reach) out.push_back(j);
@@ -200,8 +192,8 @@ public:
     }
 
     bool circle(Index i, Index j, Circle& c) const {
-        const Vec ci = centre(i), cj = centre(j);
-        const Vec e = sub(cj, ci);
+        const Vec3 ci = centre(i), cj = centre(j);
+        const Vec3 e = sub(cj, ci);
         const double d = norm(e);
         const double ri = radius(i), rj = radius(j);
         if (!(d > 1e-9) || d >= ri + rj || d <= std::abs(ri - rj)) return false;
@@ -214,12 +206,12 @@ public:
         return true;
     }
 
-    static Vec closest_on_circle(const Circle& c, const Vec& x) {
-        Vec w = sub(x, c.m);
+    static Vec3 closest_on_circle(const Circle& c, const Vec3& x) {
+        Vec3 w = sub(x, c.m);
         w = sub(w, scale(c.u, dot(w, c.u)));
         double len = norm(w);
         if (!(len > 1e-12)) {  // on the axis: any point of the circle is as near
-            const Vec t = std::abs(c.u[0]) < 0.9 ? Vec{1, 0, 0} : Vec{0, 1, 0};
+            const Vec3 t = std::abs(c.u[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
             w = cross(c.u, t);
             len = norm(w);
         }
@@ -227,9 +219,9 @@ public:
     }
 
     // The two points on spheres i, j and k (false when the three do not meet in two points).
-    bool triple_points(Index i, Index j, Index k, Vec out[2]) const {
-        const Vec ci = centre(i);
-        const Vec e1 = sub(centre(j), ci), e2 = sub(centre(k), ci);
+    bool triple_points(Index i, Index j, Index k, Vec3 out[2]) const {
+        const Vec3 ci = centre(i);
+        const Vec3 e1 = sub(centre(j), ci), e2 = sub(centre(k), ci);
         const double ri2 = radius(i) * radius(i);
         const double b1 = 0.5 * (dot(e1, e1) + ri2 - radius(j) * radius(j));
         const double b2 = 0.5 * (dot(e2, e2) + ri2 - radius(k) * radius(k));
@@ -237,8 +229,8 @@ public:
         const double det = g11 * g22 - g12 * g12;
         if (!(det > 1e-12 * g11 * g22)) return false;  // centres (nearly) on a line
         const double alpha = (b1 * g22 - b2 * g12) / det, beta = (b2 * g11 - b1 * g12) / det;
-        const Vec y0 = add(scale(e1, alpha), scale(e2, beta));
-        const Vec n = cross(e1, e2);
+        const Vec3 y0 = add(scale(e1, alpha), scale(e2, beta));
+        const Vec3 n = cross(e1, e2);
         const double t2 = (ri2 - dot(y0, y0)) / dot(n, n);
         if (!(t2 > 0.0)) return false;
         const double t = std::sqrt(t2);
@@ -250,13 +242,13 @@ public:
     // A point of the union's boundary near p: the radial projection onto the ball of least
     // power distance if no ball buries it, else the nearest exposed point of a circle of that
     // ball with a burying ball, else the nearest exposed three-sphere point of such circles.
-    bool project(const Vec& p, Vec& q, Label& label) const {
+    bool project(const Vec3& p, Vec3& q, Label& label) const {
         Index i = kNone;
         double best = std::numeric_limits<double>::infinity();
         // Every ball whose sphere passes within kReach of p: its power distance is below that
         // of any farther ball as long as p lies within kReach of the union's boundary.
         balls_.for_each_within(p.data(), balls_.max_radius() + kReach, [&](Index j) {
-            const Vec d = sub(p, centre(j));
+            const Vec3 d = sub(p, centre(j));
             const double pi = dot(d, d) - radius(j) * radius(j);
             if (pi < best) {
                 best = pi;
@@ -264,11 +256,11 @@ public:
             }
         });
         if (i == kNone) return false;
-        const Vec ci = centre(i);
-        const Vec d = sub(p, ci);
+        const Vec3 ci = centre(i);
+        const Vec3 d = sub(p, ci);
         const double len = norm(d);
         if (!(len > 1e-9)) return false;
-        const Vec r = add(ci, scale(d, radius(i) / len));
+        const Vec3 r = add(ci, scale(d, radius(i) / len));
         Label l;
         l.add(i);
         if (classify(r, l)) {
@@ -285,7 +277,7 @@ public:
         for (const Index j : around) {
             Circle c;
             if (!circle(i, j, c)) continue;
-            const Vec x = closest_on_circle(c, p);
+            const Vec3 x = closest_on_circle(c, p);
             Label lx;
             lx.add(i);
             lx.add(j);
@@ -302,15 +294,15 @@ public:
         for (const Index j : around) {
             Circle c;
             if (!circle(i, j, c)) continue;
-            const Vec x = closest_on_circle(c, p);
+            const Vec3 x = closest_on_circle(c, p);
             Label ij;
             ij.add(i);
             ij.add(j);
             buriers(x, ij, deeper);
             for (const Index k : deeper) {
-                Vec t[2];
+                Vec3 t[2];
                 if (!triple_points(i, j, k, t)) continue;
-                for (const Vec& y : t) {
+                for (const Vec3& y : t) {
                     Label ly;
                     ly.add(i);
                     ly.add(j);
@@ -330,7 +322,7 @@ private:
     const BallUnion& balls_;
 };
 
-Vec position(const Mesh& mesh, Index v) {
+Vec3 position(const Mesh& mesh, Index v) {
     const float* p = &mesh.positions[3 * std::size_t(v)];
     return {p[0], p[1], p[2]};
 }
@@ -345,7 +337,7 @@ enum class SplitKind : std::uint8_t { Crease, Chord, Other };
 
 struct EdgeSplit {
     std::uint64_t key;
-    Vec p;
+    Vec3 p;
     Label label;
     SplitKind kind;
 };
@@ -385,7 +377,7 @@ private:
         parallel_chunks(chunks, thread_count(), [&](std::size_t c) {
             const std::size_t end = std::min(nv, (c + 1) * kChunk);
             for (std::size_t v = c * kChunk; v < end; ++v) {
-                Vec q;
+                Vec3 q;
                 Label l;
                 if (!geo_.project(position(mesh_, Index(v)), q, l)) {
                     ++unresolved[c];
@@ -420,7 +412,7 @@ private:
         struct Move {
             double d;
             Index v;
-            Vec p;
+            Vec3 p;
             Label label;
         };
         constexpr std::size_t kChunk = 2048;
@@ -431,14 +423,14 @@ private:
             for (std::size_t v = c * kChunk; v < end; ++v) {
                 const Label& lv = labels_[v];
                 if (lv.n != 1) continue;
-                const Vec pv = position(mesh_, Index(v));
+                const Vec3 pv = position(mesh_, Index(v));
                 Move best{std::numeric_limits<double>::infinity(), Index(v), {}, {}};
                 for (Index f = start[v]; f < start[v + 1]; ++f) {
                     const Index t = fan[f];
                     for (int k = 0; k < 3; ++k) {
                         const Index w = idx[3 * t + k];
                         if (w == v || labels_[w].n == 0 || share(Index(v), w)) continue;
-                        const Vec pw = position(mesh_, w);
+                        const Vec3 pw = position(mesh_, w);
                         const double len = dist(pv, pw);
                         for (int y = 0; y < labels_[w].n; ++y) {
                             Circle circle;
@@ -447,7 +439,7 @@ private:
                             const double fb = dot(sub(pw, circle.m), circle.u);
                             // v must be the nearer end of the chord's crossing.
                             if (!(fa <= 0.0 && fb > 0.0) || -fa > fb) continue;
-                            const Vec q = Geometry::closest_on_circle(circle, pv);
+                            const Vec3 q = Geometry::closest_on_circle(circle, pv);
                             const double d = dist(q, pv);
                             if (d >= best.d || d > 0.5 * len) continue;
                             Label l;
@@ -470,7 +462,7 @@ private:
         for (const Move& m : moves) {
             if (locked[m.v]) continue;
             // The fan must not fold over at the new position.
-            const Vec old_p = position(mesh_, m.v);
+            const Vec3 old_p = position(mesh_, m.v);
             const Label old_l = labels_[m.v];
             for (int a = 0; a < 3; ++a) mesh_.positions[3 * std::size_t(m.v) + a] = float(m.p[a]);
             labels_[m.v] = m.label;
@@ -500,10 +492,10 @@ private:
     // points of i, j and k, nearest the chord. Else the nearest surface point of the midpoint,
     // if it lies on a sphere of neither end. Every split point shares a sphere with an end and
     // is not on that end's spheres only, so that the crossing moves on.
-    bool crossing_split(const Label& la, const Label& lb, const Vec& pa, const Vec& pb, double len,
-                        EdgeSplit& s) const {
+    bool crossing_split(const Label& la, const Label& lb, const Vec3& pa, const Vec3& pb,
+                        double len, EdgeSplit& s) const {
         double best = std::numeric_limits<double>::infinity();
-        auto consider = [&](const Vec& q, Label l, const Vec& from) {
+        auto consider = [&](const Vec3& q, Label l, const Vec3& from) {
             if (subset(l, la) || subset(l, lb)) return;
             const double d = dist(q, from);
             if (d < best && d <= kMaxDeviation * len && geo_.classify(q, l)) {
@@ -520,7 +512,7 @@ private:
             const double fa = dot(sub(pa, circle.m), circle.u);
             const double fb = dot(sub(pb, circle.m), circle.u);
             if (!(fa <= 0.0 && fb >= 0.0) || fa == fb) return;
-            const Vec x = add(pa, scale(sub(pb, pa), fa / (fa - fb)));
+            const Vec3 x = add(pa, scale(sub(pb, pa), fa / (fa - fb)));
             Label l;
             l.add(i);
             l.add(j);
@@ -529,7 +521,7 @@ private:
         for (int x = 0; x < la.n; ++x)
             for (int y = 0; y < lb.n; ++y) circle_point(la.b[x], lb.b[y]);
         if (best < std::numeric_limits<double>::infinity()) return true;
-        const Vec mid = scale(add(pa, pb), 0.5);
+        const Vec3 mid = scale(add(pa, pb), 0.5);
         std::vector<Index> third;
         geo_.near(mid, len, third);
         for (const Index k : third) {
@@ -538,17 +530,17 @@ private:
             for (int y = 0; y < lb.n; ++y) circle_point(k, lb.b[y]);
             for (int x = 0; x < la.n; ++x)
                 for (int y = 0; y < lb.n; ++y) {
-                    Vec tp[2];
+                    Vec3 tp[2];
                     if (!geo_.triple_points(la.b[x], lb.b[y], k, tp)) continue;
                     Label l;
                     l.add(la.b[x]);
                     l.add(lb.b[y]);
                     l.add(k);
-                    for (const Vec& y3 : tp) consider(y3, l, mid);
+                    for (const Vec3& y3 : tp) consider(y3, l, mid);
                 }
         }
         if (best < std::numeric_limits<double>::infinity()) return true;
-        Vec q;
+        Vec3 q;
         Label l;
         if (!geo_.project(mid, q, l) || dist(q, mid) > kMaxDeviation * len) return false;
         bool brings_new = false;
@@ -566,10 +558,10 @@ private:
         const Label& la = labels_[a];
         const Label& lb = labels_[b];
         if (la.n == 0 || lb.n == 0) return false;
-        const Vec pa = position(mesh_, a), pb = position(mesh_, b);
+        const Vec3 pa = position(mesh_, a), pb = position(mesh_, b);
         const double len = dist(pa, pb);
         if (!(len > options_.min_edge)) return false;
-        const Vec mid = scale(add(pa, pb), 0.5);
+        const Vec3 mid = scale(add(pa, pb), 0.5);
         const Label c = common(la, lb);
         if (c.n == 0) return crossing_split(la, lb, pa, pb, len, s);
         if (!chords) return false;
@@ -579,7 +571,7 @@ private:
             if (geo_.circle(c.b[0], c.b[1], circle)) {
                 const double sag = sagitta(circle.rho, len);
                 if (sag <= tol) return false;
-                const Vec q = Geometry::closest_on_circle(circle, mid);
+                const Vec3 q = Geometry::closest_on_circle(circle, mid);
                 Label l;
                 l.add(c.b[0]);
                 l.add(c.b[1]);
@@ -598,11 +590,11 @@ private:
             if (geo_.radius(c.b[k]) < geo_.radius(i)) i = c.b[k];
         const double sag = sagitta(geo_.radius(i), len);
         if (sag <= tol) return false;
-        const Vec ci = geo_.centre(i);
-        const Vec d = sub(mid, ci);
+        const Vec3 ci = geo_.centre(i);
+        const Vec3 d = sub(mid, ci);
         const double dn = norm(d);
         if (!(dn > 1e-9)) return false;
-        const Vec q = add(ci, scale(d, geo_.radius(i) / dn));
+        const Vec3 q = add(ci, scale(d, geo_.radius(i) / dn));
         Label l;
         l.add(i);
         if (geo_.classify(q, l)) {
@@ -611,7 +603,7 @@ private:
             s.kind = SplitKind::Chord;
             return true;
         }
-        Vec g;
+        Vec3 g;
         Label lg;
         if (!geo_.project(mid, g, lg) || dist(g, mid) > len) return false;
         s.p = g;
@@ -783,17 +775,17 @@ private:
     }
 
     // The outward normal at vertex v: its sphere's, or the sum of its spheres' (not normalised).
-    Vec vertex_normal(Index v) const {
+    Vec3 vertex_normal(Index v) const {
         const Label& l = labels_[v];
-        const Vec p = position(mesh_, v);
-        Vec n{0, 0, 0};
+        const Vec3 p = position(mesh_, v);
+        Vec3 n{0, 0, 0};
         if (l.n == 0) {
             if (mesh_.normals.size() >= 3 * std::size_t(v) + 3)
                 n = {mesh_.normals[3 * v], mesh_.normals[3 * v + 1], mesh_.normals[3 * v + 2]};
             return n;
         }
         for (int k = 0; k < l.n; ++k) {
-            const Vec d = sub(p, geo_.centre(l.b[k]));
+            const Vec3 d = sub(p, geo_.centre(l.b[k]));
             const double len = norm(d);
             if (len > 0.0) n = add(n, scale(d, 1.0 / len));
         }
@@ -802,9 +794,9 @@ private:
 
     // Whether triangle (x, y, z) faces against the normals of its corners.
     bool folded(Index x, Index y, Index z) const {
-        const Vec px = position(mesh_, x);
-        const Vec n = cross(sub(position(mesh_, y), px), sub(position(mesh_, z), px));
-        const Vec m = add(add(vertex_normal(x), vertex_normal(y)), vertex_normal(z));
+        const Vec3 px = position(mesh_, x);
+        const Vec3 n = cross(sub(position(mesh_, y), px), sub(position(mesh_, z), px));
+        const Vec3 m = add(add(vertex_normal(x), vertex_normal(y)), vertex_normal(z));
         return dot(n, m) <= 0.0;
     }
 
@@ -857,18 +849,18 @@ private:
                     slot_vertices(slots[i], ids, m);
                     if (m[0] == kNone && m[1] == kNone && m[2] == kNone) continue;
                     if (folded(idx[3 * t], idx[3 * t + 1], idx[3 * t + 2])) continue;
-                    const Vec p0 = position(mesh_, idx[3 * t]);
-                    const Vec p1 = position(mesh_, idx[3 * t + 1]),
-                              p2 = position(mesh_, idx[3 * t + 2]);
+                    const Vec3 p0 = position(mesh_, idx[3 * t]);
+                    const Vec3 p1 = position(mesh_, idx[3 * t + 1]),
+                               p2 = position(mesh_, idx[3 * t + 2]);
                     const double whole = norm(cross(sub(p1, p0), sub(p2, p0)));
                     const double longest = std::max({dist(p0, p1), dist(p1, p2), dist(p2, p0)});
                     const int n = split_triangle(t, m, out);
                     bool bad = false;
                     for (int k = 0; k < n && !bad; ++k) {
                         if (!folded(out[3 * k], out[3 * k + 1], out[3 * k + 2])) continue;
-                        const Vec q0 = position(mesh_, out[3 * k]),
-                                  q1 = position(mesh_, out[3 * k + 1]),
-                                  q2 = position(mesh_, out[3 * k + 2]);
+                        const Vec3 q0 = position(mesh_, out[3 * k]),
+                                   q1 = position(mesh_, out[3 * k + 1]),
+                                   q2 = position(mesh_, out[3 * k + 2]);
                         const double twice = norm(cross(sub(q1, q0), sub(q2, q0)));
                         bad = twice > 0.05 * whole && twice > 0.02 * longest * longest;
                     }
@@ -933,7 +925,7 @@ private:
         const std::size_t chunks = (nt + kChunk - 1) / kChunk;
         struct Corner {
             Index triangle;
-            Vec p;
+            Vec3 p;
             Label label;
             std::array<Index, 4> key;
         };
@@ -949,11 +941,11 @@ private:
                 const Label ab = common(A, B), bc = common(B, C), ca = common(C, A);
                 if (ab.n == 0 || bc.n == 0 || ca.n == 0 || common(ab, C).n > 0) continue;
                 const Index i = ab.b[0], j = bc.b[0], k = ca.b[0];
-                Vec pts[2];
+                Vec3 pts[2];
                 if (!geo_.triple_points(i, j, k, pts)) continue;
-                const Vec p0 = position(mesh_, idx[3 * t]), p1 = position(mesh_, idx[3 * t + 1]),
-                          p2 = position(mesh_, idx[3 * t + 2]);
-                const Vec centroid = scale(add(add(p0, p1), p2), 1.0 / 3.0);
+                const Vec3 p0 = position(mesh_, idx[3 * t]), p1 = position(mesh_, idx[3 * t + 1]),
+                           p2 = position(mesh_, idx[3 * t + 2]);
+                const Vec3 centroid = scale(add(add(p0, p1), p2), 1.0 / 3.0);
                 const double reach = std::max({dist(p0, p1), dist(p1, p2), dist(p2, p0)});
                 const int which = dist(pts[0], centroid) <= dist(pts[1], centroid) ? 0 : 1;
                 if (dist(pts[which], centroid) > reach) continue;
@@ -963,18 +955,18 @@ private:
                 l.add(k);
                 if (!geo_.classify(pts[which], l)) continue;
                 // The fan around the point must not fold over.
-                Vec nw{0, 0, 0};
+                Vec3 nw{0, 0, 0};
                 for (int z = 0; z < 3; ++z) {
-                    const Vec d = sub(pts[which], geo_.centre(l.b[z]));
+                    const Vec3 d = sub(pts[which], geo_.centre(l.b[z]));
                     nw = add(nw, scale(d, 1.0 / norm(d)));
                 }
-                const Vec corner[3] = {p0, p1, p2};
+                const Vec3 corner[3] = {p0, p1, p2};
                 bool bad = false;
                 for (int z = 0; z < 3 && !bad; ++z) {
-                    const Vec& x = corner[z];
-                    const Vec& y = corner[(z + 1) % 3];
-                    const Vec n = cross(sub(y, x), sub(pts[which], x));
-                    const Vec m = add(
+                    const Vec3& x = corner[z];
+                    const Vec3& y = corner[(z + 1) % 3];
+                    const Vec3 n = cross(sub(y, x), sub(pts[which], x));
+                    const Vec3 m = add(
                         add(vertex_normal(idx[3 * t + z]), vertex_normal(idx[3 * t + (z + 1) % 3])),
                         nw);
                     bad = dot(n, m) <= 0.0;
@@ -983,8 +975,8 @@ private:
                 std::array<Index, 4> key{i, j, k, 0};
                 std::sort(key.begin(), key.begin() + 3);
                 // Which of the two points: the side of the centres' plane it lies on.
-                const Vec n = cross(sub(geo_.centre(key[1]), geo_.centre(key[0])),
-                                    sub(geo_.centre(key[2]), geo_.centre(key[0])));
+                const Vec3 n = cross(sub(geo_.centre(key[1]), geo_.centre(key[0])),
+                                     sub(geo_.centre(key[2]), geo_.centre(key[0])));
                 key[3] = dot(sub(pts[which], geo_.centre(key[0])), n) > 0.0 ? 1 : 0;
                 found[c].push_back({Index(t), pts[which], l, key});
             }
@@ -1016,10 +1008,10 @@ private:
         for (std::size_t v = 0; v < nv; ++v) {
             const Label& l = labels_[v];
             if (l.n == 0) continue;
-            const Vec p = position(mesh_, Index(v));
-            Vec n{0, 0, 0};
+            const Vec3 p = position(mesh_, Index(v));
+            Vec3 n{0, 0, 0};
             for (int k = 0; k < l.n; ++k) {
-                const Vec d = sub(p, geo_.centre(l.b[k]));
+                const Vec3 d = sub(p, geo_.centre(l.b[k]));
                 const double len = norm(d);
                 if (len > 0.0) n = add(n, scale(d, 1.0 / len));
             }
