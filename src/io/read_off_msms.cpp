@@ -1,13 +1,12 @@
 // read_mesh_any: PLY, OBJ, GLB, STL, OFF (OFF/NOFF/COFF/"OFF+N") and MSMS .vert/.face, gzipped or
 // not.
-#include <zlib.h>
-
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <memory>
@@ -18,6 +17,7 @@
 
 #include "fdmsurf/compare.hpp"
 #include "fdmsurf/error.hpp"
+#include "io/gzip_input.hpp"
 #include "io/mesh_io.hpp"
 
 namespace fdmsurf {
@@ -140,44 +140,45 @@ struct OffColors {
     }
 };
 
-// Reads a whole file; gzip-compressed data is inflated (zlib reads plain files unchanged).
+// Reads a whole file; gzip-compressed data (by its magic bytes) is inflated by io/gzip_input,
+// with the messages zlib's gzread gave when it read these files.
 std::string read_maybe_gzipped(const std::string& path) {
     std::error_code ec;
     if (fs::is_directory(path, ec))
         throw Error(ErrorCode::Io, "cannot read " + path + ": it is a folder");
-    {
-        std::unique_ptr<std::FILE, int (*)(std::FILE*)> probe(std::fopen(path.c_str(), "rb"),
-                                                              &std::fclose);
-        if (!probe) {
-            throw Error(ErrorCode::Io, "cannot read " + path + ": " + std::strerror(errno));
-        }
-    }
-    std::unique_ptr<gzFile_s, int (*)(gzFile)> file(gzopen(path.c_str(), "rb"), &gzclose);
+    std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"),
+                                                         &std::fclose);
     if (!file) throw Error(ErrorCode::Io, "cannot read " + path + ": " + std::strerror(errno));
-    gzbuffer(file.get(), 1u << 18);
     std::string data;
     const auto size = fs::file_size(path, ec);
     if (!ec) data.reserve(std::size_t(size));
-    constexpr unsigned kChunk = 1u << 20;
+    constexpr std::size_t kChunk = std::size_t{1} << 20;
     while (true) {
         const std::size_t old = data.size();
         data.resize(old + kChunk);
-        const int n = gzread(file.get(), data.data() + old, kChunk);
-        if (n < 0) {
-            int code = 0;
-            const char* message = gzerror(file.get(), &code);
-            if (code == Z_ERRNO) {
-                throw Error(ErrorCode::Io, "cannot read " + path + ": " + std::strerror(errno));
-            }
-            fail(path, std::string("bad gzip data: ") + message);
-        }
-        data.resize(old + std::size_t(n));
-        if (n == 0) break;
+        const std::size_t n = std::fread(data.data() + old, 1, kChunk, file.get());
+        data.resize(old + n);
+        if (n < kChunk) break;
     }
-    int code = 0;
-    const char* message = gzerror(file.get(), &code);
-    if (code != Z_OK) fail(path, std::string("bad gzip data: ") + message);
-    return data;
+    if (std::ferror(file.get()))
+        throw Error(ErrorCode::Io, "cannot read " + path + ": " + std::strerror(errno));
+    if (!is_gzip(data)) return data;
+    std::string out;
+    GzipProblem problem;
+    if (gunzip(data, out, problem)) return out;
+    switch (problem.kind) {
+        case GzipProblem::Kind::Setup:
+        case GzipProblem::Kind::OutOfMemory:
+            fail(path, "bad gzip data: out of memory");
+        case GzipProblem::Kind::Truncated:
+            fail(path, "bad gzip data: " + path + ": unexpected end of file");
+        case GzipProblem::Kind::Refused:
+            fail(path, "bad gzip data: " + path + ": internal error: inflate stream corrupt");
+        default:  // Corrupt
+            break;
+    }
+    fail(path, "bad gzip data: " + path + ": " +
+                   (problem.zlib_message.empty() ? "compressed data error" : problem.zlib_message));
 }
 
 // MSMS writes a count line "n spheres density probe" after '#' lines, then n records.

@@ -1,6 +1,4 @@
 // Getting structure text: file reading, gunzip, sanity checks, format detection, line helpers.
-#include <zlib.h>
-
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
@@ -12,6 +10,7 @@
 #include <fstream>
 #include <new>
 
+#include "io/gzip_input.hpp"
 #include "structure/detail.hpp"
 
 namespace fdmsurf::detail {
@@ -46,56 +45,25 @@ std::string read_bytes(const std::string& path) {
     return bytes;
 }
 
-// Own inflate loop rather than gemmi's MaybeGzipped: gzread treats a stream that ends early as
-// a short file, and we want "truncated" to be an error, not a silently shorter structure.
-std::string gunzip(std::string_view gz, const std::string& name) {
-    z_stream zs{};
-    if (inflateInit2(&zs, 16 + MAX_WBITS) != Z_OK)
-        throw Error(ErrorCode::Internal, name + ": zlib inflateInit2 failed");
-    struct Guard {
-        z_stream* zs;
-        ~Guard() { inflateEnd(zs); }
-    } guard{&zs};
-
+// Own inflate loop (io/gzip_input) rather than gemmi's MaybeGzipped: gzread treats a stream that
+// ends early as a short file, and we want "truncated" to be an error, not a silently shorter
+// structure.
+std::string gunzip_or_fail(std::string_view gz, const std::string& name) {
     std::string out;
-    std::size_t in_pos = 0;
-    bool at_member_end = false;
-    for (;;) {
-        if (zs.avail_in == 0 && in_pos < gz.size()) {
-            // avail_in is 32-bit: feed large inputs in pieces.
-            std::size_t piece = std::min<std::size_t>(gz.size() - in_pos, 1u << 30);
-            zs.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(gz.data() + in_pos));
-            zs.avail_in = static_cast<uInt>(piece);
-            in_pos += piece;
-        }
-        if (at_member_end) {
-            // Concatenated members are legal gzip; anything else after the end is ignored.
-            if (zs.avail_in < 2 ||
-                !is_gzip(std::string_view(reinterpret_cast<const char*>(zs.next_in), zs.avail_in)))
-                break;
-            inflateReset(&zs);
-            at_member_end = false;
-        }
-        std::size_t old_size = out.size();
-        std::size_t chunk = std::max<std::size_t>(1u << 18, gz.size());
-        out.resize(old_size + chunk);
-        zs.next_out = reinterpret_cast<Bytef*>(out.data() + old_size);
-        zs.avail_out = static_cast<uInt>(chunk);
-        int ret = inflate(&zs, Z_NO_FLUSH);
-        out.resize(old_size + chunk - zs.avail_out);
-        if (ret == Z_STREAM_END) {
-            at_member_end = true;
-        } else if (ret == Z_MEM_ERROR) {
+    GzipProblem problem;
+    if (gunzip(gz, out, problem)) return out;
+    switch (problem.kind) {
+        case GzipProblem::Kind::Setup:
+            throw Error(ErrorCode::Internal, name + ": zlib inflateInit2 failed");
+        case GzipProblem::Kind::OutOfMemory:
             throw std::bad_alloc();
-        } else if (ret == Z_DATA_ERROR || ret == Z_NEED_DICT || ret == Z_STREAM_ERROR) {
-            fail_format(name + ": corrupt gzip data (" + (zs.msg ? zs.msg : "inflate failed") +
-                        ")");
-        } else if (zs.avail_in == 0 && in_pos == gz.size() && zs.avail_out != 0) {
-            // inflate wanted more input and there is none.
+        case GzipProblem::Kind::Truncated:
             fail_format(name + ": truncated gzip stream (the compressed data ends early)");
-        }
+        default:  // Corrupt, Refused
+            break;
     }
-    return out;
+    fail_format(name + ": corrupt gzip data (" +
+                (problem.zlib_message.empty() ? "inflate failed" : problem.zlib_message) + ")");
 }
 
 bool is_text_byte(unsigned char c) {
@@ -177,15 +145,10 @@ void fail_format(const std::string& message) { throw Error(ErrorCode::Format, me
 
 std::string at_line(std::size_t line) { return " at line " + std::to_string(line); }
 
-bool is_gzip(std::string_view data) {
-    return data.size() >= 2 && static_cast<unsigned char>(data[0]) == 0x1f &&
-           static_cast<unsigned char>(data[1]) == 0x8b;
-}
-
 std::string load_file(const std::string& path) { return decompress(read_bytes(path), path); }
 
 std::string decompress(std::string bytes, const std::string& name) {
-    return is_gzip(bytes) ? gunzip(bytes, name) : bytes;
+    return is_gzip(bytes) ? gunzip_or_fail(bytes, name) : bytes;
 }
 
 void check_text(std::string_view data, const std::string& name) {
