@@ -30,6 +30,7 @@
 #include "cli/output_paths.hpp"
 #include "cli/progress.hpp"
 #include "cli/summary.hpp"
+#include "cli/usage.hpp"
 #include "base/trace.hpp"
 #include "io/atomic_file.hpp"
 #include "fdmsurf/fdmsurf.hpp"

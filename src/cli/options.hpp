@@ -94,9 +94,6 @@ bool is_png_path(const std::string& path);
 // "off" (the device); nothing for any other text.
 std::optional<fdmsurf::StagePlace> stage_place(std::string_view text);
 
-// The --help text: usage, every option with its unit and default, the exit codes.
-std::string usage_text();
-
 // Process exit codes (documented in --help).
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitFailure = 1;     // anything else (Internal, unexpected exceptions)

@@ -5,6 +5,7 @@
 #include "cli/cli_program.hpp"
 #include "cli/json_check.hpp"
 #include "cli/parse_check.hpp"
+#include "cli/usage.hpp"
 
 namespace {
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "cli/options.hpp"
+#include "cli/usage.hpp"
 #include "cli/parse_check.hpp"
 
 namespace {

@@ -8,6 +8,7 @@
 #include <vulkan/vulkan_core.h>
 
 #include "cli/options.hpp"
+#include "cli/usage.hpp"
 
 namespace {
 

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "cli/options.hpp"
+#include "cli/usage.hpp"
 #include "cli/parse_check.hpp"
 #include "simplify/simplify_detail.hpp"
 
