@@ -1,5 +1,6 @@
-// Hand-written argument parser of the fdmsurf program and its exit codes (the --help text is in
-// usage.cpp).
+// Hand-written argument parser of the fdmsurf program: each argument read and its value checked
+// (the options against each other in options_check.cpp), the output paths named from the
+// options, and the exit codes. The --help text is in usage.cpp.
 #include "cli/options.hpp"
 
 #include <algorithm>
@@ -15,6 +16,7 @@
 
 #include <vulkan/vulkan_core.h>
 
+#include "cli/options_check.hpp"
 #include "refine/refine.hpp"
 
 namespace fdmsurf::cli {
@@ -150,86 +152,6 @@ constexpr std::array<OptionSpec, 58> kOptions{{
     {"--occlusion", "", Opt::Occlusion, true, true},
     {"--depth-cue", "", Opt::DepthCue, true, true},
 }};
-
-[[noreturn]] void fail(const std::string& message);
-std::string lower(std::string_view text);
-
-}  // namespace
-
-bool output_is_folder(const std::string& output) {
-    std::error_code ec;
-    return !output.empty() && output != kStdio &&
-           (output.back() == '/' || std::filesystem::is_directory(output, ec));
-}
-
-namespace {
-
-// OUTPUT itself, or OUTPUT/<input name><extension> for a folder.
-std::string output_with_extension(const std::string& input, const std::string& output,
-                                  const char* extension) {
-    if (!output_is_folder(output)) return output;
-    std::filesystem::path name =
-        input == kStdio ? std::filesystem::path("stdin") : std::filesystem::path(input).filename();
-    // 1crn.pdb.gz -> 1crn.ply
-    if (lower(name.extension().string()) == ".gz") name = name.stem();
-    name.replace_extension(extension);
-    return (std::filesystem::path(output) / name).string();
-}
-
-std::string with_model(const std::string& file, int model) {
-    std::filesystem::path path = file;
-    path.replace_filename(path.stem().string() + "-m" + std::to_string(model) +
-                          path.extension().string());
-    return path.string();
-}
-
-}  // namespace
-
-std::string output_for(const std::string& input, const std::string& output, MeshFormat format) {
-    return output_with_extension(
-        input, output, format == MeshFormat::Auto ? ".ply" : mesh_format_extension(format));
-}
-
-std::string output_for(const std::string& input, const std::string& output, int model,
-                       MeshFormat format) {
-    return with_model(output_for(input, output, format), model);
-}
-
-std::string primary_output(const CliOptions& options, const std::string& input, int model) {
-    const std::string file =
-        options.image_output ? output_with_extension(input, options.output, ".png")
-                             : output_for(input, options.output, options.output_format);
-    return options.all_models ? with_model(file, model) : file;
-}
-
-std::string image_for(const CliOptions& options, const std::string& input, int model) {
-    if (options.image.empty()) return "";
-    const std::string file = output_with_extension(input, options.image, ".png");
-    return options.all_models ? with_model(file, model) : file;
-}
-
-std::vector<std::string> view_paths(const std::string& base,
-                                    const std::vector<fdmsurf::View>& views) {
-    if (views.size() <= 1 || base == kStdio) return {base};
-    std::vector<std::string> out;
-    for (fdmsurf::View v : views) {
-        std::filesystem::path path = base;
-        std::string ext = path.extension().string();
-        if (ext.empty()) ext = ".png";
-        path.replace_filename(path.stem().string() + "-" + fdmsurf::to_string(v) + ext);
-        out.push_back(path.string());
-    }
-    return out;
-}
-
-bool is_png_path(const std::string& path) {
-    if (path.size() < 4) return false;
-    std::string ext = path.substr(path.size() - 4);
-    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return ext == ".png";
-}
-
-namespace {
 
 [[noreturn]] void fail(const std::string& message) {
     throw Error(ErrorCode::InvalidArgument, message);
@@ -486,101 +408,181 @@ std::vector<std::string> parse_chains(std::string_view option, const std::string
     return chains;
 }
 
-void apply_value(CliOptions& o, const OptionSpec& spec, std::string_view name,
-                 const std::string& text) {
-    SurfaceOptions& s = o.surface;
-    switch (spec.id) {
+// --view a,b: each view once, in the order given.
+std::vector<fdmsurf::View> parse_views(std::string_view option, const std::string& text) {
+    std::vector<fdmsurf::View> views;
+    for (const std::string& item : split_commas(text)) {
+        const fdmsurf::View v =
+            parse_choice(option, item, kViews, "view",
+                         "front, back, left, right, top or bottom, or a comma-separated list");
+        if (std::find(views.begin(), views.end(), v) != views.end())
+            fail("option " + std::string(option) + ": '" + item + "' is listed twice");
+        views.push_back(v);
+    }
+    return views;
+}
+
+// --rotate X,Y,Z: three angles in degrees.
+void parse_rotate(std::string_view option, const std::string& text, RenderOptions& r) {
+    const std::vector<std::string> items = split_commas(text);
+    if (items.size() != 3)
+        fail("option " + std::string(option) + " must be three angles in degrees, X,Y,Z (got " +
+             text + ")");
+    for (int k = 0; k < 3; ++k) r.rotate[k] = parse_float(option, items[k]);
+}
+
+// --max-triangles N: an upper bound, any whole number >= 1, however large (beyond 2^64: no
+// bound).
+std::size_t parse_max_triangles(std::string_view option, const std::string& text) {
+    std::string_view digits = text;
+    if (!digits.empty() && digits.front() == '+') digits.remove_prefix(1);
+    if (!digits.empty() && digits.front() == '-') {
+        // "-5" or "-99999999999" is below 1; "-x" or "-" is not a whole number.
+        const std::string_view magnitude = digits.substr(1);
+        const bool whole = !magnitude.empty() &&
+                           std::all_of(magnitude.begin(), magnitude.end(),
+                                       [](char c) { return c >= '0' && c <= '9'; });
+        if (!whole) fail("option " + std::string(option) + ": '" + text + "' is not a whole number");
+        require(false, option, "a whole number of triangles >= 1", text);
+    }
+    std::uint64_t count = 0;
+    const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), count);
+    if (digits.empty() || end != digits.data() + digits.size() ||
+        (ec != std::errc() && ec != std::errc::result_out_of_range))
+        fail("option " + std::string(option) + ": '" + text + "' is not a whole number");
+    if (ec == std::errc::result_out_of_range) count = std::numeric_limits<std::uint64_t>::max();
+    require(count >= 1, option, "a whole number of triangles >= 1", text);
+    return static_cast<std::size_t>(
+        std::min<std::uint64_t>(count, std::numeric_limits<std::size_t>::max()));
+}
+
+// --buried GROUP1:GROUP2: two groups, neither empty (matched against the atoms later).
+void check_buried_groups(std::string_view option, const std::string& text) {
+    if (std::count(text.begin(), text.end(), ':') != 1 || text.front() == ':' ||
+        text.back() == ':')
+        fail("option " + std::string(option) + " '" + text +
+             "': give two groups separated by one ':' (chain ids, e.g. A:B or A,C:B,D, "
+             "or gemmi selections, e.g. 'A/1-50:B')");
+}
+
+// The apply_*_value functions below set the value of an option of their group and return
+// true, or return false for an option of another group.
+
+// The files written, their format, the device, the stage places and --stats.
+bool apply_run_value(CliOptions& o, Opt id, std::string_view name, const std::string& text) {
+    switch (id) {
         case Opt::Output:
             // Standard output by another name: the same as '-' (the summary then goes to
             // stderr rather than into the mesh).
             o.output = text == "/dev/stdout" || text == "/dev/fd/1" || text == "/proc/self/fd/1"
                            ? std::string(kStdio)
                            : text;
-            break;
+            return true;
         case Opt::OutputFormat:
             o.output_format = parse_choice(name, text, kOutputFormats, "output format",
                                            "ply, obj, glb, stl, off or png");
             o.image_output = lower(text) == "png";
-            break;
+            return true;
+        case Opt::Device:
+            o.engine.device = text;
+            return true;
+        case Opt::Stats:
+            o.json = parse_choice(name, text, kStats, "--stats format", "json or text");
+            return true;
+        case Opt::HostFilter:
+            o.engine.gaussian_filter =
+                parse_choice(name, text, kStagePlaces, "host filter setting", "auto, on or off");
+            return true;
+        case Opt::HostMc:
+            o.engine.marching_cubes = parse_choice(name, text, kStagePlaces,
+                                                   "host marching cubes setting", "auto, on or off");
+            return true;
+        case Opt::HostAtoms:
+            o.engine.vertex_atoms = parse_choice(name, text, kStagePlaces,
+                                                 "host vertex atoms setting", "auto, on or off");
+            return true;
+        case Opt::HostSes:
+            o.engine.ses_distance = parse_choice(name, text, kStagePlaces,
+                                                 "host SES field setting", "auto, on or off");
+            return true;
+        default:
+            return false;
+    }
+}
+
+// The pictures: --image and the render options (the last one given is kept for its error).
+bool apply_picture_value(CliOptions& o, Opt id, std::string_view name, const std::string& text) {
+    switch (id) {
         case Opt::Image:
             o.image = text;
-            break;
+            return true;
         case Opt::ImageSize:
             parse_image_size(name, text, o.render);
-            o.render_options_given = std::string(name);
             break;
-        case Opt::View: {
-            o.views.clear();
-            for (const std::string& item : split_commas(text)) {
-                const fdmsurf::View v = parse_choice(
-                    name, item, kViews, "view",
-                    "front, back, left, right, top or bottom, or a comma-separated list");
-                if (std::find(o.views.begin(), o.views.end(), v) != o.views.end())
-                    fail("option " + std::string(name) + ": '" + item + "' is listed twice");
-                o.views.push_back(v);
-            }
-            o.render_options_given = std::string(name);
+        case Opt::View:
+            o.views = parse_views(name, text);
             break;
-        }
-        case Opt::Rotate: {
-            const std::vector<std::string> items = split_commas(text);
-            if (items.size() != 3)
-                fail("option " + std::string(name) +
-                     " must be three angles in degrees, X,Y,Z (got " + text + ")");
-            for (int k = 0; k < 3; ++k) o.render.rotate[k] = parse_float(name, items[k]);
-            o.render_options_given = std::string(name);
+        case Opt::Rotate:
+            parse_rotate(name, text, o.render);
             break;
-        }
         case Opt::Background:
             parse_background(name, text, o.render);
-            o.render_options_given = std::string(name);
             break;
         case Opt::Occlusion:
             o.render.ambient_occlusion = parse_float(name, text);
             require(o.render.ambient_occlusion >= 0.0f && o.render.ambient_occlusion <= 1.0f,
                     name, "within [0, 1]", text);
-            o.render_options_given = std::string(name);
             break;
         case Opt::DepthCue:
             o.render.depth_cue = parse_float(name, text);
             require(o.render.depth_cue >= 0.0f && o.render.depth_cue <= 1.0f, name,
                     "within [0, 1]", text);
-            o.render_options_given = std::string(name);
             break;
+        default:
+            return false;
+    }
+    o.render_options_given = std::string(name);
+    return true;
+}
+
+// The surface: its kind, method, grid, filter, level, cavities and refinement.
+bool apply_surface_value(SurfaceOptions& s, bool& explicit_cavities, Opt id,
+                         std::string_view name, const std::string& text) {
+    switch (id) {
         case Opt::Surface:
             s.surface = parse_choice(name, text, kSurfaces, "surface kind", "ses, vdw or sas");
-            break;
+            return true;
         case Opt::Spacing:
             s.spacing = parse_float(name, text);
             require(s.spacing > 0.0f, name, "> 0 Å", text);
-            break;
+            return true;
         case Opt::Probe:
             s.probe = parse_float(name, text);
             require(s.probe >= 0.0f, name, ">= 0 Å", text);
-            break;
+            return true;
         case Opt::Cutoff:
             s.cutoff = parse_float(name, text);
             require(s.cutoff >= 0.0f, name, ">= 0 1/Å", text);
-            break;
+            return true;
         case Opt::Sigma:
             s.sigma = parse_float(name, text);
             require(s.sigma > 0.0f, name, "> 0 Å", text);
-            break;
+            return true;
         case Opt::Level:
             s.level = parse_float(name, text);
             require(s.level > 0.0f, name, "> 0", text);
-            break;
+            return true;
         case Opt::Filter:
             s.filter = parse_choice(name, text, kFilters, "filter", "ideal or gaussian");
-            break;
+            return true;
         case Opt::Method:
             s.method = parse_choice(name, text, kMethods, "ses method", "fdm or edt");
-            break;
+            return true;
         case Opt::MinCavity:
             s.min_cavity_volume = parse_float(name, text);
             require(s.min_cavity_volume >= 0.0f, name, ">= 0 Å³", text);
-            o.explicit_cavities = true;
-            break;
+            explicit_cavities = true;
+            return true;
         case Opt::Refine:
             s.refine = parse_int(name, text);
             require(s.refine >= 0 && s.refine <= detail::kMaxRefineLevels, name,
@@ -588,132 +590,107 @@ void apply_value(CliOptions& o, const OptionSpec& spec, std::string_view name,
                         std::to_string(detail::kMaxRefineLevels) +
                         " (each multiplies the triangles by 4)",
                     text);
-            break;
+            return true;
         case Opt::ChordTolerance:
             s.chord_tolerance = parse_float(name, text);
             require(s.chord_tolerance >= 0.0f, name, ">= 0 Å", text);
-            break;
+            return true;
         case Opt::Padding:
             s.padding = parse_float(name, text);
             require(s.padding >= 0.0f, name, ">= 0 Å", text);
-            break;
+            return true;
+        default:
+            return false;
+    }
+}
+
+// The structure read: its model or models, assembly, format, chains and selection.
+bool apply_input_value(CliOptions& o, Opt id, std::string_view name, const std::string& text) {
+    switch (id) {
         case Opt::Model:
             o.read.model = parse_int(name, text);
             require(o.read.model >= 1, name, ">= 1", text);
-            break;
+            return true;
         case Opt::Models:
             if (lower(text) != "all")
                 fail("unknown value '" + text + "' for " + std::string(name) +
                      " (expected all; --model N reads one model)");
             o.all_models = true;
-            break;
+            return true;
         case Opt::Assembly:
             o.read.assembly = parse_int(name, text);
             require(o.read.assembly >= 0, name, ">= 0 (0: the model as deposited)", text);
-            break;
+            return true;
         case Opt::Format:
             o.read.format =
                 parse_choice(name, text, kFormats, "input format", "pdb, cif, pqr, xyzr or xyzrn");
-            break;
+            return true;
         case Opt::Chains:
             o.read.chains = parse_chains(name, text);
-            break;
+            return true;
         case Opt::Select:
             o.read.select = text;
-            break;
+            return true;
+        default:
+            return false;
+    }
+}
+
+// What is done with the mesh: colours and properties, --patch, simplification, areas.
+bool apply_mesh_value(CliOptions& o, Opt id, std::string_view name, const std::string& text) {
+    switch (id) {
         case Opt::Color:
-            parse_color(name, text, s.properties);
-            break;
+            parse_color(name, text, o.surface.properties);
+            return true;
         case Opt::Properties:
-            s.properties.scalars = parse_properties(name, text);
-            break;
+            o.surface.properties.scalars = parse_properties(name, text);
+            return true;
         case Opt::Patch:
             if (text.empty()) fail("option " + std::string(name) + " needs a selection");
             o.patch = text;
-            break;
+            return true;
         case Opt::Simplify: {
             const double ratio = parse_float<double>(name, text);
             require(ratio > 0.0 && ratio <= 1.0, name,
                     "the fraction of the triangles to keep, in (0, 1]", text);
             o.simplify.ratio = ratio;
             o.simplify_requested = true;
-            break;
+            return true;
         }
-        case Opt::MaxTriangles: {
-            // An upper bound: any whole number >= 1, however large (beyond 2^64: no bound).
-            std::string_view digits = text;
-            if (!digits.empty() && digits.front() == '+') digits.remove_prefix(1);
-            if (!digits.empty() && digits.front() == '-') {
-                // "-5" or "-99999999999" is below 1; "-x" or "-" is not a whole number.
-                const std::string_view magnitude = digits.substr(1);
-                const bool whole = !magnitude.empty() &&
-                                   std::all_of(magnitude.begin(), magnitude.end(), [](char c) {
-                                       return c >= '0' && c <= '9';
-                                   });
-                if (!whole) {
-                    fail("option " + std::string(name) + ": '" + text + "' is not a whole number");
-                }
-                require(false, name, "a whole number of triangles >= 1", text);
-            }
-            std::uint64_t count = 0;
-            const auto [end, ec] =
-                std::from_chars(digits.data(), digits.data() + digits.size(), count);
-            if (digits.empty() || end != digits.data() + digits.size() ||
-                (ec != std::errc() && ec != std::errc::result_out_of_range))
-                fail("option " + std::string(name) + ": '" + text + "' is not a whole number");
-            if (ec == std::errc::result_out_of_range) count = std::numeric_limits<std::uint64_t>::max();
-            require(count >= 1, name, "a whole number of triangles >= 1", text);
-            o.simplify.max_triangles = static_cast<std::size_t>(
-                std::min<std::uint64_t>(count, std::numeric_limits<std::size_t>::max()));
+        case Opt::MaxTriangles:
+            o.simplify.max_triangles = parse_max_triangles(name, text);
             o.simplify_requested = true;
-            break;
-        }
-        case Opt::HostFilter:
-            o.engine.gaussian_filter =
-                parse_choice(name, text, kStagePlaces, "host filter setting", "auto, on or off");
-            break;
-        case Opt::HostMc:
-            o.engine.marching_cubes = parse_choice(name, text, kStagePlaces,
-                                                   "host marching cubes setting", "auto, on or off");
-            break;
-        case Opt::HostAtoms:
-            o.engine.vertex_atoms = parse_choice(name, text, kStagePlaces,
-                                                 "host vertex atoms setting", "auto, on or off");
-            break;
-        case Opt::HostSes:
-            o.engine.ses_distance = parse_choice(name, text, kStagePlaces,
-                                                 "host SES field setting", "auto, on or off");
-            break;
+            return true;
         case Opt::Simplifier:
             o.simplify.simplifier =
                 parse_choice(name, text, kSimplifiers, "simplifier", "collapse or meshopt");
             o.simplifier_given = true;
-            break;
+            return true;
         case Opt::Areas:
             areas_format_for_path(text);  // .csv or .json, before any work
             o.areas = text;
-            break;
+            return true;
         case Opt::Relative:
             o.relative = parse_choice(name, text, kRelativeTables, "relative-area table",
                                       "tien2013, miller1987 or sander1994");
-            break;
+            return true;
         case Opt::Buried:
-            if (std::count(text.begin(), text.end(), ':') != 1 || text.front() == ':' ||
-                text.back() == ':')
-                fail("option " + std::string(name) + " '" + text +
-                     "': give two groups separated by one ':' (chain ids, e.g. A:B or A,C:B,D, "
-                     "or gemmi selections, e.g. 'A/1-50:B')");
+            check_buried_groups(name, text);
             o.buried = text;
-            break;
-        case Opt::Device:
-            o.engine.device = text;
-            break;
-        case Opt::Stats:
-            o.json = parse_choice(name, text, kStats, "--stats format", "json or text");
-            break;
+            return true;
         default:
-            fail("internal: option " + std::string(name) + " takes no value");
+            return false;
     }
+}
+
+// The value `text` of the option `spec` (spelt `name`), read into `o` and range-checked.
+void apply_value(CliOptions& o, const OptionSpec& spec, std::string_view name,
+                 const std::string& text) {
+    if (apply_run_value(o, spec.id, name, text) || apply_picture_value(o, spec.id, name, text) ||
+        apply_surface_value(o.surface, o.explicit_cavities, spec.id, name, text) ||
+        apply_input_value(o, spec.id, name, text) || apply_mesh_value(o, spec.id, name, text))
+        return;
+    fail("internal: option " + std::string(name) + " takes no value");
 }
 
 void apply_flag(CliOptions& o, const OptionSpec& spec) {
@@ -775,7 +752,76 @@ bool looks_like_option(const std::string& arg, bool numeric) {
     return !numeric;
 }
 
+// OUTPUT itself, or OUTPUT/<input name><extension> for a folder.
+std::string output_with_extension(const std::string& input, const std::string& output,
+                                  const char* extension) {
+    if (!output_is_folder(output)) return output;
+    std::filesystem::path name =
+        input == kStdio ? std::filesystem::path("stdin") : std::filesystem::path(input).filename();
+    // 1crn.pdb.gz -> 1crn.ply
+    if (lower(name.extension().string()) == ".gz") name = name.stem();
+    name.replace_extension(extension);
+    return (std::filesystem::path(output) / name).string();
+}
+
+std::string with_model(const std::string& file, int model) {
+    std::filesystem::path path = file;
+    path.replace_filename(path.stem().string() + "-m" + std::to_string(model) +
+                          path.extension().string());
+    return path.string();
+}
+
 }  // namespace
+
+bool output_is_folder(const std::string& output) {
+    std::error_code ec;
+    return !output.empty() && output != kStdio &&
+           (output.back() == '/' || std::filesystem::is_directory(output, ec));
+}
+
+std::string output_for(const std::string& input, const std::string& output, MeshFormat format) {
+    return output_with_extension(
+        input, output, format == MeshFormat::Auto ? ".ply" : mesh_format_extension(format));
+}
+
+std::string output_for(const std::string& input, const std::string& output, int model,
+                       MeshFormat format) {
+    return with_model(output_for(input, output, format), model);
+}
+
+std::string primary_output(const CliOptions& options, const std::string& input, int model) {
+    const std::string file =
+        options.image_output ? output_with_extension(input, options.output, ".png")
+                             : output_for(input, options.output, options.output_format);
+    return options.all_models ? with_model(file, model) : file;
+}
+
+std::string image_for(const CliOptions& options, const std::string& input, int model) {
+    if (options.image.empty()) return "";
+    const std::string file = output_with_extension(input, options.image, ".png");
+    return options.all_models ? with_model(file, model) : file;
+}
+
+std::vector<std::string> view_paths(const std::string& base,
+                                    const std::vector<fdmsurf::View>& views) {
+    if (views.size() <= 1 || base == kStdio) return {base};
+    std::vector<std::string> out;
+    for (fdmsurf::View v : views) {
+        std::filesystem::path path = base;
+        std::string ext = path.extension().string();
+        if (ext.empty()) ext = ".png";
+        path.replace_filename(path.stem().string() + "-" + fdmsurf::to_string(v) + ext);
+        out.push_back(path.string());
+    }
+    return out;
+}
+
+bool is_png_path(const std::string& path) {
+    if (path.size() < 4) return false;
+    std::string ext = path.substr(path.size() - 4);
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return ext == ".png";
+}
 
 std::optional<StagePlace> stage_place(std::string_view text) {
     for (const auto& [name, place] : kStagePlaces) {
@@ -786,8 +832,7 @@ std::optional<StagePlace> stage_place(std::string_view text) {
 
 CliOptions parse_args(const std::vector<std::string>& args) {
     CliOptions o;
-    bool explicit_model = false;
-    std::string fdm_only;  // the last FDM-only option given (they make no sense with edt)
+    ArgumentsSeen seen;
     bool options_done = false;
     for (std::size_t i = 0; i < args.size(); ++i) {
         const std::string& arg = args[i];
@@ -825,119 +870,11 @@ CliOptions parse_args(const std::vector<std::string>& args) {
         if (spec->id == Opt::Filter) o.explicit_filter = true;
         if (spec->id == Opt::Filter || spec->id == Opt::Cutoff || spec->id == Opt::Sigma ||
             spec->id == Opt::Level)
-            fdm_only = std::string(spec->name);
+            seen.fdm_only = std::string(spec->name);
         if (spec->id == Opt::Level) o.explicit_level = true;
-        if (spec->id == Opt::Model) explicit_model = true;
+        if (spec->id == Opt::Model) seen.explicit_model = true;
     }
-    if (o.all_models) {
-        if (explicit_model) fail("--model N and --models all exclude each other");
-        o.read.model = fdmsurf::kAllModels;
-    }
-    if (o.surface.method == SesMethod::Edt) {
-        if (o.surface.surface != SurfaceKind::Ses)
-            fail(
-                "--method edt is a way to compute the ses surface; it does not apply to "
-                "--surface " +
-                std::string(surface_name(o.surface.surface)));
-        if (o.paper)
-            fail("--paper selects the paper's FDM settings; it cannot go with --method edt");
-        if (!fdm_only.empty())
-            fail(fdm_only +
-                 " is a setting of the FDM method; --method edt (the exact SES) has no filter, "
-                 "density or level to set");
-    }
-    if (o.paper) {
-        // The paper's settings, except where an option says otherwise, wherever it stands.
-        const fdmsurf::SurfaceOptions paper = fdmsurf::paper_settings(o.surface);
-        if (!o.explicit_filter) o.surface.filter = paper.filter;
-        if (!o.explicit_level) o.surface.level = paper.level;
-        if (!o.explicit_cavities) o.surface.min_cavity_volume = paper.min_cavity_volume;
-    }
-
-    if (o.list_devices && !o.help && !o.version && !o.inputs.empty())
-        fail("--list-devices takes no INPUT (got '" + o.inputs.front() + "')");
-    if (o.help || o.version || o.list_devices) return o;
-    if (o.inputs.empty()) fail("missing INPUT, the structure file to read; see fdmsurf --help");
-    if (o.areas.empty()) {
-        if (o.relative != RelativeTable::None)
-            fail("--relative divides the per-residue areas of --areas FILE: give --areas too");
-        if (!o.buried.empty())
-            fail("--buried writes the buried areas into --areas FILE: give --areas too");
-    } else {
-        if (o.inputs.size() > 1 || o.all_models)
-            fail(
-                "--areas writes one file for one structure: give one INPUT (and no --models "
-                "all)");
-        if (o.output.empty() && o.surface.surface == SurfaceKind::Ses)
-            fail(
-                "--areas without -o computes no mesh, which the ses areas come from (the "
-                "vdw and sas areas are exact without one): give -o OUTPUT, or --surface sas");
-        if (!o.buried.empty() && !o.patch.empty())
-            fail("--buried compares whole surfaces; it cannot go with --patch");
-        if (!o.buried.empty() && o.simplify_requested)
-            fail(
-                "--buried compares the full surfaces; it cannot go with --simplify or "
-                "--max-triangles");
-        if (!o.output.empty() && o.output != kStdio && o.output == o.areas)
-            fail("--areas and -o name the same file '" + o.areas + "'");
-    }
-    if (o.simplifier_given && !o.simplify_requested)
-        fail("--simplifier chooses how --simplify or --max-triangles simplify: give one of them");
-    if (o.output.empty() && !o.areas.empty()) {
-        // Areas only: the exact sphere patches, no mesh and no device.
-        if (o.simplify_requested || o.optimize || !o.patch.empty() || o.surface.refine != 0)
-            fail(
-                "--simplify, --max-triangles, --optimize, --patch and --refine act on the mesh; "
-                "without -o none is computed");
-        if (!o.image.empty() || !o.render_options_given.empty())
-            fail((o.image.empty() ? o.render_options_given : std::string("--image")) +
-                 " draws the mesh; --areas without -o computes none: give -o FILE.png or "
-                 "-o OUTPUT --image FILE.png");
-        return o;
-    }
-    if (o.output.empty())
-        fail(
-            "missing -o OUTPUT, the mesh file to write (.ply, .obj, .glb, .stl or .off; - for "
-            "standard output) or the picture (.png)");
-    // A .png OUTPUT is a picture, whatever else; --output-format png names one too.
-    if (o.output_format == MeshFormat::Auto && is_png_path(o.output)) o.image_output = true;
-    if (o.image_output) {
-        if (!o.image.empty())
-            fail("-o '" + o.output + "' already writes the picture; --image adds one beside a "
-                 "mesh output (.ply, .obj, .glb, .stl or .off)");
-        if (o.output == kStdio && o.views.size() > 1)
-            fail("-o - writes one picture to standard output: give one --view");
-    }
-    if (!o.image.empty()) {
-        if (o.image == kStdio)
-            fail("--image writes files; for a picture on standard output use -o - "
-                 "--output-format png");
-        if (!is_png_path(o.image) && !output_is_folder(o.image))
-            fail("--image must name a .png file or a folder (ending in '/'), got '" + o.image +
-                 "'");
-        if ((o.inputs.size() > 1 || o.all_models) && !output_is_folder(o.image))
-            fail("several INPUTs or models need --image to name a folder (ending in '/'), got '" +
-                 o.image + "'");
-    }
-    if (!o.wants_images() && !o.render_options_given.empty())
-        fail(o.render_options_given +
-             " sets up a picture: write one with -o FILE.png or --image FILE.png");
-    if (std::count(o.inputs.begin(), o.inputs.end(), kStdio) > 1)
-        fail("'-' (standard input) is given more than once");
-    if (o.output == kStdio && o.inputs.size() > 1)
-        fail("-o - writes one mesh to standard output: give one INPUT, or -o FOLDER/");
-    if (o.inputs.size() > 1 && !output_is_folder(o.output))
-        fail("several INPUTs need -o to name a folder (ending in '/'), got '" + o.output + "'");
-    if (o.all_models && !output_is_folder(o.output))
-        fail(
-            "--models all writes one mesh per model (NAME-mN.ply): -o must name a folder "
-            "(ending in '/'), got '" +
-            o.output + "'");
-    for (std::size_t i = 0; i < o.inputs.size(); ++i)
-        for (std::size_t j = 0; j < i; ++j)
-            if (primary_output(o, o.inputs[i], 1) == primary_output(o, o.inputs[j], 1))
-                fail("inputs '" + o.inputs[j] + "' and '" + o.inputs[i] + "' would both write '" +
-                     primary_output(o, o.inputs[i], 1) + "'");
+    check_combinations(o, seen);
     return o;
 }
 
