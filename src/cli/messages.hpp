@@ -23,6 +23,12 @@ inline std::string one_line(std::string text) {
     return detail::printable(text);
 }
 
+// Adds the path to a message that does not name it already.
+inline std::string naming(const std::string& path, const std::string& message) {
+    if (message.find(path) != std::string::npos) return message;
+    return "'" + path + "': " + message;
+}
+
 inline void print_error(const std::string& message) {
     std::fprintf(stderr, "fdmsurf: error: %s\n", one_line(message).c_str());
 }
