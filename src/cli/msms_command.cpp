@@ -101,6 +101,157 @@ std::size_t check_sphere_lines(std::string_view text, const std::string& path) {
     return first_fields;
 }
 
+// The files a run writes: the surface's (-of, not with -surface ases) and the areas' (-af, not
+// with -no_area).
+struct MsmsFiles {
+    bool surface = false;
+    bool areas = false;
+};
+
+// The warnings for -of and -af that write nothing, then every file's folder and name checked
+// before any work.
+MsmsFiles check_msms_files(const MsmsOptions& o) {
+    MsmsFiles f;
+    f.surface = !o.output_base.empty() && o.triangulate;
+    f.areas = !o.area_base.empty() && o.areas;
+    if (!o.area_base.empty() && !o.areas)
+        print_warning("-no_area: no area file is written for -af " + o.area_base);
+    if (!o.output_base.empty() && !o.triangulate)
+        print_warning("-surface ases: no .vert/.face files are written for -of " + o.output_base);
+    // The files' folders and names, before any work.
+    std::vector<std::string> paths;
+    if (f.surface) {
+        paths.insert(paths.end(), {o.output_base + ".vert", o.output_base + ".face"});
+        // -all_components: BASE_N.vert for the cavities, N up to 6 digits here.
+        if (o.all_components) paths.push_back(o.output_base + "_999999.vert");
+    }
+    if (f.areas) paths.push_back(o.area_base + ".area");
+    for (const std::string& file : paths)
+        if (const std::string e = output_path_problem(file); !e.empty())
+            throw Error(ErrorCode::Io, e);
+    return f;
+}
+
+// Every sphere of the file, in order: MSMS's atom numbers count lines (a sphere of radius 0,
+// which the reader would leave out, is refused).
+Structure read_spheres(const std::string& input) {
+    const std::string text = detail::load_file(input);
+    const std::size_t fields = check_sphere_lines(text, input);
+    ReadOptions read;  // xyzrn when the spheres have names, else xyzr (its messages)
+    read.format = fields >= 5 ? StructureFormat::Xyzrn : StructureFormat::Xyzr;
+    read.keep_hydrogens = read.keep_waters = read.keep_ligands = true;
+    Structure s = read_structure_from_memory(text, input, read);
+    if (s.info.zero_radius_skipped != 0)
+        throw Error(ErrorCode::Format,
+                    input + ": line " + std::to_string(s.info.first_zero_radius_line) +
+                        ": a sphere of radius 0 (" + std::to_string(s.info.zero_radius_skipped) +
+                        " in the file), which would be left out and shift MSMS's atom "
+                        "numbers: give it a radius or remove it");
+    return s;
+}
+
+// The surface MSMS computes: the SES, every cavity kept (split off later), the spacing from
+// the density unless -spacing gives it.
+SurfaceOptions msms_surface(const MsmsOptions& o, float density) {
+    SurfaceOptions surface;
+    surface.surface = SurfaceKind::Ses;
+    surface.method = o.method;
+    surface.probe = o.probe;
+    surface.spacing = o.spacing > 0.0f ? o.spacing : spacing_for_density(density);
+    surface.min_cavity_volume = 0.0f;  // cavities split off below
+    return surface;
+}
+
+EngineOptions msms_engine(const MsmsOptions& o) {
+    EngineOptions eo;
+    eo.device = o.device;
+    eo.validation = o.validation;
+    eo.gaussian_filter = o.gaussian_filter;
+    eo.marching_cubes = o.marching_cubes;
+    eo.vertex_atoms = o.vertex_atoms;
+    eo.ses_distance = o.ses_distance;
+    return eo;
+}
+
+// -validation: the layer's messages as warnings; true (nothing is written) when there were any.
+bool msms_validation_failed(const MsmsOptions& o, Engine& engine) {
+    if (!o.validation) return false;
+    const std::vector<std::string> messages = engine.take_validation_messages();
+    for (const std::string& m : messages) print_warning("validation: " + m);
+    if (messages.empty()) return false;
+    print_error("the Vulkan validation layer reported messages; no output written");
+    return true;
+}
+
+// What the summary counts: the components written, their vertices and triangles, and the SES
+// and SAS areas in total.
+struct MsmsTotals {
+    std::size_t components = 0, vertices = 0, triangles = 0;
+    double ses = 0.0, sas = 0.0;
+};
+
+// Each component's .vert and .face, and the .area file: every file of the run appears
+// together or not at all.
+MsmsTotals write_msms_files(const MsmsOptions& o, const MsmsFiles& f, const Structure& s,
+                            const Mesh& surface_mesh, float spacing, float density) {
+    std::vector<Mesh> components = msms_components(surface_mesh);
+    if (!o.all_components) components.resize(1);
+    const float tolerance = 0.1f * spacing;
+    MsmsFileOptions fo;
+    fo.header = o.header;
+    fo.source = o.input;
+    fo.density = density;
+    fo.probe = o.probe;
+    MsmsTotals totals;
+    totals.components = components.size();
+    std::vector<double> ses(s.atoms.size(), 0.0);
+    detail::CommitGroup files;
+    for (std::size_t c = 0; c < components.size(); ++c) {
+        const Mesh& mesh = components[c];
+        totals.vertices += mesh.vertex_count();
+        totals.triangles += mesh.triangle_count();
+        const std::vector<double> a = atom_mesh_areas(mesh, s.atoms.size());
+        for (std::size_t i = 0; i < a.size(); ++i) {
+            ses[i] += a[i];
+            totals.ses += a[i];
+        }
+        if (f.surface)
+            write_msms_surface(mesh, s.atoms, ses_vertex_parts(mesh, s.atoms, o.probe, tolerance),
+                               c == 0 ? o.output_base : o.output_base + "_" + std::to_string(c),
+                               fo);
+    }
+    if (o.areas) {
+        const std::vector<double> sas = atom_sas_areas(s.atoms, o.probe);
+        for (double a : sas) totals.sas += a;
+        if (f.areas) write_msms_areas(s.atoms, ses, sas, o.area_base + ".area", fo);
+    }
+    files.commit();
+    return totals;
+}
+
+// The summary: the spheres and settings, the surface, the areas, the time and the device.
+void print_msms_summary(const MsmsOptions& o, const MsmsFiles& f, const MsmsTotals& t,
+                        std::size_t spheres, float spacing, double ms, const std::string& device,
+                        const GridInfo& grid) {
+    std::printf("fdmsurf msms: %s, %s spheres, probe %s Å, spacing %s Å (%s)\n",
+                detail::printable(o.input).c_str(), format_count(spheres).c_str(),
+                format_general(o.probe).c_str(), format_general(spacing).c_str(),
+                o.method == SesMethod::Edt ? "exact SES" : "fdm");
+    std::printf("  surface    %s vertices, %s triangles, %zu component(s)%s\n",
+                format_count(t.vertices).c_str(), format_count(t.triangles).c_str(), t.components,
+                f.surface
+                    ? (", written to " + detail::printable(o.output_base) + ".vert/.face").c_str()
+                    : "");
+    if (o.areas)
+        std::printf(
+            "  areas      SES %s Å², SAS %s Å²%s\n", format_grouped(t.ses, 1).c_str(),
+            format_grouped(t.sas, 1).c_str(),
+            f.areas ? (", per atom in " + detail::printable(o.area_base) + ".area").c_str() : "");
+    const std::string on_host = host_stages(grid);
+    std::printf("  time       %s ms on %s%s\n", format_grouped(ms, 0).c_str(), device.c_str(),
+                on_host.empty() ? "" : ("; " + on_host + " on the host").c_str());
+}
+
 }  // namespace
 
 float spacing_for_density(float density) {
@@ -246,125 +397,22 @@ int msms_command(const std::vector<std::string>& args) {
             return kExitOk;
         }
         for (const std::string& w : o.warnings) print_warning(w);
-        const bool write_surface = !o.output_base.empty() && o.triangulate;
-        const bool write_areas = !o.area_base.empty() && o.areas;
-        if (!o.area_base.empty() && !o.areas)
-            print_warning("-no_area: no area file is written for -af " + o.area_base);
-        if (!o.output_base.empty() && !o.triangulate)
-            print_warning("-surface ases: no .vert/.face files are written for -of " +
-                          o.output_base);
-        // The files' folders and names, before any work.
-        std::vector<std::string> paths;
-        if (write_surface) {
-            paths.insert(paths.end(), {o.output_base + ".vert", o.output_base + ".face"});
-            // -all_components: BASE_N.vert for the cavities, N up to 6 digits here.
-            if (o.all_components) paths.push_back(o.output_base + "_999999.vert");
-        }
-        if (write_areas) paths.push_back(o.area_base + ".area");
-        for (const std::string& file : paths)
-            if (const std::string e = output_path_problem(file); !e.empty())
-                throw Error(ErrorCode::Io, e);
-
-        // Every sphere of the file, in order: MSMS's atom numbers count lines.
-        const std::string text = detail::load_file(o.input);
-        const std::size_t fields = check_sphere_lines(text, o.input);
-        ReadOptions read;  // xyzrn when the spheres have names, else xyzr (its messages)
-        read.format = fields >= 5 ? StructureFormat::Xyzrn : StructureFormat::Xyzr;
-        read.keep_hydrogens = read.keep_waters = read.keep_ligands = true;
-        const Structure s = read_structure_from_memory(text, o.input, read);
-        if (s.info.zero_radius_skipped != 0)
-            throw Error(ErrorCode::Format,
-                        o.input + ": line " + std::to_string(s.info.first_zero_radius_line) +
-                            ": a sphere of radius 0 (" +
-                            std::to_string(s.info.zero_radius_skipped) +
-                            " in the file), which would be left out and shift MSMS's atom "
-                            "numbers: give it a radius or remove it");
-
+        const MsmsFiles f = check_msms_files(o);
+        const Structure s = read_spheres(o.input);
         float density = o.density;
         if (o.hdensity_given) density = o.density_given ? std::max(o.density, o.hdensity)
                                                          : o.hdensity;
-        SurfaceOptions surface;
-        surface.surface = SurfaceKind::Ses;
-        surface.method = o.method;
-        surface.probe = o.probe;
-        surface.spacing = o.spacing > 0.0f ? o.spacing : spacing_for_density(density);
-        surface.min_cavity_volume = 0.0f;  // cavities split off below
-        EngineOptions eo;
-        eo.device = o.device;
-        eo.validation = o.validation;
-        eo.gaussian_filter = o.gaussian_filter;
-        eo.marching_cubes = o.marching_cubes;
-        eo.vertex_atoms = o.vertex_atoms;
-        eo.ses_distance = o.ses_distance;
-        Engine engine(eo);
+        const SurfaceOptions surface = msms_surface(o, density);
+        Engine engine(msms_engine(o));
         SurfaceResult result = engine.make_surface(s.atoms, surface);
         for (const std::string& w : result.warnings) print_warning(w);
-        if (o.validation) {
-            const std::vector<std::string> messages = engine.take_validation_messages();
-            for (const std::string& m : messages) print_warning("validation: " + m);
-            if (!messages.empty()) {
-                print_error("the Vulkan validation layer reported messages; no output written");
-                return kExitValidation;
-            }
-        }
-
-        std::vector<Mesh> components = msms_components(result.mesh);
-        if (!o.all_components) components.resize(1);
-        const float tolerance = 0.1f * surface.spacing;
-        MsmsFileOptions fo;
-        fo.header = o.header;
-        fo.source = o.input;
-        fo.density = density;
-        fo.probe = o.probe;
-        std::size_t vertices = 0, triangles = 0;
-        double ses_total = 0.0;
-        std::vector<double> ses(s.atoms.size(), 0.0);
-        // Every file of the run (each component's .vert and .face, the .area) appears together
-        // or not at all.
-        detail::CommitGroup files;
-        for (std::size_t c = 0; c < components.size(); ++c) {
-            const Mesh& mesh = components[c];
-            vertices += mesh.vertex_count();
-            triangles += mesh.triangle_count();
-            const std::vector<double> a = atom_mesh_areas(mesh, s.atoms.size());
-            for (std::size_t i = 0; i < a.size(); ++i) {
-                ses[i] += a[i];
-                ses_total += a[i];
-            }
-            if (write_surface)
-                write_msms_surface(mesh, s.atoms,
-                                   ses_vertex_parts(mesh, s.atoms, o.probe, tolerance),
-                                   c == 0 ? o.output_base
-                                          : o.output_base + "_" + std::to_string(c),
-                                   fo);
-        }
-        double sas_total = 0.0;
-        if (o.areas) {
-            const std::vector<double> sas = atom_sas_areas(s.atoms, o.probe);
-            for (double a : sas) sas_total += a;
-            if (write_areas) write_msms_areas(s.atoms, ses, sas, o.area_base + ".area", fo);
-        }
-        files.commit();
-
+        if (msms_validation_failed(o, engine)) return kExitValidation;
+        const MsmsTotals totals =
+            write_msms_files(o, f, s, result.mesh, surface.spacing, density);
         const double ms =
             std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-        std::printf("fdmsurf msms: %s, %s spheres, probe %s Å, spacing %s Å (%s)\n",
-                    detail::printable(o.input).c_str(), format_count(s.atoms.size()).c_str(),
-                    format_general(o.probe).c_str(), format_general(surface.spacing).c_str(),
-                    o.method == SesMethod::Edt ? "exact SES" : "fdm");
-        std::printf("  surface    %s vertices, %s triangles, %zu component(s)%s\n",
-                    format_count(vertices).c_str(), format_count(triangles).c_str(),
-                    components.size(),
-                    write_surface ? (", written to " + detail::printable(o.output_base) + ".vert/.face").c_str()
-                                  : "");
-        if (o.areas)
-            std::printf("  areas      SES %s Å², SAS %s Å²%s\n", format_grouped(ses_total, 1).c_str(),
-                        format_grouped(sas_total, 1).c_str(),
-                        write_areas ? (", per atom in " + detail::printable(o.area_base) + ".area").c_str() : "");
-        const std::string on_host = host_stages(result.grid);
-        std::printf("  time       %s ms on %s%s\n", format_grouped(ms, 0).c_str(),
-                    engine.device().name.c_str(),
-                    on_host.empty() ? "" : ("; " + on_host + " on the host").c_str());
+        print_msms_summary(o, f, totals, s.atoms.size(), surface.spacing, ms,
+                           engine.device().name, result.grid);
         return kExitOk;
     });
 }
