@@ -506,6 +506,16 @@ void query(const TriangleTree& tree, const std::vector<T>& points, unsigned thre
     });
 }
 
+// sink(i, closest point) for every point i, through a tree of `mesh`.
+template <class T, class Sink>
+void closest_of(const CleanMesh& mesh, const std::vector<T>& points, unsigned threads,
+                Sink&& sink) {
+    if (mesh.triangle_count() == 0) throw Error(ErrorCode::InvalidArgument, "compare: empty mesh");
+    const TriangleTree tree(mesh);
+    trace("closest points: tree built");
+    query(tree, points, thread_count(threads), sink);
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
@@ -679,20 +689,6 @@ Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, cons
     }
     return best;
 }
-
-namespace {
-
-// sink(i, closest point) for every point i, through a tree of `mesh`.
-template <class T, class Sink>
-void closest_of(const CleanMesh& mesh, const std::vector<T>& points, unsigned threads,
-                Sink&& sink) {
-    if (mesh.triangle_count() == 0) throw Error(ErrorCode::InvalidArgument, "compare: empty mesh");
-    const TriangleTree tree(mesh);
-    trace("closest points: tree built");
-    query(tree, points, thread_count(threads), sink);
-}
-
-}  // namespace
 
 std::vector<ClosestPoint> closest_points(const CleanMesh& mesh, const std::vector<double>& points,
                                          unsigned threads) {

@@ -65,6 +65,11 @@ private:
     std::string saved_;
 };
 
+// Bytes of a field of `dims` points in the in-place R2C layout (2 (nx/2 + 1) floats per row).
+std::uint64_t r2c_field_bytes(const std::array<std::uint32_t, 3>& dims) {
+    return std::uint64_t(2) * (dims[0] / 2 + 1) * dims[1] * dims[2] * sizeof(float);
+}
+
 }  // namespace
 
 void glslang_acquire() {
@@ -78,15 +83,6 @@ void glslang_release() {
     std::lock_guard<std::mutex> lock(g_glslang_mutex);
     if (--g_glslang_users == 0) glslang_finalize_process();
 }
-
-namespace {
-
-// Bytes of a field of `dims` points in the in-place R2C layout (2 (nx/2 + 1) floats per row).
-std::uint64_t r2c_field_bytes(const std::array<std::uint32_t, 3>& dims) {
-    return std::uint64_t(2) * (dims[0] / 2 + 1) * dims[1] * dims[2] * sizeof(float);
-}
-
-}  // namespace
 
 struct FftPlan {
     VkFFTApplication app{};

@@ -217,6 +217,60 @@ std::string count_text(double n) {
     return buf;
 }
 
+enum class Outcome { Converged, NotConverged, Outside };
+
+Outcome newton(const SurfaceField& field, const Vec3& start, const ProjectOptions& o, Vec3& out,
+               Vec3& g) {
+    Vec3 x = start;
+    double value = 0.0;
+    for (int it = 0;; ++it) {
+        if (!field.sample(x, value, g)) return Outcome::Outside;
+        const double gg = dot(g, g);
+        if (!(gg > 0.0) || !std::isfinite(gg) || !std::isfinite(value)) return Outcome::Outside;
+        const double r = value - field.iso();
+        const double distance = std::abs(r) / std::sqrt(gg);  // first-order distance to the set
+        if (distance <= o.tolerance) {
+            // The last step is within the tolerance; taking it squares the residual error.
+            for (int a = 0; a < 3; ++a) out[a] = x[a] - r / gg * g[a];
+            return Outcome::Converged;
+        }
+        if (it >= o.iterations) return Outcome::NotConverged;
+        const double scale = -r / gg * std::min(1.0, o.max_step / distance);
+        for (int a = 0; a < 3; ++a) x[a] += scale * g[a];
+        const Vec3 moved{x[0] - start[0], x[1] - start[1], x[2] - start[2]};
+        if (dot(moved, moved) > o.max_distance * o.max_distance) return Outcome::NotConverged;
+    }
+}
+
+// Newton along the line start + s dir (dir a unit vector): s <- s - (f - iso) / (grad f . dir).
+// Off: the line meets the level set at a grazing angle (over 78 degrees from the gradient).
+enum class LineOutcome { Converged, NotConverged, Outside, Grazing };
+LineOutcome newton_on_line(const SurfaceField& field, const Vec3& start, const Vec3& dir,
+                           const ProjectOptions& o, Vec3& out, Vec3& g) {
+    double s = 0.0, value = 0.0;
+    for (int it = 0;; ++it) {
+        const Vec3 x{start[0] + s * dir[0], start[1] + s * dir[1], start[2] + s * dir[2]};
+        if (!field.sample(x, value, g)) return LineOutcome::Outside;
+        const double gg = dot(g, g), gd = dot(g, dir);
+        if (!(gg > 0.0) || !std::isfinite(gg) || !std::isfinite(value)) return LineOutcome::Outside;
+        if (gd * gd < 0.04 * gg) return LineOutcome::Grazing;
+        const double r = value - field.iso();
+        const double distance = std::abs(r / gd);
+        if (distance <= o.tolerance) {
+            s -= r / gd;
+            for (int a = 0; a < 3; ++a) out[a] = start[a] + s * dir[a];
+            return LineOutcome::Converged;
+        }
+        if (it >= o.iterations) return LineOutcome::NotConverged;
+        s -= r / gd * std::min(1.0, o.max_step / distance);
+        if (std::abs(s) > o.max_distance) return LineOutcome::NotConverged;
+    }
+}
+
+Vec3 vertex(const Mesh& mesh, std::size_t v) {
+    return {mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]};
+}
+
 }  // namespace
 
 void check_refine_levels(int levels) {
@@ -498,64 +552,6 @@ ProjectOptions project_options_for_spacing(double spacing) {
     o.tolerance = 1e-3 * spacing;
     return o;
 }
-
-namespace {
-
-enum class Outcome { Converged, NotConverged, Outside };
-
-Outcome newton(const SurfaceField& field, const Vec3& start, const ProjectOptions& o, Vec3& out,
-               Vec3& g) {
-    Vec3 x = start;
-    double value = 0.0;
-    for (int it = 0;; ++it) {
-        if (!field.sample(x, value, g)) return Outcome::Outside;
-        const double gg = dot(g, g);
-        if (!(gg > 0.0) || !std::isfinite(gg) || !std::isfinite(value)) return Outcome::Outside;
-        const double r = value - field.iso();
-        const double distance = std::abs(r) / std::sqrt(gg);  // first-order distance to the set
-        if (distance <= o.tolerance) {
-            // The last step is within the tolerance; taking it squares the residual error.
-            for (int a = 0; a < 3; ++a) out[a] = x[a] - r / gg * g[a];
-            return Outcome::Converged;
-        }
-        if (it >= o.iterations) return Outcome::NotConverged;
-        const double scale = -r / gg * std::min(1.0, o.max_step / distance);
-        for (int a = 0; a < 3; ++a) x[a] += scale * g[a];
-        const Vec3 moved{x[0] - start[0], x[1] - start[1], x[2] - start[2]};
-        if (dot(moved, moved) > o.max_distance * o.max_distance) return Outcome::NotConverged;
-    }
-}
-
-// Newton along the line start + s dir (dir a unit vector): s <- s - (f - iso) / (grad f . dir).
-// Off: the line meets the level set at a grazing angle (over 78 degrees from the gradient).
-enum class LineOutcome { Converged, NotConverged, Outside, Grazing };
-LineOutcome newton_on_line(const SurfaceField& field, const Vec3& start, const Vec3& dir,
-                           const ProjectOptions& o, Vec3& out, Vec3& g) {
-    double s = 0.0, value = 0.0;
-    for (int it = 0;; ++it) {
-        const Vec3 x{start[0] + s * dir[0], start[1] + s * dir[1], start[2] + s * dir[2]};
-        if (!field.sample(x, value, g)) return LineOutcome::Outside;
-        const double gg = dot(g, g), gd = dot(g, dir);
-        if (!(gg > 0.0) || !std::isfinite(gg) || !std::isfinite(value)) return LineOutcome::Outside;
-        if (gd * gd < 0.04 * gg) return LineOutcome::Grazing;
-        const double r = value - field.iso();
-        const double distance = std::abs(r / gd);
-        if (distance <= o.tolerance) {
-            s -= r / gd;
-            for (int a = 0; a < 3; ++a) out[a] = start[a] + s * dir[a];
-            return LineOutcome::Converged;
-        }
-        if (it >= o.iterations) return LineOutcome::NotConverged;
-        s -= r / gd * std::min(1.0, o.max_step / distance);
-        if (std::abs(s) > o.max_distance) return LineOutcome::NotConverged;
-    }
-}
-
-Vec3 vertex(const Mesh& mesh, std::size_t v) {
-    return {mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]};
-}
-
-}  // namespace
 
 ProjectStats project_onto_field(Mesh& mesh, std::size_t first, const SurfaceField& field,
                                 const ProjectOptions& options) {

@@ -206,24 +206,6 @@ double total_area(const std::vector<float>& p, const std::vector<Index>& indices
     return area;
 }
 
-}  // namespace
-
-std::vector<Index> piece_labels(const std::vector<Index>& indices, std::size_t vertex_count) {
-    DisjointSets sets(vertex_count);
-    std::vector<std::uint8_t> used(vertex_count, 0);
-    for (std::size_t c = 0; c < indices.size(); c += 3) {
-        sets.unite(indices[c], indices[c + 1]);
-        sets.unite(indices[c], indices[c + 2]);
-        used[indices[c]] = used[indices[c + 1]] = used[indices[c + 2]] = 1;
-    }
-    std::vector<Index> label(vertex_count);
-    for (std::size_t v = 0; v < vertex_count; ++v)
-        label[v] = used[v] ? sets.find(Index(v)) : kNoPiece;
-    return label;
-}
-
-namespace {
-
 // What new_defects needs to know of the output, from one walk over the corners at each vertex
 // (a counting sort, then the small star of each vertex) instead of sorting every edge use and
 // every triangle: the edges not used once each way with their counts (sorted by edge), the
@@ -290,6 +272,20 @@ bool repeats_a_vertex(const std::vector<Index>& indices) {
 }
 
 }  // namespace
+
+std::vector<Index> piece_labels(const std::vector<Index>& indices, std::size_t vertex_count) {
+    DisjointSets sets(vertex_count);
+    std::vector<std::uint8_t> used(vertex_count, 0);
+    for (std::size_t c = 0; c < indices.size(); c += 3) {
+        sets.unite(indices[c], indices[c + 1]);
+        sets.unite(indices[c], indices[c + 2]);
+        used[indices[c]] = used[indices[c + 1]] = used[indices[c + 2]] = 1;
+    }
+    std::vector<Index> label(vertex_count);
+    for (std::size_t v = 0; v < vertex_count; ++v)
+        label[v] = used[v] ? sets.find(Index(v)) : kNoPiece;
+    return label;
+}
 
 std::vector<Index> new_defects(const std::vector<Index>& in, const std::vector<Index>& out,
                                std::size_t vertex_count) {

@@ -57,30 +57,6 @@ Mesh compact(const Mesh& from, std::vector<std::uint32_t> indices,
     return out;
 }
 
-}  // namespace
-
-std::size_t simplify_target(std::size_t triangles, const SimplifyOptions& options) {
-    if (!(options.ratio > 0.0 && options.ratio <= 1.0)) {
-        throw Error(ErrorCode::InvalidArgument,
-                    "simplify: the ratio of triangles to keep must be in (0, 1], not " +
-                        std::to_string(options.ratio));
-    }
-    if (!(options.max_error >= 0.0)) {
-        throw Error(ErrorCode::InvalidArgument,
-                    "simplify: max_error must be >= 0 Å, not " + std::to_string(options.max_error));
-    }
-    std::size_t target = triangles;
-    if (triangles == 0) return 0;  // nothing to keep
-    if (options.ratio < 1.0) {
-        const double kept = std::round(options.ratio * static_cast<double>(triangles));
-        target = std::max<std::size_t>(1, static_cast<std::size_t>(kept));
-    }
-    if (options.max_triangles != 0) target = std::min(target, options.max_triangles);
-    return target;
-}
-
-namespace {
-
 // Items per chunk of the loops over the whole mesh that run on all threads.
 constexpr std::size_t kChunk = 65536;
 
@@ -126,6 +102,26 @@ bool has_duplicate_positions(const std::vector<float>& positions) {
 }
 
 }  // namespace
+
+std::size_t simplify_target(std::size_t triangles, const SimplifyOptions& options) {
+    if (!(options.ratio > 0.0 && options.ratio <= 1.0)) {
+        throw Error(ErrorCode::InvalidArgument,
+                    "simplify: the ratio of triangles to keep must be in (0, 1], not " +
+                        std::to_string(options.ratio));
+    }
+    if (!(options.max_error >= 0.0)) {
+        throw Error(ErrorCode::InvalidArgument,
+                    "simplify: max_error must be >= 0 Å, not " + std::to_string(options.max_error));
+    }
+    std::size_t target = triangles;
+    if (triangles == 0) return 0;  // nothing to keep
+    if (options.ratio < 1.0) {
+        const double kept = std::round(options.ratio * static_cast<double>(triangles));
+        target = std::max<std::size_t>(1, static_cast<std::size_t>(kept));
+    }
+    if (options.max_triangles != 0) target = std::min(target, options.max_triangles);
+    return target;
+}
 
 bool weld_exact(const Mesh& mesh, Mesh& welded, std::size_t* merged) {
     if (merged) *merged = 0;
