@@ -49,6 +49,68 @@ int bin_cell(const SesFeatures& f, int a, double x) {
         std::clamp(std::floor((x - f.origin[a]) / f.bin_size), 0.0, double(f.dims[a] - 1)));
 }
 
+// What every task of one SesHostField::evaluate call shares: the grid's points as the shaders
+// compute them, the clamps, and where the planes go (row y of plane z at
+// out + ((z - z_begin) * ny + y) * pitch).
+struct EvalGrid {
+    std::vector<float> xs, ys, zs;
+    int nx, ny;
+    float h, d_min, d_max;
+    float reach_out;  // outside the balls d = lb < 0 matters only above the lower clamp
+    float* out;
+    std::size_t pitch;
+    std::uint32_t z_begin;
+
+    EvalGrid(const GridPlan& plan, std::uint32_t z_begin_in, float* out_in, std::size_t pitch_in)
+        : xs(plan.info.dims[0]),
+          ys(plan.info.dims[1]),
+          zs(plan.info.dims[2]),
+          nx(int(plan.info.dims[0])),
+          ny(int(plan.info.dims[1])),
+          h(plan.info.spacing),
+          d_min(plan.ses_d_min),
+          d_max(plan.ses_d_max),
+          reach_out(std::max(0.0f, -plan.ses_d_min)),
+          out(out_in),
+          pitch(pitch_in),
+          z_begin(z_begin_in) {
+        for (int x = 0; x < nx; ++x) xs[x] = plan.info.origin[0] + h * float(x);
+        for (int y = 0; y < ny; ++y) ys[y] = plan.info.origin[1] + h * float(y);
+        for (std::uint32_t z = 0; z < plan.info.dims[2]; ++z)
+            zs[z] = plan.info.origin[2] + h * float(z);
+    }
+};
+
+// Scratch per task, taken from a pool for one evaluate call and given back at the task's end:
+// kept from chunk to chunk (fresh pages for each would cost more than the work on them), freed
+// when the call returns.
+struct Scratch {
+    std::vector<float> lb, arc_best;
+    std::vector<std::uint32_t> deepest, tie;  // tie: 32 bits, as deepest (one vector width)
+    std::vector<std::uint64_t> waiting_bits;
+};
+struct ScratchPool {
+    std::mutex mutex;
+    std::vector<std::unique_ptr<Scratch>> free;
+    struct Lease {
+        ScratchPool& pool;
+        std::unique_ptr<Scratch> scratch;
+        explicit Lease(ScratchPool& p) : pool(p) {
+            const std::lock_guard<std::mutex> lock(pool.mutex);
+            if (pool.free.empty()) {
+                scratch = std::make_unique<Scratch>();
+            } else {
+                scratch = std::move(pool.free.back());
+                pool.free.pop_back();
+            }
+        }
+        ~Lease() {
+            const std::lock_guard<std::mutex> lock(pool.mutex);
+            pool.free.push_back(std::move(scratch));
+        }
+    };
+};
+
 }  // namespace
 
 // An exposed arc with what its distance needs precomputed (double precision): the angle test
@@ -158,13 +220,16 @@ struct SesHostField::Arc {
 
 SesHostField::~SesHostField() = default;
 
-namespace {
+void SesHostField::arc_row_distances(std::size_t arc, const float* xs, float y, float z, int xa,
+                                     int xb, float* best) const {
+    arc_row(arcs_.at(arc), xs, y, z, xa, xb, best);
+}
 
 // best[x] = min(best[x], the distance from (xs[x], y, z) to the arc) for x in [xa, xb], in
 // float relative to the circle's centre: the on-arc distance and the nearer end's, selected by
 // the angle test, with no branch, so that the compiler vectorises the row.
-void arc_row_kernel(const SesHostField::Arc& arc, const float* xs, float y, float z, int xa,
-                    int xb, float* best) {
+void SesHostField::arc_row(const Arc& arc, const float* xs, float y, float z, int xa, int xb,
+                           float* best) {
     const float vy = y - arc.fm[1], vz = z - arc.fm[2];
     const float h0 = vy * arc.faxis[1] + vz * arc.faxis[2];
     const float a0 = vy * arc.fe1[1] + vz * arc.fe1[2];
@@ -199,18 +264,6 @@ void arc_row_kernel(const SesHostField::Arc& arc, const float* xs, float y, floa
         const float old = best[x];
         best[x] = d < old ? d : old;
     }
-}
-
-}  // namespace
-
-void SesHostField::arc_row_distances(std::size_t arc, const float* xs, float y, float z, int xa,
-                                     int xb, float* best) const {
-    arc_row(arcs_.at(arc), xs, y, z, xa, xb, best);
-}
-
-void SesHostField::arc_row(const Arc& arc, const float* xs, float y, float z, int xa, int xb,
-                           float* best) {
-    arc_row_kernel(arc, xs, y, z, xa, xb, best);
 }
 
 SesHostField::SesHostField(const SesFeatures& f, double d_max, unsigned threads)
@@ -389,124 +442,107 @@ double SesHostField::distance(const double p[3], double d_max, double* gradient)
     return best;
 }
 
-void SesHostField::evaluate(const GridPlan& plan, std::uint32_t z_begin, std::uint32_t z_end,
-                            float* out, std::size_t pitch) const {
-    const auto& dims = plan.info.dims;
-    if (!plan.exact_ses || z_begin >= z_end || z_end > dims[2] || pitch < dims[0])
-        throw Error(ErrorCode::InvalidArgument,
-                    "host SES field: planes [" + std::to_string(z_begin) + ", " +
-                        std::to_string(z_end) + ") of a grid of " + std::to_string(dims[2]) +
-                        " planes, pitch " + std::to_string(pitch) + " for rows of " +
-                        std::to_string(dims[0]) + " points");
-    const int nx = int(dims[0]), ny = int(dims[1]);
-    const float h = plan.info.spacing;
-    const float d_min = plan.ses_d_min, d_max = plan.ses_d_max;
-    // Points as the shaders compute them.
-    std::vector<float> xs(nx), ys(ny), zs(dims[2]);
-    for (int x = 0; x < nx; ++x) xs[x] = plan.info.origin[0] + h * float(x);
-    for (int y = 0; y < ny; ++y) ys[y] = plan.info.origin[1] + h * float(y);
-    for (std::uint32_t z = 0; z < dims[2]; ++z) zs[z] = plan.info.origin[2] + h * float(z);
-    // Outside the balls d = lb < 0 matters only above the lower clamp.
-    const float reach_out = std::max(0.0f, -d_min);
-    const float* s = f_.spheres.data();
-    const std::uint32_t chunks = (z_end - z_begin + kChunkPlanes - 1) / kChunkPlanes;
+// One task of evaluate: planes [za, zb) of the call's planes, on the call's grid, with the
+// task's scratch, in the three steps of ses_distance_host.hpp: depths, deepest_faces (the count
+// of points left waiting for the arcs), arcs.
+struct SesHostField::Slab {
+    const SesHostField& field;
+    const EvalGrid& grid;
+    const std::uint32_t za, zb;
+    Scratch& scratch;
+    const std::size_t points;  // in the slab
+    const std::size_t words;   // of waiting bits per row
 
-    // Scratch per task, taken from a pool for this call and given back at the task's end: kept
-    // from chunk to chunk (fresh pages for each would cost more than the work on them), freed
-    // when the call returns.
-    struct Scratch {
-        std::vector<float> lb, arc_best;
-        std::vector<std::uint32_t> deepest, tie;  // tie: 32 bits, as deepest (one vector width)
-        std::vector<std::uint64_t> waiting_bits;
-    };
-    std::mutex pool_mutex;
-    std::vector<std::unique_ptr<Scratch>> pool;
-    struct Lease {
-        std::mutex& mutex;
-        std::vector<std::unique_ptr<Scratch>>& pool;
-        std::unique_ptr<Scratch> scratch;
-        Lease(std::mutex& m, std::vector<std::unique_ptr<Scratch>>& p) : mutex(m), pool(p) {
-            const std::lock_guard<std::mutex> lock(mutex);
-            if (pool.empty()) {
-                scratch = std::make_unique<Scratch>();
-            } else {
-                scratch = std::move(pool.back());
-                pool.pop_back();
-            }
-        }
-        ~Lease() {
-            const std::lock_guard<std::mutex> lock(mutex);
-            pool.push_back(std::move(scratch));
-        }
-    };
-    parallel_chunks(chunks, threads_, [&](std::size_t chunk) {
-        const Lease lease(pool_mutex, pool);
-        const std::uint32_t za = z_begin + std::uint32_t(chunk) * kChunkPlanes;
-        const std::uint32_t zb = std::min(za + kChunkPlanes, z_end);
-        const std::size_t plane = std::size_t(nx) * ny;
-        const std::size_t points = plane * (zb - za);
-        std::vector<float>& lb = lease.scratch->lb;
-        std::vector<std::uint32_t>& deepest = lease.scratch->deepest;
-        std::vector<std::uint32_t>& tie = lease.scratch->tie;
-        std::vector<std::uint64_t>& waiting_bits = lease.scratch->waiting_bits;
+    Slab(const SesHostField& field_in, const EvalGrid& grid_in, std::uint32_t za_in,
+         std::uint32_t zb_in, Scratch& scratch_in)
+        : field(field_in),
+          grid(grid_in),
+          za(za_in),
+          zb(zb_in),
+          scratch(scratch_in),
+          points(std::size_t(grid_in.nx) * grid_in.ny * (zb_in - za_in)),
+          words((std::size_t(grid_in.nx) + 63) / 64) {}
+
+    // The first value of row (z, y) in the slab's per-point scratch.
+    std::size_t at(std::uint32_t z, int y) const {
+        return (std::size_t(z - za) * grid.ny + y) * grid.nx;
+    }
+    float* row_out(std::uint32_t z, int y) const {
+        return grid.out + (std::size_t(z - grid.z_begin) * grid.ny + y) * grid.pitch;
+    }
+    std::uint64_t* bits_of(std::uint32_t z, int y) const {
+        return &scratch.waiting_bits[(std::size_t(z - za) * grid.ny + y) * words];
+    }
+
+    // 1. Depths.
+    void depths() const {
+        const std::vector<float>& xs = grid.xs;
+        const std::vector<float>& ys = grid.ys;
+        const std::vector<float>& zs = grid.zs;
+        const int nx = grid.nx, ny = grid.ny;
+        const float h = grid.h, reach_out = grid.reach_out;
+        const float* s = field.f_.spheres.data();
+        std::vector<float>& lb = scratch.lb;
+        std::vector<std::uint32_t>& deepest = scratch.deepest;
+        std::vector<std::uint32_t>& tie = scratch.tie;
         lb.assign(points, -std::numeric_limits<float>::infinity());
         deepest.resize(points);
         tie.assign(points, 0);
-        auto at = [&](std::uint32_t z, int y) { return (std::size_t(z - za) * ny + y) * nx; };
-        auto row_out = [&](std::uint32_t z, int y) {
-            return out + (std::size_t(z - z_begin) * ny + y) * pitch;
-        };
-
-        // 1. Depths.
-        {
-            const float reach = f_.r_max + reach_out;
-            const auto first = std::lower_bound(sphere_z_.begin(), sphere_z_.end(), zs[za] - reach);
-            const auto last = std::upper_bound(sphere_z_.begin(), sphere_z_.end(), zs[zb - 1] + reach);
-            for (auto it = first; it != last; ++it) {
-                const std::uint32_t i = spheres_by_z_[std::size_t(it - sphere_z_.begin())];
-                const float cx = s[4 * i], cy = s[4 * i + 1], cz = s[4 * i + 2], R = s[4 * i + 3];
-                const float Rr = R + reach_out, Rr2 = Rr * Rr;
-                for (std::uint32_t z = za; z < zb; ++z) {
-                    const float dz = zs[z] - cz;
-                    if (dz * dz >= Rr2) continue;
-                    const double half_y = std::sqrt(double(Rr2 - dz * dz));
-                    const int y0 = first_at_or_above(cy - half_y, ys[0], h, ny);
-                    const int y1 = last_at_or_below(cy + half_y, ys[0], h, ny);
-                    for (int y = y0; y <= y1; ++y) {
-                        const float dy = ys[y] - cy;
-                        const float dyz = dy * dy + dz * dz;
-                        if (dyz >= Rr2) continue;
-                        const double half_x = std::sqrt(double(Rr2 - dyz));
-                        const int x0 = first_at_or_above(cx - half_x, xs[0], h, nx);
-                        const int x1 = last_at_or_below(cx + half_x, xs[0], h, nx);
-                        const std::size_t row = at(z, y);
-                        float* l = &lb[row];
-                        std::uint32_t* deep = &deepest[row];
-                        std::uint32_t* t = &tie[row];
-                        // Selects, not branches: the row vectorises.
-                        for (int x = x0; x <= x1; ++x) {
-                            const float dx = xs[x] - cx;
-                            const float v = R - std::sqrt(dx * dx + dyz);
-                            const float old = l[x];
-                            const std::uint32_t deeper = -std::uint32_t(v >= old);  // all ones
-                            const std::uint32_t same = std::uint32_t(v == old);
-                            t[x] = (same & deeper) | (t[x] & ~deeper);
-                            l[x] = v >= old ? v : old;
-                            deep[x] = (i & deeper) | (deep[x] & ~deeper);
-                        }
+        const std::vector<float>& sphere_z = field.sphere_z_;
+        const float reach = field.f_.r_max + reach_out;
+        const auto first = std::lower_bound(sphere_z.begin(), sphere_z.end(), zs[za] - reach);
+        const auto last = std::upper_bound(sphere_z.begin(), sphere_z.end(), zs[zb - 1] + reach);
+        for (auto it = first; it != last; ++it) {
+            const std::uint32_t i = field.spheres_by_z_[std::size_t(it - sphere_z.begin())];
+            const float cx = s[4 * i], cy = s[4 * i + 1], cz = s[4 * i + 2], R = s[4 * i + 3];
+            const float Rr = R + reach_out, Rr2 = Rr * Rr;
+            for (std::uint32_t z = za; z < zb; ++z) {
+                const float dz = zs[z] - cz;
+                if (dz * dz >= Rr2) continue;
+                const double half_y = std::sqrt(double(Rr2 - dz * dz));
+                const int y0 = first_at_or_above(cy - half_y, ys[0], h, ny);
+                const int y1 = last_at_or_below(cy + half_y, ys[0], h, ny);
+                for (int y = y0; y <= y1; ++y) {
+                    const float dy = ys[y] - cy;
+                    const float dyz = dy * dy + dz * dz;
+                    if (dyz >= Rr2) continue;
+                    const double half_x = std::sqrt(double(Rr2 - dyz));
+                    const int x0 = first_at_or_above(cx - half_x, xs[0], h, nx);
+                    const int x1 = last_at_or_below(cx + half_x, xs[0], h, nx);
+                    const std::size_t row = at(z, y);
+                    float* l = &lb[row];
+                    std::uint32_t* deep = &deepest[row];
+                    std::uint32_t* t = &tie[row];
+                    // Selects, not branches: the row vectorises.
+                    for (int x = x0; x <= x1; ++x) {
+                        const float dx = xs[x] - cx;
+                        const float v = R - std::sqrt(dx * dx + dyz);
+                        const float old = l[x];
+                        const std::uint32_t deeper = -std::uint32_t(v >= old);  // all ones
+                        const std::uint32_t same = std::uint32_t(v == old);
+                        t[x] = (same & deeper) | (t[x] & ~deeper);
+                        l[x] = v >= old ? v : old;
+                        deep[x] = (i & deeper) | (deep[x] & ~deeper);
                     }
                 }
             }
         }
+    }
 
-        // 2. The deepest face.
-        // The points waiting for the arcs, a bit each, rows of whole words: the arcs visit only
-        // these.
-        const std::size_t words = (std::size_t(nx) + 63) / 64;
-        waiting_bits.assign(words * ny * (zb - za), 0);
-        auto bits_of = [&](std::uint32_t z, int y) {
-            return &waiting_bits[(std::size_t(z - za) * ny + y) * words];
-        };
+    // 2. The deepest face. The points waiting for the arcs, a bit each, rows of whole words
+    // (the arcs visit only these); returns their count.
+    std::size_t deepest_faces() const {
+        const std::vector<float>& xs = grid.xs;
+        const std::vector<float>& ys = grid.ys;
+        const std::vector<float>& zs = grid.zs;
+        const int nx = grid.nx, ny = grid.ny;
+        const float d_min = grid.d_min, d_max = grid.d_max;
+        const SesFeatures& f = field.f_;
+        const float* s = f.spheres.data();
+        const std::vector<float>& lb = scratch.lb;
+        const std::vector<std::uint32_t>& deepest = scratch.deepest;
+        const std::vector<std::uint32_t>& tie = scratch.tie;
+        scratch.waiting_bits.assign(words * ny * (zb - za), 0);
         std::size_t waiting = 0;
         std::uint32_t last_burier = std::numeric_limits<std::uint32_t>::max();
         auto buried = [&](float qx, float qy, float qz, std::uint32_t self) {
@@ -517,8 +553,8 @@ void SesHostField::evaluate(const GridPlan& plan, std::uint32_t z_begin, std::ui
             if (last_burier != std::numeric_limits<std::uint32_t>::max() && last_burier != self &&
                 inside(last_burier))
                 return true;
-            for (std::uint32_t q = f_.neighbour_start[self]; q < f_.neighbour_start[self + 1]; ++q) {
-                const std::uint32_t k = f_.neighbours[q];
+            for (std::uint32_t q = f.neighbour_start[self]; q < f.neighbour_start[self + 1]; ++q) {
+                const std::uint32_t k = f.neighbours[q];
                 if (inside(k)) {
                     last_burier = k;
                     return true;
@@ -538,11 +574,12 @@ void SesHostField::evaluate(const GridPlan& plan, std::uint32_t z_begin, std::ui
                         o[x] = d_max;
                     } else if (tie[row + x]) {
                         const double p[3] = {xs[x], ys[y], zs[z]};
-                        o[x] = std::max(static_cast<float>(ses_distance(f_, p, d_max, nullptr, false)),
-                                        d_min);
+                        o[x] = std::max(
+                            static_cast<float>(ses_distance(f, p, d_max, nullptr, false)), d_min);
                     } else {
                         const std::uint32_t i = deepest[row + x];
-                        const float cx = s[4 * i], cy = s[4 * i + 1], cz = s[4 * i + 2], R = s[4 * i + 3];
+                        const float cx = s[4 * i], cy = s[4 * i + 1], cz = s[4 * i + 2],
+                                    R = s[4 * i + 3];
                         const float vx = xs[x] - cx, vy = ys[y] - cy, vz = zs[z] - cz;
                         const float len = std::sqrt(vx * vx + vy * vy + vz * vz);
                         float qx = cx + R, qy = cy, qz = cz;  // the shader's choice at the centre
@@ -560,21 +597,30 @@ void SesHostField::evaluate(const GridPlan& plan, std::uint32_t z_begin, std::ui
                     }
                 }
             }
-        if (waiting == 0) return;
+        return waiting;
+    }
 
-        // 3. Arcs, over the rows of waiting points within d_max of them: each row range in float
-        // without a branch (vectorised), into `arc_best` (a value per point, read for the
-        // waiting ones only).
-        std::vector<float>& arc_best = lease.scratch->arc_best;
+    // 3. Arcs, over the rows of waiting points within d_max of them: each row range in float
+    // without a branch (vectorised), into `arc_best` (a value per point, read for the waiting
+    // ones only); then the waiting points' values out.
+    void arcs() const {
+        const std::vector<float>& xs = grid.xs;
+        const std::vector<float>& ys = grid.ys;
+        const std::vector<float>& zs = grid.zs;
+        const int nx = grid.nx, ny = grid.ny;
+        const float h = grid.h, d_min = grid.d_min, d_max = grid.d_max;
+        const std::vector<float>& arc_lo_z = field.arc_lo_z_;
+        std::vector<float>& arc_best = scratch.arc_best;
         arc_best.assign(points, d_max);
         const float zlo = zs[za] - d_max, zhi = zs[zb - 1] + d_max;
-        const auto first = std::lower_bound(arc_lo_z_.begin(), arc_lo_z_.end(), zlo - arc_extent_z_);
-        const auto last = std::upper_bound(arc_lo_z_.begin(), arc_lo_z_.end(), zhi);
+        const auto first =
+            std::lower_bound(arc_lo_z.begin(), arc_lo_z.end(), zlo - field.arc_extent_z_);
+        const auto last = std::upper_bound(arc_lo_z.begin(), arc_lo_z.end(), zhi);
         for (auto it = first; it != last; ++it) {
-            const std::uint32_t k = arcs_by_z_[std::size_t(it - arc_lo_z_.begin())];
-            const Box& box = arc_box_[k];
+            const std::uint32_t k = field.arcs_by_z_[std::size_t(it - arc_lo_z.begin())];
+            const Box& box = field.arc_box_[k];
             if (box.hi[2] < zlo) continue;
-            const Arc& arc = arcs_[k];
+            const Arc& arc = field.arcs_[k];
             const double reach = arc.ball_radius + d_max, reach2 = reach * reach;
             const int x0 = first_at_or_above(box.lo[0] - d_max, xs[0], h, nx);
             const int x1 = last_at_or_below(box.hi[0] + d_max, xs[0], h, nx);
@@ -588,7 +634,8 @@ void SesHostField::evaluate(const GridPlan& plan, std::uint32_t z_begin, std::ui
                     const double rem = reach2 - dy * dy - dz * dz;
                     if (rem <= 0.0) continue;
                     const double half = std::sqrt(rem);
-                    const int xa = std::max(x0, first_at_or_above(arc.ball[0] - half, xs[0], h, nx));
+                    const int xa =
+                        std::max(x0, first_at_or_above(arc.ball[0] - half, xs[0], h, nx));
                     const int xb = std::min(x1, last_at_or_below(arc.ball[0] + half, xs[0], h, nx));
                     if (xa > xb) continue;
                     // Nothing waits in this row range: nothing to do.
@@ -617,6 +664,29 @@ void SesHostField::evaluate(const GridPlan& plan, std::uint32_t z_begin, std::ui
                         o[x] = std::max(best[x], d_min);
                     }
             }
+    }
+};
+
+void SesHostField::evaluate(const GridPlan& plan, std::uint32_t z_begin, std::uint32_t z_end,
+                            float* out, std::size_t pitch) const {
+    const auto& dims = plan.info.dims;
+    if (!plan.exact_ses || z_begin >= z_end || z_end > dims[2] || pitch < dims[0])
+        throw Error(ErrorCode::InvalidArgument,
+                    "host SES field: planes [" + std::to_string(z_begin) + ", " +
+                        std::to_string(z_end) + ") of a grid of " + std::to_string(dims[2]) +
+                        " planes, pitch " + std::to_string(pitch) + " for rows of " +
+                        std::to_string(dims[0]) + " points");
+    const EvalGrid grid(plan, z_begin, out, pitch);
+    const std::uint32_t chunks = (z_end - z_begin + kChunkPlanes - 1) / kChunkPlanes;
+    ScratchPool pool;
+    parallel_chunks(chunks, threads_, [&](std::size_t chunk) {
+        const ScratchPool::Lease lease(pool);
+        const std::uint32_t za = z_begin + std::uint32_t(chunk) * kChunkPlanes;
+        const std::uint32_t zb = std::min(za + kChunkPlanes, z_end);
+        const Slab slab(*this, grid, za, zb, *lease.scratch);
+        slab.depths();
+        if (slab.deepest_faces() == 0) return;
+        slab.arcs();
     });
 }
 

@@ -68,6 +68,7 @@ private:
     struct Box {
         float lo[3], hi[3];
     };
+    struct Slab;  // one task of evaluate: a few planes and their scratch (ses_distance_host.cpp)
     static void arc_row(const Arc& arc, const float* xs, float y, float z, int xa, int xb,
                         float* best);
     const SesFeatures& f_;
