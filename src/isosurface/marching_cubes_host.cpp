@@ -31,48 +31,64 @@ bool has_planes(const PlaneStack& f) {
     return true;
 }
 
-}  // namespace
+// The three passes of marching_cubes_host over the planes [p.z_begin, p.z_end] of f, in order:
+// inside_bits, count_crossings (then prefix_sums over the rows), build_mesh.
+struct BitMarcher {
+    const PlaneStack& f;
+    const McParams& p;
+    const unsigned threads;
+    const std::uint32_t nx, ny;
+    const std::uint32_t planes;
+    const std::size_t words;   // per point row
+    const std::size_t rows;    // point rows, planes * ny
+    std::vector<Word> inside;  // a bit per point, value >= iso; the bits past nx stay 0
+    std::vector<Word> cross_x, cross_y, cross_z;  // points whose +x, +y, +z edges are crossed
+    std::vector<std::uint32_t> before;            // vertices of the row before word k
+    std::vector<std::uint64_t> first_vertex, first_triangle;  // per row, then prefix sums
 
-Mesh marching_cubes_host(const PlaneStack& f, const McParams& p, unsigned threads) {
-    check_mc_arguments(has_planes(f), f.nx, f.ny, f.nz, f.pitch, p);
-    threads = thread_count(threads);
-    const std::uint32_t nx = f.nx, ny = f.ny;
-    const std::uint32_t planes = p.z_end - p.z_begin + 1;
-    const std::size_t words = (nx + 63) / 64;
-    const std::size_t rows = std::size_t(planes) * ny;
-    auto row_of = [ny](std::size_t zi, std::size_t y) { return zi * ny + y; };
+    BitMarcher(const PlaneStack& f_in, const McParams& p_in, unsigned threads_in)
+        : f(f_in),
+          p(p_in),
+          threads(threads_in),
+          nx(f_in.nx),
+          ny(f_in.ny),
+          planes(p_in.z_end - p_in.z_begin + 1),
+          words((nx + 63) / 64),
+          rows(std::size_t(planes) * ny) {}
+
+    std::size_t row_of(std::size_t zi, std::size_t y) const { return zi * ny + y; }
+
     // Points x with x + 1 < nx (they own an x edge; cells start there) in word k.
-    auto below_last = [nx](std::size_t k) -> Word {
+    Word below_last(std::size_t k) const {
         const std::size_t first = 64 * k;
         if (first + 1 >= nx) return 0;
         const std::size_t n = nx - 1 - first;
         return n >= 64 ? ~Word{0} : (Word{1} << n) - 1;
-    };
+    }
 
-    // (1) Inside bits; the bits past nx stay 0.
-    std::vector<Word> inside(rows * words);
-    parallel_chunks(planes, threads, [&](std::size_t zi) {
-        const float* plane = f.planes[p.z_begin + zi];
-        for (std::uint32_t y = 0; y < ny; ++y) {
-            const float* row = plane + std::size_t(y) * f.pitch;
-            Word* out = &inside[row_of(zi, y) * words];
-            for (std::size_t k = 0; k < words; ++k) {
-                const std::uint32_t end = std::uint32_t(std::min<std::size_t>(nx, 64 * k + 64));
-                Word bits = 0;
-                for (std::uint32_t x = std::uint32_t(64 * k); x < end; ++x)
-                    bits |= Word(row[x] >= p.iso) << (x - 64 * k);
-                out[k] = bits;
+    // (1) Inside bits.
+    void inside_bits() {
+        inside.resize(rows * words);
+        parallel_chunks(planes, threads, [&](std::size_t zi) {
+            const float* plane = f.planes[p.z_begin + zi];
+            for (std::uint32_t y = 0; y < ny; ++y) {
+                const float* row = plane + std::size_t(y) * f.pitch;
+                Word* out = &inside[row_of(zi, y) * words];
+                for (std::size_t k = 0; k < words; ++k) {
+                    const std::uint32_t end = std::uint32_t(std::min<std::size_t>(nx, 64 * k + 64));
+                    Word bits = 0;
+                    for (std::uint32_t x = std::uint32_t(64 * k); x < end; ++x)
+                        bits |= Word(row[x] >= p.iso) << (x - 64 * k);
+                    out[k] = bits;
+                }
             }
-        }
-    });
+        });
+    }
 
-    // (2) Crossed edges per point and counts per row.
-    std::vector<Word> cross_x(rows * words), cross_y(rows * words), cross_z(rows * words);
-    std::vector<std::uint32_t> before(rows * words);  // vertices of the row before word k
-    std::vector<std::uint64_t> first_vertex(rows + 1, 0), first_triangle(rows + 1, 0);
     // The cells of row (y, zi) whose corners are not all on one side, one word at a time;
     // body(k, j, cube) for each, in x order.
-    auto for_cells = [&](std::size_t zi, std::uint32_t y, const auto& body) {
+    template <class Body>
+    void for_cells(std::size_t zi, std::uint32_t y, const Body& body) const {
         const Word* r[4] = {&inside[row_of(zi, y) * words], &inside[row_of(zi, y + 1) * words],
                             &inside[row_of(zi + 1, y) * words],
                             &inside[row_of(zi + 1, y + 1) * words]};
@@ -95,48 +111,56 @@ Mesh marching_cubes_host(const PlaneStack& f, const McParams& p, unsigned thread
                 body(k, j, cube);
             }
         }
-    };
-    parallel_chunks(planes, threads, [&](std::size_t zi) {
-        for (std::uint32_t y = 0; y < ny; ++y) {
-            const std::size_t row = row_of(zi, y);
-            const Word* b = &inside[row * words];
-            std::uint32_t count = 0;
-            for (std::size_t k = 0; k < words; ++k) {
-                const std::size_t i = row * words + k;
-                cross_x[i] =
-                    (b[k] ^ next_bits(b[k], k + 1 < words ? b[k + 1] & 1 : 0)) & below_last(k);
-                cross_y[i] = y + 1 < ny ? b[k] ^ inside[row_of(zi, y + 1) * words + k] : 0;
-                cross_z[i] = zi + 1 < planes ? b[k] ^ inside[row_of(zi + 1, y) * words + k] : 0;
-                before[i] = count;
-                count += std::uint32_t(std::popcount(cross_x[i]) + std::popcount(cross_y[i]) +
-                                       std::popcount(cross_z[i]));
-            }
-            first_vertex[row + 1] = count;
-            std::uint64_t triangles = 0;
-            if (zi + 1 < planes && y + 1 < ny) {
-                for_cells(zi, y, [&](std::size_t, int, unsigned cube) {
-                    triangles += mc::kTriCount[cube];
-                });
-            }
-            first_triangle[row + 1] = triangles;
-        }
-    });
-    for (std::size_t row = 0; row < rows; ++row) {
-        first_vertex[row + 1] += first_vertex[row];
-        first_triangle[row + 1] += first_triangle[row];
-    }
-    if (first_vertex[rows] > std::numeric_limits<std::uint32_t>::max() - 3) {
-        throw Error(ErrorCode::InvalidArgument,
-                    "marching cubes: more than 2^32 vertices; use smaller slabs");
     }
 
-    // (3) Vertices and triangles where the serial order puts them.
-    Mesh mesh;
-    mesh.positions.resize(3 * first_vertex[rows]);
-    mesh.normals.resize(3 * first_vertex[rows]);
-    mesh.indices.resize(3 * first_triangle[rows]);
+    // (2) Crossed edges per point and counts per row.
+    void count_crossings() {
+        cross_x.resize(rows * words);
+        cross_y.resize(rows * words);
+        cross_z.resize(rows * words);
+        before.resize(rows * words);
+        first_vertex.assign(rows + 1, 0);
+        first_triangle.assign(rows + 1, 0);
+        parallel_chunks(planes, threads, [&](std::size_t zi) {
+            for (std::uint32_t y = 0; y < ny; ++y) {
+                const std::size_t row = row_of(zi, y);
+                const Word* b = &inside[row * words];
+                std::uint32_t count = 0;
+                for (std::size_t k = 0; k < words; ++k) {
+                    const std::size_t i = row * words + k;
+                    cross_x[i] =
+                        (b[k] ^ next_bits(b[k], k + 1 < words ? b[k + 1] & 1 : 0)) & below_last(k);
+                    cross_y[i] = y + 1 < ny ? b[k] ^ inside[row_of(zi, y + 1) * words + k] : 0;
+                    cross_z[i] = zi + 1 < planes ? b[k] ^ inside[row_of(zi + 1, y) * words + k] : 0;
+                    before[i] = count;
+                    count += std::uint32_t(std::popcount(cross_x[i]) + std::popcount(cross_y[i]) +
+                                           std::popcount(cross_z[i]));
+                }
+                first_vertex[row + 1] = count;
+                std::uint64_t triangles = 0;
+                if (zi + 1 < planes && y + 1 < ny) {
+                    for_cells(zi, y, [&](std::size_t, int, unsigned cube) {
+                        triangles += mc::kTriCount[cube];
+                    });
+                }
+                first_triangle[row + 1] = triangles;
+            }
+        });
+    }
+
+    void prefix_sums() {
+        for (std::size_t row = 0; row < rows; ++row) {
+            first_vertex[row + 1] += first_vertex[row];
+            first_triangle[row + 1] += first_triangle[row];
+        }
+        if (first_vertex[rows] > std::numeric_limits<std::uint32_t>::max() - 3) {
+            throw Error(ErrorCode::InvalidArgument,
+                        "marching cubes: more than 2^32 vertices; use smaller slabs");
+        }
+    }
+
     // The vertex of the crossed edge from point (x, y, zi) along `axis`.
-    auto vertex_of = [&](std::uint32_t x, std::uint32_t y, std::size_t zi, int axis) {
+    std::uint32_t vertex_of(std::uint32_t x, std::uint32_t y, std::size_t zi, int axis) const {
         const std::size_t i = row_of(zi, y) * words + x / 64;
         const Word low = (Word{1} << (x % 64)) - 1, bit = Word{1} << (x % 64);
         const Word crossed[3] = {cross_x[i], cross_y[i], cross_z[i]};
@@ -146,38 +170,57 @@ Mesh marching_cubes_host(const PlaneStack& f, const McParams& p, unsigned thread
         for (int a = 0; a < 3; ++a) v += std::uint64_t(std::popcount(crossed[a] & low));
         for (int a = 0; a < axis; ++a) v += (crossed[a] & bit) != 0;
         return std::uint32_t(v);
-    };
-    parallel_chunks(planes, threads, [&](std::size_t zi) {
-        const std::uint32_t z = p.z_begin + std::uint32_t(zi);
-        for (std::uint32_t y = 0; y < ny; ++y) {
-            const std::size_t row = row_of(zi, y);
-            std::size_t v = first_vertex[row];
-            for (std::size_t k = 0; k < words; ++k) {
-                const std::size_t i = row * words + k;
-                const Word crossed[3] = {cross_x[i], cross_y[i], cross_z[i]};
-                for (Word m = crossed[0] | crossed[1] | crossed[2]; m; m &= m - 1) {
-                    const int j = std::countr_zero(m);
-                    const std::uint32_t q[3] = {std::uint32_t(64 * k) + std::uint32_t(j), y, z};
-                    for (int a = 0; a < 3; ++a) {
-                        if (!((crossed[a] >> j) & 1)) continue;
-                        mc_vertex(f, q, a, p, &mesh.positions[3 * v], &mesh.normals[3 * v]);
-                        ++v;
+    }
+
+    // (3) Vertices and triangles where the serial order puts them.
+    Mesh build_mesh() const {
+        Mesh mesh;
+        mesh.positions.resize(3 * first_vertex[rows]);
+        mesh.normals.resize(3 * first_vertex[rows]);
+        mesh.indices.resize(3 * first_triangle[rows]);
+        parallel_chunks(planes, threads, [&](std::size_t zi) {
+            const std::uint32_t z = p.z_begin + std::uint32_t(zi);
+            for (std::uint32_t y = 0; y < ny; ++y) {
+                const std::size_t row = row_of(zi, y);
+                std::size_t v = first_vertex[row];
+                for (std::size_t k = 0; k < words; ++k) {
+                    const std::size_t i = row * words + k;
+                    const Word crossed[3] = {cross_x[i], cross_y[i], cross_z[i]};
+                    for (Word m = crossed[0] | crossed[1] | crossed[2]; m; m &= m - 1) {
+                        const int j = std::countr_zero(m);
+                        const std::uint32_t q[3] = {std::uint32_t(64 * k) + std::uint32_t(j), y, z};
+                        for (int a = 0; a < 3; ++a) {
+                            if (!((crossed[a] >> j) & 1)) continue;
+                            mc_vertex(f, q, a, p, &mesh.positions[3 * v], &mesh.normals[3 * v]);
+                            ++v;
+                        }
                     }
                 }
+                if (zi + 1 >= planes || y + 1 >= ny) continue;
+                std::uint32_t* out = mesh.indices.data() + 3 * first_triangle[row];
+                for_cells(zi, y, [&](std::size_t k, int j, unsigned cube) {
+                    const std::uint32_t x = std::uint32_t(64 * k) + std::uint32_t(j);
+                    for (int c = 0; c < 3 * mc::kTriCount[cube]; ++c) {
+                        const int e = mc::kTriEdges[cube][c];
+                        *out++ = vertex_of(x + mc::kEdgeOwner[e][0], y + mc::kEdgeOwner[e][1],
+                                           zi + mc::kEdgeOwner[e][2], mc::kEdgeAxis[e]);
+                    }
+                });
             }
-            if (zi + 1 >= planes || y + 1 >= ny) continue;
-            std::uint32_t* out = mesh.indices.data() + 3 * first_triangle[row];
-            for_cells(zi, y, [&](std::size_t k, int j, unsigned cube) {
-                const std::uint32_t x = std::uint32_t(64 * k) + std::uint32_t(j);
-                for (int c = 0; c < 3 * mc::kTriCount[cube]; ++c) {
-                    const int e = mc::kTriEdges[cube][c];
-                    *out++ = vertex_of(x + mc::kEdgeOwner[e][0], y + mc::kEdgeOwner[e][1],
-                                       zi + mc::kEdgeOwner[e][2], mc::kEdgeAxis[e]);
-                }
-            });
-        }
-    });
-    return mesh;
+        });
+        return mesh;
+    }
+};
+
+}  // namespace
+
+Mesh marching_cubes_host(const PlaneStack& f, const McParams& p, unsigned threads) {
+    check_mc_arguments(has_planes(f), f.nx, f.ny, f.nz, f.pitch, p);
+    BitMarcher m(f, p, thread_count(threads));
+    m.inside_bits();
+    m.count_crossings();
+    m.prefix_sums();
+    return m.build_mesh();
 }
 
 }  // namespace fdmsurf::detail
