@@ -156,12 +156,11 @@ std::string json_number(double value, int decimals = 4) {
     return text.empty() ? "null" : text;
 }
 
-void write_json(const AreasReport& r, detail::AtomicFile& out) {
+// The JSON file's settings and totals, from its opening brace.
+std::string json_header(const AreasReport& r) {
     const Atoms& atoms = *r.atoms;
     const AtomAreas& a = *r.areas;
     const bool mesh = !a.mesh_area.empty();
-    const bool meta = atoms.meta.size() == atoms.size();
-    const BuriedView bv{r.buried};
     const SurfaceOptions& s = r.surface;
     double total = 0.0, mesh_total = 0.0;
     for (std::size_t i = 0; i < atoms.size(); ++i) {
@@ -196,6 +195,13 @@ void write_json(const AreasReport& r, detail::AtomicFile& out) {
          ", \"mesh_area_on_patches\": " + (mesh && a.exact ? json_number(a.mesh_on_patches) : "null") +
          ", \"atoms\": " + std::to_string(atoms.size()) +
          ", \"residues\": " + std::to_string(r.residues ? r.residues->size() : 0) + "},\n";
+    return j;
+}
+
+// The JSON file's "buried" member (null without groups), with its line's end.
+std::string json_buried(const AreasReport& r) {
+    const bool mesh = !r.areas->mesh_area.empty();
+    std::string j;
     if (r.buried) {
         const BuriedAreas& b = *r.buried;
         j += "  \"buried\": {\"groups\": [";
@@ -214,9 +220,14 @@ void write_json(const AreasReport& r, detail::AtomicFile& out) {
     } else {
         j += "  \"buried\": null,\n";
     }
-    out.write(j);
-    j.clear();
-    out.write("  \"residues\": [");
+    return j;
+}
+
+// The JSON file's residues, one a line, into `out` (nothing without residues).
+void write_json_residues(const AreasReport& r, detail::AtomicFile& out) {
+    const bool mesh = !r.areas->mesh_area.empty();
+    const BuriedView bv{r.buried};
+    std::string j;
     if (r.residues) {
         bool first = true;
         for (const ResidueArea& res : *r.residues) {
@@ -245,7 +256,16 @@ void write_json(const AreasReport& r, detail::AtomicFile& out) {
         }
         if (!first) out.write("\n  ");
     }
-    out.write("],\n  \"atoms\": [");
+}
+
+// The JSON file's atoms, one a line, into `out`.
+void write_json_atoms(const AreasReport& r, detail::AtomicFile& out) {
+    const Atoms& atoms = *r.atoms;
+    const AtomAreas& a = *r.areas;
+    const bool mesh = !a.mesh_area.empty();
+    const bool meta = atoms.meta.size() == atoms.size();
+    const BuriedView bv{r.buried};
+    std::string j;
     for (std::size_t i = 0; i < atoms.size(); ++i) {
         j = i ? ",\n    " : "\n    ";
         j += "{\"index\": " + std::to_string(i);
@@ -274,7 +294,15 @@ void write_json(const AreasReport& r, detail::AtomicFile& out) {
         j += "}";
         out.write(j);
     }
-    out.write(atoms.empty() ? "]\n}\n" : "\n  ]\n}\n");
+}
+
+void write_json(const AreasReport& r, detail::AtomicFile& out) {
+    out.write(json_header(r) + json_buried(r));
+    out.write("  \"residues\": [");
+    write_json_residues(r, out);
+    out.write("],\n  \"atoms\": [");
+    write_json_atoms(r, out);
+    out.write(r.atoms->empty() ? "]\n}\n" : "\n  ]\n}\n");
 }
 
 }  // namespace
