@@ -32,8 +32,6 @@ std::string decompress(std::string bytes, const std::string& name);
 // Rejects empty input and binary data, naming `name`. Throws Error(Format).
 void check_text(std::string_view data, const std::string& name);
 
-bool is_gzip(std::string_view data);
-
 // Extension first (".gz" stripped), then the content; throws Error(Format) when neither tells.
 StructureFormat detect_format(std::string_view text, const std::string& name);
 
