@@ -30,6 +30,7 @@
 #include "cli/output_paths.hpp"
 #include "cli/progress.hpp"
 #include "cli/summary.hpp"
+#include "cli/version.hpp"
 #include "base/trace.hpp"
 #include "io/atomic_file.hpp"
 #include "fdmsurf/fdmsurf.hpp"
@@ -961,7 +962,7 @@ int run_command(int argc, char** argv) {
             return kExitOk;
         }
         if (options.version) {
-            put_noting_errors(std::string("fdmsurf ") + version() + "\n", stdout);
+            put_noting_errors(version_text(), stdout);
             return kExitOk;
         }
         if (options.list_devices) return list_devices_command();
