@@ -33,6 +33,7 @@
 #include "cli/version.hpp"
 #include "base/trace.hpp"
 #include "io/atomic_file.hpp"
+#include "vulkan/context.hpp"
 #include "fdmsurf/fdmsurf.hpp"
 
 namespace {
@@ -72,15 +73,12 @@ std::string format_bytes(std::uint64_t bytes) {
 }
 
 int list_devices_command() {
-    static const char* const kHint =
-        "no usable Vulkan device; on a machine without a GPU, install mesa-vulkan-drivers for "
-        "the lavapipe CPU device\n";
     std::vector<DeviceInfo> devices;
     try {
         devices = list_devices();
     } catch (const Error& e) {
         if (e.code() != ErrorCode::NoDevice) throw;
-        std::printf("no Vulkan device: %s\n%s", one_line(e.what()).c_str(), kHint);
+        std::printf("%s\n", one_line(e.what()).c_str());  // says what to install
         return kExitOk;
     }
     bool any_usable = false;
@@ -96,8 +94,7 @@ int list_devices_command() {
                     format_bytes(d.max_storage_buffer_range).c_str());
         std::printf("  memory                 %s\n", format_bytes(d.device_memory).c_str());
     }
-    if (devices.empty()) std::printf("no Vulkan device found\n");
-    if (!any_usable) std::fputs(kHint, stdout);
+    if (!any_usable) std::printf("%s\n", detail::no_device_help().c_str());
     return kExitOk;
 }
 
