@@ -49,9 +49,10 @@ if(FDMSURF_BUILD_CLI)
 endif()
 
 # The tests of these installs that need no install (tests/packaging/): the completion and the man
-# page against the program.
+# page against the program, the backend's metadata and messages, the module's import error.
+# scripts/pip-test.sh installs for real.
 if(FDMSURF_BUILD_TESTS AND FDMSURF_BUILD_CLI AND Python3_EXECUTABLE)
-    set(tests completion)
+    set(tests completion backend import_error)
     if(FDMSURF_MAN)
         list(APPEND tests man_page)
     endif()

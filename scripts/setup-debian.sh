@@ -44,6 +44,9 @@ packages=(
     # FreeSASA (Lee-Richards areas): the reference of the vdw and sas area tests and of
     # scripts/crease-accuracy.py
     freesasa
+    # the installs (docs/install.md): help2man makes the man page from --help, groff checks it;
+    # python3-venv makes the venvs of scripts/pip-test.sh
+    help2man groff-base python3-venv
 )
 if [[ ${1:-} == --sanitizers ]]; then
     # clang 14 with AddressSanitizer, UndefinedBehaviorSanitizer and libFuzzer
