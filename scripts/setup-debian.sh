@@ -45,8 +45,9 @@ packages=(
     # scripts/crease-accuracy.py
     freesasa
     # the installs (docs/install.md): help2man makes the man page from --help, groff checks it;
-    # python3-venv makes the venvs of scripts/pip-test.sh
-    help2man groff-base python3-venv
+    # bash-completion loads the completion in scripts/package-test.sh; python3-venv makes the
+    # venvs of scripts/pip-test.sh; CPack's Debian package needs dpkg-shlibdeps and file
+    help2man groff-base bash-completion python3-venv dpkg-dev file
 )
 if [[ ${1:-} == --sanitizers ]]; then
     # clang 14 with AddressSanitizer, UndefinedBehaviorSanitizer and libFuzzer
