@@ -34,8 +34,10 @@ if(FDMSURF_BUILD_CLI)
             COMMENT "Making the man page fdmsurf.1 from fdmsurf --help (help2man)"
             VERBATIM)
         add_custom_target(fdmsurf_man ALL DEPENDS ${man_dir}/fdmsurf.1.gz)
-        install(FILES ${man_dir}/fdmsurf.1.gz DESTINATION ${CMAKE_INSTALL_MANDIR}/man1
-            COMPONENT cli)
+        # `man msms` too: the page has msms's options (COMMANDS) and an example.
+        file(CREATE_LINK fdmsurf.1.gz ${man_dir}/msms.1.gz SYMBOLIC)
+        install(FILES ${man_dir}/fdmsurf.1.gz ${man_dir}/msms.1.gz
+            DESTINATION ${CMAKE_INSTALL_MANDIR}/man1 COMPONENT cli)
     endif()
 
     # bash completion, for fdmsurf and for msms (a link, so that bash-completion's loader finds

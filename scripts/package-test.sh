@@ -76,7 +76,8 @@ for path in ./usr/bin/fdmsurf "./usr/bin/msms -> fdmsurf" "./usr/lib/$multiarch/
     "./usr/lib/python3/dist-packages/fdmsurf/_fdmsurf$ext" \
     ./usr/lib/python3/dist-packages/fdmsurf/__init__.pyi \
     ./usr/lib/python3/dist-packages/fdmsurf/batch.py \
-    ./usr/share/man/man1/fdmsurf.1.gz ./usr/share/bash-completion/completions/fdmsurf \
+    ./usr/share/man/man1/fdmsurf.1.gz "./usr/share/man/man1/msms.1.gz -> fdmsurf.1.gz" \
+    ./usr/share/bash-completion/completions/fdmsurf \
     "./usr/share/bash-completion/completions/msms -> fdmsurf"; do
     grep -qxF "$path" "$work/contents" || fail "the package lacks $path"
 done
@@ -100,8 +101,10 @@ step msms msms -if "$repo/tests/data/1crn.xyzrn" -of 1crn -af 1crn -probe_radius
 zcat /usr/share/man/man1/fdmsurf.1.gz | grep -q -- 'list\\-devices' ||
     fail "the man page lacks --list-devices"
 if command -v man >/dev/null; then
-    [[ $(man -w fdmsurf) == /usr/share/man/man1/fdmsurf.1.gz ]] ||
-        fail "man -w fdmsurf: $(man -w fdmsurf)"
+    for page in fdmsurf msms; do  # man -w follows msms.1.gz, the link, to fdmsurf.1.gz
+        [[ $(man -w $page) == /usr/share/man/man1/fdmsurf.1.gz ]] ||
+            fail "man -w $page: $(man -w $page)"
+    done
 fi
 # bash-completion's loader finds the completion for both names, and it completes.
 for command in fdmsurf msms; do
