@@ -44,6 +44,10 @@ packages=(
     # FreeSASA (Lee-Richards areas): the reference of the vdw and sas area tests and of
     # scripts/crease-accuracy.py
     freesasa
+    # the installs (docs/install.md): help2man makes the man page from --help, groff checks it;
+    # bash-completion loads the completion in scripts/package-test.sh; python3-venv makes the
+    # venvs of scripts/pip-test.sh; CPack's Debian package needs dpkg-shlibdeps and file
+    help2man groff-base bash-completion python3-venv dpkg-dev file
 )
 if [[ ${1:-} == --sanitizers ]]; then
     # clang 14 with AddressSanitizer, UndefinedBehaviorSanitizer and libFuzzer

@@ -17,7 +17,21 @@ examples.
 import os
 import threading
 
-from . import _fdmsurf, _options
+try:
+    from . import _fdmsurf
+except ImportError as error:
+    # The compiled module links the Vulkan loader: say what to install, in one line.
+    missing = str(error).split(":")[0] if "cannot open shared object" in str(error) else ""
+    if missing.startswith("libvulkan"):
+        raise ImportError(
+            f"fdmsurf needs the Vulkan loader {missing}, which is not installed: apt-get install "
+            "libvulkan1, and a Vulkan driver (mesa-vulkan-drivers, or your GPU's; "
+            "docs/install.md)") from None
+    if missing:
+        raise ImportError(f"fdmsurf's compiled module needs {missing}, which is not installed "
+                          "(docs/install.md lists what the module needs at run time)") from None
+    raise
+from . import _options
 from ._fdmsurf import (
     DeviceError,
     DeviceLimitError,

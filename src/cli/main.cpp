@@ -28,7 +28,10 @@
 #include "cli/standard_output.hpp"
 #include "cli/summary.hpp"
 #include "cli/usage.hpp"
+#include "cli/version.hpp"
 #include "base/trace.hpp"
+#include "io/atomic_file.hpp"
+#include "vulkan/context.hpp"
 #include "fdmsurf/fdmsurf.hpp"
 
 namespace {
@@ -43,15 +46,12 @@ std::string format_bytes(std::uint64_t bytes) {
 }
 
 int list_devices_command() {
-    static const char* const kHint =
-        "no usable Vulkan device; on a machine without a GPU, install mesa-vulkan-drivers for "
-        "the lavapipe CPU device\n";
     std::vector<DeviceInfo> devices;
     try {
         devices = list_devices();
     } catch (const Error& e) {
         if (e.code() != ErrorCode::NoDevice) throw;
-        std::printf("no Vulkan device: %s\n%s", one_line(e.what()).c_str(), kHint);
+        std::printf("%s\n", one_line(e.what()).c_str());  // says what to install
         return kExitOk;
     }
     bool any_usable = false;
@@ -67,8 +67,7 @@ int list_devices_command() {
                     format_bytes(d.max_storage_buffer_range).c_str());
         std::printf("  memory                 %s\n", format_bytes(d.device_memory).c_str());
     }
-    if (devices.empty()) std::printf("no Vulkan device found\n");
-    if (!any_usable) std::fputs(kHint, stdout);
+    if (!any_usable) std::printf("%s\n", detail::no_device_help().c_str());
     return kExitOk;
 }
 
@@ -369,7 +368,7 @@ int run_command(int argc, char** argv) {
             return kExitOk;
         }
         if (options.version) {
-            put_noting_errors(std::string("fdmsurf ") + version() + "\n", stdout);
+            put_noting_errors(version_text(), stdout);
             return kExitOk;
         }
         if (options.list_devices) return list_devices_command();

@@ -146,8 +146,10 @@ std::vector<VkPhysicalDevice> physical_devices(VkInstance instance) {
 }  // namespace
 
 std::string no_device_help() {
-    return "no usable Vulkan device found: install a Vulkan driver for your GPU, or the CPU "
-           "driver lavapipe (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers libvulkan1)";
+    return "no usable Vulkan device found: install a Vulkan driver: mesa-vulkan-drivers for AMD "
+           "and Intel GPUs and for lavapipe, the CPU device (Debian/Ubuntu: apt-get install "
+           "mesa-vulkan-drivers); NVIDIA's driver with its Vulkan ICD for an NVIDIA GPU (Debian: "
+           "nvidia-vulkan-icd); docs/install.md";
 }
 
 DeviceInfo describe_device(VkPhysicalDevice device, std::uint32_t index) {

@@ -30,10 +30,15 @@ TEST_F(CliProgram, HelpListsOptionsAndExitCodes) {
     EXPECT_EQ(r.err, "");
 }
 
-TEST_F(CliProgram, VersionPrintsTheLibraryVersion) {
+TEST_F(CliProgram, VersionPrintsTheLibraryVersionTheCommitAndWhetherItIsARelease) {
     const CliRun r = run({"--version"});
     EXPECT_EQ(r.exit_code, 0);
-    EXPECT_EQ(r.out, std::string("fdmsurf ") + fdmsurf::version() + "\n");
+    const std::vector<std::string> lines = lines_of(r.out);
+    ASSERT_EQ(lines.size(), 2u) << r.out;
+    EXPECT_EQ(lines[0], std::string("fdmsurf ") + fdmsurf::version());
+    EXPECT_EQ(lines[1].rfind("git commit ", 0), 0u) << lines[1];
+    const bool release = lines[1].ends_with(": a release");
+    EXPECT_TRUE(release || lines[1].find("not a release") != std::string::npos) << lines[1];
     EXPECT_EQ(r.err, "");
 }
 
