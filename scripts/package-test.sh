@@ -25,20 +25,8 @@ cleanup() {
 }
 trap cleanup EXIT
 
-fail() {
-    echo "package-test.sh: $*" >&2
-    exit 1
-}
-
-step() {  # step NAME COMMAND...: COMMAND's output in a log, shown when it fails
-    local name=$1 start=$SECONDS
-    shift
-    if ! "$@" >"$work/$name.log" 2>&1; then
-        cat "$work/$name.log" >&2
-        fail "$name failed (its output is above)"
-    fi
-    echo "package-test.sh: $name ($((SECONDS - start)) s)"
-}
+script=package-test.sh
+source scripts/lib/steps.sh  # fail, step
 
 ((EUID == 0)) || fail "run as root (apt-get install and purge)"
 if dpkg-query -W -f='${db:Status-Status}' fdmsurf 2>/dev/null | grep -qv not-installed; then

@@ -27,20 +27,8 @@ version=$(sed -n 's/^project(fdmsurf VERSION \([0-9.]*\).*/\1/p' CMakeLists.txt)
 tag=$("$python" -c 'import sys; sys.path.insert(0, "python/build_backend")
 import fdmsurf_build; print(fdmsurf_build.wheel_tag())')
 
-fail() {
-    echo "pip-test.sh: $*" >&2
-    exit 1
-}
-
-step() {  # step NAME COMMAND...: COMMAND's output in a log, shown when it fails
-    local name=$1 start=$SECONDS
-    shift
-    if ! "$@" >"$work/$name.log" 2>&1; then
-        cat "$work/$name.log" >&2
-        fail "$name failed (its output is above)"
-    fi
-    echo "pip-test.sh: $name ($((SECONDS - start)) s)"
-}
+script=pip-test.sh
+source scripts/lib/steps.sh  # fail, step
 
 new_venv() {  # new_venv DIR: a venv that sees Debian's packages, and the list of its files
     "$python" -m venv --system-site-packages "$1"
