@@ -64,6 +64,16 @@ std::string number_problem(NumberStatus status, const std::string& what, std::st
 // " at line N", the tail of messages about one line.
 std::string at_line(std::size_t line);
 
+// --- pdb_text.cpp: PDB text as gemmi can read it ---
+
+// Checks every ATOM/HETATM record's coordinates (Error(Format) naming the line and columns) and
+// returns the text rewritten where gemmi would refuse or misread it: records whose fields
+// overflow their columns, unreadable charges, repeated MODEL numbers or a missing ENDMDL
+// (models renumbered in file order), short LINK/SSBOND records; "" when nothing needs it.
+// A warning per kind of change goes to `warnings`.
+std::string prepare_pdb_text(std::string_view text, const std::string& name,
+                             std::vector<std::string>& warnings);
+
 // --- radii.cpp ---
 
 // Upper-case symbol of a known element ("C", "FE"), or "" when `symbol` names none.

@@ -35,71 +35,6 @@ bool is_end_record(std::string_view line) {
            (line.size() == 3 || std::isspace(static_cast<unsigned char>(line[3])));
 }
 
-// gemmi reads coordinates unchecked (a bad field becomes 0) and rejects short lines without
-// naming the file, so every ATOM/HETATM record is checked here first.
-void check_pdb_records(std::string_view text, const std::string& name) {
-    static const char* const kAxis[] = {"x", "y", "z"};
-    LineReader lines(text);
-    std::string_view line;
-    while (lines.next(line)) {
-        if (is_end_record(line)) break;
-        if (!is_atom_record(line)) continue;
-        std::string record = iequals(line.substr(0, 4), "ATOM") ? "ATOM" : "HETATM";
-        if (line.size() < 54)
-            fail_format(name + ": truncated " + record + " record" + at_line(lines.number()) +
-                        " (" + std::to_string(line.size()) +
-                        " columns; x, y, z need columns 31-54)");
-        for (int i = 0; i < 3; ++i) {
-            std::string_view field = line.substr(30 + 8 * i, 8);
-            std::string columns = std::to_string(31 + 8 * i) + "-" + std::to_string(38 + 8 * i);
-            double value = 0.0;
-            NumberStatus status = parse_number(trim(field), value);
-            if (status != NumberStatus::Ok)
-                fail_format(name + ": " +
-                            number_problem(status, std::string(kAxis[i]) + " coordinate", field) +
-                            " (columns " + columns + ")" + at_line(lines.number()));
-        }
-    }
-}
-
-// gemmi 0.5.7 reads a LINK or SSBOND record's distance or link id (columns 73-80) once the
-// line, as it keeps it (with its "\n" or "\r\n", up to its first NUL byte), is longer than 73
-// characters: past the end of a line shorter than 80 (found by fuzz_pdb twice: a heap-buffer
-// overflow). Those lines are given to gemmi without NUL bytes (spaces instead) and padded with
-// spaces to 80 columns (spaces read as no distance, as in a line that stops at column 72); the
-// other lines as they are, with "\n" ends. Text without such lines is not copied.
-std::string pad_connection_records(const std::string& text) {
-    auto needs_fixing = [](std::string_view line) {  // LineReader drops "\r\n" and "\n"
-        // gemmi tells the record by its first four characters, case-insensitive ("SSBO...").
-        return (iequals(line.substr(0, 4), "LINK") || iequals(line.substr(0, 4), "SSBO")) &&
-               ((line.size() >= 72 && line.size() < 80) ||
-                line.find('\0') != std::string_view::npos);
-    };
-    bool any = false;
-    {
-        LineReader lines(text);
-        std::string_view line;
-        while (!any && lines.next(line)) any = needs_fixing(line);
-    }
-    if (!any) return std::string();
-    std::string fixed;
-    fixed.reserve(text.size() + 1024);
-    LineReader lines(text);
-    std::string_view line;
-    while (lines.next(line)) {
-        if (needs_fixing(line)) {
-            std::string record(line);
-            std::replace(record.begin(), record.end(), '\0', ' ');
-            if (record.size() < 80) record.append(80 - record.size(), ' ');
-            fixed += record;
-        } else {
-            fixed.append(line);
-        }
-        fixed.push_back('\n');
-    }
-    return fixed;
-}
-
 // True for a number outside int's range ("99999999999"): gemmi's string_to_int does not check
 // for overflow (found by fuzz_mmcif), so such a value would come out as another number
 // (read_gemmi.cpp is compiled with -fwrapv, which makes it defined). `value` is the token as
@@ -139,25 +74,168 @@ void check_cif_integers(gemmi::cif::Block& block, const std::string& name) {
     }
 }
 
-// gemmi silently makes no atoms when one of the _atom_site columns it needs is missing.
-void check_cif_columns(gemmi::cif::Document& doc, const std::string& name) {
-    if (doc.blocks.empty()) fail_format(name + ": no data block (not an mmCIF file)");
-    static const char* const kRequired[] = {
-        "id",      "type_symbol", "label_alt_id", "label_asym_id",  "Cartn_x",
-        "Cartn_y", "Cartn_z",     "occupancy",    "B_iso_or_equiv", "auth_seq_id"};
-    gemmi::cif::Block& block = doc.blocks[0];
-    std::string missing;
-    std::size_t found = 0;
-    for (const char* tag : kRequired) {
-        if (block.has_tag(std::string("_atom_site.") + tag))
-            ++found;
-        else
-            missing += std::string(missing.empty() ? "" : ", ") + tag;
+// The _atom_site of the first block, a loop (or, for one atom, name-value pairs), row by row.
+class AtomSite {
+public:
+    explicit AtomSite(gemmi::cif::Block& block) : block_(block) {
+        gemmi::cif::Item* item = block.find_values("_atom_site.Cartn_x").item();
+        if (item && item->type == gemmi::cif::ItemType::Loop) loop_ = &item->loop;
     }
-    if (found == 0) fail_format(name + ": no _atom_site table (no atoms)");
+    std::size_t rows() const { return loop_ ? loop_->length() : 1; }
+    bool has(const char* tag) const { return block_.has_tag(std::string("_atom_site.") + tag); }
+    // The value as gemmi reads it ("" for '?' and '.', and for a column that is not there).
+    std::string value(std::size_t row, const char* tag) const {
+        const std::string full = std::string("_atom_site.") + tag;
+        if (loop_) {
+            int col = loop_->find_tag(full);
+            return col < 0 ? "" : gemmi::cif::as_string(loop_->val(row, std::size_t(col)));
+        }
+        const std::string* v = block_.find_value(full);
+        return v ? gemmi::cif::as_string(*v) : "";
+    }
+    // Appends a column, `make(row)` giving each value (written as CIF: quoted where needed,
+    // '.' for "").
+    template <typename F>
+    void add(const char* tag, F make_value) {
+        auto make = [&](std::size_t r) {
+            std::string v = make_value(r);
+            return v.empty() ? std::string(".") : gemmi::cif::quote(v);
+        };
+        const std::string full = std::string("_atom_site.") + tag;
+        if (!loop_) {
+            block_.set_pair(full, make(0));
+            return;
+        }
+        const std::size_t width = loop_->width(), n = loop_->length();
+        std::vector<std::string> values;
+        values.reserve((width + 1) * n);
+        for (std::size_t r = 0; r < n; ++r) {
+            auto row = loop_->values.begin() + std::ptrdiff_t(r * width);
+            values.insert(values.end(), std::make_move_iterator(row),
+                          std::make_move_iterator(row + std::ptrdiff_t(width)));
+            values.push_back(make(r));
+        }
+        loop_->tags.push_back(full);
+        loop_->values.swap(values);
+    }
+
+private:
+    gemmi::cif::Block& block_;
+    gemmi::cif::Loop* loop_ = nullptr;
+};
+
+bool all_digits(const std::string& s) {
+    std::size_t i = !s.empty() && s[0] == '-' ? 1 : 0;
+    return i < s.size() && std::all_of(s.begin() + std::ptrdiff_t(i), s.end(),
+                                       [](char c) { return c >= '0' && c <= '9'; });
+}
+
+// Residue numbers where _atom_site has no auth_seq_id: label_seq_id where it is a number, and
+// for the rows without one (waters and ligands have '.'), numbers from past the largest
+// label_seq_id on, a new one where the chain or residue name changes or an atom name repeats.
+std::vector<std::string> residue_numbers_from_labels(const AtomSite& site, long& first_made) {
+    long largest = 0;
+    std::vector<std::string> out(site.rows());
+    for (std::size_t r = 0; r < site.rows(); ++r) {
+        out[r] = site.value(r, "label_seq_id");
+        if (all_digits(out[r]) && out[r].size() < 10) largest = std::max(largest, std::stol(out[r]));
+    }
+    first_made = largest + 1;
+    long next = first_made, current = 0;
+    std::string key, model;
+    std::set<std::string> names;
+    bool in_made = false;
+    for (std::size_t r = 0; r < site.rows(); ++r) {
+        const std::string m = site.value(r, "pdbx_PDB_model_num");
+        if (m != model) model = m, next = first_made, in_made = false;
+        if (all_digits(out[r]) && out[r].size() < 10) {
+            in_made = false;
+            continue;
+        }
+        const std::string k = site.value(r, "label_asym_id") + ' ' + site.value(r, "auth_asym_id") +
+                              ' ' + site.value(r, "label_comp_id") + ' ' +
+                              site.value(r, "auth_comp_id");
+        std::string atom = site.value(r, "label_atom_id") + ' ' + site.value(r, "auth_atom_id");
+        if (!in_made || k != key || !names.insert(atom).second) {
+            current = next++;
+            names = {atom};
+            key = k;
+            in_made = true;
+        }
+        out[r] = std::to_string(current);
+    }
+    return out;
+}
+
+// The element from an atom name, as for PQR: its first letter after leading digits.
+std::string element_from_name(const std::string& atom) {
+    for (char c : atom)
+        if (std::isalpha(static_cast<unsigned char>(c))) return std::string(1, c);
+    return "X";
+}
+
+// gemmi needs _atom_site columns that a surface does not: files that keep only the label_*
+// items (PyMOL, ChimeraX) or minimal ones written by libraries lack them. They are filled in,
+// each with a warning that says what was assumed; only the coordinates are required.
+void complete_cif_columns(gemmi::cif::Document& doc, const std::string& name,
+                          std::vector<std::string>& warnings) {
+    if (doc.blocks.empty()) fail_format(name + ": no data block (not an mmCIF file)");
+    gemmi::cif::Block& block = doc.blocks[0];
+    static const char* const kKnown[] = {
+        "id",          "type_symbol",   "label_alt_id", "label_asym_id", "auth_asym_id",
+        "Cartn_x",     "Cartn_y",       "Cartn_z",      "occupancy",     "B_iso_or_equiv",
+        "auth_seq_id", "label_seq_id", "label_atom_id", "auth_atom_id",  "label_comp_id"};
+    AtomSite site(block);
+    if (std::none_of(std::begin(kKnown), std::end(kKnown), [&](const char* t) { return site.has(t); }))
+        fail_format(name + ": no _atom_site table (no atoms)");
+    std::string missing;
+    for (const char* tag : {"Cartn_x", "Cartn_y", "Cartn_z"})
+        if (!site.has(tag)) missing += std::string(missing.empty() ? "" : ", ") + tag;
     if (!missing.empty())
         fail_format(name + ": _atom_site lacks column(s) " + missing + " (needed to read atoms)");
     check_cif_integers(block, name);
+
+    const std::string lacks = name + ": _atom_site has no ";
+    if (!site.has("auth_seq_id")) {
+        long first_made = 0;
+        std::vector<std::string> numbers = residue_numbers_from_labels(site, first_made);
+        site.add("auth_seq_id", [&](std::size_t r) { return numbers[r]; });
+        warnings.push_back(lacks + "auth_seq_id; residue numbers are label_seq_id (rows without "
+                                   "one, waters and ligands, numbered from " +
+                           std::to_string(first_made) + " on in file order)");
+    }
+    const bool label_asym = site.has("label_asym_id"), auth_asym = site.has("auth_asym_id");
+
+    if (!label_asym && auth_asym) {
+        site.add("label_asym_id", [&](std::size_t r) { return site.value(r, "auth_asym_id"); });
+        warnings.push_back(lacks + "label_asym_id; auth_asym_id used for it");
+    } else if (!label_asym) {
+        site.add("label_asym_id", [](std::size_t) { return std::string(); });
+        warnings.push_back(lacks + "chain ids (auth_asym_id, label_asym_id); one blank chain");
+    }  // without auth_asym_id, gemmi takes label_asym_id for the chains, as it always has
+    if (!site.has("type_symbol")) {
+        const bool auth_atom = site.has("auth_atom_id");
+        site.add("type_symbol", [&](std::size_t r) {
+            return element_from_name(site.value(r, auth_atom ? "auth_atom_id" : "label_atom_id"));
+        });
+        warnings.push_back(lacks + "type_symbol; elements from the atom names' first letter");
+    }
+    if (!site.has("id")) {
+        site.add("id", [](std::size_t r) { return std::to_string(r + 1); });
+        warnings.push_back(lacks + "id; atom serials are row numbers");
+    }
+    if (!site.has("label_alt_id")) {
+        site.add("label_alt_id", [](std::size_t) { return std::string(); });
+        warnings.push_back(lacks + "label_alt_id; no alternate locations");
+    }
+    if (!site.has("occupancy")) {
+        site.add("occupancy", [](std::size_t) { return std::string("1"); });
+        warnings.push_back(lacks + "occupancy; 1 assumed");
+    }
+    if (!site.has("B_iso_or_equiv")) {
+        site.add("B_iso_or_equiv", [](std::size_t) { return std::string("0"); });
+        warnings.push_back(lacks + "B_iso_or_equiv; B-factor 0 assumed");
+    }
 }
 
 // Element symbols as the file writes them, by "residue atom": gemmi keeps only the parsed
@@ -270,9 +348,9 @@ std::string empty_selection_message(const std::string& name, const StructureInfo
         if (n) removed += (removed.empty() ? "" : ", ") + counted(n, noun) + option;
     };
     add(info.altlocs_skipped, "alternate location", "");
-    add(info.waters_skipped, "water atom", " (keep_waters)");
-    add(info.ligands_skipped, "ligand atom", " (keep_ligands)");
-    add(info.hydrogens_skipped, "hydrogen", " (keep_hydrogens)");
+    add(info.waters_skipped, "water atom", " (keep_waters, the CLI's --waters)");
+    add(info.ligands_skipped, "ligand atom", " (keep_ligands; the CLI keeps them unless --no-ligands)");
+    add(info.hydrogens_skipped, "hydrogen", " (keep_hydrogens, --hydrogens)");
     add(filter.other_chains, "atom", " of other chains (chains " + chain_list(filter.chains) + ")");
     add(filter.unselected, "atom", " not matching select '" + filter.select_text + "'");
     return name + ": no atoms left after selection (" + what_was_read(info) + " has " +
@@ -466,15 +544,15 @@ std::vector<Structure> read_pdb_or_mmcif(const std::string& text_in, const std::
 
     gemmi::Structure st;
     gemmi::cif::Document doc;
+    std::vector<std::string> file_warnings;  // about the file, given with every model
     with_gemmi(name, [&] {
         if (format == StructureFormat::Pdb) {
-            check_pdb_records(text, name);
-            const std::string padded = pad_connection_records(text);
-            const std::string& pdb = padded.empty() ? text : padded;
+            const std::string prepared = prepare_pdb_text(text, name, file_warnings);
+            const std::string& pdb = prepared.empty() ? text : prepared;
             st = gemmi::read_pdb_from_memory(pdb.data(), pdb.size(), name);
         } else {
             doc = gemmi::cif::read_memory(text.data(), text.size(), name.c_str());
-            check_cif_columns(doc, name);
+            complete_cif_columns(doc, name, file_warnings);
             st = gemmi::make_structure(doc);
         }
         // Entity types tell modified residues inside a chain (HETATM MSE) from ligands.
@@ -504,6 +582,7 @@ std::vector<Structure> read_pdb_or_mmcif(const std::string& text_in, const std::
         s.info.models_in_file = st.models.size();
         s.info.model = static_cast<int>(m + 1);
         s.info.assemblies_in_file = st.assemblies.size();
+        s.info.warnings = file_warnings;
         RadiusAssigner radii(text, doc, format);
         AtomFilter filter{options.chains, std::nullopt, options.select};
         if (!options.select.empty()) filter.select.emplace(options.select, name);

@@ -2,6 +2,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <cstdint>
 #include <limits>
 
@@ -23,18 +24,25 @@ double number_field(std::string_view field, const std::string& what, const std::
     return value;
 }
 
+// x, y, z and the radius of one line; a negative radius is refused.
+void sphere(const std::vector<std::string_view>& xyzr, const std::string& name, std::size_t line,
+            float xyz[3], double& r) {
+    for (int i = 0; i < 3; ++i) {
+        std::string what = std::string(kAxis[i]) + " coordinate";
+        xyz[i] = static_cast<float>(number_field(xyzr[i], what, name, line));
+    }
+    r = number_field(xyzr[3], "radius", name, line);
+    if (r < 0.0)
+        fail_format(name + ": radius " + std::string(xyzr[3]) + " is not > 0" + at_line(line));
+}
+
 // Adds the atom, or returns false for radius 0: pdb2pqr gives some hydrogens radius 0, and
 // such an atom has no volume, so it is left out (with a warning) rather than refused.
 bool add_atom(Atoms& atoms, const std::vector<std::string_view>& xyzr, const std::string& name,
               std::size_t line) {
     float xyz[3];
-    for (int i = 0; i < 3; ++i) {
-        std::string what = std::string(kAxis[i]) + " coordinate";
-        xyz[i] = static_cast<float>(number_field(xyzr[i], what, name, line));
-    }
-    double r = number_field(xyzr[3], "radius", name, line);
-    if (r < 0.0)
-        fail_format(name + ": radius " + std::string(xyzr[3]) + " is not > 0" + at_line(line));
+    double r = 0.0;
+    sphere(xyzr, name, line, xyz, r);
     if (r == 0.0) return false;
     atoms.xyz.insert(atoms.xyz.end(), xyz, xyz + 3);
     atoms.radius.push_back(static_cast<float>(r));
@@ -150,18 +158,87 @@ Structure finish(Structure s, StructureFormat format, const std::string& name, c
     return s;
 }
 
+bool numbers(const std::vector<std::string_view>& f, std::size_t from) {
+    double value = 0.0;
+    for (std::size_t i = from; i < f.size(); ++i)
+        if (parse_number(f[i], value) != NumberStatus::Ok) return false;
+    return true;
+}
+
+// The fields of a PQR record in PDB's fixed columns, for lines that white space does not split
+// into them: coordinates that run together ("1999.3232998.770-900.490", as PyMOL and some
+// converters write them) or a blank chain. record 1-6, serial 7-11, name 13-16, resName 18-20,
+// chain 22, resSeq and insertion code 23-27, x y z 31-54, then charge and radius, the only two
+// fields after column 54. Empty when the columns do not hold numbers where they should.
+std::vector<std::string_view> pqr_columns(std::string_view line) {
+    if (line.size() < 56) return {};
+    auto column = [&](std::size_t from, std::size_t width) {
+        return trim(line.substr(from, width));
+    };
+    std::vector<std::string_view> f = {column(0, 6), column(6, 5), column(12, 4), column(17, 3)};
+    if (!column(21, 1).empty()) f.push_back(column(21, 1));
+    f.push_back(column(22, 5));
+    for (std::size_t i = 0; i < 3; ++i) f.push_back(column(30 + 8 * i, 8));
+    std::vector<std::string_view> rest = split_fields(line.substr(54));
+    if (rest.size() != 2) return {};  // more fields: which are charge and radius is a guess
+    f.push_back(rest[0]);
+    f.push_back(rest[1]);
+    for (std::string_view field : f)
+        if (field.empty()) return {};
+    return numbers(f, f.size() - 5) ? f : std::vector<std::string_view>{};
+}
+
+// One atom whose radius is 0, kept while no atom of the file has a radius.
+struct Unsized {
+    float xyz[3];
+    AtomMeta meta;
+    std::string element;
+};
+
+// A PQR whose radius column is all zeros (written by viewers that export charges only): the
+// element radii used for PDB input instead.
+void radii_from_elements(Structure& s, std::vector<Unsized>& unsized, const std::string& name) {
+    std::size_t unknown = 0;
+    for (Unsized& u : unsized) {
+        float r = vdw_radius(u.element);
+        if (!(r > 0.0f)) r = kUnknownElementRadius, ++unknown;
+        s.atoms.xyz.insert(s.atoms.xyz.end(), u.xyz, u.xyz + 3);
+        s.atoms.radius.push_back(r);
+        s.atoms.element.push_back(std::move(u.element));
+        s.atoms.meta.push_back(std::move(u.meta));
+    }
+    char fallback[16];
+    std::snprintf(fallback, sizeof fallback, "%.2f", static_cast<double>(kUnknownElementRadius));
+    s.info.warnings.push_back(
+        name + ": all " + std::to_string(unsized.size()) +
+        " atoms have radius 0 (a PQR written without radii?); the element radii of PDB input "
+        "used instead" +
+        (unknown ? " (" + std::to_string(unknown) + " of unknown element: " + fallback + " A)"
+                 : std::string()) +
+        "; a PQR's own radii are kept as soon as one atom has a radius above 0");
+}
+
 }  // namespace
 
 // PQR: ATOM/HETATM serial name resName [chainID] resSeq x y z charge radius. The chain is
-// optional and fields are not in fixed columns, so x y z and radius are counted from the end.
+// optional and fields are not in fixed columns, so x y z and radius are counted from the end;
+// where white space does not give the fields, PDB's fixed columns are tried.
 Structure read_pqr(std::string_view text, const std::string& name) {
     Structure s;
-    std::size_t zero = 0, first_zero = 0;
+    std::size_t zero = 0, first_zero = 0, in_columns = 0, first_in_columns = 0;
+    std::vector<Unsized> unsized;  // radius-0 atoms, while no atom has a radius
     LineReader lines(text);
     std::string_view line;
     while (lines.next(line)) {
         std::vector<std::string_view> f = split_fields(line);
         if (f.empty() || !(iequals(f[0], "ATOM") || iequals(f[0], "HETATM"))) continue;
+        if (f.size() < 10 || !numbers(f, f.size() - 5)) {
+            std::vector<std::string_view> columns = pqr_columns(line);
+            if (!columns.empty()) {
+                f = std::move(columns);
+                if (in_columns++ == 0) first_in_columns = lines.number();
+            }
+        }
         if (f.size() < 10)
             fail_format(name + ": too few fields for a PQR atom" + at_line(lines.number()) + " (" +
                         std::to_string(f.size()) +
@@ -176,12 +253,32 @@ Structure read_pqr(std::string_view text, const std::string& name) {
         m.residue_name = std::string(f[3]);
         m.hetero = iequals(f[0], "HETATM");
         pqr_residue(f, m, name, lines.number());
-        if (add_atom(s.atoms, {f[n - 5], f[n - 4], f[n - 3], f[n - 1]}, name, lines.number())) {
+        Unsized atom;
+        double r = 0.0;
+        sphere({f[n - 5], f[n - 4], f[n - 3], f[n - 1]}, name, lines.number(), atom.xyz, r);
+        if (r > 0.0) {
+            s.atoms.xyz.insert(s.atoms.xyz.end(), atom.xyz, atom.xyz + 3);
+            s.atoms.radius.push_back(static_cast<float>(r));
             s.atoms.element.push_back(pqr_element(f[2], f[3]));
             s.atoms.meta.push_back(std::move(m));
+            unsized.clear();
         } else {
             if (zero++ == 0) first_zero = lines.number();
+            if (s.atoms.empty()) {
+                atom.meta = std::move(m);
+                atom.element = pqr_element(f[2], f[3]);
+                unsized.push_back(std::move(atom));
+            }
         }
+    }
+    if (in_columns)
+        s.info.warnings.push_back(name + ": " + std::to_string(in_columns) +
+                                  " record(s) read in PDB's fixed columns (fields run together "
+                                  "or missing; the first at line " +
+                                  std::to_string(first_in_columns) + ")");
+    if (s.atoms.empty() && !unsized.empty()) {
+        radii_from_elements(s, unsized, name);
+        zero = first_zero = 0;
     }
     note_zero_radii(s, zero, first_zero, name);
     return finish(std::move(s), StructureFormat::Pqr, name, "ATOM/HETATM");

@@ -404,7 +404,7 @@ TEST(Selection, SelectAppliesAfterTheOtherRulesAndTheChains) {
     EXPECT_EQ(waters.atoms.size(), 21u);  // 21 waters (30 records, altlocs), chain id blank
     o.keep_waters = false;
     expect_error([&] { read_structure(data_path("3al1.pdb"), o); }, ErrorCode::EmptySelection,
-                 {"3al1.pdb: no atoms left after selection", "water atoms (keep_waters)",
+                 {"3al1.pdb: no atoms left after selection", "water atoms (keep_waters, the CLI's --waters)",
                   "not matching select '(HOH)'"});
     o.select = "A,B/*/CA";
     o.chains = {"B"};
