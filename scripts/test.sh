@@ -46,6 +46,12 @@ fi
 source scripts/lib/ctest_no_skips.sh
 status=0
 ctest_no_skips "$build_dir" "$validator_missing" test.sh "$@" || status=$?
+# fdmsurf's reading of tests/data against gemmi's, Biopython's and MDAnalysis's (those that are
+# installed; the others are skipped with a note): docs/structure.md, "Other readers".
+if ! FDMSURF_BUILD_DIR="$build_dir" /usr/bin/python3 scripts/cross-check-readers.py tests/data; then
+    echo "test.sh: fdmsurf reads a file of tests/data differently from another reader (above)" >&2
+    ((status != 0)) || status=1
+fi
 # The embedding example built against the installed package (cmake --install into a
 # temporary prefix, examples/embed configured with find_package(fdmsurf), run with the
 # validation layer): what an application that embeds fdmsurf sees.

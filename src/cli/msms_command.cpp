@@ -75,7 +75,7 @@ float number(const std::string& option, const std::string& text, float low, bool
 // MSMS's -if file is xyzr ("x y z r") or xyzrn ("x y z r n name") throughout. The structure
 // reader takes a line without its name in an xyzrn file (an empty name), which MSMS's files
 // would then carry as a vertex line of nine fields and an area line of three: every sphere line
-// must have as many fields as the first one. Throws Error(Format) naming the line; returns the
+// must have a name if the first one has (five fields or more; tabs and CRLF are white space). Throws Error(Format) naming the line; returns the
 // first sphere line's field count (0: none).
 std::size_t check_sphere_lines(std::string_view text, const std::string& path) {
     detail::check_text(text, path);  // binary data: the reader's message
@@ -89,7 +89,7 @@ std::size_t check_sphere_lines(std::string_view text, const std::string& path) {
         if (first_line == 0) {
             first_fields = fields, first_line = lines.number();
             if (fields < 4) return fields;  // the reader names the line: too few fields
-        } else if (fields != first_fields) {
+        } else if ((fields >= 5) != (first_fields >= 5)) {  // extra fields after a name: fine
             throw Error(ErrorCode::Format,
                         path + ": line " + std::to_string(lines.number()) + " has " +
                             std::to_string(fields) + " fields, line " +

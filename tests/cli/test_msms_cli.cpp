@@ -359,6 +359,19 @@ TEST_F(MsmsRuns, BadInputIsAnErrorAndWritesNothing) {
     }
 }
 
+TEST_F(MsmsRuns, XyzrnWithTabsCrlfAndOtherFieldCountsIsRead) {
+    // Tabs, CRLF line ends, and named lines of five and six fields (issue 33).
+    std::ofstream(dir_ / "loose.xyzrn", std::ios::binary)
+        << "1\t2\t3\t1.5\t1\tA_1_x_GLY_N\r\n"
+           "2.2 2 3 1.7 A_1_x_GLY_CA   \r\n";
+    MsmsRun r = run(std::string(FDMSURF_CLI_PATH) + " msms", "-if loose.xyzrn -of l -af l");
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    const std::vector<std::string> area = lines_of((dir_ / "l.area").string());
+    ASSERT_EQ(area.size(), 3u);
+    EXPECT_TRUE(has(area[1], "A_1_x_GLY_N")) << area[1];
+    EXPECT_TRUE(has(area[2], "A_1_x_GLY_CA")) << area[2];
+}
+
 TEST_F(MsmsRuns, AllComponentsWritesEachCavityApart) {
     // 1AON-like cavities are too slow here; 4HHB's exact SES at probe 1.0 encloses voids.
     const MsmsRun r = run(std::string(FDMSURF_CLI_PATH) + " msms",
