@@ -139,6 +139,7 @@ private:
     int run_on_host();
     SurfaceResult compute_surface();
     SurfaceResult buried_surface();
+    SurfaceResult surface_at_a_spacing_that_finds_it();
     void finish_mesh(Mesh& mesh);
     AtomAreas mesh_areas(const Mesh& mesh);
     std::vector<Picture> draw_mesh(const Mesh& mesh);
@@ -162,6 +163,7 @@ private:
     // --buried: the complex (the atoms of both groups) is the surface written; each group's own
     // surface is computed on the same engine.
     bool buried_ = false;
+    bool exact_fallback_ = false;  // the exact SES computed for atoms too small for fdm
     BuriedAreas buried_result_;
 };
 
@@ -296,7 +298,7 @@ SurfaceResult InputRun::compute_surface() {
         if (buried_)
             result = buried_surface();
         else
-            result = job_.engine.make_surface(job_.structure.atoms, options_.surface);
+            result = surface_at_a_spacing_that_finds_it();
     } catch (...) {
         show_validation();
         throw;
@@ -304,6 +306,40 @@ SurfaceResult InputRun::compute_surface() {
     for (const std::string& message : result.warnings) warn(message);
     report_.times.insert(report_.times.end(), result.times.begin(), result.times.end());
     return result;
+}
+
+// The surface as asked, or, when no grid point lies inside it at the default spacing and none
+// was given (ions and coarse-grained beads written with tiny radii), at the spacing that puts
+// four grid points across the largest sphere: for the SES, as the exact SES (the FDM filter,
+// whose length is the probe's, smooths atoms this small away at any spacing). A warning says so.
+SurfaceResult InputRun::surface_at_a_spacing_that_finds_it() {
+    const Atoms& atoms = job_.structure.atoms;
+    SurfaceResult result = job_.engine.make_surface(atoms, options_.surface);
+    if (options_.explicit_spacing || result.mesh.triangle_count() > 0 || atoms.size() == 0 ||
+        options_.surface.level > 0.0f)
+        return result;
+    const float add = options_.surface.surface == SurfaceKind::Sas ? options_.surface.probe : 0.0f;
+    float r_max = 0.0f;
+    for (float r : atoms.radius) r_max = std::max(r_max, r + add);
+    SurfaceOptions finer = options_.surface;
+    finer.spacing = std::clamp(r_max / 2.0f, 0.05f, options_.surface.spacing);
+    const bool exact = finer.surface == SurfaceKind::Ses && finer.method == SesMethod::Fdm;
+    if (exact) finer.method = SesMethod::Edt;
+    if (!exact && !(finer.spacing < options_.surface.spacing)) return result;
+    SurfaceResult retried = job_.engine.make_surface(atoms, finer);
+    if (retried.mesh.triangle_count() == 0) return result;
+    exact_fallback_ = exact;
+    char note[320];
+    std::snprintf(note, sizeof note,
+                  "no grid point lay inside the surface of atoms of radius %.3g Å at most "
+                  "(default spacing %.3g Å); computed at spacing %.3g Å%s (--spacing and "
+                  "--method set them)",
+                  double(r_max), double(options_.surface.spacing), double(finer.spacing),
+                  exact ? " as the exact SES, --method edt, since the FDM filter smooths atoms "
+                          "this small away"
+                        : "");
+    retried.warnings.insert(retried.warnings.begin(), note);
+    return retried;
 }
 
 // --buried: the complex's surface, the two groups' own and the areas, on the same engine.
@@ -446,7 +482,7 @@ void InputRun::fill_report(const GridInfo& grid) {
     report_.output_format =
         options_.image_output ? "png" : mesh_format_extension(format_) + 1;
     report_.surface = options_.surface.surface;
-    report_.method = options_.surface.method;
+    report_.method = exact_fallback_ ? SesMethod::Edt : options_.surface.method;
     report_.model = structure.info.model;
     report_.info = structure.info;
     report_.atoms_used = structure.atoms.size();

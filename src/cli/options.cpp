@@ -872,6 +872,7 @@ CliOptions parse_args(const std::vector<std::string>& args) {
             spec->id == Opt::Level)
             seen.fdm_only = std::string(spec->name);
         if (spec->id == Opt::Level) o.explicit_level = true;
+        if (spec->id == Opt::Spacing) o.explicit_spacing = true;
         if (spec->id == Opt::Model) seen.explicit_model = true;
     }
     check_combinations(o, seen);

@@ -32,6 +32,7 @@ struct CliOptions {
     bool version = false;
     bool paper = false;  // --paper: the paper's settings where not given explicitly
     bool explicit_filter = false, explicit_level = false, explicit_cavities = false;
+    bool explicit_spacing = false;  // --spacing given: no finer spacing for an empty surface
     bool all_models = false;  // --models all: one mesh per model (read.model = kAllModels)
     std::string patch;        // --patch EXPR: keep the triangles on the atoms EXPR selects
     // --simplify RATIO and --max-triangles N (both: the smaller target); `simplify_requested`

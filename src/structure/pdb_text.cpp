@@ -144,6 +144,81 @@ std::string realign_record(std::string_view record) {
     return out;
 }
 
+bool is_integer(std::string_view s) {
+    std::size_t i = !s.empty() && s[0] == '-' ? 1 : 0;
+    if (i == s.size() || s.size() - i > 9) return false;
+    for (; i < s.size(); ++i)
+        if (!is_digit(s[i])) return false;
+    return true;
+}
+
+bool is_decimal(std::string_view s, double& value) {
+    return s.find('.') != std::string_view::npos &&
+           parse_number(s, value) == NumberStatus::Ok;
+}
+
+bool is_word(std::string_view s, std::size_t most) {
+    if (s.empty() || s.size() > most) return false;
+    for (char c : s)
+        if (!is_letter(c) && !is_digit(c) && c != '\'' && c != '*' && c != '+' && c != '-' &&
+            c != '_')
+            return false;
+    return true;
+}
+
+// A record written in free format, its fields separated by spaces or tabs without regard to
+// PDB's columns (APBS's examples, some converters): "ATOM serial name resName [chain]
+// resSeq[icode] x y z [occupancy [B [element]]]", the coordinates three numbers with a decimal
+// point. Returns it in the standard columns, or "" when the fields do not have that shape.
+std::string free_format_record(std::string_view line) {
+    std::vector<std::string_view> f = split_fields(line);
+    if (f.size() < 8 || (!iequals(f[0], "ATOM") && !iequals(f[0], "HETATM"))) return "";
+    // The coordinates: the first three decimal numbers in a row after name, residue and number.
+    std::size_t c = 0;
+    double xyz[3] = {0, 0, 0};
+    for (std::size_t k = 5; k + 2 < f.size() && c == 0; ++k)
+        if (is_decimal(f[k], xyz[0]) && is_decimal(f[k + 1], xyz[1]) &&
+            is_decimal(f[k + 2], xyz[2]))
+            c = k;
+    if (c == 0 || (c != 5 && c != 6) || !is_integer(f[1])) return "";
+    std::string_view name = f[2], residue = f[3], chain = c == 6 ? f[4] : "";
+    std::string_view number = f[c - 1];
+    char icode = ' ';
+    if (!number.empty() && is_letter(number.back())) icode = number.back(), number.remove_suffix(1);
+    if (!is_word(name, 4) || !is_word(residue, 4) || chain.size() > 1 || !is_integer(number) ||
+        std::stol(std::string(number)) > 9999 || std::stol(std::string(number)) < -999)
+        return "";
+    double occupancy = 1.0, b = 0.0;
+    std::size_t k = c + 3;
+    if (k < f.size() && is_decimal(f[k], occupancy)) ++k;
+    if (k < f.size() && is_decimal(f[k], b)) ++k;
+    std::string element = k < f.size() && is_word(f[k], 2) && is_letter(f[k][0])
+                              ? std::string(f[k]) : "";
+    std::string serial = hybrid36(std::stol(std::string(f[1])), 5);
+    // Names shorter than four characters start in column 14, so that gemmi takes the element
+    // from the name as it does for a standard file (" CA " carbon, "CA  " calcium).
+    std::string name_field(name);
+    if (name_field.size() < 4) name_field.insert(name_field.begin(), ' ');
+    // The residue name right-aligned in columns 18-20 (a fourth character takes column 21).
+    std::string residue_field(residue);
+    if (residue_field.size() < 3) residue_field.insert(0, 3 - residue_field.size(), ' ');
+    if (residue_field.size() < 4) residue_field += ' ';
+    char out[128];
+    std::snprintf(out, sizeof out, "%-6s%5s %-4s %4s%c%4s%c   ",
+                  iequals(f[0], "ATOM") ? "ATOM" : "HETATM", serial.empty() ? "*****" : serial.c_str(),
+                  name_field.c_str(), residue_field.c_str(), chain.empty() ? ' ' : chain[0],
+                  std::string(number).c_str(), icode);
+    std::string record = out;
+    for (double v : xyz) {
+        std::string field = coordinate_field(v);
+        if (field.empty()) return "";
+        record += field;
+    }
+    occupancy = std::clamp(occupancy, -99.99, 999.99), b = std::clamp(b, -99.99, 999.99);
+    std::snprintf(out, sizeof out, "%6.2f%6.2f          %2s", occupancy, b, element.c_str());
+    return record + out;
+}
+
 // Columns 23-27 all digits and a blank column 28: a five-digit residue number written over the
 // insertion code, the rest of the line in its columns (VMD's way). gemmi would read residue 1000
 // with insertion code '0'.
@@ -238,7 +313,7 @@ struct Fixes {
 std::string prepare_pdb_text(std::string_view text, const std::string& name,
                              std::vector<std::string>& warnings) {
     const bool order_models = models_need_order(text);
-    Fixes realigned, charges, repeated, unclosed;
+    Fixes realigned, free_format, charges, repeated, unclosed;
     bool changed = false, ended = false, open = false, atoms = false;
     int ordinal = 0;
     std::set<std::string> numbers;
@@ -256,9 +331,14 @@ std::string prepare_pdb_text(std::string_view text, const std::string& name,
             std::string_view record = line;
             if (!standard_coordinates(line)) {
                 fixed = realign_record(line);
-                if (fixed.empty() || !standard_coordinates(fixed))
-                    fail_coordinates(line, lines.number(), name);
-                realigned.add(lines.number());
+                if (!fixed.empty() && standard_coordinates(fixed)) {
+                    realigned.add(lines.number());
+                } else {
+                    fixed = free_format_record(line);
+                    if (fixed.empty() || !standard_coordinates(fixed))
+                        fail_coordinates(line, lines.number(), name);
+                    free_format.add(lines.number());
+                }
                 record = fixed;
             } else if (residue_over_insertion_code(line)) {
                 fixed = realign_record(std::string(line.substr(0, 27)) + " " +
@@ -306,6 +386,11 @@ std::string prepare_pdb_text(std::string_view text, const std::string& name,
                            "numbers past 9999, serials past 99999 or coordinates run together; "
                            "the first at line " +
                            std::to_string(realigned.first_line) + ") read field by field");
+    if (free_format.count)
+        warnings.push_back(name + ": " + std::to_string(free_format.count) +
+                           " ATOM/HETATM record(s) in free format (fields separated by white "
+                           "space, not in PDB's columns; the first at line " +
+                           std::to_string(free_format.first_line) + ") read by their fields");
     if (charges.count)
         warnings.push_back(name + ": unreadable charge '" + charges.first + "' (columns 79-80)" +
                            at_line(charges.first_line) + charges.more() +

@@ -99,6 +99,24 @@ TEST_F(CliProgram, OutputFolderIsCreatedButNotItsParents) {
     EXPECT_TRUE(fs::exists(path("meshes/b.ply")));
 }
 
+// Atoms smaller than the default grid and the FDM filter (APBS's ions of radius 0.32 Å): with
+// no --spacing, the exact SES at a spacing that finds them, with a warning; with --spacing, the
+// empty surface the user asked for, with its warning.
+TEST_F(CliProgram, TinyAtomsGetTheExactSesAtAFinerSpacing) {
+    FDMSURF_REQUIRE_CLI_DEVICE();
+    const std::string input = std::string(kDataDir) + "/lenient/ions.pqr";
+    const CliRun r = run({input, "-o", path("ions.ply"), "--stats", "json"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.err.find("computed at spacing 0.16 Å as the exact SES"), std::string::npos) << r.err;
+    EXPECT_NE(r.out.find("\"method\":\"edt\""), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("\"closed_manifold\":true"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("\"spacing\":0.16"), std::string::npos) << r.out;
+    const CliRun given = run({input, "-o", path("given.ply"), "--spacing", "0.5", "--stats", "json"});
+    ASSERT_EQ(given.exit_code, 0) << given.err;
+    EXPECT_NE(given.err.find("the surface is empty"), std::string::npos) << given.err;
+    EXPECT_NE(given.out.find("\"triangles\":0"), std::string::npos) << given.out;
+}
+
 TEST_F(CliProgram, ZeroSpacing) {
     const std::string input = write_file("atoms.xyzr", kTwoAtomsXyzr);
     expect_failure(run({input, "-o", path("out.ply"), "--spacing", "0"}), 2, {"--spacing"});

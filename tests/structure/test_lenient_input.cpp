@@ -146,6 +146,28 @@ TEST(StructureLenient, OverflowThatDoesNotFitTheShapeIsRefused) {
         "x.pdb", ErrorCode::Format, {"non-numeric x coordinate '  15.1x5' (columns 31-38) at line 1"});
 }
 
+TEST(StructureLenient, FreeFormatRecordsReadByTheirFields) {
+    Structure s = read_structure(lenient("free-format.pdb"));
+    ASSERT_EQ(s.atoms.size(), 4u);
+    expect_warning(s.info, {"4 ATOM/HETATM record(s) in free format", "the first at line 3"});
+    const std::vector<float> expected = {17.047f, 14.099f, 3.625f, 16.967f, 12.784f, 4.338f,
+                                         15.685f, 12.755f, 5.133f, -3.0f,   0.0f,    0.0f};
+    for (std::size_t i = 0; i < expected.size(); ++i)
+        EXPECT_NEAR(s.atoms.xyz[i], expected[i], 1e-4f) << i;
+    EXPECT_EQ(s.atoms.meta[1].name, "CA");
+    EXPECT_EQ(s.atoms.element[1], "C");  // CA in column 14: carbon, as in a standard file
+    EXPECT_EQ(s.atoms.meta[1].chain, "A");
+    EXPECT_EQ(s.atoms.meta[2].chain, "");  // no chain field
+    EXPECT_EQ(s.atoms.meta[2].residue_number, 1);
+    EXPECT_FLOAT_EQ(s.atoms.meta[2].b_factor, 2.0f);
+    EXPECT_EQ(s.atoms.meta[3].residue_name, "ION");
+    EXPECT_EQ(s.atoms.meta[3].residue_number, 2);
+    // Fields of no such shape stay an error naming the line and columns.
+    expect_memory_error(
+        "ATOM      1  CA  GLY A   1       1.000   2.000   three  1.00  0.00           C\n",
+        "x.pdb", ErrorCode::Format, {"x.pdb: non-numeric z coordinate", "(columns 47-54) at line 1"});
+}
+
 TEST(StructureLenient, PqrInFixedColumnsWithoutChain) {
     Structure s = read_structure(lenient("columns.pqr"));
     ASSERT_EQ(s.atoms.size(), 4u);
