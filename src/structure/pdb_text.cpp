@@ -169,7 +169,7 @@ bool is_word(std::string_view s, std::size_t most) {
 // A record written in free format, its fields separated by spaces or tabs without regard to
 // PDB's columns (APBS's examples, some converters): "ATOM serial name resName [chain]
 // resSeq[icode] x y z [occupancy [B [element]]]", the coordinates three numbers with a decimal
-// point. Returns it in the standard columns, or "" when the fields do not have that shape.
+// point and as many decimals each. Returns it in the standard columns, or "" when the fields do not have that shape.
 std::string free_format_record(std::string_view line) {
     std::vector<std::string_view> f = split_fields(line);
     if (f.size() < 8 || (!iequals(f[0], "ATOM") && !iequals(f[0], "HETATM"))) return "";
@@ -181,6 +181,10 @@ std::string free_format_record(std::string_view line) {
             is_decimal(f[k + 2], xyz[2]))
             c = k;
     if (c == 0 || (c != 5 && c != 6) || !is_integer(f[1])) return "";
+    // A writer gives the three coordinates the same number of decimals: a record with a blank
+    // coordinate column would otherwise take its occupancy for z.
+    auto decimals = [](std::string_view v) { return v.size() - v.find('.'); };
+    if (decimals(f[c]) != decimals(f[c + 1]) || decimals(f[c]) != decimals(f[c + 2])) return "";
     std::string_view name = f[2], residue = f[3], chain = c == 6 ? f[4] : "";
     std::string_view number = f[c - 1];
     char icode = ' ';

@@ -9,6 +9,7 @@
 #include <gemmi/mmcif.hpp>
 #include <gemmi/pdb.hpp>
 #include <gemmi/polyheur.hpp>
+#include <gemmi/resinfo.hpp>
 #include <map>
 #include <new>
 #include <optional>
@@ -275,6 +276,52 @@ std::string counted(std::size_t n, const std::string& noun) {
     if (n != 1 && !noun.empty() && noun.back() == 'y')
         return std::to_string(n) + " " + noun.substr(0, noun.size() - 1) + "ies";
     return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
+}
+
+// A PDB atom name that starts in column 13 with no element columns is read by gemmi as a
+// two-letter element (AMBER's and other MD programs' "CA  " in ALA becomes calcium, "HG2 " in
+// ARG mercury) or as no element ("CB  " in ALA, "CH3 " in ACE). Standard amino acids and nucleotides
+// hold no two-letter element, and a name gemmi finds no element in starts with its element in
+// the files that write them: there the element is the name's first letter when it is H, C, N,
+// O, S or P, with one warning for each of the two cases.
+void elements_from_names(gemmi::Structure& st, const std::string& name,
+                         std::vector<std::string>& warnings) {
+    std::size_t metals = 0, unknown = 0;
+    std::string metal_example, unknown_example;
+    for (gemmi::Model& model : st.models)
+        for (gemmi::Chain& chain : model.chains)
+            for (gemmi::Residue& res : chain.residues) {
+                const gemmi::ResidueInfo info = gemmi::find_tabulated_residue(res.name);
+                const bool standard =
+                    info.is_standard() && (info.is_amino_acid() || info.is_nucleic_acid());
+                for (gemmi::Atom& atom : res.atoms) {
+                    const char* symbol = atom.element.uname();
+                    std::size_t first = atom.name.find_first_not_of("0123456789");
+                    if (first == std::string::npos) continue;
+                    const char letter =
+                        static_cast<char>(std::toupper(static_cast<unsigned char>(atom.name[first])));
+                    if (std::string_view("HCNOSP").find(letter) == std::string_view::npos) continue;
+                    if (atom.element == gemmi::El::X) {
+                        if (unknown++ == 0) unknown_example = atom.name + " in " + res.name;
+                    } else if (standard && symbol[0] == letter && symbol[1] != '\0' && first == 0) {
+                        if (metals++ == 0)
+                            metal_example = atom.name + " in " + res.name + " (not " +
+                                            atom.element.name() + ")";
+                    } else {
+                        continue;
+                    }
+                    atom.element = gemmi::Element(std::string(1, letter));
+                }
+            }
+    if (metals)
+        warnings.push_back(name + ": " + counted(metals, "atom") +
+                           " of standard residues named from column 13 without an element "
+                           "symbol, e.g. " + metal_example +
+                           ", read as the element of the name's first letter");
+    if (unknown)
+        warnings.push_back(name + ": " + counted(unknown, "atom") +
+                           " without an element symbol or a name that starts with one, e.g. " +
+                           unknown_example + ", read as the element of the name's first letter");
 }
 
 // Radii by element; atoms of unknown element get the default radius, and one warning per
@@ -550,6 +597,7 @@ std::vector<Structure> read_pdb_or_mmcif(const std::string& text_in, const std::
             const std::string prepared = prepare_pdb_text(text, name, file_warnings);
             const std::string& pdb = prepared.empty() ? text : prepared;
             st = gemmi::read_pdb_from_memory(pdb.data(), pdb.size(), name);
+            elements_from_names(st, name, file_warnings);
         } else {
             doc = gemmi::cif::read_memory(text.data(), text.size(), name.c_str());
             complete_cif_columns(doc, name, file_warnings);

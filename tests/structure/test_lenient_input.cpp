@@ -168,6 +168,19 @@ TEST(StructureLenient, FreeFormatRecordsReadByTheirFields) {
         "x.pdb", ErrorCode::Format, {"x.pdb: non-numeric z coordinate", "(columns 47-54) at line 1"});
 }
 
+TEST(StructureLenient, ElementsFromNamesThatStartInColumn13) {
+    Structure s = read_structure(lenient("amber-names.pdb"));
+    expect_warning(s.info, {"2 atoms of standard residues named from column 13",
+                            "e.g. CA in ALA (not Ca)"});
+    expect_warning(s.info, {"3 atoms without an element symbol", "e.g. CH3 in ACE"});
+    // HH31 and HG2 are hydrogens, left out as such; the calcium ion stays calcium.
+    EXPECT_EQ(s.info.hydrogens_skipped, 2u);
+    ASSERT_EQ(s.atoms.size(), 7u);
+    const std::vector<std::string> elements = {"C", "C", "N", "C", "C", "C", "CA"};
+    EXPECT_EQ(s.atoms.element, elements);
+    EXPECT_FLOAT_EQ(s.atoms.radius[3], vdw_radius("C"));
+}
+
 TEST(StructureLenient, PqrInFixedColumnsWithoutChain) {
     Structure s = read_structure(lenient("columns.pqr"));
     ASSERT_EQ(s.atoms.size(), 4u);
