@@ -324,6 +324,25 @@ void elements_from_names(gemmi::Structure& st, const std::string& name,
                            unknown_example + ", read as the element of the name's first letter");
 }
 
+// An mmCIF file whose first item comes before any data_ header (a table cut out of a file, as
+// Biopython's tests keep one): the text with a header in front, with a warning; "" when the
+// file has its header.
+std::string with_block_header(const std::string& text, const std::string& name,
+                              std::vector<std::string>& warnings) {
+    LineReader lines(text);
+    std::string_view line;
+    while (lines.next(line)) {
+        std::string_view t = trim(line);
+        if (t.empty() || t[0] == '#') continue;
+        if (t.size() >= 5 && iequals(t.substr(0, 5), "data_")) return "";
+        if (!(t[0] == '_' || (t.size() >= 5 && iequals(t.substr(0, 5), "loop_")))) return "";
+        warnings.push_back(name + ": no data_ header before the first item" + at_line(lines.number()) +
+                           "; the file read as one data block");
+        return "data_file\n" + text;
+    }
+    return "";
+}
+
 // Radii by element; atoms of unknown element get the default radius, and one warning per
 // distinct symbol as the file writes it (read again only when such an atom turns up).
 class RadiusAssigner {
@@ -599,7 +618,9 @@ std::vector<Structure> read_pdb_or_mmcif(const std::string& text_in, const std::
             st = gemmi::read_pdb_from_memory(pdb.data(), pdb.size(), name);
             elements_from_names(st, name, file_warnings);
         } else {
-            doc = gemmi::cif::read_memory(text.data(), text.size(), name.c_str());
+            const std::string headed = with_block_header(text, name, file_warnings);
+            const std::string& cif = headed.empty() ? text : headed;
+            doc = gemmi::cif::read_memory(cif.data(), cif.size(), name.c_str());
             complete_cif_columns(doc, name, file_warnings);
             st = gemmi::make_structure(doc);
         }

@@ -68,6 +68,15 @@ TEST(StructureLenient, MinimalMmcifGetsSerialsOccupancyAndB) {
     EXPECT_FLOAT_EQ(s.atoms.xyz[9], 15.268f);
 }
 
+TEST(StructureLenient, MmcifWithoutDataHeaderIsOneBlock) {
+    std::string text = read_text_file(lenient("minimal.cif"));
+    text.erase(0, text.find("loop_"));  // Biopython's test files keep tables without a header
+    Structure s = read_structure_from_memory(text, "headless.cif");
+    EXPECT_EQ(s.atoms.size(), 4u);
+    expect_warning(s.info, {"headless.cif: no data_ header before the first item at line 1",
+                            "one data block"});
+}
+
 TEST(StructureLenient, MmcifWithoutCoordinatesStaysAnError) {
     expect_memory_error(
         "data_x\nloop_\n_atom_site.type_symbol\n_atom_site.label_atom_id\n"
