@@ -552,7 +552,10 @@ void select_atoms(const gemmi::Model& model, const ReadOptions& options, const s
             filter.chains.empty() || gemmi::in_vector(chain.name, filter.chains);
         const bool chain_selected =
             model_selected && (!filter.select || filter.select->matches(chain));
-        std::unordered_set<std::string> seen_altloc;  // "seqid atom" of alternate locations kept
+        // "seqid atom" of alternate locations kept, with the letter kept: an atom of the same
+        // name and letter is another atom (a file whose names repeat, its residue name a
+        // column left so that its first letter reads as the altloc), not an alternate.
+        std::unordered_map<std::string, char> seen_altloc;
         // seqid -> the residue name whose alternate locations are kept there: where two residues
         // share a position (microheterogeneity: altloc A SER, altloc B THR), the first one's.
         std::unordered_map<std::string, std::string> altloc_residue;
@@ -572,7 +575,8 @@ void select_atoms(const gemmi::Model& model, const ReadOptions& options, const s
                                 " " + res.seqid.str() + "/" + atom.name + ")");
                 if (atom.altloc != '\0' &&
                     (altloc_residue.emplace(res.seqid.str(), res.name).first->second != res.name ||
-                     !seen_altloc.insert(res.seqid.str() + ' ' + atom.name).second)) {
+                     seen_altloc.emplace(res.seqid.str() + ' ' + atom.name, atom.altloc)
+                             .first->second != atom.altloc)) {
                     ++info.altlocs_skipped;
                 } else if (water && !options.keep_waters) {
                     ++info.waters_skipped;

@@ -190,6 +190,22 @@ TEST(StructureLenient, ElementsFromNamesThatStartInColumn13) {
     EXPECT_FLOAT_EQ(s.atoms.radius[3], vdw_radius("C"));
 }
 
+// Names that repeat with the same altloc letter are other atoms, not alternates (APBS's alkanes
+// write the residue name a column left, so that its first letter reads as the altloc).
+TEST(StructureLenient, RepeatedNamesOfOneAltlocAreAtoms) {
+    std::string text =
+        "ATOM      1  C  ALK      1       1.437  -1.308   0.657 0.000 1.908\n"
+        "ATOM      2  C  ALK      1       0.739   0.054   0.519 0.000 1.908\n"
+        "ATOM      3  C  ALK      1      -0.716  -0.170   0.083 0.000 1.908\n";
+    Structure s = read_structure_from_memory(text, "alk.pdb");
+    EXPECT_EQ(s.atoms.size(), 3u);
+    EXPECT_EQ(s.info.altlocs_skipped, 0u);
+    text[16 + 2 * 68] = 'B';  // a true alternate of the first atom: left out
+    Structure t = read_structure_from_memory(text, "alk.pdb");
+    EXPECT_EQ(t.atoms.size(), 2u);
+    EXPECT_EQ(t.info.altlocs_skipped, 1u);
+}
+
 TEST(StructureLenient, PqrInFixedColumnsWithoutChain) {
     Structure s = read_structure(lenient("columns.pqr"));
     ASSERT_EQ(s.atoms.size(), 4u);
