@@ -278,12 +278,24 @@ std::string counted(std::size_t n, const std::string& noun) {
     return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
 }
 
+// The protonation states and caps of the AMBER and CHARMM force fields, which gemmi's table
+// does not hold: amino acids, as far as their atoms' elements go.
+bool is_force_field_residue(const std::string& name) {
+    static const std::set<std::string> names = {"HIE", "HID", "HIP", "HSD", "HSE", "HSP",
+                                                "CYX", "CYM", "ASH", "GLH", "LYN", "ARN",
+                                                "TYM", "ACE", "NME", "NHE"};
+    return names.count(name) != 0;
+}
+
 // A PDB atom name that starts in column 13 with no element columns is read by gemmi as a
 // two-letter element (AMBER's and other MD programs' "CA  " in ALA becomes calcium, "HG2 " in
 // ARG mercury) or as no element ("CB  " in ALA, "CH3 " in ACE). Standard amino acids and nucleotides
-// hold no two-letter element, and a name gemmi finds no element in starts with its element in
-// the files that write them: there the element is the name's first letter when it is H, C, N,
-// O, S or P, with one warning for each of the two cases.
+// (with the force fields' HIE, CYX, ACE, NME, ...)
+// hold no two-letter element, nor does a name of three or four characters from H in a residue
+// of several atoms (HE1 in AMBER's HIE is no helium: a mercury ion is named HG, alone), and a
+// name gemmi finds no element in starts with its element in the files that write them: there
+// the element is the name's first letter when it is H, C, N, O, S or P, with one warning for
+// each of the two cases.
 void elements_from_names(gemmi::Structure& st, const std::string& name,
                          std::vector<std::string>& warnings) {
     std::size_t metals = 0, unknown = 0;
@@ -293,7 +305,8 @@ void elements_from_names(gemmi::Structure& st, const std::string& name,
             for (gemmi::Residue& res : chain.residues) {
                 const gemmi::ResidueInfo info = gemmi::find_tabulated_residue(res.name);
                 const bool standard =
-                    info.is_standard() && (info.is_amino_acid() || info.is_nucleic_acid());
+                    (info.is_standard() && (info.is_amino_acid() || info.is_nucleic_acid())) ||
+                    is_force_field_residue(res.name);
                 for (gemmi::Atom& atom : res.atoms) {
                     const char* symbol = atom.element.uname();
                     std::size_t first = atom.name.find_first_not_of("0123456789");
@@ -303,7 +316,9 @@ void elements_from_names(gemmi::Structure& st, const std::string& name,
                     if (std::string_view("HCNOSP").find(letter) == std::string_view::npos) continue;
                     if (atom.element == gemmi::El::X) {
                         if (unknown++ == 0) unknown_example = atom.name + " in " + res.name;
-                    } else if (standard && symbol[0] == letter && symbol[1] != '\0' && first == 0) {
+                    } else if (symbol[0] == letter && symbol[1] != '\0' && first == 0 &&
+                               (standard || (letter == 'H' && atom.name.size() > 2 &&
+                                             res.atoms.size() > 1))) {
                         if (metals++ == 0)
                             metal_example = atom.name + " in " + res.name + " (not " +
                                             atom.element.name() + ")";
@@ -315,8 +330,8 @@ void elements_from_names(gemmi::Structure& st, const std::string& name,
             }
     if (metals)
         warnings.push_back(name + ": " + counted(metals, "atom") +
-                           " of standard residues named from column 13 without an element "
-                           "symbol, e.g. " + metal_example +
+                           " named from column 13 without an element symbol (in standard "
+                           "residues, or hydrogens named like HE1), e.g. " + metal_example +
                            ", read as the element of the name's first letter");
     if (unknown)
         warnings.push_back(name + ": " + counted(unknown, "atom") +

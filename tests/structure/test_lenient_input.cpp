@@ -179,13 +179,13 @@ TEST(StructureLenient, FreeFormatRecordsReadByTheirFields) {
 
 TEST(StructureLenient, ElementsFromNamesThatStartInColumn13) {
     Structure s = read_structure(lenient("amber-names.pdb"));
-    expect_warning(s.info, {"2 atoms of standard residues named from column 13",
+    expect_warning(s.info, {"4 atoms named from column 13 without an element symbol",
                             "e.g. CA in ALA (not Ca)"});
     expect_warning(s.info, {"3 atoms without an element symbol", "e.g. CH3 in ACE"});
     // HH31 and HG2 are hydrogens, left out as such; the calcium ion stays calcium.
-    EXPECT_EQ(s.info.hydrogens_skipped, 2u);
-    ASSERT_EQ(s.atoms.size(), 7u);
-    const std::vector<std::string> elements = {"C", "C", "N", "C", "C", "C", "CA"};
+    EXPECT_EQ(s.info.hydrogens_skipped, 3u);
+    ASSERT_EQ(s.atoms.size(), 8u);
+    const std::vector<std::string> elements = {"C", "C", "N", "C", "C", "C", "CA", "C"};
     EXPECT_EQ(s.atoms.element, elements);
     EXPECT_FLOAT_EQ(s.atoms.radius[3], vdw_radius("C"));
 }
