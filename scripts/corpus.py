@@ -145,7 +145,11 @@ def markdown(results, differences, compared, machine):
         key = r["outcome"] if r["outcome"] != "refused" else "refused: " + r["class"]
         counts[key] = counts.get(key, 0) + 1
     rows = [f"| {key} | {n} |" for key, n in sorted(counts.items(), key=lambda kv: -kv[1])]
+    closed = [r for r in results if r["outcome"] == "closed"]
     text = [f"{len(results)} files; {machine}", "", "| outcome | files |", "|---|---:|", *rows, "",
+            f"Closed surfaces: {sum(1 for r in closed if r['warnings'])} with a warning; "
+            f"{min((r['atoms'] for r in closed), default=0)} to "
+            f"{max((r['atoms'] for r in closed), default=0)} atoms.", "",
             f"Other readers: {compared} comparisons, {len(differences)} difference(s)."]
     refused = [r for r in results if r["outcome"] != "closed"]
     if refused:

@@ -30,6 +30,34 @@ WATERS = {"HOH", "WAT", "DOD", "H2O"}
 KNOWN = {
     # gemmi 0.5.7 reads the shifted columns as they stand (fdmsurf reads them field by field)
     (r"overflow\.pdb", "gemmi"): "fields past their columns",
+    (r"gly\.pdb|free-format\.pdb", "gemmi"):
+        "free-format records: gemmi reads the columns as they stand",
+    # tests/data/lenient/amber-names.pdb shows the names-from-column-13 rule below; MDAnalysis
+    # guesses carbon for the calcium ion CA
+    (r"amber-names\.pdb", "*"): "names from column 13",
+    (r"prot[34]\.pdb", "gemmi"): "OLIN in ADP: no element for gemmi, O (its first letter) here",
+    # Names from column 13 without element columns (AMBER): gemmi and Biopython read CA in ALA
+    # as calcium, HG2 as mercury, or no element; fdmsurf reads the name's first letter
+    (r"helix_amber\.pdb", "gemmi"): "names from column 13",
+    (r"helix_amber\.pdb", "biopython"): "names from column 13",
+    (r"odd01\.pdb", "biopython"): "names of no element (XYZ, ABCD, CA in UKN): Biopython's X",
+    # Biopython keeps one residue per number: a second residue name at the same number (a
+    # C-terminal cap, chains without ids that restart their numbers) is taken for a point
+    # mutation, and one of the two is kept
+    (r"(complex|mol1|mol2)\.pqr|prot[34]\.pdb|achbp\.pqr|fas2\.pqr|mache\.pqr|"
+     r"model_outNB\.(pqr|pdb)", "biopython"): "one residue per number",
+    # Biopython's PQR reader takes the radius from fixed columns where the charge is wider
+    (r"(491|small491|complex|acet)\.pqr", "biopython"): "PQR radius misread",
+    (r"ion\.pqr", "biopython"): "Biopython reads no atom of a one-atom PQR without a chain",
+    # The residue name a column left: Biopython takes the letters in column 17 for altlocs
+    # of one atom; fdmsurf for atoms (the same letter: not alternates)
+    (r"2-methylbutane\.pdb", "biopython"): "altloc column holds the residue name",
+    # Microheterogeneity (two residues at one position): fdmsurf keeps the first residue's
+    # alternate locations; gemmi's and Biopython's first-altloc readings differ
+    (r"3JQH\.cif(\.gz)?", "*"): "microheterogeneity",
+    (r"a_structure\.pdb(\.gz)?", "biopython"):
+        "two atoms named CA in one residue, one from column 13: Biopython tells them apart",
+    (r"box\.pdb", "mdanalysis"): "name Q, no element: MDAnalysis's element Q, fdmsurf's X",
 }
 EXTENSIONS = (".pdb", ".ent", ".cif", ".mmcif", ".pqr", ".xyzr", ".xyzrn")
 

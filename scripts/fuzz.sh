@@ -79,13 +79,14 @@ seed_dir() {
     rm -rf "$dir"
     mkdir -p "$dir"
     case $h in
-        fuzz_pdb)   cp $data/1crn.pdb $data/3al1.pdb "$dir"/
+        fuzz_pdb)   cp $data/1crn.pdb $data/3al1.pdb $data/lenient/*.pdb "$dir"/
                     gzip -dc $data/4hhb.pdb.gz | head -c 60000 >"$dir/4hhb-head.pdb" ;;
-        fuzz_mmcif) cp $data/1crn.cif "$dir"/
+        fuzz_mmcif) cp $data/1crn.cif $data/lenient/*.cif "$dir"/
                     gzip -dc $data/4yvs.cif.gz | head -c 60000 >"$dir/4yvs-head.cif" ;;
         fuzz_xyzr)  cp $data/1crn.xyzr "$dir"/ ;;
         fuzz_xyzrn) cp $data/1crn.xyzrn "$dir"/ ;;
-        fuzz_stdin) cp $data/1crn.pdb $data/1crn.xyzr $data/1crn.xyzrn $data/1crn.cif "$dir"/
+        fuzz_stdin) cp $data/1crn.pdb $data/1crn.xyzr $data/1crn.xyzrn $data/1crn.cif \
+                       $data/lenient/*.pqr "$dir"/
                     gzip -9c $data/1crn.pdb >"$dir/1crn.pdb.gz"
                     gzip -9c $data/1crn.xyzr >"$dir/1crn.xyzr.gz" ;;
     esac

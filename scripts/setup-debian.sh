@@ -40,7 +40,7 @@ packages=(
     # distributed scheduler runs fdmsurf.batch; pytest runs the module's tests under ctest
     pybind11-dev python3-dev python3-distributed python3-pytest
     # other readers of structure files for scripts/cross-check-readers.py (scripts/test.sh)
-    python3-gemmi python3-biopython
+    python3-gemmi python3-biopython python3-mdanalysis
     # gzip; GNU time (/usr/bin/time -v) for the peak memory column of scripts/all-structures.sh
     gzip time
     # FreeSASA (Lee-Richards areas): the reference of the vdw and sas area tests and of

@@ -290,6 +290,29 @@ def test_colours_and_properties(engine, data):
     assert np.all(uniform.colors == [0x10, 0x20, 0x30])
 
 
+def test_read_structure_is_as_lenient_as_the_cli(data):
+    """The Python reader is the library's: each lenient case is read, with its warning."""
+    cases = {
+        "label-only.cif": "no auth_seq_id",
+        "minimal.cif": "no occupancy",
+        "models-repeated.pdb": "repeats a model number",
+        "old-charge.pdb": "unreadable charge",
+        "overflow.pdb": "fields past their columns",
+        "free-format.pdb": "in free format",
+        "amber-names.pdb": "named from column 13",
+        "columns.pqr": "fixed columns",
+        "zero-radii.pqr": "have radius 0",
+    }
+    for name, warning in cases.items():
+        s = fdmsurf.read_structure(data / "lenient" / name)
+        assert len(s) > 0 and np.all(s.radii > 0), name
+        assert any(warning in w for w in s.info["warnings"]), (name, s.info["warnings"])
+    with pytest.raises(fdmsurf.FormatError, match=r"non-numeric x coordinate .*columns 31-38"):
+        fdmsurf.parse_structure(
+            "ATOM      1  CA  GLY A   1      15.1x5  11.555   5.265  1.00 10.00           C\n",
+            "bad.pdb")
+
+
 def test_read_structure_metadata(data):
     s = fdmsurf.read_structure(data / "1crn.pdb")
     assert len(s) == 327 and s.xyz.shape == (327, 3) and s.xyz.dtype == np.float32
