@@ -242,8 +242,8 @@ def check_file(path, readers):
         first_of_key.append(key not in seen)
         seen.add(key)
     for reader_kind, name, read in readers:
-        if reader_kind != wanted:
-            continue
+        if reader_kind != wanted or (name == "mdanalysis" and k in ("cif", "mmcif")):
+            continue  # MDAnalysis 2.4 reads no mmCIF
         mine = ours if name != "biopython" else [a for a, f in zip(ours, first_of_key) if f]
         try:
             theirs = read(path)
