@@ -168,3 +168,21 @@ def test_radii_and_fixed_grid(engine, crambin):
     assert rows[0].residue_sasa is None          # arrays have no residues
     table = run.table()
     assert [t["frame"] for t in table] == [0, 1] and table[0]["area"] == rows[0].area
+
+
+def test_dask_ranges_give_the_series_in_frame_order(engine, data, crambin, tmp_path):
+    pytest.importorskip("distributed")
+    import functools
+    from fdmsurf import batch
+    frames = walk(crambin, 7)
+    path = tmp_path / "frames.npy"
+    np.save(path, frames)
+    source = functools.partial(np.load, str(path), mmap_mode="r")
+    rows = batch.trajectory(source, topology=str(data / "1crn.pdb"), chunk=3, workers=2,
+                            spacing=1.0, progress=None)
+    here = list(engine.trajectory(frames, topology=str(data / "1crn.pdb"), spacing=1.0))
+    assert [r.frame for r in rows] == list(range(7))
+    for got, want in zip(rows, here):
+        assert got.area == want.area and got.volume == want.volume
+        assert np.array_equal(got.atom_sasa, want.atom_sasa)
+        assert np.array_equal(got.residue_area, want.residue_area)
