@@ -186,3 +186,52 @@ def test_dask_ranges_give_the_series_in_frame_order(engine, data, crambin, tmp_p
         assert got.area == want.area and got.volume == want.volume
         assert np.array_equal(got.atom_sasa, want.atom_sasa)
         assert np.array_equal(got.residue_area, want.residue_area)
+
+
+def test_cli_models_table_without_a_mesh(cli, data, tmp_path):
+    import csv
+    table = tmp_path / "models.csv"
+    done = cli(data / "1d3z.pdb.gz", "--models", "all", "--areas", table)
+    assert "table of 10 models" in done.stdout
+    rows = list(csv.DictReader(table.open()))
+    assert [int(r["model"]) for r in rows] == list(range(1, 11))
+    for r in rows:
+        model = fdmsurf.read_structure(data / "1d3z.pdb.gz", model=int(r["model"]))
+        exact = fdmsurf.exact_areas(model)
+        assert r["status"] == "ok" and int(r["atoms"]) == len(model)
+        assert float(r["sasa"]) == pytest.approx(exact.sum(), rel=1e-12)
+        assert float(r["sasa_A"]) == pytest.approx(exact.sum(), rel=1e-12)
+        assert r["area"] == "" and r["volume"] == ""     # no -o: no mesh
+    assert len({r["sasa"] for r in rows}) == 10
+
+
+def test_cli_models_table_with_meshes(cli, engine, data, tmp_path):
+    import json
+    table = tmp_path / "models.jsonl"
+    done = cli(data / "1d3z.pdb.gz", "--models", "all", "-o", f"{tmp_path}/meshes/",
+               "--areas", table, "--spacing", "1.0", "--probe", "1.2", "--stats", "json")
+    rows = [json.loads(line) for line in table.read_text().splitlines()]
+    stats = [json.loads(line) for line in done.stdout.splitlines()]
+    models = engine.surface_models(data / "1d3z.pdb.gz", spacing=1.0, probe=1.2)
+    assert [r["model"] for r in rows] == list(range(1, 11)) == [s["model"] for s in stats]
+    for row, stat, result in zip(rows, stats, models):
+        assert row["area"] == pytest.approx(result.area, rel=1e-12) == stat["area"]
+        assert row["volume"] == pytest.approx(result.volume, rel=1e-12)
+        cavities = [p["volume"] for p in result.piece_stats() if p["volume"] < 0]
+        assert row["cavities"] == len(cavities) and row["pieces"] == result.pieces
+        assert row["sasa"] == pytest.approx(fdmsurf.exact_areas(result.structure, probe=1.2).sum(),
+                                            rel=1e-12)
+        assert row["chain_sasa"] == {"A": pytest.approx(row["sasa"])}
+
+
+def test_cli_models_table_refusals(cli, data, tmp_path):
+    table = tmp_path / "t.csv"
+    for args in (
+        [data / "1d3z.pdb.gz", data / "1crn.pdb", "--models", "all", "--areas", table],
+        [data / "1d3z.pdb.gz", "--models", "all", "--areas", table, "--relative", "tien2013"],
+        [data / "1crn.pdb", "--surface", "sas", "--areas", tmp_path / "t.jsonl"],
+    ):
+        done = cli(*args, check=False)
+        assert done.returncode == 2, done.stderr
+        assert "--areas" in done.stderr
+    assert list(tmp_path.iterdir()) == []
