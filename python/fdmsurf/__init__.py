@@ -53,13 +53,14 @@ from ._fdmsurf import (
     read_mesh,
 )
 from ._options import READ, SURFACE, with_keywords
+from .trajectory import Frame, Trajectory
 
 __version__ = _fdmsurf.__version__
 
 __all__ = [
     "Engine", "surface", "default_engine", "read_structure", "read_models", "parse_structure",
     "plan_grid", "compare", "read_mesh", "list_devices", "sas_areas", "exact_areas",
-    "as_structure", "trajectory", "Structure", "Mesh",
+    "as_structure", "trajectory", "Frame", "Trajectory", "Structure", "Mesh",
     "SurfaceResult", "Error", "InvalidArgumentError", "InputError", "FileError", "FormatError",
     "EmptySelectionError", "DeviceError", "NoDeviceError", "DeviceLimitError", "VulkanError",
     "FftError", "InternalError", "__version__",
@@ -266,7 +267,6 @@ class Engine:
 
         {keywords}
         """
-        from .trajectory import Trajectory
         return Trajectory(self, source, radii, topology, keywords, sasa, ses, atom_areas, write,
                           callback, keep_mesh, start, stop, stride, grid, on_error, progress)
 

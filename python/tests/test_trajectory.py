@@ -60,9 +60,9 @@ def test_arrays_give_each_frames_surface_and_areas(engine, crambin):
 
 def test_cavities_are_counted(engine, data):
     structure = fdmsurf.read_structure(data / "4hhb.pdb.gz")
-    row = next(iter(engine.trajectory(structure.xyz[None], topology=structure, spacing=1.0,
-                                      sasa=False)))
-    result = engine.surface(structure, spacing=1.0)
+    run = engine.trajectory(structure.xyz[None], topology=structure, spacing=1.0, sasa=False)
+    row = next(iter(run))
+    result = engine.surface(structure, spacing=1.0, min_grid=run.grid)
     cavities = [p["volume"] for p in result.piece_stats() if p["volume"] < 0]
     assert row.cavities == len(cavities) > 0
     assert row.cavity_volume == pytest.approx(-sum(cavities))
