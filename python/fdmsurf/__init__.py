@@ -111,6 +111,7 @@ def _object_structure(source, given, read):
     return _objects.structure_of_object(source, _options.parse(selection), model=model).structure
 
 
+@with_keywords(READ)
 def as_structure(source, **keywords):
     """The fdmsurf Structure of an object of another library (a gemmi Structure or Model, a
     Biopython Structure, Model or Chain, an MDAnalysis Universe or AtomGroup at its current
@@ -118,11 +119,10 @@ def as_structure(source, **keywords):
     read_structure (model, chains, select, waters, hydrogens, ligands) applied by fdmsurf's
     own PDB reader, so that a file read by that library gives the atoms, radii and metadata that
     read_structure gives for the file. Structure.serial is each atom's 1-based position in the
-    object. A path or a Structure is returned as read_structure(path) or as it is."""
-    unknown = sorted(set(keywords) - set(_options.READ_NAMES))
-    if unknown:
-        raise TypeError(f"as_structure takes the read keywords ({', '.join(_options.READ_NAMES)})"
-                        f", not {', '.join(unknown)}")
+    object. A path or a Structure is returned as read_structure(path) or as it is.
+
+    {keywords}
+    """
     if isinstance(source, Structure):
         return source
     if isinstance(source, (str, bytes, os.PathLike)):

@@ -14,7 +14,7 @@ import numpy as np
 
 from . import _fdmsurf
 
-SUPPORTED = ("a path, an fdmsurf.Structure, an xyz array (N, 3) with radii, a gemmi Structure "
+SUPPORTED = ("a path, an fdmsurf.Structure, an xyz array (N, 3) with radii=(N,), a gemmi Structure "
              "or Model, a Biopython Structure, Model or Chain, an MDAnalysis Universe or "
              "AtomGroup, or an mdtraj Trajectory")
 

@@ -190,3 +190,12 @@ def test_libraries_are_imported_only_for_their_objects(data):
                           capture_output=True, encoding="utf-8", env=dict(os.environ))
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == ""
+
+
+def test_nan_coordinates_in_an_object(data):
+    u = read_mdanalysis(data / "1crn.pdb")
+    xyz = u.atoms.positions
+    xyz[5, 2] = np.nan
+    u.atoms.positions = xyz
+    with pytest.raises(fdmsurf.InvalidArgumentError, match="atom 6 has NaN"):
+        fdmsurf.as_structure(u)

@@ -235,3 +235,11 @@ def test_cli_models_table_refusals(cli, data, tmp_path):
         assert done.returncode == 2, done.stderr
         assert "--areas" in done.stderr
     assert list(tmp_path.iterdir()) == []
+
+
+def test_progress_goes_to_stderr_when_asked(engine, crambin, capsys):
+    list(engine.trajectory(walk(crambin, 3), topology=crambin, ses=False, progress=True))
+    err = capsys.readouterr().err
+    assert "3/3 frames" in err and err.endswith("\n")
+    list(engine.trajectory(walk(crambin, 3), topology=crambin, ses=False))  # not a terminal
+    assert capsys.readouterr().err == ""
