@@ -198,6 +198,11 @@ class Trajectory:
             except (KeyError, IndexError, ValueError) as e:
                 raise ValueError(f"write pattern {write!r} takes {{frame}} and {{time}} only "
                                  f"({e})") from None
+            extension = os.path.splitext(write.format(frame=0, time=0.0))[1].lower()
+            if extension not in (".ply", ".obj", ".glb", ".stl", ".off"):
+                raise _fdmsurf.InvalidArgumentError(
+                    f"write pattern {write!r}: the extension must be .ply, .obj, .glb, .stl or "
+                    f".off, not {extension or 'none'!r}")
             if write.format(frame=0, time=0.0) == write.format(frame=1, time=1.0):
                 raise ValueError(f"write pattern {write!r} names every frame's file the same: "
                                  "put {frame} in it, e.g. 'out/frame-{frame:05d}.ply'")

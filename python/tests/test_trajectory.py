@@ -143,6 +143,8 @@ def test_meshes_written_by_pattern(engine, crambin, tmp_path):
     with pytest.raises(ValueError, match="names every frame's file the same"):
         engine.trajectory(frames, topology=crambin, write=str(tmp_path / "same.ply"))
     assert not (tmp_path / "same.ply").exists()
+    with pytest.raises(fdmsurf.InvalidArgumentError, match="extension must be .ply"):
+        engine.trajectory(frames, topology=crambin, write=str(tmp_path / "f{frame}.xyz"))
 
 
 def test_bad_sources_and_selections(engine, data, crambin):
