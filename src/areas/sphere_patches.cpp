@@ -11,9 +11,7 @@
 // triangle (N, P, Q), N the antipode of S (Van Oosterom & Strackee 1983), plus the signed area
 // between the chord PQ's great circle and the small-circle arc (a circular segment). The same
 // decomposition as the analytical SASA of Connolly (J. Appl. Cryst. 16, 548, 1983) and Richmond
-// (J. Mol. Biol. 178, 63, 1984), without their per-component bookkeeping. A crossing point is
-// where three spheres meet: it is found, and tested against the other balls, once, from the
-// sphere of its first atom, then handed to the other two (two passes over the atoms).
+// (J. Mol. Biol. 178, 63, 1984), without their per-component bookkeeping.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -75,32 +73,13 @@ struct OnCircle {
     std::uint32_t other;
 };
 
-// The caps of one sphere, kept from the pass that finds the points where three spheres meet to
-// the pass that integrates the arcs: each cap's atom, the caps dropped (inside another), the
-// caps whose circles cross another's, and for each cap the caps it meets (CSR).
-struct Sphere {
-    std::vector<Cap> caps;
-    std::vector<std::uint32_t> atom;
-    std::vector<std::uint8_t> dropped, crossed;
-    std::vector<std::uint32_t> first, meets;  // cap j meets meets[first[j] .. first[j + 1])
-    bool buried = false;
-};
-
-// An exposed point where three spheres meet (atoms a < b < c), found once, from sphere a.
-struct Meeting {
-    std::uint32_t atoms[3];
-    Vec3 p;  // Å
-};
-
 // Scratch space of one thread, reused from atom to atom.
 struct Scratch {
+    std::vector<std::uint8_t> dropped;
     std::vector<std::vector<std::uint32_t>> overlapping;  // per cap, the caps it meets
     std::vector<std::vector<OnCircle>> around;            // per cap, its crossings
     std::vector<Crossing> crossings;
-    // Per cap its axis and height packed for the buried test (a dropped cap's height is above
-    // 1: it buries nothing).
-    std::vector<std::array<double, 4>> planes;
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> by_atom;  // (atom, cap), sorted
+    std::vector<std::uint8_t> crossed;  // per cap: its circle crosses another
 };
 
 double pseudo_angle(double x, double y) {
@@ -108,181 +87,92 @@ double pseudo_angle(double x, double y) {
     return y >= 0.0 ? 1.0 - t : 3.0 + t;  // in [0, 4), increasing with atan2(y, x) mod 2π
 }
 
-constexpr double kEps = 1e-12;
-
-void pack_planes(const Sphere& s, Scratch& w) {
-    const std::size_t m = s.caps.size();
-    w.planes.resize(m);
-    for (std::size_t j = 0; j < m; ++j)
-        w.planes[j] = {s.caps[j].u[0], s.caps[j].u[1], s.caps[j].u[2],
-                       s.dropped[j] ? 2.0 : s.caps[j].h + kEps};
-}
-
-// Whether point n of circle j lies inside another cap (that cap meets cap j: it is among j's).
-// The cap that buried the last point is tried first: neighbouring points share it.
-struct BuriedTest {
-    const Sphere& s;
-    const std::array<double, 4>* planes;
-    std::uint32_t last = 0;
-
-    bool inside(const Vec3& n, std::uint32_t k) const {
-        const std::array<double, 4>& p = planes[k];
-        return n[0] * p[0] + n[1] * p[1] + n[2] * p[2] > p[3];
-    }
-    bool operator()(const Vec3& n, std::size_t j, std::size_t skip) {
-        if (last != skip && last < s.caps.size() && inside(n, last)) return true;
-        for (std::uint32_t t = s.first[j]; t < s.first[j + 1]; ++t) {
-            const std::uint32_t k = s.meets[t];
-            if (k != skip && inside(n, k)) {
-                last = k;
-                return true;
-            }
-        }
-        return false;
-    }
-};
-
-// The caps inside other caps (or equal to one) change nothing: dropped. The others that meet
-// are listed: only they can bury a point of each other's circle.
-void list_meetings(Sphere& s, Scratch& w) {
-    const std::vector<Cap>& caps = s.caps;
+// The exposed solid angle (steradians) of a unit sphere less the union of `caps` (none empty).
+//
+// An arc of a circle between two consecutive crossings crosses no other circle, so it lies
+// inside some other cap all along or outside all of them; when a crossing at its end lies
+// inside a third cap the arc does too. So exposed arcs run between exposed crossings, and an
+// arc between two consecutive exposed crossings is exposed when its midpoint is.
+double exposed_solid_angle(const std::vector<Cap>& caps, Scratch& w) {
+    constexpr double eps = 1e-12;
     const std::size_t m = caps.size();
-    s.dropped.assign(m, 0);
-    s.crossed.assign(m, 0);
+    w.dropped.assign(m, 0);
     if (w.overlapping.size() < m) w.overlapping.resize(m);
-    for (std::size_t j = 0; j < m; ++j) w.overlapping[j].clear();
+    if (w.around.size() < m) w.around.resize(m);
+    for (std::size_t j = 0; j < m; ++j) {
+        w.overlapping[j].clear();
+        w.around[j].clear();
+    }
+    w.crossings.clear();
+    // Caps inside other caps (or equal to one) change nothing: drop them. The others that
+    // meet are listed: only they can bury a point of each other's circle.
     for (std::size_t j = 0; j < m; ++j) {
         const Cap& a = caps[j];
         for (std::size_t k = j + 1; k < m; ++k) {
             const Cap& b = caps[k];
             const double g = dot(a.u, b.u);
             if (g <= a.h * b.h - a.s * b.s) continue;  // apart: angle >= θ_j + θ_k
-            if (g >= a.h * b.h + a.s * b.s - kEps) {
+            if (g >= a.h * b.h + a.s * b.s - eps) {
                 // One inside the other: angle <= |θ_j − θ_k|; the smaller goes (of equal ones
                 // the later).
-                s.dropped[a.h > b.h + kEps ? j : k] = 1;
+                w.dropped[a.h > b.h + eps ? j : k] = 1;
                 continue;
             }
             w.overlapping[j].push_back(std::uint32_t(k));
             w.overlapping[k].push_back(std::uint32_t(j));
         }
     }
-    s.first.resize(m + 1);
-    s.meets.clear();
+    // A point of circle j inside another cap (that cap meets cap j: it is in j's list). The cap
+    // that buried the last point is tried first: neighbouring points share it.
+    std::uint32_t last = 0;
+    auto buried_by = [&](const Vec3& n, std::size_t j, std::size_t skip) {
+        if (last != skip && last < m && !w.dropped[last] &&
+            dot(n, caps[last].u) > caps[last].h + eps)
+            return true;
+        for (const std::uint32_t k : w.overlapping[j])
+            if (k != skip && !w.dropped[k] && dot(n, caps[k].u) > caps[k].h + eps) {
+                last = k;
+                return true;
+            }
+        return false;
+    };
+    // Crossing points of the circles that cross. A buried one is only counted: both arcs at
+    // it lie inside the cap that buries it (neither crosses that cap's circle before the next
+    // crossing), so only exposed crossings can end an exposed arc.
+    w.crossed.assign(m, 0);
     for (std::size_t j = 0; j < m; ++j) {
-        s.first[j] = std::uint32_t(s.meets.size());
-        s.meets.insert(s.meets.end(), w.overlapping[j].begin(), w.overlapping[j].end());
-    }
-    s.first[m] = std::uint32_t(s.meets.size());
-}
-
-// Where the circles of caps a and b cross on the unit sphere: the crossings are base ± offset
-// (nothing when they do not cross, within rounding); `points` false only says whether.
-bool circle_crossings(const Cap& a, const Cap& b, bool points, Vec3& base, Vec3& offset) {
-    const double g = dot(a.u, b.u);
-    const double w2 = 1.0 - g * g;
-    if (w2 < 1e-14) return false;
-    const double p = (a.h - b.h * g) / w2, q = (b.h - a.h * g) / w2;
-    const double rest = 1.0 - (p * p + q * q + 2.0 * p * q * g);
-    if (rest <= 0.0) return false;  // tangent (within rounding)
-    if (!points) return true;
-    const double t = std::sqrt(rest / w2);
-    base = add(scale(a.u, p), scale(b.u, q));
-    offset = scale(cross(a.u, b.u), t);
-    return true;
-}
-
-// The exposed points where sphere `i` (centre c, radius r) meets two other spheres whose atoms
-// come after i, each found here once (not again from the other two spheres), into `out`; and
-// which circles of sphere i cross another at all. A buried crossing is only counted: both arcs
-// at it lie inside the cap that buries it, so only exposed crossings can end an exposed arc.
-void find_meetings(std::uint32_t i, const double c[3], double r, Sphere& s, Scratch& w,
-                   std::vector<Meeting>& out) {
-    const std::vector<Cap>& caps = s.caps;
-    const std::size_t m = caps.size();
-    pack_planes(s, w);
-    BuriedTest buried_by{s, w.planes.data()};
-    for (std::size_t j = 0; j < m; ++j) {
-        if (s.dropped[j]) continue;
-        for (std::uint32_t t = s.first[j]; t < s.first[j + 1]; ++t) {
-            const std::uint32_t k = s.meets[t];
-            if (k <= j || s.dropped[k]) continue;
-            // A point where three spheres meet is found from the sphere of its first atom.
-            const bool first = s.atom[j] > i && s.atom[k] > i;
-            Vec3 base, offset;
-            if (!circle_crossings(caps[j], caps[k], first, base, offset)) continue;
-            s.crossed[j] = s.crossed[k] = 1;
-            if (!first) continue;
+        if (w.dropped[j]) continue;
+        const Cap& a = caps[j];
+        for (const std::uint32_t k : w.overlapping[j]) {
+            if (k <= j || w.dropped[k]) continue;
+            const Cap& b = caps[k];
+            const double g = dot(a.u, b.u);
+            const double w2 = 1.0 - g * g;
+            if (w2 < 1e-14) continue;
+            const double p = (a.h - b.h * g) / w2, q = (b.h - a.h * g) / w2;
+            const double rest = 1.0 - (p * p + q * q + 2.0 * p * q * g);
+            if (rest <= 0.0) continue;  // tangent (within rounding)
+            const double t = std::sqrt(rest / w2);
+            const Vec3 base = add(scale(a.u, p), scale(b.u, q)), c = cross(a.u, b.u);
+            w.crossed[j] = w.crossed[k] = 1;
             for (const double sign : {1.0, -1.0}) {
-                const Vec3 n = add(base, scale(offset, sign));
+                const Vec3 n = add(base, scale(c, sign * t));
                 if (buried_by(n, j, k)) continue;
-                Meeting meeting;
-                meeting.atoms[0] = i;
-                meeting.atoms[1] = std::min(s.atom[j], s.atom[k]);
-                meeting.atoms[2] = std::max(s.atom[j], s.atom[k]);
-                meeting.p = {c[0] + r * n[0], c[1] + r * n[1], c[2] + r * n[2]};
-                out.push_back(meeting);
+                const std::uint32_t id = std::uint32_t(w.crossings.size());
+                w.crossings.push_back({n});
+                w.around[j].push_back({pseudo_angle(dot(n, a.e1), dot(n, a.e2)), id, k});
+                w.around[k].push_back(
+                    {pseudo_angle(dot(n, b.e1), dot(n, b.e2)), id, std::uint32_t(j)});
             }
         }
-    }
-}
-
-// The exposed solid angle (steradians) of a unit sphere (the ball of atom `self`: its centre
-// and radius r, Å) less the union of its caps (none empty), from the exposed points where it
-// meets two other spheres (`points`, each found once by find_meetings).
-//
-// An arc of a circle between two consecutive crossings crosses no other circle, so it lies
-// inside some other cap all along or outside all of them; when a crossing at its end lies
-// inside a third cap the arc does too. So exposed arcs run between exposed crossings, and an
-// arc between two consecutive exposed crossings is exposed when its midpoint is.
-double exposed_solid_angle(const double centre[3], double r, Sphere& s,
-                           const Meeting* const* points, std::size_t point_count,
-                           std::uint32_t self, Scratch& w) {
-    const std::vector<Cap>& caps = s.caps;
-    const std::size_t m = caps.size();
-    if (w.around.size() < m) w.around.resize(m);
-    for (std::size_t j = 0; j < m; ++j) w.around[j].clear();
-    w.crossings.clear();
-    pack_planes(s, w);
-    BuriedTest buried_by{s, w.planes.data()};
-    // Each point on the circles of the caps of its two other atoms.
-    w.by_atom.resize(m);
-    for (std::size_t j = 0; j < m; ++j) w.by_atom[j] = {s.atom[j], std::uint32_t(j)};
-    std::sort(w.by_atom.begin(), w.by_atom.end());
-    auto cap_of = [&](std::uint32_t atom) {
-        auto it = std::lower_bound(w.by_atom.begin(), w.by_atom.end(),
-                                   std::make_pair(atom, std::uint32_t(0)));
-        return it != w.by_atom.end() && it->first == atom ? std::int64_t(it->second)
-                                                          : std::int64_t(-1);
-    };
-    std::vector<std::uint8_t>& crossed = s.crossed;
-    for (std::size_t t = 0; t < point_count; ++t) {
-        const Meeting& meeting = *points[t];
-        std::uint32_t others[2];
-        std::size_t count = 0;
-        for (std::uint32_t a : meeting.atoms)
-            if (a != self && count < 2) others[count++] = a;
-        const std::int64_t j = cap_of(others[0]), k = cap_of(others[1]);
-        if (j < 0 || k < 0 || s.dropped[std::size_t(j)] || s.dropped[std::size_t(k)]) continue;
-        Vec3 n{(meeting.p[0] - centre[0]) / r, (meeting.p[1] - centre[1]) / r,
-               (meeting.p[2] - centre[2]) / r};
-        n = scale(n, 1.0 / std::sqrt(dot(n, n)));
-        const std::uint32_t id = std::uint32_t(w.crossings.size());
-        w.crossings.push_back({n});
-        const Cap& a = caps[std::size_t(j)];
-        const Cap& b = caps[std::size_t(k)];
-        w.around[std::size_t(j)].push_back(
-            {pseudo_angle(dot(n, a.e1), dot(n, a.e2)), id, std::uint32_t(k)});
-        w.around[std::size_t(k)].push_back(
-            {pseudo_angle(dot(n, b.e1), dot(n, b.e2)), id, std::uint32_t(j)});
-        crossed[std::size_t(j)] = crossed[std::size_t(k)] = 1;
     }
     // The pole: N, the antipode of the centre S of the largest cap; S is buried and every arc
     // stays at least that cap's angular radius away from it.
     std::size_t largest = m;
     for (std::size_t j = 0; j < m; ++j)
-        if (!s.dropped[j] && (largest == m || caps[j].h < caps[largest].h)) largest = j;
+        if (!w.dropped[j] && (largest == m || caps[j].h < caps[largest].h)) largest = j;
     const Vec3 pole = scale(caps[largest].u, -1.0);
+
     // One exposed arc of circle j from `from` to `to` (counter-clockwise about u_j, spanning
     // `dphi`), integrated from `to` back to `from`: the cap on the right.
     auto arc = [&](const Cap& c, const Vec3& from, const Vec3& to, double dphi) {
@@ -297,8 +187,8 @@ double exposed_solid_angle(const double centre[3], double r, Sphere& s,
         const double phi0 = std::atan2(dot(from, c.e2), dot(from, c.e1));
         double sum = 0.0;
         Vec3 a = to;
-        for (int piece = 1; piece <= pieces; ++piece) {
-            const Vec3 b = piece == pieces ? from : on_circle(c, phi0 + dphi - piece * step);
+        for (int s = 1; s <= pieces; ++s) {
+            const Vec3 b = s == pieces ? from : on_circle(c, phi0 + dphi - s * step);
             sum += solid_angle(pole, a, b) + segment(step);
             a = b;
         }
@@ -306,10 +196,10 @@ double exposed_solid_angle(const double centre[3], double r, Sphere& s,
     };
     double total = 0.0;
     for (std::size_t j = 0; j < m; ++j) {
-        if (s.dropped[j]) continue;
+        if (w.dropped[j]) continue;
         const Cap& c = caps[j];
         std::vector<OnCircle>& around = w.around[j];
-        if (!crossed[j]) {
+        if (!w.crossed[j]) {
             // No crossing: the whole circle is boundary unless another cap buries it.
             const Vec3 p = on_circle(c, 0.0);
             if (!buried_by(p, j, m)) total += arc(c, p, p, 2.0 * kPi);
@@ -368,22 +258,17 @@ std::vector<double> exact_ball_areas(const Atoms& atoms, double radius_add, doub
     // the neighbours are in the 27 cells around a centre's.
     const CellList cells = make_cell_list(atoms.xyz, 2.0 * r_max);
     const std::size_t chunk = 128;
-    const std::size_t chunks = (n + chunk - 1) / chunk;
-    const unsigned threads = thread_count();
-    std::vector<Sphere> spheres(n);
-    std::vector<std::vector<Meeting>> found(chunks);
-    // First pass: each sphere's caps, and the exposed points where three spheres meet, each
-    // found once, from the sphere of its first atom (a point is buried from every sphere it
-    // lies on or from none: by the balls that contain it).
-    parallel_chunks(chunks, threads, [&](std::size_t ch) {
+    parallel_chunks((n + chunk - 1) / chunk, thread_count(), [&](std::size_t c) {
+        std::vector<Cap> caps;
         Scratch scratch;
-        for (std::size_t i = ch * chunk; i < std::min(n, (ch + 1) * chunk); ++i) {
+        for (std::size_t i = c * chunk; i < std::min(n, (c + 1) * chunk); ++i) {
             const double ri = radius[i];
-            Sphere& s = spheres[i];
             if (ri == 0.0) continue;
             const double ci[3] = {atoms.xyz[3 * i], atoms.xyz[3 * i + 1], atoms.xyz[3 * i + 2]};
+            caps.clear();
+            bool buried = false;
             cells.for_each_near(ci, [&](std::uint32_t j) {
-                if (j == i || s.buried || radius[j] == 0.0) return;
+                if (j == i || buried || radius[j] == 0.0) return;
                 const double cj[3] = {atoms.xyz[3 * j], atoms.xyz[3 * j + 1], atoms.xyz[3 * j + 2]};
                 const double rj = radius[j];
                 const Vec3 e{cj[0] - ci[0], cj[1] - ci[1], cj[2] - ci[2]};
@@ -392,13 +277,13 @@ std::vector<double> exact_ball_areas(const Atoms& atoms, double radius_add, doub
                 if (d2 == 0.0) {
                     // Twins: the first keeps the area (as atom_sas_areas); a larger ball at the
                     // same centre buries this one, a smaller one nothing.
-                    if (rj > ri || (rj == ri && j < i)) s.buried = true;
+                    if (rj > ri || (rj == ri && j < i)) buried = true;
                     return;
                 }
                 const double d = std::sqrt(d2);
                 const double h = (d2 + ri * ri - rj * rj) / (2.0 * d * ri);
                 if (h <= -1.0) {
-                    s.buried = true;  // inside ball j
+                    buried = true;  // inside ball j
                     return;
                 }
                 if (h >= 1.0) return;  // ball j inside this one
@@ -412,43 +297,14 @@ std::vector<double> exact_ball_areas(const Atoms& atoms, double radius_add, doub
                 e1 = scale(e1, 1.0 / std::sqrt(dot(e1, e1)));
                 cap.e1 = e1;
                 cap.e2 = cross(cap.u, e1);
-                s.caps.push_back(cap);
-                s.atom.push_back(j);
+                caps.push_back(cap);
             });
-            if (s.buried || s.caps.empty()) continue;
-            list_meetings(s, scratch);
-            find_meetings(std::uint32_t(i), ci, ri, s, scratch, found[ch]);
-        }
-    });
-    // Each point to its three spheres.
-    std::vector<std::uint32_t> first(n + 1, 0);
-    for (const auto& list : found)
-        for (const Meeting& m : list)
-            for (std::uint32_t a : m.atoms) ++first[a + 1];
-    for (std::size_t i = 0; i < n; ++i) first[i + 1] += first[i];
-    std::vector<const Meeting*> on(first[n]);
-    {
-        std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
-        for (const auto& list : found)
-            for (const Meeting& m : list)
-                for (std::uint32_t a : m.atoms) on[fill[a]++] = &m;
-    }
-    // Second pass: the arcs of each sphere.
-    parallel_chunks(chunks, threads, [&](std::size_t ch) {
-        Scratch scratch;
-        for (std::size_t i = ch * chunk; i < std::min(n, (ch + 1) * chunk); ++i) {
-            const double ri = radius[i];
-            Sphere& s = spheres[i];
-            if (ri == 0.0) continue;
-            const double ci[3] = {atoms.xyz[3 * i], atoms.xyz[3 * i + 1], atoms.xyz[3 * i + 2]};
             double omega = 4.0 * kPi;
-            if (s.buried)
+            if (buried)
                 omega = 0.0;
-            else if (!s.caps.empty())
-                omega = exposed_solid_angle(ci, ri, s, on.data() + first[i], first[i + 1] - first[i],
-                                            std::uint32_t(i), scratch);
+            else if (!caps.empty())
+                omega = exposed_solid_angle(caps, scratch);
             area[i] = omega * ri * ri;
-            s = Sphere();  // its memory back
         }
     });
     return area;
