@@ -64,6 +64,8 @@ for path in ./usr/bin/fdmsurf "./usr/bin/msms -> fdmsurf" "./usr/lib/$multiarch/
     "./usr/lib/python3/dist-packages/fdmsurf/_fdmsurf$ext" \
     ./usr/lib/python3/dist-packages/fdmsurf/__init__.pyi \
     ./usr/lib/python3/dist-packages/fdmsurf/batch.py \
+    ./usr/lib/python3/dist-packages/fdmsurf/trajectory.py \
+    ./usr/lib/python3/dist-packages/fdmsurf/_objects.py \
     ./usr/share/man/man1/fdmsurf.1.gz "./usr/share/man/man1/msms.1.gz -> fdmsurf.1.gz" \
     ./usr/share/bash-completion/completions/fdmsurf \
     "./usr/share/bash-completion/completions/msms -> fdmsurf"; do

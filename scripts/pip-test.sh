@@ -120,6 +120,7 @@ for name, digest, size in records.values():
     expected = f"sha256={hashed}"
     assert digest == expected and int(size) == len(body), name
 needed = ["fdmsurf/__init__.py", "fdmsurf/__init__.pyi", "fdmsurf/py.typed", "fdmsurf/batch.py",
+          "fdmsurf/trajectory.py", "fdmsurf/_objects.py",
           f"{data}/scripts/fdmsurf", f"{data}/scripts/msms"]
 assert all(n in names for n in needed), [n for n in needed if n not in names]
 assert any(n.startswith("fdmsurf/_fdmsurf.cpython-") and n.endswith(".so") for n in names)

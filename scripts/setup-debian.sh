@@ -39,8 +39,11 @@ packages=(
     # the Python module (python/, docs/python.md): pybind11 and Python's headers build it; Dask's
     # distributed scheduler runs fdmsurf.batch; pytest runs the module's tests under ctest
     pybind11-dev python3-dev python3-distributed python3-pytest
-    # other readers of structure files for scripts/cross-check-readers.py (scripts/test.sh)
-    python3-gemmi python3-biopython python3-mdanalysis
+    # other readers of structure files: scripts/cross-check-readers.py (scripts/test.sh) compares
+    # fdmsurf's reading with theirs; the structure objects fdmsurf.surface and Engine.trajectory
+    # take (python/fdmsurf/_objects.py, docs/trajectories.md), whose tests read the same files
+    # through each library; mdtraj is also the reference of bench/trajectory.py
+    python3-gemmi python3-biopython python3-mdanalysis python3-mdtraj
     # gzip; GNU time (/usr/bin/time -v) for the peak memory column of scripts/all-structures.sh
     gzip time
     # FreeSASA (Lee-Richards areas): the reference of the vdw and sas area tests and of

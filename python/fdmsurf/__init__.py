@@ -31,7 +31,7 @@ except ImportError as error:
         raise ImportError(f"fdmsurf's compiled module needs {missing}, which is not installed "
                           "(docs/install.md lists what the module needs at run time)") from None
     raise
-from . import _options
+from . import _objects, _options
 from ._fdmsurf import (
     DeviceError,
     DeviceLimitError,
@@ -51,15 +51,16 @@ from ._fdmsurf import (
     compare,
     list_devices,
     read_mesh,
-    sas_areas,
 )
 from ._options import READ, SURFACE, with_keywords
+from .trajectory import Frame, Trajectory
 
 __version__ = _fdmsurf.__version__
 
 __all__ = [
     "Engine", "surface", "default_engine", "read_structure", "read_models", "parse_structure",
-    "plan_grid", "compare", "read_mesh", "list_devices", "sas_areas", "Structure", "Mesh",
+    "plan_grid", "compare", "read_mesh", "list_devices", "sas_areas", "exact_areas",
+    "as_structure", "trajectory", "Frame", "Trajectory", "Structure", "Mesh",
     "SurfaceResult", "Error", "InvalidArgumentError", "InputError", "FileError", "FormatError",
     "EmptySelectionError", "DeviceError", "NoDeviceError", "DeviceLimitError", "VulkanError",
     "FftError", "InternalError", "__version__",
@@ -75,6 +76,11 @@ def _structure_of(source, radii, given):
     read = sorted(name for name, value in given.items()
                   if name in _options.READ_NAMES and value is not None
                   and value != _options.KEYWORDS[name].default)
+    if _objects.library_of(source) is not None:
+        if radii is not None:
+            raise TypeError(f"radii goes with an xyz array, not with a {type(source).__name__}: "
+                            "radii come from the elements")
+        return _object_structure(source, given, read), options
     if read:
         raise InvalidArgumentError(
             f"{', '.join(read)} select atoms while reading a file; atoms given as a Structure "
@@ -87,9 +93,61 @@ def _structure_of(source, radii, given):
         if isinstance(source, tuple) and len(source) == 2:
             source, radii = source
         else:
-            raise TypeError("source must be a path, a Structure, or an xyz array (N, 3) with "
-                            f"radii=(N,) array; got {type(source).__name__} and no radii")
+            raise TypeError(f"source must be {_objects.SUPPORTED}; got "
+                            f"{type(source).__name__} and no radii")
     return Structure(source, radii), options
+
+
+def _object_structure(source, given, read):
+    """The Structure of a gemmi, Biopython, MDAnalysis or mdtraj object (fdmsurf/_objects.py),
+    selected by the read keywords as fdmsurf's reader selects a file's atoms."""
+    unusable = [name for name in read if name in ("format", "assembly")]
+    if unusable:
+        raise InvalidArgumentError(f"{', '.join(unusable)} apply to files; a "
+                                   f"{type(source).__name__} object is read as it is")
+    model = given.get("model") or 1
+    selection = {name: value for name, value in given.items()
+                 if name in _options.READ_NAMES and name not in ("format", "assembly", "model")}
+    return _objects.structure_of_object(source, _options.parse(selection), model=model).structure
+
+
+@with_keywords(READ)
+def as_structure(source, **keywords):
+    """The fdmsurf Structure of an object of another library (a gemmi Structure or Model, a
+    Biopython Structure, Model or Chain, an MDAnalysis Universe or AtomGroup at its current
+    frame, an mdtraj Trajectory: frame model - 1), with the selection keywords of
+    read_structure (model, chains, select, waters, hydrogens, ligands) applied by fdmsurf's
+    own PDB reader, so that a file read by that library gives the atoms, radii and metadata that
+    read_structure gives for the file. Structure.serial is each atom's 1-based position in the
+    object. A path or a Structure is returned as read_structure(path) or as it is.
+
+    {keywords}
+    """
+    if isinstance(source, Structure):
+        return source
+    if isinstance(source, (str, bytes, os.PathLike)):
+        return read_structure(source, **keywords)
+    if _objects.library_of(source) is None:
+        raise TypeError(f"fdmsurf takes {_objects.SUPPORTED}; not a {type(source).__name__}")
+    read = sorted(name for name, value in keywords.items()
+                  if value is not None and value != _options.KEYWORDS[name].default)
+    return _object_structure(source, keywords, read)
+
+
+def sas_areas(structure, probe=1.4, points=1000, **keywords):
+    """The solvent-accessible area of every atom (Å², (N,) float64) by Shrake & Rupley's test
+    points (`points` per atom; probe 0: the van der Waals area), on every thread. structure: a
+    Structure, a path, or a gemmi / Biopython / MDAnalysis / mdtraj object (as_structure, with
+    its read keywords)."""
+    return _fdmsurf.sas_areas(as_structure(structure, **keywords), probe, points)
+
+
+def exact_areas(structure, probe=1.4, **keywords):
+    """The solvent-accessible area of every atom (Å², (N,) float64) exactly: each atom's patch
+    of the union of the balls of radius r + probe, by the Gauss-Bonnet theorem on the arcs where
+    the spheres meet (no sampling; probe 0: the van der Waals area), on every thread. structure
+    as for sas_areas."""
+    return _fdmsurf.exact_areas(as_structure(structure, **keywords), probe)
 
 
 class Engine:
@@ -177,6 +235,41 @@ class Engine:
         options.min_grid = tuple(grid)
         return [self._engine.surface(structure, options) for structure in structures]
 
+    @with_keywords(SURFACE, READ)
+    def trajectory(self, source, radii=None, *, topology=None, sasa=True, ses=True,
+                   atom_areas=True, write=None, callback=None, keep_mesh=False, start=None,
+                   stop=None, stride=1, grid="all", on_error="stop", progress=None, **keywords):
+        """The surface and areas of every frame of `source`: a Trajectory to iterate, one
+        fdmsurf.trajectory.Frame per frame in frame order (docs/trajectories.md).
+
+        source: an MDAnalysis Universe or AtomGroup, an mdtraj Trajectory, or coordinates in Å
+        (frames, atoms, 3) (a numpy array or memmap, or an iterable of (atoms, 3) arrays) with
+        radii=(atoms,) or topology= (a path, a Structure, or a gemmi / Biopython / MDAnalysis /
+        mdtraj object whose atoms the frames hold). The read keywords (chains, select, waters,
+        hydrogens, ligands) select the atoms once, by fdmsurf's reader; the surface keywords
+        shape each frame's surface.
+
+        sasa: each frame's exact solvent-accessible area (sphere patches of radius r + probe)
+        per atom, per residue and in total. ses: each frame's surface (kind, spacing... from the
+        keywords): area, volume, pieces, cavities, and its area per atom and per residue
+        (atom_areas=False leaves the per-atom arrays out). write: a path pattern with {frame}
+        (and {time}), e.g. 'out/frame-{frame:05d}.ply': each frame's mesh written there;
+        callback(frame, result): called with each frame's SurfaceResult; keep_mesh: the result
+        kept in Frame.mesh. start, stop, stride: the frames taken, as a slice. grid: 'all' (the
+        grid dims that hold every frame, found by a first pass over the frames' coordinates),
+        'grow' (the largest so far: no first pass) or (nx, ny, nz) fixed: one FFT plan and one
+        set of pipelines for the whole run. on_error: 'stop' (InvalidArgumentError naming the
+        frame) or 'skip' (the frame's row has ok=False and the error) for frames with NaN
+        coordinates or the wrong atom count. progress: a progress line on stderr (None: when
+        stderr is a terminal).
+
+        Keywords as Engine.surface:
+
+        {keywords}
+        """
+        return Trajectory(self, source, radii, topology, keywords, sasa, ses, atom_areas, write,
+                          callback, keep_mesh, start, stop, stride, grid, on_error, progress)
+
     @property
     def device(self):
         """The device in use, a dict as list_devices() gives."""
@@ -228,6 +321,11 @@ def surface(source, radii=None, **keywords):
     {keywords}
     """
     return default_engine().surface(source, radii, **keywords)
+
+
+def trajectory(source, radii=None, **keywords):
+    """Engine.trajectory on default_engine(); see help(fdmsurf.Engine.trajectory)."""
+    return default_engine().trajectory(source, radii, **keywords)
 
 
 @with_keywords(READ)

@@ -1,6 +1,6 @@
 # Type stubs of the fdmsurf package (the compiled _fdmsurf and the Python wrapper around it).
 import os
-from typing import Any, Iterable, Literal, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Iterable, Iterator, Literal, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -11,7 +11,10 @@ PathLike = Union[str, bytes, os.PathLike[str], os.PathLike[bytes]]
 ArrayLike = npt.ArrayLike
 Color = Union[str, Tuple[int, int, int], None]
 Names = Union[str, Iterable[str], None]
-Source = Union[PathLike, "Structure", ArrayLike, Tuple[ArrayLike, ArrayLike]]
+# A gemmi Structure/Model, a Biopython Structure/Model/Chain, an MDAnalysis Universe/AtomGroup
+# or an mdtraj Trajectory (recognised by their modules; none of them is imported).
+ForeignStructure = Any
+Source = Union[PathLike, "Structure", ArrayLike, Tuple[ArrayLike, ArrayLike], ForeignStructure]
 SurfaceKind = Literal["ses", "vdw", "sas"]
 Method = Literal["fdm", "edt"]
 Filter = Literal["gaussian", "ideal"]
@@ -101,6 +104,7 @@ class Mesh:
     def closed_manifold(self) -> bool: ...
     @property
     def stats(self) -> dict[str, Any]: ...
+    def piece_stats(self) -> list[dict[str, Any]]: ...
     def write(self, path: PathLike,
               format: Optional[Literal["ply", "obj", "glb", "stl", "off"]] = None) -> None: ...
     def __len__(self) -> int: ...
@@ -169,6 +173,15 @@ class Engine:
                        format: InputFormat = None, assembly: int = 0, chains: Names = None,
                        select: Optional[str] = None, waters: bool = False,
                        hydrogens: bool = False, ligands: bool = True) -> list[SurfaceResult]: ...
+    def trajectory(self, source: Any, radii: Optional[ArrayLike] = None, *,
+                   topology: Optional[Source] = None, sasa: bool = True, ses: bool = True,
+                   atom_areas: bool = True, write: Optional[Union[str, os.PathLike[str]]] = None,
+                   callback: Optional[Callable[[Frame, SurfaceResult], Any]] = None,
+                   keep_mesh: bool = False, start: Optional[int] = None,
+                   stop: Optional[int] = None, stride: int = 1,
+                   grid: Union[Literal["all", "grow"], Tuple[int, int, int]] = "all",
+                   on_error: Literal["stop", "skip"] = "stop", progress: Optional[bool] = None,
+                   **keywords: Any) -> Trajectory: ...
     @property
     def device(self) -> dict[str, Any]: ...
     def take_validation_messages(self) -> list[str]: ...
@@ -211,5 +224,41 @@ def read_mesh(path: PathLike) -> Mesh: ...
 def compare(reference: Union[Mesh, PathLike], tested: Union[Mesh, PathLike], spacing: float,
             *, outer: bool = False, weld_tolerance: float = 1e-5) -> dict[str, float]: ...
 def list_devices() -> list[dict[str, Any]]: ...
-def sas_areas(structure: Structure, probe: float = 1.4,
-              points: int = 1000) -> npt.NDArray[np.float64]: ...
+def sas_areas(structure: Union[Structure, PathLike, ForeignStructure], probe: float = 1.4,
+              points: int = 1000, **keywords: Any) -> npt.NDArray[np.float64]: ...
+def exact_areas(structure: Union[Structure, PathLike, ForeignStructure], probe: float = 1.4,
+                **keywords: Any) -> npt.NDArray[np.float64]: ...
+def as_structure(source: Union[Structure, PathLike, ForeignStructure], *,
+                 format: InputFormat = None, model: int = 1, assembly: int = 0,
+                 chains: Names = None, select: Optional[str] = None, waters: bool = False,
+                 hydrogens: bool = False, ligands: bool = True) -> Structure: ...
+def trajectory(source: Any, radii: Optional[ArrayLike] = None, **keywords: Any) -> Trajectory: ...
+
+class Frame:
+    frame: int
+    time: Optional[float]
+    ok: bool
+    error: Optional[str]
+    area: float
+    volume: float
+    pieces: int
+    cavities: int
+    cavity_volume: float
+    sasa: float
+    atom_sasa: Optional[npt.NDArray[np.float64]]
+    residue_sasa: Optional[npt.NDArray[np.float64]]
+    atom_area: Optional[npt.NDArray[np.float64]]
+    residue_area: Optional[npt.NDArray[np.float64]]
+    mesh: Optional[SurfaceResult]
+    path: Optional[str]
+    ms: float
+    def row(self) -> dict[str, Any]: ...
+
+class Trajectory:
+    atoms: Structure
+    index: npt.NDArray[np.int64]
+    residues: Optional[list[Tuple[str, int, str, str]]]
+    grid: Optional[Tuple[int, int, int]]
+    frames: Optional[int]
+    def __iter__(self) -> Iterator[Frame]: ...
+    def table(self) -> list[dict[str, Any]]: ...

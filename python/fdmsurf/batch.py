@@ -609,3 +609,110 @@ def main(argv=None):
 
 if __name__ == "__main__":
     sys.exit(main())
+
+
+# --- one trajectory over many workers ---------------------------------------------------------
+
+def _open(source):
+    return source() if callable(source) else source
+
+
+def _frame_count(source):
+    kind = type(source).__name__
+    library = fdmsurf._objects.library_of(source)
+    if library == "MDAnalysis":
+        return len(source.universe.trajectory)
+    if library == "mdtraj" and kind == "Trajectory":
+        return source.n_frames
+    if hasattr(source, "shape") and len(source.shape) == 3:
+        return source.shape[0]
+    raise TypeError("batch.trajectory takes an MDAnalysis Universe or AtomGroup, an mdtraj "
+                    "Trajectory or a (frames, atoms, 3) array, or a picklable callable that "
+                    f"returns one; not a {kind}")
+
+
+def _chunk_grid(source, start, stop, keywords):
+    from .trajectory import Trajectory
+    run = Trajectory(None, _open(source), keywords.pop("radii", None),
+                     keywords.pop("topology", None), keywords, sasa=True, ses=True,
+                     atom_areas=False, write=None, callback=None, keep_mesh=False, start=start,
+                     stop=stop, stride=1, grid="all", on_error="skip", progress=False)
+    return run._fix_grid()
+
+
+def _chunk_rows(source, start, stop, grid, sasa, ses, atom_areas, write, on_error, keywords):
+    _undo_malloc_trimming()
+    engine = _worker_engine()
+    run = engine.trajectory(_open(source), keywords.pop("radii", None),
+                            topology=keywords.pop("topology", None), sasa=sasa, ses=ses,
+                            atom_areas=atom_areas, write=write, start=start, stop=stop,
+                            grid=grid if grid is not None else "all", on_error=on_error,
+                            progress=False, **keywords)
+    return list(run)
+
+
+def trajectory(source, *, chunk=100, start=0, stop=None, client=None, scheduler=None,
+               workers=None, device=None, sasa=True, ses=True, atom_areas=True, write=None,
+               grid=None, on_error="stop", progress=sys.stderr, **keywords):
+    """Engine.trajectory over a Dask cluster: the frames start..stop split into ranges of
+    `chunk` frames, one task each, and the rows (fdmsurf.trajectory.Frame) gathered in frame
+    order into one list.
+
+    source: what Engine.trajectory takes (an MDAnalysis Universe, an mdtraj Trajectory, an
+    array), or better a picklable callable that returns it (functools.partial(
+    MDAnalysis.Universe, topology, trajectory), or np.load with mmap_mode='r'): each task then
+    opens the files on its worker and reads only its frames. keywords: Engine.trajectory's
+    (radii=, topology=, selection and surface keywords). grid: None finds the grid dims that
+    hold every frame by a first round of tasks (each its range's largest), so every worker
+    uses the same grid and the series is the one Engine.trajectory gives in one process; or
+    fixed (nx, ny, nz). client / scheduler / workers / device as batch.run: an existing
+    Client, a scheduler's address, or a LocalCluster of `workers` processes, one Engine each.
+    Call it under `if __name__ == "__main__":` (the worker processes import the script)."""
+    if isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1:
+        raise fdmsurf.InvalidArgumentError(f"chunk must be a whole number >= 1, not {chunk!r}")
+    for name in ("callback", "keep_mesh", "stride"):
+        if name in keywords:
+            raise TypeError(f"batch.trajectory runs on the workers: no {name}= (meshes stay "
+                            "there; write= writes them)")
+    total = _frame_count(_open(source))
+    first, last, _ = slice(start, stop).indices(total)
+    ranges = [(a, min(a + chunk, last)) for a in range(first, last, chunk)]
+    if not ranges:
+        return []
+
+    from distributed import Client, LocalCluster
+
+    cluster = None
+    own_client = client is None
+    if client is None:
+        if scheduler:
+            client = Client(scheduler)
+        else:
+            import logging
+            cluster = LocalCluster(n_workers=workers or default_workers(), threads_per_worker=1,
+                                   processes=True, dashboard_address=None,
+                                   silence_logs=logging.ERROR)
+            client = Client(cluster)
+    try:
+        client.register_worker_plugin(EnginePlugin(device, False), name=PLUGIN)
+        if ses and grid is None:
+            dims = client.gather([client.submit(_chunk_grid, source, a, b, dict(keywords),
+                                                pure=False) for a, b in ranges])
+            dims = [d for d in dims if d is not None]
+            grid = tuple(int(max(d[k] for d in dims)) for k in range(3)) if dims else None
+        futures = [client.submit(_chunk_rows, source, a, b, grid, sasa, ses, atom_areas, write,
+                                 on_error, dict(keywords), pure=False) for a, b in ranges]
+        rows = []
+        started = time.perf_counter()
+        for i, future in enumerate(futures):    # in frame order, as each range is done
+            rows.extend(future.result())
+            if progress is not None:
+                print(f"fdmsurf.batch.trajectory: frames {ranges[i][0]}-{ranges[i][1] - 1} "
+                      f"({i + 1}/{len(ranges)}, {time.perf_counter() - started:.1f} s)",
+                      file=progress, flush=True)
+        return rows
+    finally:
+        if own_client:
+            client.close()
+            if cluster is not None:
+                cluster.close()

@@ -378,6 +378,21 @@ area, volume, pieces, closed_manifold and stats describe the mesh as it was made
             "pieces, closed_pieces, boundary_edges, nonmanifold_edges, nonmanifold_vertices, "
             "inconsistent_edges, degenerate_triangles, euler_characteristic, closed_manifold.")
         .def(
+            "piece_stats",
+            [](PyMesh& s) {
+                std::vector<MeshStats> pieces;
+                {
+                    py::gil_scoped_release release;
+                    pieces = piece_stats(*s.mesh);
+                }
+                py::list out;
+                for (const MeshStats& piece : pieces) out.append(stats_dict(piece));
+                return out;
+            },
+            "The statistics of each connected piece (dicts as `stats`), largest area first: "
+            "the outer surface, then separate molecules (positive volume) and cavities "
+            "(negative volume, Å³).")
+        .def(
             "write",
             [](PyMesh& s, py::handle path_object, py::object format) {
                 const std::string path = path_argument(path_object);
@@ -513,6 +528,22 @@ missing (install mesa-vulkan-drivers for lavapipe, the CPU device).)");
         R"(The solvent-accessible area of every atom of `structure`, (N,) float64, Å², by
 Shrake & Rupley's test points (`points` per atom; probe 0 gives the van der Waals area), on
 the host with every thread (docs/areas.md).)");
+
+    m.def(
+        "exact_areas",
+        [](const PyStructure& structure, float probe) {
+            std::vector<double> areas;
+            {
+                py::gil_scoped_release release;
+                areas = atom_exact_areas(structure.data->atoms, probe);
+            }
+            return py::array_t<double>(py::ssize_t(areas.size()), areas.data());
+        },
+        py::arg("structure"), py::arg("probe") = 1.4f,
+        R"(The solvent-accessible area of every atom of `structure`, (N,) float64, Å², exactly:
+each atom's patch of the union of the balls of radius r + probe, by the Gauss-Bonnet theorem
+on the arcs where the spheres meet (no sampling; probe 0 gives the van der Waals area), on the
+host with every thread (docs/areas.md).)");
 
     m.def(
         "read_mesh",

@@ -450,6 +450,7 @@ void InputRun::write_outputs(const SurfaceResult& result, const AtomAreas& areas
     report_.stats = stats;
     report_.times.push_back({"mesh-stats", stats_ms, false});
     report_.closed_manifold = report_.stats.is_closed_manifold();
+    if (job_.model_row != nullptr) add_mesh(*job_.model_row, result.mesh, report_.stats);
     if (areas_wanted()) {
         const Atoms& atoms = job_.structure.atoms;
         if (buried_)

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/models_table.hpp"
 #include "cli/options.hpp"
 #include "cli/progress.hpp"
 #include "cli/summary.hpp"
@@ -50,6 +51,9 @@ struct InputJob {
     // it instead of their sum).
     double before_ms;
     const AreasPlan* areas_plan;  // --areas, --relative and --buried as checked (null: none)
+    // --models all --areas: the model's row of the table, whose mesh fields the run fills
+    // (null: no table).
+    ModelRow* model_row = nullptr;
 };
 
 // The surface of the job's structure: computed, cut (--patch), simplified and reordered as

@@ -21,6 +21,7 @@
 #include "cli/input_run.hpp"
 #include "cli/interrupts.hpp"
 #include "cli/messages.hpp"
+#include "cli/models_table.hpp"
 #include "cli/msms_command.hpp"
 #include "cli/options.hpp"
 #include "cli/prepare_command.hpp"
@@ -261,6 +262,8 @@ void stop_after_device_failure(const CliOptions& options, std::size_t i, std::si
 // the exit code is that of the first failure.
 int run_batch(const CliOptions& options, const EngineOptions& engine_options, Progress& progress,
               std::size_t& done) {
+    const bool table = options.all_models && !options.areas.empty();
+    std::vector<ModelRow> rows;
     std::vector<Structure> first;
     auto t = Clock::now();
     if (options.inputs.size() == 1) first = read_input(options, options.inputs.front());
@@ -284,7 +287,13 @@ int run_batch(const CliOptions& options, const EngineOptions& engine_options, Pr
         for (std::size_t k = 0; k < structures.size(); ++k) {
             int code = kExitOk;
             const int model = structures[k].info.model;
+            ModelRow* row = nullptr;
+            if (table) {
+                rows.push_back({.model = model});
+                row = &rows.back();
+            }
             try {
+                if (row != nullptr) add_sasa(*row, structures[k], options.surface.probe);
                 code = run_one({.options = batch,
                                 .engine = engine,
                                 .renderer = renderer ? &*renderer : nullptr,
@@ -296,8 +305,13 @@ int run_batch(const CliOptions& options, const EngineOptions& engine_options, Pr
                                 .parse_ms = k == 0 ? parse_ms : -1.0,
                                 .init_ms = init_ms,
                                 .before_ms = -1.0,
-                                .areas_plan = nullptr});
+                                .areas_plan = nullptr,
+                                .model_row = row});
             } catch (const Error& e) {
+                if (row != nullptr) {
+                    row->ok = false;
+                    row->error = one_line(e.what());
+                }
                 progress.end();
                 print_error(naming(input, e.what()) +
                             (options.all_models ? " (model " + std::to_string(model) + ")" : ""));
@@ -305,6 +319,7 @@ int run_batch(const CliOptions& options, const EngineOptions& engine_options, Pr
                 code = exit_code_for(e);
                 if (e.code() == ErrorCode::Vulkan) {
                     stop_after_device_failure(options, i, done);
+                    if (table) write_models_table(rows, options.areas);
                     return status == kExitOk ? code : status;
                 }
             }
@@ -313,7 +328,37 @@ int run_batch(const CliOptions& options, const EngineOptions& engine_options, Pr
         }
         done = i + 1;
     }
+    if (table) write_models_table(rows, options.areas);
     return status;
+}
+
+// --models all --areas without -o: the table of every model's exact SASA, no mesh and no
+// device; with --stats json its rows also go to standard output.
+int run_models_areas_only(const CliOptions& options) {
+    const std::vector<Structure> structures = read_input(options, options.inputs.front());
+    std::vector<ModelRow> rows;
+    for (const Structure& s : structures) {
+        rows.push_back({.model = s.info.model});
+        add_sasa(rows.back(), s, options.surface.probe);
+    }
+    write_models_table(rows, options.areas);
+    if (options.json) {
+        std::string lines;
+        for (const ModelRow& r : rows) lines += model_row_json(r) + "\n";
+        put_noting_errors(lines, stdout);
+    } else if (!options.quiet) {
+        std::string text;
+        for (const ModelRow& r : rows) {
+            char sasa[64];
+            std::snprintf(sasa, sizeof sasa, "%.1f", r.sasa);
+            text += "model " + std::to_string(r.model) + ": " + std::to_string(r.atoms) +
+                    " atoms, SASA " + sasa + " Å²\n";
+        }
+        put_noting_errors(text + "table of " + std::to_string(rows.size()) + " models: " +
+                              options.areas + "\n",
+                          stdout);
+    }
+    return kExitOk;
 }
 
 // The run of every input; `done` counts the inputs whose summary or failure line is out (for
@@ -328,6 +373,10 @@ int run_inputs(const CliOptions& options, std::size_t& done) {
     Progress progress(!json_on_stderr && progress_wanted(options.quiet));
     EngineOptions engine_options = options.engine;
     engine_options.progress = [&progress](std::string_view stage) { progress.stage(stage); };
+    if (options.all_models && !options.areas.empty() && options.output.empty()) {
+        done = 1;
+        return run_models_areas_only(options);
+    }
     if (options.inputs.size() == 1 && !options.all_models) {
         const int code = options.output.empty() ? run_areas_only(options)
                                                 : run_single(options, engine_options, progress);

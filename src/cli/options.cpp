@@ -16,6 +16,7 @@
 
 #include <vulkan/vulkan_core.h>
 
+#include "cli/models_table.hpp"
 #include "cli/options_check.hpp"
 #include "refine/refine.hpp"
 
@@ -667,7 +668,8 @@ bool apply_mesh_value(CliOptions& o, Opt id, std::string_view name, const std::s
             o.simplifier_given = true;
             return true;
         case Opt::Areas:
-            areas_format_for_path(text);  // .csv or .json, before any work
+            // .csv or .json, before any work (.jsonl: the table of --models all)
+            if (!is_jsonl_path(text)) areas_format_for_path(text);
             o.areas = text;
             return true;
         case Opt::Relative:

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstddef>
 
+#include "cli/models_table.hpp"
 #include "fdmsurf/error.hpp"
 
 namespace fdmsurf::cli {
@@ -53,10 +54,21 @@ void check_areas(const CliOptions& o) {
             fail("--buried writes the buried areas into --areas FILE: give --areas too");
         return;
     }
-    if (o.inputs.size() > 1 || o.all_models)
-        fail(
-            "--areas writes one file for one structure: give one INPUT (and no --models "
-            "all)");
+    if (o.all_models) {
+        // The table of every model (cli/models_table.hpp): the exact SASA needs no mesh.
+        if (o.inputs.size() > 1)
+            fail("--models all --areas writes one table of one INPUT's models: give one INPUT");
+        if (o.relative != RelativeTable::None || !o.buried.empty())
+            fail("--relative and --buried write one structure's areas file; with --models all, "
+                 "--areas writes the table of the models");
+        return;
+    }
+    if (is_jsonl_path(o.areas))
+        fail("--areas FILE.jsonl is the table of --models all; one structure's areas go to a "
+             ".csv or .json file");
+    if (o.inputs.size() > 1)
+        fail("--areas writes one file for one structure: give one INPUT (or --models all for "
+             "a table of its models)");
     if (o.output.empty() && o.surface.surface == SurfaceKind::Ses)
         fail(
             "--areas without -o computes no mesh, which the ses areas come from (the "

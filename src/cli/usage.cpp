@@ -7,6 +7,7 @@ namespace fdmsurf::cli {
 std::string usage_text() {
     return R"(Usage: fdmsurf INPUT -o OUTPUT [options]
        fdmsurf INPUT [-o OUTPUT] --areas FILE.csv|FILE.json [options]
+       fdmsurf INPUT --models all [-o FOLDER/] --areas FILE.csv|FILE.jsonl [options]
        fdmsurf INPUT... -o FOLDER/ [options]
        fdmsurf INPUT -o PICTURE.png [picture options]
        fdmsurf INPUT... --models all -o FOLDER/ [options]
@@ -171,7 +172,10 @@ Areas (docs/areas.md):
                          SASA), beside the written mesh's own area split by
                          sphere patch; ses: the mesh's area split by the atom
                          of each vertex. Without -o: no mesh, no device (vdw
-                         and sas only)
+                         and sas only). With --models all: one table of the
+                         models (.csv or .jsonl), a row each: model, atoms,
+                         area, volume, pieces, cavities, cavity volume (with
+                         -o), exact SASA (--probe) in total and per chain
   --relative TABLE       add each residue's area relative to its maximum in a
                          published table: tien2013 (Tien et al. 2013,
                          theoretical), miller1987 or sander1994 (with --areas)
