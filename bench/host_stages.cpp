@@ -62,7 +62,11 @@ int main(int argc, char** argv) try {
             return 2;
         }
     }
+    const auto t_read = std::chrono::steady_clock::now();
     const Structure structure = read_structure(argv[1]);
+    const double read_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_read).count();
+    const double file_mb = double(std::filesystem::file_size(argv[1])) / 1e6;
     Mesh mesh;
     std::string device = "none (--mesh)";
     if (mesh_file.empty()) {
@@ -75,6 +79,8 @@ int main(int argc, char** argv) try {
     std::printf("%s: %zu atoms, %zu vertices, %zu triangles, %u threads, device %s\n\n", argv[1],
                 structure.atoms.size(), mesh.vertex_count(), mesh.triangle_count(),
                 std::thread::hardware_concurrency(), device.c_str());
+    std::printf("read %s: %.1f ms, %.0f MB/s of file (one run)\n\n", argv[1], read_ms,
+                file_mb / (read_ms / 1e3));
     std::printf("| host stage | median ms (%d runs) |\n|---|---|\n", reps);
     MeshStats stats;
     const auto wanted = [&](const char* stage) { return only.empty() || only == stage; };
