@@ -121,6 +121,35 @@ struct LocalUse {
     bool forward;  // the triangle runs v -> other
 };
 
+// Whether the corners at v form one closed fan: each corner's next vertex is the previous
+// vertex of exactly one other corner, and following that link visits every corner once. Then
+// each edge at v is used by two triangles in opposite directions and the corners make one fan,
+// which is what the general count below would find. At most 16 corners; otherwise false.
+bool closed_fan(const VertexCorners& vc, std::size_t v) {
+    const Index first = vc.start[v], count = vc.start[v + 1] - first;
+    if (count < 3 || count > 16) return false;
+    const CornerEnds* e = &vc.ends[first];
+    std::uint8_t link[16];
+    std::uint32_t taken = 0;
+    for (Index i = 0; i < count; ++i) {
+        int match = -1;
+        for (Index j = 0; j < count; ++j) {
+            if (e[j].prev != e[i].next) continue;
+            if (match >= 0) return false;  // two corners end where this one starts
+            match = int(j);
+        }
+        if (match < 0 || (taken >> match & 1u)) return false;
+        taken |= 1u << match;
+        link[i] = std::uint8_t(match);
+    }
+    Index at = 0, steps = 0;
+    do {
+        at = link[at];
+        ++steps;
+    } while (at != 0 && steps <= count);
+    return at == 0 && steps == count;
+}
+
 // The edges and fans around the vertices of chunk k. Each edge {v, w} is seen from both ends
 // and counted at its smaller end v; the corners at v that share an edge form one fan, and more
 // than one fan makes v a non-manifold vertex.
@@ -139,6 +168,11 @@ void vertex_chunk(const Mesh& mesh, const Pieces& pieces, const VertexCorners& v
         Partial& part = piece_sum(runs, pieces.of_vertex[v]);
         MeshStats& s = part.stats;
         ++s.vertices;
+        if (closed_fan(vc, v)) {  // the usual vertex: every edge used twice, one way each
+            for (Index i = vc.start[v]; i < vc.start[v + 1]; ++i)
+                part.edges += vc.ends[i].next > v ? 1 : 0;
+            continue;
+        }
         uses.clear();
         Index local = 0;
         for (Index i = vc.start[v]; i < vc.start[v + 1]; ++i) {
