@@ -95,7 +95,9 @@ def run(exe, path, out, spacing, extra):
 
 def version(exe):
     res = subprocess.run([exe, "--version"], capture_output=True, text=True)
-    return "; ".join((res.stdout or res.stderr).strip().splitlines()) if res.returncode == 0 else "?"
+    if res.returncode != 0:
+        return "?"
+    return "; ".join((res.stdout or res.stderr).strip().splitlines())
 
 
 def count(stats, key):

@@ -43,7 +43,10 @@ double median_ms(int reps, const std::function<void()>& body) {
 
 int main(int argc, char** argv) try {
     if (argc < 2) {
-        std::fprintf(stderr, "usage: %s STRUCTURE [--spacing H] [--reps N] [--out DIR] [--mesh FILE] [--only STAGE]\n", argv[0]);
+        std::fprintf(stderr,
+                     "usage: %s STRUCTURE [--spacing H] [--reps N] [--out DIR] [--mesh FILE] "
+                     "[--only STAGE]\n",
+                     argv[0]);
         return 2;
     }
     SurfaceOptions options;
@@ -64,8 +67,8 @@ int main(int argc, char** argv) try {
     }
     const auto t_read = std::chrono::steady_clock::now();
     const Structure structure = read_structure(argv[1]);
-    const double read_ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_read).count();
+    const double read_ms = std::chrono::duration<double, std::milli>(
+                               std::chrono::steady_clock::now() - t_read).count();
     const double file_mb = double(std::filesystem::file_size(argv[1])) / 1e6;
     Mesh mesh;
     std::string device = "none (--mesh)";
