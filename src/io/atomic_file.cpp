@@ -186,6 +186,11 @@ AtomicFile::~AtomicFile() {
 
 void AtomicFile::write(const void* data, std::size_t size) {
     const char* bytes = static_cast<const char*>(data);
+    if (size >= buffer_.size()) {  // a large block goes straight to the file, not copied first
+        flush();
+        write_through(bytes, size);
+        return;
+    }
     while (size > 0) {
         if (used_ == buffer_.size()) flush();
         const std::size_t n = std::min(size, buffer_.size() - used_);
@@ -197,14 +202,18 @@ void AtomicFile::write(const void* data, std::size_t size) {
 }
 
 void AtomicFile::flush() {
+    write_through(buffer_.data(), used_);
+    used_ = 0;
+}
+
+void AtomicFile::write_through(const char* bytes, std::size_t size) {
     std::size_t done = 0;
-    while (done < used_) {
-        const ssize_t n = ::write(fd_, buffer_.data() + done, used_ - done);
+    while (done < size) {
+        const ssize_t n = ::write(fd_, bytes + done, size - done);
         if (n < 0 && errno == EINTR) continue;
         if (n <= 0) fail(n < 0 ? errno : EIO);
         done += std::size_t(n);
     }
-    used_ = 0;
 }
 
 void AtomicFile::commit() {

@@ -41,6 +41,7 @@ public:
 
 private:
     void flush();
+    void write_through(const char* bytes, std::size_t size);
     [[noreturn]] void fail(int error_number);
 
     std::string path_;       // symbolic links followed

@@ -1,8 +1,10 @@
 // Mesh writers: binary little-endian PLY (with atoms, colours and scalars per vertex) and OBJ
 // (with vertex colours); the choice of format, handing GLB, STL and OFF to their writers beside it, and
 // the destination: an atomically renamed file or a stream.
+#include <algorithm>
 #include <charconv>
 #include <cstdint>
+#include <future>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -21,22 +23,33 @@ namespace fdmsurf {
 namespace detail {
 namespace {
 
-// Serialises items [0, count) on all threads, `block` items per task, and writes the bytes to
-// `file` in item order: rounds of one block per thread, so that memory stays at a round's bytes
-// whatever the mesh. serialise(first, last, out) appends the bytes of items [first, last).
+// Serialises items [0, count), `block` items per task, and writes the bytes to `file` in item
+// order: rounds of one block per thread, each round written on a thread of its own while the
+// next is serialised by the other threads (two rounds' bytes in memory, whatever the mesh).
+// serialise(first, last, out) appends the bytes of items [first, last).
 template <class Serialise>
 void write_in_blocks(ByteSink& file, std::size_t count, std::size_t block, Serialise&& serialise) {
     const unsigned threads = thread_count();
-    std::vector<std::string> bytes(threads);
-    for (std::size_t first = 0; first < count; first += block * threads) {
+    // One thread of the machine's is the writer's: no more threads busy than cores.
+    const unsigned serialisers = std::max(1u, threads - 1);
+    std::vector<std::string> bytes[2] = {std::vector<std::string>(threads),
+                                         std::vector<std::string>(threads)};
+    std::future<void> writing;
+    int side = 0;
+    for (std::size_t first = 0; first < count; first += block * threads, side ^= 1) {
         const std::size_t blocks = std::min<std::size_t>(threads, (count - first + block - 1) / block);
-        parallel_chunks(blocks, threads, [&](std::size_t k) {
+        std::vector<std::string>& round = bytes[side];
+        parallel_chunks(blocks, serialisers, [&](std::size_t k) {
             const std::size_t lo = first + k * block, hi = std::min(count, lo + block);
-            bytes[k].clear();
-            serialise(lo, hi, bytes[k]);
+            round[k].clear();
+            serialise(lo, hi, round[k]);
         });
-        for (std::size_t k = 0; k < blocks; ++k) file.write(bytes[k]);
+        if (writing.valid()) writing.get();  // the round before, in order
+        writing = std::async(std::launch::async, [&file, &round, blocks] {
+            for (std::size_t k = 0; k < blocks; ++k) file.write(round[k]);
+        });
     }
+    if (writing.valid()) writing.get();
 }
 
 // Items per serialisation task: 65,536 vertices (about 2 MB of PLY) or triangles.

@@ -12,7 +12,9 @@
 #include <optional>
 #include <vector>
 
+#include "base/cell_list.hpp"
 #include "base/parallel.hpp"
+#include "base/trace.hpp"
 #include "fdmsurf/mesh.hpp"
 #include "mesh/mesh_attributes.hpp"
 #include "mesh/mesh_pieces.hpp"
@@ -27,38 +29,179 @@ namespace {
 
 using P3 = std::array<double, 3>;
 
-// Does the ray from p along a fixed, generic direction cross the piece an odd number of times?
-// (Möller-Trumbore; the direction avoids the grid's axes and planes.)
-bool inside_piece(const P3& p, const std::vector<std::array<P3, 3>>& tris) {
-    constexpr P3 d{0.5773502691896258, 0.5773502691896257 + 1.1e-3, 0.5773502691896259 - 2.3e-3};
-    int crossings = 0;
-    for (const auto& t : tris) {
-        const P3 e1{t[1][0] - t[0][0], t[1][1] - t[0][1], t[1][2] - t[0][2]};
-        const P3 e2{t[2][0] - t[0][0], t[2][1] - t[0][1], t[2][2] - t[0][2]};
-        const P3 q{d[1] * e2[2] - d[2] * e2[1], d[2] * e2[0] - d[0] * e2[2],
-                   d[0] * e2[1] - d[1] * e2[0]};
-        const double det = e1[0] * q[0] + e1[1] * q[1] + e1[2] * q[2];
-        if (std::abs(det) < 1e-14) continue;
-        const P3 s{p[0] - t[0][0], p[1] - t[0][1], p[2] - t[0][2]};
-        const double u = (s[0] * q[0] + s[1] * q[1] + s[2] * q[2]) / det;
-        if (u < 0.0 || u > 1.0) continue;
-        const P3 r{s[1] * e1[2] - s[2] * e1[1], s[2] * e1[0] - s[0] * e1[2],
-                   s[0] * e1[1] - s[1] * e1[0]};
-        const double v = (d[0] * r[0] + d[1] * r[1] + d[2] * r[2]) / det;
-        if (v < 0.0 || u + v > 1.0) continue;
-        if ((e2[0] * r[0] + e2[1] * r[1] + e2[2] * r[2]) / det > 0.0) ++crossings;
-    }
-    return crossings % 2 == 1;
+// The ray of the inside test: a fixed, generic direction (it avoids the grid's axes and planes).
+constexpr P3 kRay{0.5773502691896258, 0.5773502691896257 + 1.1e-3, 0.5773502691896259 - 2.3e-3};
+
+// Does the ray from p along kRay cross triangle t (Möller-Trumbore, in front of p)?
+bool ray_crosses(const P3& p, const std::array<P3, 3>& t) {
+    constexpr const P3& d = kRay;
+    const P3 e1{t[1][0] - t[0][0], t[1][1] - t[0][1], t[1][2] - t[0][2]};
+    const P3 e2{t[2][0] - t[0][0], t[2][1] - t[0][1], t[2][2] - t[0][2]};
+    const P3 q{d[1] * e2[2] - d[2] * e2[1], d[2] * e2[0] - d[0] * e2[2],
+               d[0] * e2[1] - d[1] * e2[0]};
+    const double det = e1[0] * q[0] + e1[1] * q[1] + e1[2] * q[2];
+    if (std::abs(det) < 1e-14) return false;
+    const P3 s{p[0] - t[0][0], p[1] - t[0][1], p[2] - t[0][2]};
+    const double u = (s[0] * q[0] + s[1] * q[1] + s[2] * q[2]) / det;
+    if (u < 0.0 || u > 1.0) return false;
+    const P3 r{s[1] * e1[2] - s[2] * e1[1], s[2] * e1[0] - s[0] * e1[2],
+               s[0] * e1[1] - s[1] * e1[0]};
+    const double v = (d[0] * r[0] + d[1] * r[1] + d[2] * r[2]) / det;
+    if (v < 0.0 || u + v > 1.0) return false;
+    return (e2[0] * r[0] + e2[1] * r[1] + e2[2] * r[2]) / det > 0.0;
+}
+
+P3 cross(const P3& a, const P3& b) {
+    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
 
 }  // namespace
 
-AtomsByX::AtomsByX(const Atoms& atoms) : order(atoms.size()), x(atoms.size()) {
-    for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<std::uint32_t>(i);
-    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
-        return atoms.xyz[3 * std::size_t{a}] < atoms.xyz[3 * std::size_t{b}];
+bool inside_piece(const P3& p, const std::vector<std::array<P3, 3>>& tris) {
+    int crossings = 0;
+    for (const auto& t : tris) crossings += ray_crosses(p, t) ? 1 : 0;
+    return crossings % 2 == 1;
+}
+
+RayBins::RayBins(const std::vector<std::array<P3, 3>>& tris) : tris_(&tris) {
+    // Two unit axes across the ray (kRay x z, and kRay x that): the plane of the bins.
+    axis_[0] = cross(kRay, {0.0, 0.0, 1.0});
+    axis_[1] = cross(kRay, axis_[0]);
+    for (auto& axis : axis_) {
+        const double n = std::sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
+        for (double& c : axis) c /= n;
+    }
+    const std::size_t nt = tris.size();
+    if (nt == 0) return;
+    // Each triangle's projected box; the bins are as wide as the widest box, and a triangle goes
+    // to the bin of its box's low corner, so the triangles whose box holds a point are in that
+    // point's bin or the three below it. The pad (far above the rounding of the crossing test,
+    // ~1e-13 Å at 1000 Å) keeps every triangle whose test could succeed among them.
+    double scale = 0.0;
+    for (const auto& t : tris)
+        for (const auto& v : t)
+            for (double c : v) scale = std::max(scale, std::abs(c));
+    pad_ = 1e-6 * (1.0 + scale);
+    std::vector<std::array<double, 2>> low(nt);
+    double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300}, width = 0.0;
+    for (std::size_t i = 0; i < nt; ++i) {
+        for (int a = 0; a < 2; ++a) {
+            double l = 1e300, h = -1e300;
+            for (const auto& v : tris[i]) {
+                const double x = project(v, a);
+                l = std::min(l, x), h = std::max(h, x);
+            }
+            low[i][a] = l - pad_;
+            width = std::max(width, h - l + 2.0 * pad_);
+            lo[a] = std::min(lo[a], l - pad_), hi[a] = std::max(hi[a], h + pad_);
+        }
+    }
+    // At most about one bin per triangle.
+    const double area = (hi[0] - lo[0]) * (hi[1] - lo[1]);
+    cell_ = std::max({width, std::sqrt(area / double(nt)), 1e-9});
+    for (int a = 0; a < 2; ++a) {
+        origin_[a] = lo[a];
+        dims_[a] = std::int64_t((hi[a] - lo[a]) / cell_) + 1;
+    }
+    std::vector<std::uint32_t> bin_of(nt);
+    start_.assign(std::size_t(dims_[0] * dims_[1]) + 1, 0);
+    for (std::size_t i = 0; i < nt; ++i) {
+        bin_of[i] = std::uint32_t(bin(low[i][0], 0) + dims_[0] * bin(low[i][1], 1));
+        ++start_[bin_of[i] + 1];
+    }
+    for (std::size_t k = 0; k + 1 < start_.size(); ++k) start_[k + 1] += start_[k];
+    std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
+    items_.resize(nt);
+    for (std::size_t i = 0; i < nt; ++i) items_[fill[bin_of[i]]++] = std::uint32_t(i);
+}
+
+double RayBins::project(const P3& p, int a) const {
+    return p[0] * axis_[a][0] + p[1] * axis_[a][1] + p[2] * axis_[a][2];
+}
+
+std::int64_t RayBins::bin(double x, int a) const {
+    return std::clamp<std::int64_t>(std::int64_t(std::floor((x - origin_[a]) / cell_)), 0,
+                                    dims_[a] - 1);
+}
+
+bool RayBins::inside(const P3& p) const {
+    if (items_.empty()) return false;
+    const double x = project(p, 0), y = project(p, 1);
+    // Outside the projected boxes of all triangles (with their pads): no crossing.
+    if (x < origin_[0] || y < origin_[1] || x > origin_[0] + double(dims_[0]) * cell_ + cell_ ||
+        y > origin_[1] + double(dims_[1]) * cell_ + cell_)
+        return false;
+    const std::int64_t bx = bin(x, 0), by = bin(y, 1);
+    int crossings = 0;
+    for (std::int64_t j = std::max<std::int64_t>(by - 1, 0); j <= by; ++j)
+        for (std::int64_t i = std::max<std::int64_t>(bx - 1, 0); i <= bx; ++i) {
+            const std::size_t b = std::size_t(i + dims_[0] * j);
+            for (std::uint32_t k = start_[b]; k < start_[b + 1]; ++k)
+                crossings += ray_crosses(p, (*tris_)[items_[k]]) ? 1 : 0;
+        }
+    return crossings % 2 == 1;
+}
+
+namespace {
+
+// The atoms near a void, with their radii, and, for the indexed search, a cell list over them
+// when they are many and the search has a cap (only atoms within cap + r of a point can bring
+// its clearance under the cap, so the 27 cells around it hold all that matter) and a cheap
+// test that skips an atom which cannot lower the running minimum: min over those equals min
+// over all, to the bit.
+struct NearAtoms {
+    std::vector<std::array<double, 4>> atoms;
+    std::optional<CellList> cells;
+    bool skip_far = false;
+
+    void index(double cap, float r_max) {
+        skip_far = true;
+        if (!std::isfinite(cap) || atoms.size() < 64) return;
+        std::vector<float> xyz;
+        xyz.reserve(3 * atoms.size());
+        for (const auto& a : atoms) xyz.insert(xyz.end(), {float(a[0]), float(a[1]), float(a[2])});
+        cells = make_cell_list(xyz, cap + double(r_max) + 1e-3);
+    }
+
+    // min(cap, min_i |p - c_i| - r_i)
+    double clearance(const P3& p, double cap) const {
+        double best = cap;
+        const auto visit = [&](std::size_t i) {
+            const auto& a = atoms[i];
+            const double dx = p[0] - a[0], dy = p[1] - a[1], dz = p[2] - a[2];
+            // Farther than best + r by 1e-6 Å (far above the rounding of hypot and of the
+            // difference): hypot - r would not be below best.
+            const double reach = best + a[3] + 1e-6;
+            if (skip_far && reach > 1e-6 && dx * dx + dy * dy + dz * dz > reach * reach) return;
+            best = std::min(best, std::hypot(dx, dy, dz) - a[3]);
+        };
+        if (cells) {
+            cells->for_each_near(p.data(), visit);
+        } else {
+            for (std::size_t i = 0; i < atoms.size(); ++i) visit(i);
+        }
+        return best;
+    }
+};
+
+}  // namespace
+
+AtomsByX::AtomsByX(const Atoms& atoms) : order(atoms.size()), x(atoms.size()), xyzr(atoms.size()) {
+    // (x, index) pairs sorted: ties by index, and no reads of the atoms in the comparisons.
+    std::vector<std::pair<float, std::uint32_t>> keyed(atoms.size());
+    parallel_chunks(chunk_count(atoms.size(), kVertexChunk), thread_count(), [&](std::size_t k) {
+        for (std::size_t i = k * kVertexChunk; i < std::min(atoms.size(), (k + 1) * kVertexChunk);
+             ++i)
+            keyed[i] = {atoms.xyz[3 * i], static_cast<std::uint32_t>(i)};
     });
-    for (std::size_t k = 0; k < order.size(); ++k) x[k] = atoms.xyz[3 * std::size_t{order[k]}];
+    std::sort(keyed.begin(), keyed.end());
+    for (std::size_t k = 0; k < keyed.size(); ++k) {
+        const std::size_t i = keyed[k].second;
+        order[k] = keyed[k].second;
+        x[k] = keyed[k].first;
+        xyzr[k] = {atoms.xyz[3 * i], atoms.xyz[3 * i + 1], atoms.xyz[3 * i + 2], atoms.radius[i]};
+        r_max = std::max(r_max, atoms.radius[i]);
+    }
 }
 
 double cavity_clearance(const std::vector<std::array<P3, 3>>& tris, const Atoms& atoms, double step,
@@ -75,31 +218,46 @@ double cavity_clearance(const std::vector<std::array<P3, 3>>& tris, const Atoms&
     // box's diagonal of it, or, with a cap, within cap + the largest radius (an atom farther from
     // every point of the box cannot bring the clearance under the cap).
     float r_max = 0.0f;
-    for (float r : atoms.radius) r_max = std::max(r_max, r);
+    if (by_x) {
+        r_max = by_x->r_max;
+    } else {
+        for (float r : atoms.radius) r_max = std::max(r_max, r);
+    }
     const double diagonal = std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
     const double margin = std::isfinite(cap) ? cap + r_max + 1e-3 : diagonal + 2.0 * r_max;
-    std::vector<std::array<double, 4>> near;
-    auto consider = [&](std::size_t i) {
-        const P3 ci{atoms.xyz[3 * i], atoms.xyz[3 * i + 1], atoms.xyz[3 * i + 2]};
+    NearAtoms near_atoms;
+    std::vector<std::array<double, 4>>& near = near_atoms.atoms;
+    auto consider = [&](float cx, float cy, float cz, float r) {
+        const P3 ci{cx, cy, cz};
         bool close = true;
         for (int a = 0; a < 3; ++a)
             close = close && ci[a] > lo[a] - margin && ci[a] < hi[a] + margin;
-        if (close) near.push_back({ci[0], ci[1], ci[2], double(atoms.radius[i])});
+        if (close) near.push_back({ci[0], ci[1], ci[2], double(r)});
     };
     if (by_x) {
-        // Only the atoms of the box's x range (the min below does not depend on their order).
+        // Only the atoms of the box's x range, read in x order from the index's own copy (the
+        // min below does not depend on their order).
         const auto first = std::upper_bound(by_x->x.begin(), by_x->x.end(), lo[0] - margin);
         const auto last = std::lower_bound(first, by_x->x.end(), hi[0] + margin);
-        for (auto it = first; it != last; ++it) consider(by_x->order[it - by_x->x.begin()]);
+        for (auto k = std::size_t(first - by_x->x.begin()); k < std::size_t(last - by_x->x.begin());
+             ++k) {
+            const auto& a = by_x->xyzr[k];
+            consider(a[0], a[1], a[2], a[3]);
+        }
     } else {
-        for (std::size_t i = 0; i < atoms.size(); ++i) consider(i);
+        for (std::size_t i = 0; i < atoms.size(); ++i)
+            consider(atoms.xyz[3 * i], atoms.xyz[3 * i + 1], atoms.xyz[3 * i + 2], atoms.radius[i]);
     }
-    auto clearance = [&](const P3& p) {
-        double best = cap;
-        for (const auto& a : near)
-            best = std::min(best, std::hypot(p[0] - a[0], p[1] - a[1], p[2] - a[2]) - a[3]);
-        return best;
-    };
+    // With `by_x`, the near atoms in cells and the triangles binned across the ray when they
+    // are many (a ray test against each triangle is the dear part of a large void's search);
+    // without, the plain search, the reference of the tests.
+    std::optional<RayBins> bins;
+    if (by_x) {
+        near_atoms.index(cap, r_max);
+        if (tris.size() > 256) bins.emplace(tris);
+    }
+    auto clearance = [&](const P3& p) { return near_atoms.clearance(p, cap); };
+    auto inside = [&](const P3& p) { return bins ? bins->inside(p) : inside_piece(p, tris); };
     // Samples on a grid inside the piece (ending at the first that reaches the cap), keeping
     // the best four inside; the inside test (a ray against every triangle) is the dear part, so
     // it is asked only of samples that would enter the four. Then a pattern search from those.
@@ -111,7 +269,7 @@ double cavity_clearance(const std::vector<std::array<P3, 3>>& tris, const Atoms&
                 const P3 p{x, y, z};
                 const double c = clearance(p);
                 if (samples.size() == kSeeds && c <= samples.back().first) continue;
-                if (!inside_piece(p, tris)) continue;
+                if (!inside(p)) continue;
                 if (c >= cap) return cap;
                 auto at = std::find_if(samples.begin(), samples.end(),
                                        [&](const auto& e) { return c > e.first; });
@@ -137,7 +295,7 @@ double cavity_clearance(const std::vector<std::array<P3, 3>>& tris, const Atoms&
                             const P3 q{p[0] + h * dx / len, p[1] + h * dy / len,
                                        p[2] + h * dz / len};
                             const double c = clearance(q);
-                            if (c > value && inside_piece(q, tris)) value = c, p = q, moved = true;
+                            if (c > value && inside(q)) value = c, p = q, moved = true;
                         }
             }
         }
@@ -154,6 +312,7 @@ std::size_t remove_pieces_if(Mesh& mesh, const std::function<bool(double)>& cand
     const std::size_t nv = mesh.vertex_count(), nt = mesh.triangle_count();
     if (nt == 0) return 0;
     const VertexPieces parts = vertex_pieces(mesh);
+    trace("cavities: pieces");
     // Signed volume per piece (divergence theorem), summed chunk by chunk in a fixed order.
     const float* p = mesh.positions.data();
     std::vector<double> volume(parts.count, 0.0);
@@ -172,6 +331,7 @@ std::size_t remove_pieces_if(Mesh& mesh, const std::function<bool(double)>& cand
             }
         },
         [&](std::uint32_t piece, double v) { volume[piece] += v; });
+    trace("cavities: volumes");
     // The triangles of each candidate piece, for the predicate.
     std::vector<std::uint32_t> candidate_of(parts.count, UINT32_MAX);
     std::vector<MeshPiece> pieces;
@@ -189,10 +349,12 @@ std::size_t remove_pieces_if(Mesh& mesh, const std::function<bool(double)>& cand
             for (int a = 0; a < 3; ++a) tri[k][a] = p[3 * mesh.indices[3 * t + k] + a];
         pieces[c].triangles.push_back(tri);
     }
+    trace("cavities: candidates gathered");
     // The verdicts, in piece order, on all threads when `remove` allows it.
     std::vector<char> verdict(pieces.size(), 0);
     parallel_chunks(pieces.size(), concurrent ? thread_count() : 1,
                     [&](std::size_t i) { verdict[i] = remove(pieces[i]) ? 1 : 0; });
+    trace("cavities: verdicts");
     std::vector<char> drop(parts.count, 0);
     std::size_t removed = 0;
     for (std::size_t q = 0; q < parts.count; ++q) {

@@ -37,6 +37,30 @@ std::size_t remove_cavities_if(Mesh& mesh, const std::function<bool(const MeshPi
 // grid cell, where the exact SES touches itself at a point (no probe-sized feature is that small).
 std::size_t remove_specks(Mesh& mesh, double max_volume);
 
+// The inside test of the clearance search: does a ray from p along a fixed generic direction
+// cross the closed piece `tris` an odd number of times? The plain form tests every triangle.
+bool inside_piece(const std::array<double, 3>& p,
+                  const std::vector<std::array<std::array<double, 3>, 3>>& tris);
+
+// The same test on triangles binned by their projection across the ray: only the triangles of
+// four bins are tested, with the same verdict as inside_piece. Holds a pointer to `tris`.
+class RayBins {
+public:
+    explicit RayBins(const std::vector<std::array<std::array<double, 3>, 3>>& tris);
+    bool inside(const std::array<double, 3>& p) const;
+
+private:
+    double project(const std::array<double, 3>& p, int axis) const;
+    std::int64_t bin(double x, int axis) const;
+    const std::vector<std::array<std::array<double, 3>, 3>>* tris_;
+    std::array<std::array<double, 3>, 2> axis_{};
+    double origin_[2] = {0, 0};
+    double cell_ = 1.0;
+    double pad_ = 0.0;
+    std::int64_t dims_[2] = {1, 1};
+    std::vector<std::uint32_t> start_, items_;
+};
+
 // The largest clearance min_i (|p - c_i| - r_i) from the atoms' van der Waals spheres over the
 // points p enclosed by the cavity's triangles: the radius of the largest ball that fits in the
 // void (-infinity when no sample point, `step` Å apart, lies inside; infinity without atoms
@@ -50,9 +74,12 @@ struct AtomsByX {
     explicit AtomsByX(const Atoms& atoms);
     std::vector<std::uint32_t> order;  // atom indices, x ascending
     std::vector<double> x;             // their x coordinates, ascending
+    std::vector<std::array<float, 4>> xyzr;  // their centres and radii, in the same order
+    float r_max = 0.0f;                // the largest radius
 };
 
-// `by_x`, when given, must be of `atoms`; the answer is the same with or without it.
+// `by_x`, when given, must be of `atoms`, and the search then also puts the atoms near the void
+// in cells and bins the triangles (RayBins); the answer is the same with or without it.
 double cavity_clearance(const std::vector<std::array<std::array<double, 3>, 3>>& triangles,
                         const Atoms& atoms, double step = 0.3,
                         double cap = std::numeric_limits<double>::infinity(),

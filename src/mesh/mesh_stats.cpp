@@ -6,10 +6,12 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <numeric>
 #include <vector>
 
 #include "base/parallel.hpp"
+#include "base/trace.hpp"
 #include "fdmsurf/mesh.hpp"
 #include "mesh/mesh_pieces.hpp"
 #include "mesh/mesh_stats_detail.hpp"
@@ -28,31 +30,47 @@ std::array<double, 3> position(const Mesh& mesh, Index v) {
     return {p[0], p[1], p[2]};
 }
 
-// The corners at each vertex: corners[start[v], start[v + 1]) (3 t + k for corner k of
-// triangle t), in no particular order; every triangle counts, degenerate ones too.
+// The corners at each vertex of the triangles that are not degenerate: ends[start[v],
+// start[v + 1]), in triangle order, each the corner's next and previous vertex (the triangle
+// runs v -> next -> prev), so that the edges around a vertex are read in one run, not gathered
+// from the triangles. Each thread owns a range of vertices and reads all triangles in order,
+// counting and placing only its own corners: no atomic operations, which would stall on every
+// cache miss of this scattered access.
+struct CornerEnds {
+    Index next, prev;
+};
 struct VertexCorners {
     std::vector<Index> start;
-    std::vector<Index> corners;
+    std::unique_ptr<CornerEnds[]> ends;  // filled below, so not zeroed first
 };
 
 VertexCorners corners_by_vertex(const std::vector<Index>& idx, std::size_t n, unsigned threads) {
     VertexCorners vc;
     vc.start.assign(n + 1, 0);
-    const std::size_t corners = idx.size();
-    parallel_chunks(chunk_count(corners, 3 * kTriangleChunk), threads, [&](std::size_t k) {
-        const std::size_t end = std::min(corners, (k + 1) * 3 * kTriangleChunk);
-        for (std::size_t c = k * 3 * kTriangleChunk; c < end; ++c)
-            std::atomic_ref<Index>(vc.start[idx[c] + 1]).fetch_add(1, std::memory_order_relaxed);
+    const std::size_t triangles = idx.size() / 3;
+    const std::size_t parts = std::max<std::size_t>(1, std::min<std::size_t>(threads, n / 4096));
+    const auto range = [&](std::size_t part) { return part * n / parts; };
+    parallel_chunks(parts, threads, [&](std::size_t part) {
+        const Index lo = Index(range(part)), hi = Index(range(part + 1));
+        Index* count = vc.start.data() + 1;
+        for (std::size_t t = 0; t < triangles; ++t) {
+            const Index* tri = &idx[3 * t];
+            if (is_degenerate(tri)) continue;
+            for (int k = 0; k < 3; ++k)
+                if (tri[k] >= lo && tri[k] < hi) ++count[tri[k]];
+        }
     });
     for (std::size_t v = 1; v <= n; ++v) vc.start[v] += vc.start[v - 1];
-    std::vector<Index> cursor(vc.start.begin(), vc.start.end() - 1);
-    vc.corners.resize(corners);
-    parallel_chunks(chunk_count(corners, 3 * kTriangleChunk), threads, [&](std::size_t k) {
-        const std::size_t end = std::min(corners, (k + 1) * 3 * kTriangleChunk);
-        for (std::size_t c = k * 3 * kTriangleChunk; c < end; ++c) {
-            const Index slot =
-                std::atomic_ref<Index>(cursor[idx[c]]).fetch_add(1, std::memory_order_relaxed);
-            vc.corners[slot] = Index(c);
+    vc.ends.reset(new CornerEnds[vc.start[n]]);
+    parallel_chunks(parts, threads, [&](std::size_t part) {
+        const Index lo = Index(range(part)), hi = Index(range(part + 1));
+        std::vector<Index> cursor(vc.start.begin() + lo, vc.start.begin() + hi);
+        for (std::size_t t = 0; t < triangles; ++t) {
+            const Index* tri = &idx[3 * t];
+            if (is_degenerate(tri)) continue;
+            for (int k = 0; k < 3; ++k)
+                if (tri[k] >= lo && tri[k] < hi)
+                    vc.ends[cursor[tri[k] - lo]++] = {tri[(k + 1) % 3], tri[(k + 2) % 3]};
         }
     });
     return vc;
@@ -103,12 +121,40 @@ struct LocalUse {
     bool forward;  // the triangle runs v -> other
 };
 
+// Whether the corners at v form one closed fan: each corner's next vertex is the previous
+// vertex of exactly one other corner, and following that link visits every corner once. Then
+// each edge at v is used by two triangles in opposite directions and the corners make one fan,
+// which is what the general count below would find. At most 16 corners; otherwise false.
+bool closed_fan(const VertexCorners& vc, std::size_t v) {
+    const Index first = vc.start[v], count = vc.start[v + 1] - first;
+    if (count < 3 || count > 16) return false;
+    const CornerEnds* e = &vc.ends[first];
+    std::uint8_t link[16];
+    std::uint32_t taken = 0;
+    for (Index i = 0; i < count; ++i) {
+        int match = -1;
+        for (Index j = 0; j < count; ++j) {
+            if (e[j].prev != e[i].next) continue;
+            if (match >= 0) return false;  // two corners end where this one starts
+            match = int(j);
+        }
+        if (match < 0 || (taken >> match & 1u)) return false;
+        taken |= 1u << match;
+        link[i] = std::uint8_t(match);
+    }
+    Index at = 0, steps = 0;
+    do {
+        at = link[at];
+        ++steps;
+    } while (at != 0 && steps <= count);
+    return at == 0 && steps == count;
+}
+
 // The edges and fans around the vertices of chunk k. Each edge {v, w} is seen from both ends
 // and counted at its smaller end v; the corners at v that share an edge form one fan, and more
 // than one fan makes v a non-manifold vertex.
 void vertex_chunk(const Mesh& mesh, const Pieces& pieces, const VertexCorners& vc, std::size_t k,
                   Runs& runs) {
-    const auto& idx = mesh.indices;
     const std::size_t n = mesh.vertex_count();
     std::vector<LocalUse> uses;
     std::vector<Index> parent;
@@ -122,18 +168,29 @@ void vertex_chunk(const Mesh& mesh, const Pieces& pieces, const VertexCorners& v
         Partial& part = piece_sum(runs, pieces.of_vertex[v]);
         MeshStats& s = part.stats;
         ++s.vertices;
+        if (closed_fan(vc, v)) {  // the usual vertex: every edge used twice, one way each
+            for (Index i = vc.start[v]; i < vc.start[v + 1]; ++i)
+                part.edges += vc.ends[i].next > v ? 1 : 0;
+            continue;
+        }
         uses.clear();
         Index local = 0;
         for (Index i = vc.start[v]; i < vc.start[v + 1]; ++i) {
-            const Index c = vc.corners[i];
-            const Index t = c - c % 3;
-            if (is_degenerate(&idx[t])) continue;
-            uses.push_back({idx[t + (c - t + 1) % 3], local, true});
-            uses.push_back({idx[t + (c - t + 2) % 3], local, false});
+            uses.push_back({vc.ends[i].next, local, true});
+            uses.push_back({vc.ends[i].prev, local, false});
             ++local;
         }
-        std::sort(uses.begin(), uses.end(),
-                  [](const LocalUse& x, const LocalUse& y) { return x.other < y.other; });
+        // By the other end (a dozen uses at a vertex of a closed mesh: an insertion sort, a
+        // full sort for a crowded vertex; the order within a group does not matter below).
+        if (uses.size() > 32)
+            std::sort(uses.begin(), uses.end(),
+                      [](const LocalUse& x, const LocalUse& y) { return x.other < y.other; });
+        for (std::size_t i = 1; i < uses.size(); ++i) {
+            const LocalUse u = uses[i];
+            std::size_t j = i;
+            for (; j > 0 && uses[j - 1].other > u.other; --j) uses[j] = uses[j - 1];
+            uses[j] = u;
+        }
         parent.resize(local);
         std::iota(parent.begin(), parent.end(), Index{0});
         Index fans = local;
@@ -168,37 +225,41 @@ std::vector<MeshStats> analyse_pieces(const Mesh& mesh, unsigned requested_threa
     // Normals play no part in the statistics, so they are not checked.
     validate_mesh(mesh, "mesh statistics", false);
     const unsigned threads = thread_count(requested_threads);
+    trace("mesh statistics: checked");
     const VertexCorners vc = corners_by_vertex(mesh.indices, mesh.vertex_count(), threads);
+    trace("mesh statistics: corners by vertex");
     const Pieces pieces = vertex_pieces(mesh, threads);
+    trace("mesh statistics: pieces");
 
     const std::size_t triangle_chunks = chunk_count(mesh.triangle_count(), kTriangleChunk);
     const std::size_t vertex_chunks = chunk_count(mesh.vertex_count(), kVertexChunk);
     std::vector<MeshStats> stats(pieces.count);
     std::vector<long> edge_count(pieces.count, 0);
     std::vector<long> face_count(pieces.count, 0);
+    const auto add = [&](Index piece, const Partial& part) {
+        MeshStats& s = stats[piece];
+        const MeshStats& q = part.stats;
+        s.vertices += q.vertices;
+        s.triangles += q.triangles;
+        s.area += q.area;
+        s.volume += q.volume;
+        s.boundary_edges += q.boundary_edges;
+        s.nonmanifold_edges += q.nonmanifold_edges;
+        s.nonmanifold_vertices += q.nonmanifold_vertices;
+        s.inconsistent_edges += q.inconsistent_edges;
+        s.degenerate_triangles += q.degenerate_triangles;
+        edge_count[piece] += part.edges;
+        face_count[piece] += part.faces;
+    };
+    // The triangles' sums, then the vertices' counts (integers: their order does not matter).
     sum_by_piece<Partial>(
-        triangle_chunks + vertex_chunks, threads,
-        [&](std::size_t k, Runs& runs) {
-            if (k < triangle_chunks)
-                triangle_chunk(mesh, pieces, k, runs);
-            else
-                vertex_chunk(mesh, pieces, vc, k - triangle_chunks, runs);
-        },
-        [&](Index piece, const Partial& part) {
-            MeshStats& s = stats[piece];
-            const MeshStats& q = part.stats;
-            s.vertices += q.vertices;
-            s.triangles += q.triangles;
-            s.area += q.area;
-            s.volume += q.volume;
-            s.boundary_edges += q.boundary_edges;
-            s.nonmanifold_edges += q.nonmanifold_edges;
-            s.nonmanifold_vertices += q.nonmanifold_vertices;
-            s.inconsistent_edges += q.inconsistent_edges;
-            s.degenerate_triangles += q.degenerate_triangles;
-            edge_count[piece] += part.edges;
-            face_count[piece] += part.faces;
-        });
+        triangle_chunks, threads,
+        [&](std::size_t k, Runs& runs) { triangle_chunk(mesh, pieces, k, runs); }, add);
+    trace("mesh statistics: triangles");
+    sum_by_piece<Partial>(
+        vertex_chunks, threads,
+        [&](std::size_t k, Runs& runs) { vertex_chunk(mesh, pieces, vc, k, runs); }, add);
+    trace("mesh statistics: vertices");
     for (std::size_t p = 0; p < stats.size(); ++p) {
         MeshStats& s = stats[p];
         s.pieces = 1;

@@ -53,7 +53,10 @@ public:
             std::uint32_t p = at(x).load(std::memory_order_relaxed);
             if (p == x) return x;
             const std::uint32_t g = at(p).load(std::memory_order_relaxed);
-            if (g != p) at(x).compare_exchange_weak(p, g, std::memory_order_relaxed);
+            // A plain store, no compare-and-swap: x is no root, so only such halvings change
+            // its parent, and each writes an ancestor of x (links only join roots), so any of
+            // them left standing is right; a locked operation would stall on each cache miss.
+            if (g != p) at(x).store(g, std::memory_order_relaxed);
             x = g;
         }
     }

@@ -50,6 +50,8 @@ private:
 
 // Whitespace-separated fields of a line.
 std::vector<std::string_view> split_fields(std::string_view line);
+// The same into `fields` (cleared first), whose storage is reused from line to line.
+void split_fields(std::string_view line, std::vector<std::string_view>& fields);
 std::string_view trim(std::string_view s);
 bool iequals(std::string_view a, std::string_view b);
 

@@ -1,21 +1,24 @@
 // PQR, XYZR and XYZRN readers: whitespace-separated lines that carry their own radii.
+#include <algorithm>
 #include <cctype>
 #include <charconv>
+#include <exception>
+#include <initializer_list>
 #include <cmath>
 #include <cstdio>
 #include <cstdint>
 #include <limits>
 
+#include "base/parallel.hpp"
 #include "structure/detail.hpp"
 
 namespace fdmsurf::detail {
 
 namespace {
 
-const char* const kAxis[] = {"x", "y", "z"};
-
-// One numeric field; `what` names it in the message ("x coordinate", "radius").
-double number_field(std::string_view field, const std::string& what, const std::string& name,
+// One numeric field; `what` names it in the message ("x coordinate", "radius"), which is only
+// put together for a field that fails.
+double number_field(std::string_view field, const char* what, const std::string& name,
                     std::size_t line) {
     double value = 0.0;
     NumberStatus status = parse_number(field, value);
@@ -24,29 +27,68 @@ double number_field(std::string_view field, const std::string& what, const std::
     return value;
 }
 
-// x, y, z and the radius of one line; a negative radius is refused.
-void sphere(const std::vector<std::string_view>& xyzr, const std::string& name, std::size_t line,
-            float xyz[3], double& r) {
-    for (int i = 0; i < 3; ++i) {
-        std::string what = std::string(kAxis[i]) + " coordinate";
-        xyz[i] = static_cast<float>(number_field(xyzr[i], what, name, line));
-    }
-    r = number_field(xyzr[3], "radius", name, line);
+const char* const kCoordinate[] = {"x coordinate", "y coordinate", "z coordinate"};
+
+// x, y, z and the radius of one line (four fields); a negative radius is refused.
+void sphere(std::initializer_list<std::string_view> xyzr, const std::string& name,
+            std::size_t line, float xyz[3], double& r) {
+    const std::string_view* f = xyzr.begin();
+    for (int i = 0; i < 3; ++i)
+        xyz[i] = static_cast<float>(number_field(f[i], kCoordinate[i], name, line));
+    r = number_field(f[3], "radius", name, line);
     if (r < 0.0)
-        fail_format(name + ": radius " + std::string(xyzr[3]) + " is not > 0" + at_line(line));
+        fail_format(name + ": radius " + std::string(f[3]) + " is not > 0" + at_line(line));
 }
 
-// Adds the atom, or returns false for radius 0: pdb2pqr gives some hydrogens radius 0, and
-// such an atom has no volume, so it is left out (with a warning) rather than refused.
-bool add_atom(Atoms& atoms, const std::vector<std::string_view>& xyzr, const std::string& name,
+// Appends the atom's x y z and radius, or returns false for radius 0: pdb2pqr gives some
+// hydrogens radius 0, and such an atom has no volume, so it is left out (with a warning)
+// rather than refused.
+bool add_atom(std::vector<float>& xyz_out, std::vector<float>& radius_out,
+              std::initializer_list<std::string_view> xyzr, const std::string& name,
               std::size_t line) {
     float xyz[3];
     double r = 0.0;
     sphere(xyzr, name, line, xyz, r);
     if (r == 0.0) return false;
-    atoms.xyz.insert(atoms.xyz.end(), xyz, xyz + 3);
-    atoms.radius.push_back(static_cast<float>(r));
+    xyz_out.insert(xyz_out.end(), xyz, xyz + 3);
+    radius_out.push_back(static_cast<float>(r));
     return true;
+}
+
+bool add_atom(Atoms& atoms, std::initializer_list<std::string_view> xyzr,
+              const std::string& name, std::size_t line) {
+    return add_atom(atoms.xyz, atoms.radius, xyzr, name, line);
+}
+
+// One piece of an XYZR text (whole lines), read on a thread of its own: its atoms, its
+// radius-0 atoms, and the error that stopped it.
+struct XyzrPart {
+    std::vector<float> xyz, radius;
+    std::size_t zero = 0, first_zero = 0;
+    std::exception_ptr error;
+};
+
+// XYZR lines of `text`, the first of which is line `first_line` + 1 of the file.
+void read_xyzr_part(std::string_view text, std::size_t first_line, const std::string& name,
+                    XyzrPart& part) {
+    try {
+        LineReader lines(text);
+        std::string_view line;
+        std::vector<std::string_view> f;
+        while (lines.next(line)) {
+            std::string_view t = trim(line);
+            if (t.empty() || t[0] == '#') continue;
+            split_fields(t, f);
+            const std::size_t number = first_line + lines.number();
+            if (f.size() < 4)
+                fail_format(name + ": too few fields for an XYZR atom" + at_line(number) + " (" +
+                            std::to_string(f.size()) + "; expected: x y z radius)");
+            if (!add_atom(part.xyz, part.radius, {f[0], f[1], f[2], f[3]}, name, number))
+                if (part.zero++ == 0) part.first_zero = number;
+        }
+    } catch (...) {
+        part.error = std::current_exception();
+    }
 }
 
 void note_zero_radii(Structure& s, std::size_t zero, std::size_t first_line,
@@ -284,24 +326,49 @@ Structure read_pqr(std::string_view text, const std::string& name) {
     return finish(std::move(s), StructureFormat::Pqr, name, "ATOM/HETATM");
 }
 
-// XYZR (MSMS): "x y z r" and optionally more fields, which are ignored.
+// XYZR (MSMS): "x y z r" and optionally more fields, which are ignored. Pieces of about 1 MiB
+// (whole lines) on all threads, joined in order: the same atoms, and the same first error, as
+// one pass from the top.
 Structure read_xyzr(std::string_view text, const std::string& name) {
-    Structure s;
-    std::size_t zero = 0, first_zero = 0;
-    LineReader lines(text);
-    std::string_view line;
-    while (lines.next(line)) {
-        std::string_view t = trim(line);
-        if (t.empty() || t[0] == '#') continue;
-        std::vector<std::string_view> f = split_fields(t);
-        if (f.size() < 4)
-            fail_format(name + ": too few fields for an XYZR atom" + at_line(lines.number()) +
-                        " (" + std::to_string(f.size()) + "; expected: x y z radius)");
-        if (add_atom(s.atoms, f, name, lines.number()))
-            s.atoms.element.emplace_back();  // XYZR has no element; kept parallel to radius
-        else
-            if (zero++ == 0) first_zero = lines.number();
+    constexpr std::size_t kPiece = std::size_t{1} << 20;
+    std::vector<std::string_view> pieces;
+    for (std::size_t at = 0; at < text.size();) {
+        std::size_t end = std::min(text.size(), at + kPiece);
+        if (end < text.size()) {
+            const std::size_t nl = text.find('\n', end);
+            end = nl == std::string_view::npos ? text.size() : nl + 1;
+        }
+        pieces.push_back(text.substr(at, end - at));
+        at = end;
     }
+    // The lines before each piece (every piece but the last ends in a newline).
+    std::vector<std::size_t> first_line(pieces.size() + 1, 0);
+    parallel_chunks(pieces.size(), thread_count(), [&](std::size_t k) {
+        first_line[k + 1] = std::size_t(std::count(pieces[k].begin(), pieces[k].end(), '\n'));
+    });
+    for (std::size_t k = 0; k < pieces.size(); ++k) first_line[k + 1] += first_line[k];
+    std::vector<XyzrPart> parts(pieces.size());
+    parallel_chunks(pieces.size(), thread_count(), [&](std::size_t k) {
+        const std::size_t lines = first_line[k + 1] - first_line[k];
+        parts[k].xyz.reserve(3 * (lines + 1));
+        parts[k].radius.reserve(lines + 1);
+        read_xyzr_part(pieces[k], first_line[k], name, parts[k]);
+    });
+    Structure s;
+    std::size_t zero = 0, first_zero = 0, atoms = 0;
+    for (const XyzrPart& part : parts) {
+        if (part.error) std::rethrow_exception(part.error);
+        atoms += part.radius.size();
+    }
+    s.atoms.xyz.reserve(3 * atoms);
+    s.atoms.radius.reserve(atoms);
+    for (const XyzrPart& part : parts) {
+        s.atoms.xyz.insert(s.atoms.xyz.end(), part.xyz.begin(), part.xyz.end());
+        s.atoms.radius.insert(s.atoms.radius.end(), part.radius.begin(), part.radius.end());
+        if (part.zero > 0 && zero == 0) first_zero = part.first_zero;
+        zero += part.zero;
+    }
+    s.atoms.element.resize(atoms);  // XYZR has no element; kept parallel to radius
     note_zero_radii(s, zero, first_zero, name);
     return finish(std::move(s), StructureFormat::Xyzr, name, "'x y z r'");
 }
@@ -322,7 +389,7 @@ Structure read_xyzrn(std::string_view text, const std::string& name) {
         if (f.size() < 4)
             fail_format(name + ": too few fields for an XYZRN atom" + at_line(lines.number()) +
                         " (" + std::to_string(f.size()) + "; expected: x y z radius n name)");
-        if (add_atom(s.atoms, f, name, lines.number())) {
+        if (add_atom(s.atoms, {f[0], f[1], f[2], f[3]}, name, lines.number())) {
             std::string element;
             s.atoms.meta.push_back(
                 xyzrn_meta(f.size() >= 5 ? f.back() : std::string_view(), element));

@@ -195,6 +195,12 @@ bool LineReader::next(std::string_view& line) {
 
 std::vector<std::string_view> split_fields(std::string_view line) {
     std::vector<std::string_view> fields;
+    split_fields(line, fields);
+    return fields;
+}
+
+void split_fields(std::string_view line, std::vector<std::string_view>& fields) {
+    fields.clear();
     std::size_t i = 0;
     while (i < line.size()) {
         while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
@@ -202,7 +208,6 @@ std::vector<std::string_view> split_fields(std::string_view line) {
         while (i < line.size() && !std::isspace(static_cast<unsigned char>(line[i]))) ++i;
         if (i > start) fields.push_back(line.substr(start, i - start));
     }
-    return fields;
 }
 
 std::string_view trim(std::string_view s) {

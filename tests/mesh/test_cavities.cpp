@@ -6,12 +6,15 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <random>
 #include <vector>
 
 #include "fdmsurf/mesh.hpp"
 #include "fdmsurf/structure.hpp"
 #include "mesh/cavities.hpp"
+#include "mesh/mesh_pieces.hpp"
 #include "mesh/mesh_shapes.hpp"
+#include "support/test_data.hpp"
 
 namespace {
 
@@ -105,6 +108,79 @@ TEST(Cavities, AtomsSortedByXGiveTheSameClearanceFromFewerAtoms) {
         EXPECT_EQ(plain, indexed) << "cap " << cap;
     }
     EXPECT_NEAR(fdmsurf::detail::cavity_clearance(cavity, atoms, 0.3, 3.0, &by_x), 2.0, 0.005);
+}
+
+// The triangles of each piece of crambin's FDM surface (tests/data), as the search sees them.
+std::vector<std::vector<std::array<std::array<double, 3>, 3>>> crambin_pieces() {
+    const Mesh m = fdmsurf::read_mesh(fdmsurf::test::data_path("1crn-fdm-0.5.ply"));
+    const fdmsurf::detail::VertexPieces parts = fdmsurf::detail::vertex_pieces(m);
+    std::vector<std::vector<std::array<std::array<double, 3>, 3>>> pieces(parts.count);
+    for (std::size_t t = 0; t < m.triangle_count(); ++t) {
+        std::array<std::array<double, 3>, 3> tri;
+        for (int k = 0; k < 3; ++k)
+            for (int a = 0; a < 3; ++a) tri[k][a] = m.positions[3 * m.indices[3 * t + k] + a];
+        pieces[parts.of_vertex[m.indices[3 * t]]].push_back(tri);
+    }
+    return pieces;
+}
+
+TEST(Cavities, BinnedInsideTestMatchesThePlainOne) {
+    // On a real surface: random points of its box, and the hard ones, on the surface itself
+    // (vertices, edge midpoints and centroids), where a ray grazes edges and corners.
+    for (const auto& tris : crambin_pieces()) {
+        const fdmsurf::detail::RayBins bins(tris);
+        std::vector<std::array<double, 3>> points;
+        std::array<double, 3> lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+        for (const auto& t : tris) {
+            for (int k = 0; k < 3; ++k) {
+                points.push_back(t[k]);
+                const auto& u = t[(k + 1) % 3];
+                points.push_back({0.5 * (t[k][0] + u[0]), 0.5 * (t[k][1] + u[1]),
+                                  0.5 * (t[k][2] + u[2])});
+                for (int a = 0; a < 3; ++a)
+                    lo[a] = std::min(lo[a], t[k][a]), hi[a] = std::max(hi[a], t[k][a]);
+            }
+            points.push_back({(t[0][0] + t[1][0] + t[2][0]) / 3.0,
+                              (t[0][1] + t[1][1] + t[2][1]) / 3.0,
+                              (t[0][2] + t[1][2] + t[2][2]) / 3.0});
+        }
+        std::mt19937 rng(7);
+        for (int i = 0; i < 2000; ++i) {
+            std::array<double, 3> p;
+            for (int a = 0; a < 3; ++a)
+                p[a] = std::uniform_real_distribution<double>(lo[a] - 1.0, hi[a] + 1.0)(rng);
+            points.push_back(p);
+        }
+        std::size_t inside = 0;
+        // (Every 37th surface point of the large outer piece: the plain test is slow there.)
+        const std::size_t random_from = points.size() - 2000;
+        for (std::size_t i = 0; i < points.size();
+             i += tris.size() > 1000 && i < random_from ? 37 : 1) {
+            const bool plain = fdmsurf::detail::inside_piece(points[i], tris);
+            ASSERT_EQ(bins.inside(points[i]), plain) << "point " << i;
+            inside += plain;
+        }
+        EXPECT_GT(inside, 0u);
+    }
+}
+
+TEST(Cavities, IndexedClearanceMatchesThePlainSearchOnCrambin) {
+    // The atoms' cells and the triangles' bins change only how fast the search runs: on every
+    // piece of crambin's surface, with and without a cap, the same clearance to the last bit.
+    const Atoms atoms = fdmsurf::read_structure(fdmsurf::test::data_path("1crn.xyzr")).atoms;
+    const fdmsurf::detail::AtomsByX by_x(atoms);
+    // (The outer piece with a coarser step and one cap: the plain search is slow there.)
+    for (const auto& tris : crambin_pieces()) {
+        const bool outer = tris.size() > 5000;
+        for (double cap : {1.4, 3.0, std::numeric_limits<double>::infinity()}) {
+            if (outer && cap != 1.4) continue;
+            const double step = outer ? 1.0 : 0.3;
+            const double plain = fdmsurf::detail::cavity_clearance(tris, atoms, step, cap);
+            const double indexed =
+                fdmsurf::detail::cavity_clearance(tris, atoms, step, cap, &by_x);
+            EXPECT_EQ(plain, indexed) << "cap " << cap << ", " << tris.size() << " triangles";
+        }
+    }
 }
 
 TEST(Cavities, VoidsWithoutRoomForTheProbeAreRemoved) {

@@ -1,9 +1,13 @@
 // Tests of compute_stats and piece_stats on analytic shapes and on meshes broken in known ways.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <numbers>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "fdmsurf/compare.hpp"
 #include "fdmsurf/error.hpp"
@@ -279,3 +283,52 @@ TEST(MeshStats, SameFiguresOnOneThreadAndMany) {
     EXPECT_EQ(g.boundary_edges, 0u);
     EXPECT_NEAR(g.area, 2 * s.area, 1e-9 * s.area);
 }
+
+namespace fdmsurf {
+namespace {
+
+TEST(MeshStats, EdgeCountsMatchAPlainEdgeTableOnARealSurface) {
+    // Crambin's SES with a hole, a flipped triangle, a fin (a triangle added on an edge) and a
+    // degenerate one: the edge figures against a table of every edge's uses, built plainly.
+    Mesh m = read_mesh_any(test::data_path("1crn-ses-nanoshaper.ply.gz"));
+    m.normals.clear();
+    m.indices.resize(m.indices.size() - 3 * 50);                 // a hole
+    std::swap(m.indices[3 * 100 + 1], m.indices[3 * 100 + 2]);   // a flipped triangle
+    m.indices.insert(m.indices.end(), {m.indices[3 * 200], m.indices[3 * 200 + 1],
+                                       m.indices[3 * 300 + 2]});  // a fin on an edge
+    m.indices.insert(m.indices.end(), {m.indices[3 * 400], m.indices[3 * 400], 7});
+    std::map<std::pair<std::uint32_t, std::uint32_t>, std::vector<bool>> uses;
+    long faces = 0;
+    for (std::size_t t = 0; t < m.triangle_count(); ++t) {
+        const std::uint32_t* v = &m.indices[3 * t];
+        if (v[0] == v[1] || v[1] == v[2] || v[2] == v[0]) continue;
+        ++faces;
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t a = v[k], b = v[(k + 1) % 3];
+            uses[{std::min(a, b), std::max(a, b)}].push_back(a < b);
+        }
+    }
+    std::size_t boundary = 0, nonmanifold = 0, inconsistent = 0;
+    for (const auto& [edge, dirs] : uses) {
+        boundary += dirs.size() == 1;
+        nonmanifold += dirs.size() > 2;
+        inconsistent += dirs.size() == 2 && dirs[0] == dirs[1];
+    }
+    std::vector<bool> referenced(m.vertex_count(), false);
+    for (std::uint32_t v : m.indices) referenced[v] = true;
+    const long vertices = long(std::count(referenced.begin(), referenced.end(), true));
+    for (unsigned threads : {1u, 2u, 0u}) {
+        const MeshStats s = detail::total_stats(m, threads);
+        EXPECT_EQ(s.boundary_edges, boundary);
+        EXPECT_EQ(s.nonmanifold_edges, nonmanifold);
+        EXPECT_EQ(s.inconsistent_edges, inconsistent);
+        EXPECT_EQ(s.degenerate_triangles, 1u);
+        EXPECT_EQ(s.euler_characteristic, vertices - long(uses.size()) + faces);
+    }
+    EXPECT_GT(boundary, 10u);
+    EXPECT_EQ(inconsistent, 3u);
+    EXPECT_GE(nonmanifold, 1u);
+}
+
+}  // namespace
+}  // namespace fdmsurf

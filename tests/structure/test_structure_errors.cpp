@@ -271,6 +271,39 @@ TEST(StructureErrors, XyzrLinesWithTooFewOrBadFields) {
                         {"none.xyzr", "no atoms"});
 }
 
+TEST(StructureErrors, LargeXyzrReadInPiecesKeepsOrderAndLineNumbers) {
+    // About 3 MiB: read in pieces of 1 MiB on several threads, joined in order. Radius-0 atoms
+    // in later pieces, a comment and CRLF lines; then an error far down names its own line.
+    std::string text;
+    std::vector<float> radii;
+    std::size_t zero = 0, first_zero = 0, line = 0;
+    for (int i = 0; text.size() < (std::size_t{3} << 20); ++i) {
+        ++line;
+        if (i % 50000 == 7) {
+            text += "# comment\r\n";
+            continue;
+        }
+        const bool empty = i > 40000 && i % 30011 == 0;
+        if (empty && zero++ == 0) first_zero = line;
+        text += std::to_string(i % 997) + ".125 " + std::to_string(-i % 89) + ".5 " +
+                std::to_string(i % 13) + " " + (empty ? "0" : "1.5") + (i % 3 ? "\n" : "\r\n");
+        if (!empty) radii.push_back(1.5f);
+    }
+    ASSERT_GT(zero, 2u);
+    const Structure s = read_structure_from_memory(text, "big.xyzr");
+    ASSERT_EQ(s.atoms.size(), radii.size());
+    EXPECT_EQ(s.info.zero_radius_skipped, zero);
+    EXPECT_EQ(s.info.first_zero_radius_line, first_zero);
+    EXPECT_EQ(s.atoms.xyz[0], 0.125f);
+    const std::size_t last = s.atoms.size() - 1;
+    // The last atom is the file's last line that is no comment and not of radius 0.
+    std::size_t at = text.rfind('\n', text.size() - 2) + 1;
+    EXPECT_EQ(s.atoms.xyz[3 * last], std::stof(text.substr(at)));
+    const std::string bad = text + "1 2 3\n" + text;
+    expect_memory_error(bad, "bad.xyzr", ErrorCode::Format,
+                        {"too few fields for an XYZR atom at line " + std::to_string(line + 1)});
+}
+
 TEST(StructureErrors, OnlyModelOneForPqrAndXyzr) {
     ReadOptions second;
     second.model = 2;
