@@ -295,38 +295,53 @@ std::vector<std::uint32_t> host_vertex_atoms(const AtomCells& cells, const float
     // 2 Å cells: on 1AON (ses, 0.5 Å) about 30 vertices and 40 candidates each.
     constexpr float kVertexCell = 2.0f;
     std::vector<std::uint32_t> out(n);
+    auto finite = [&](std::size_t v) {
+        return std::isfinite(positions[3 * v]) && std::isfinite(positions[3 * v + 1]) &&
+               std::isfinite(positions[3 * v + 2]);
+    };
+    // The box of the finite vertices and then their cells, on all threads in blocks.
+    constexpr std::size_t kBlock = 1 << 16;
+    const std::size_t blocks = (n + kBlock - 1) / kBlock;
+    const unsigned threads = thread_count(0);
+    std::vector<float> block_box(6 * blocks);
+    parallel_chunks(blocks, threads, [&](std::size_t k) {
+        float* lo = &block_box[6 * k];
+        float* hi = lo + 3;
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = std::numeric_limits<float>::max();
+            hi[a] = -lo[a];
+        }
+        for (std::size_t v = k * kBlock; v < std::min(n, (k + 1) * kBlock); ++v)
+            if (finite(v)) extend_box(positions + 3 * v, 1, 3, lo, hi);
+    });
     float lo[3], hi[3];
     for (int a = 0; a < 3; ++a) {
         lo[a] = std::numeric_limits<float>::max();
         hi[a] = -lo[a];
     }
-    auto finite = [&](std::size_t v) {
-        return std::isfinite(positions[3 * v]) && std::isfinite(positions[3 * v + 1]) &&
-               std::isfinite(positions[3 * v + 2]);
-    };
-    std::size_t finite_count = 0;
-    for (std::size_t v = 0; v < n; ++v)
-        if (finite(v)) {
-            ++finite_count;
-            extend_box(positions + 3 * v, 1, 3, lo, hi);
-        }
+    for (std::size_t k = 0; k < blocks; ++k) {
+        extend_box(&block_box[6 * k], 1, 3, lo, hi);
+        extend_box(&block_box[6 * k + 3], 1, 3, lo, hi);
+    }
     // A vertex that is not a number (or infinite) goes through nearest_atom alone.
     for (std::size_t v = 0; v < n; ++v)
         if (!finite(v)) out[v] = nearest_atom(cells, positions + 3 * v);
-    if (finite_count == 0) return out;
+    if (!(lo[0] <= hi[0])) return out;  // no finite vertex
     const CellGrid vg = make_grid(lo, hi, kVertexCell);
     const std::size_t vcells = vg.count();
     std::vector<std::uint32_t> cell_of(n), start(vcells + 2, 0);
-    for (std::size_t v = 0; v < n; ++v) {
-        cell_of[v] = finite(v) ? vg.cell_of(positions + 3 * v) : std::uint32_t(vcells);
-        ++start[cell_of[v] + 1];
-    }
+    parallel_chunks(blocks, threads, [&](std::size_t k) {
+        for (std::size_t v = k * kBlock; v < std::min(n, (k + 1) * kBlock); ++v)
+            cell_of[v] = finite(v) ? vg.cell_of(positions + 3 * v) : std::uint32_t(vcells);
+    });
+    for (std::size_t v = 0; v < n; ++v) ++start[cell_of[v] + 1];
     for (std::size_t c = 0; c <= vcells; ++c) start[c + 1] += start[c];
     std::vector<std::uint32_t> order(n);
     {
         std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
         for (std::size_t v = 0; v < n; ++v) order[fill[cell_of[v]]++] = std::uint32_t(v);
     }
+    trace("vertex atoms: vertices sorted into cells");
     std::vector<std::uint32_t> used;
     for (std::size_t c = 0; c < vcells; ++c)
         if (start[c + 1] > start[c]) used.push_back(std::uint32_t(c));
@@ -355,9 +370,11 @@ std::vector<std::uint32_t> host_vertex_atoms(const AtomCells& cells, const float
                 vx[j] = p[0], vy[j] = p[1], vz[j] = p[2];
                 extend_box(p, 1, 3, blo, bhi);
             }
-            // An upper bound on every vertex's least power: the power of the first vertex's
-            // atom at the farthest corner of the box.
-            const Nearest seed = nearest(cells, positions + 3 * std::size_t(order[first]));
+            // An upper bound on every vertex's least power: the power of the box centre's atom
+            // at the box's farthest corner.
+            const float centre[3] = {0.5f * (blo[0] + bhi[0]), 0.5f * (blo[1] + bhi[1]),
+                                     0.5f * (blo[2] + bhi[2])};
+            const Nearest seed = nearest(cells, centre);
             if (seed.atom == 0xffffffffu) {
                 for (std::size_t j = 0; j < m; ++j) {
                     const std::size_t v = order[first + j];
@@ -420,15 +437,18 @@ std::vector<std::uint32_t> host_vertex_atoms(const AtomCells& cells, const float
                             cr2.push_back(a[3]), cidx.push_back(cells.index[k]);
                         }
                     }
-            best.assign(m, 3.0e38f);
-            best_atom.assign(m, 0xffffffffu);
+            // Whole vector widths: the last vertex repeated (its results are not read).
+            const std::size_t padded = (m + 7) & ~std::size_t(7);
+            vx.resize(padded, vx[m - 1]), vy.resize(padded, vy[m - 1]), vz.resize(padded, vz[m - 1]);
+            best.assign(padded, 3.0e38f);
+            best_atom.assign(padded, 0xffffffffu);
             float* bp = best.data();
             std::uint32_t* ba = best_atom.data();
             const float *px = vx.data(), *py = vy.data(), *pz = vz.data();
             for (std::size_t k = 0; k < cidx.size(); ++k) {
                 const float ax = cx[k], ay = cy[k], az = cz[k], ar2 = cr2[k];
                 const std::uint32_t idx = cidx[k];
-                for (std::size_t j = 0; j < m; ++j) {
+                for (std::size_t j = 0; j < padded; ++j) {
                     const float d0 = px[j] - ax, d1 = py[j] - ay, d2 = pz[j] - az;
                     const float pw = (d0 * d0 + d1 * d1 + d2 * d2) - ar2;
                     const bool take = (pw < bp[j]) | ((pw == bp[j]) & (idx < ba[j]));
@@ -439,6 +459,7 @@ std::vector<std::uint32_t> host_vertex_atoms(const AtomCells& cells, const float
             for (std::size_t j = 0; j < m; ++j) out[order[first + j]] = ba[j];
         }
     });
+    trace("vertex atoms: searched");
     return out;
 }
 
@@ -477,6 +498,7 @@ std::vector<std::uint32_t> VertexPropertiesPass::vertex_atoms(
     if (on_host_) {
         const std::vector<std::uint32_t> found =
             host_vertex_atoms(cells, mesh.positions.data(), nv);
+        trace("vertex atoms: attributes");
         for (std::size_t v = 0; v < nv; ++v) {
             std::uint32_t* w = &out[v * stride];
             w[0] = found[v];
