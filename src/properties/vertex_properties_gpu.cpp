@@ -400,13 +400,16 @@ void host_vertex_atoms(const AtomCells& cells, const float* positions, std::size
                 chi[a] = std::clamp(int(std::floor((double(bhi[a]) + reach - g.origin[a]) / g.size)),
                                     0, dims[a] - 1);
             }
-            cx.clear(), cy.clear(), cz.clear(), cr2.clear(), cidx.clear();
+            // Every atom of a cell within reach is written and kept only when near enough
+            // (no branch on it: about a third are kept, a branch mispredicted often).
+            std::size_t kept = 0;
             for (int z = clo[2]; z <= chi[2]; ++z)
                 for (int y = clo[1]; y <= chi[1]; ++y)
                     for (int x = clo[0]; x <= chi[0]; ++x) {
                         const std::size_t b =
                             (std::size_t(z) * g.dims[1] + std::size_t(y)) * g.dims[0] + x;
-                        if (cells.start[b] == cells.start[b + 1]) continue;
+                        const std::uint32_t k0 = cells.start[b], k1 = cells.start[b + 1];
+                        if (k0 == k1) continue;
                         const int c[3] = {x, y, z};
                         double gap2 = 0.0;  // box to cell, the cell grown by 0.01 Å
                         for (int a = 0; a < 3; ++a) {
@@ -417,11 +420,16 @@ void host_vertex_atoms(const AtomCells& cells, const float* positions, std::size
                             gap2 += gap * gap;
                         }
                         if (gap2 - double(cells.cell_r2[b]) > limit) continue;
-                        for (std::uint32_t k = cells.start[b]; k < cells.start[b + 1]; ++k) {
+                        if (cidx.size() < kept + (k1 - k0)) {
+                            const std::size_t size = 2 * (kept + (k1 - k0));
+                            cx.resize(size), cy.resize(size), cz.resize(size), cr2.resize(size);
+                            cidx.resize(size);
+                        }
+                        for (std::uint32_t k = k0; k < k1; ++k) {
                             const float* a = &cells.atoms[4 * std::size_t(k)];
-                            if (near2(a) - double(a[3]) > limit) continue;
-                            cx.push_back(a[0]), cy.push_back(a[1]), cz.push_back(a[2]);
-                            cr2.push_back(a[3]), cidx.push_back(cells.index[k]);
+                            cx[kept] = a[0], cy[kept] = a[1], cz[kept] = a[2], cr2[kept] = a[3];
+                            cidx[kept] = cells.index[k];
+                            kept += near2(a) - double(a[3]) <= limit;
                         }
                     }
             // Whole vector widths: the last vertex repeated (its results are not read).
@@ -432,7 +440,7 @@ void host_vertex_atoms(const AtomCells& cells, const float* positions, std::size
             float* bp = best.data();
             std::uint32_t* ba = best_atom.data();
             const float *px = vx.data(), *py = vy.data(), *pz = vz.data();
-            for (std::size_t k = 0; k < cidx.size(); ++k) {
+            for (std::size_t k = 0; k < kept; ++k) {
                 const float ax = cx[k], ay = cy[k], az = cz[k], ar2 = cr2[k];
                 const std::uint32_t idx = cidx[k];
                 for (std::size_t j = 0; j < padded; ++j) {
