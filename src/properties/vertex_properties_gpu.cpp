@@ -401,7 +401,7 @@ void host_vertex_atoms(const AtomCells& cells, const float* positions, std::size
                                     0, dims[a] - 1);
             }
             // Every atom of a cell within reach is written and kept only when near enough
-            // (no branch on it: about a third are kept, a branch mispredicted often).
+            // (no branch on it: on 1AON about one in seven is kept, a branch mispredicted often).
             std::size_t kept = 0;
             for (int z = clo[2]; z <= chi[2]; ++z)
                 for (int y = clo[1]; y <= chi[1]; ++y)
