@@ -389,8 +389,14 @@ void host_vertex_atoms(const AtomCells& cells, const float* positions, std::size
             };
             const double bound = far2(&cells.atoms[4 * std::size_t(seed.slot)]) -
                                  double(cells.atoms[4 * std::size_t(seed.slot) + 3]);
-            // Float rounding of the powers, with room to spare.
-            const double slack = 1e-4 * (1.0 + std::abs(bound) + 2.0 * double(cells.r2_max));
+            // Float rounding of the powers, with room to spare (also far from the origin, where
+            // a difference of coordinates rounds to ulp(coordinate)).
+            double coord = 0.0;
+            for (int k = 0; k < 3; ++k)
+                coord = std::max({coord, std::abs(double(blo[k])), std::abs(double(bhi[k]))});
+            const double slack =
+                1e-4 * (1.0 + std::abs(bound) + 2.0 * double(cells.r2_max)) +
+                1e-6 * coord * (1.0 + std::sqrt(std::max(bound + double(cells.r2_max), 0.0)));
             const double limit = bound + slack;
             const double reach = std::sqrt(std::max(limit + double(cells.r2_max), 0.0)) + 0.01;
             int clo[3], chi[3];
