@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <map>
 #include <utility>
+#include <string>
 #include <vector>
 
 #include "fdmsurf/fdmsurf.hpp"
@@ -330,11 +331,15 @@ TEST_F(VertexProperties, HostSearchGivesTheDevicePassesAtoms) {
 TEST_F(VertexProperties, HostSearchEqualsFloatBruteForceExactly) {
     // The host's search (cells of vertices sharing candidate lists) against every atom tried in
     // the same float arithmetic, ties to the lower index: the same atom for every vertex, on
-    // 4HHB's surface and on crambin's sas surface (crease vertices are exact ties).
+    // 4HHB's surface and on crambin's sas surface (crease vertices are exact ties), also moved
+    // 3,000 Å from the origin (coordinates' differences then round to 2.4e-4 Å).
     detail::EngineImpl& e = impl();
     const bool default_place = e.vertex_properties.on_host();
-    for (const char* name : {"4hhb.pdb.gz", "1crn.pdb"}) {
-        const Atoms atoms = read_structure(data_path(name)).atoms;
+    for (const char* name : {"4hhb.pdb.gz", "1crn.pdb", "1crn.pdb far"}) {
+        const std::string file = std::string(name).substr(0, std::string(name).find(' '));
+        Atoms atoms = read_structure(data_path(file)).atoms;
+        if (file != name)
+            for (float& c : atoms.xyz) c += 3000.0f;
         const SurfaceKind kind = name[0] == '4' ? SurfaceKind::Ses : SurfaceKind::Sas;
         const float add = kind == SurfaceKind::Sas ? 1.4f : 0.0f;
         const Mesh mesh = surface(engine(), atoms, kind, SesMethod::Fdm).mesh;
