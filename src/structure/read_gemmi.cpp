@@ -561,6 +561,15 @@ void select_atoms(const gemmi::Model& model, const ReadOptions& options, const s
     StructureInfo& info = out.info;
     Atoms& atoms = out.atoms;
     if (!filter.chains.empty()) check_chains(model, filter.chains, name, info);
+    // Room for every atom of the model up front: no copies of the per-atom strings as the
+    // arrays grow (what the rules leave out is only reserved).
+    std::size_t in_model = 0;
+    for (const gemmi::Chain& chain : model.chains)
+        for (const gemmi::Residue& res : chain.residues) in_model += res.atoms.size();
+    atoms.xyz.reserve(atoms.xyz.size() + 3 * in_model);
+    atoms.radius.reserve(atoms.radius.size() + in_model);
+    atoms.element.reserve(atoms.element.size() + in_model);
+    atoms.meta.reserve(atoms.meta.size() + in_model);
     const bool model_selected = !filter.select || filter.select->matches_model(info.model);
     for (const gemmi::Chain& chain : model.chains) {
         const bool chain_kept =

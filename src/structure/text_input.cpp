@@ -38,6 +38,12 @@ std::string read_bytes(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error(ErrorCode::Io, path + ": cannot open (" + std::strerror(errno) + ")");
     std::string bytes;
+    // A regular file's size up front: one allocation, no copies as the string grows (a pipe
+    // or a special file has no size and grows as before).
+    const std::uintmax_t size = std::filesystem::is_regular_file(path, ec)
+                                    ? std::filesystem::file_size(path, ec)
+                                    : 0;
+    if (!ec && size > 0) bytes.reserve(static_cast<std::size_t>(size));
     char buffer[1 << 16];
     while (in.read(buffer, sizeof buffer) || in.gcount() > 0)
         bytes.append(buffer, static_cast<std::size_t>(in.gcount()));
