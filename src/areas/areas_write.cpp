@@ -16,6 +16,8 @@ namespace fdmsurf {
 
 namespace {
 
+using detail::csv_field;
+
 std::string lower_extension(const std::string& path) {
     const std::size_t slash = path.find_last_of('/');
     const std::size_t dot = path.find_last_of('.');
@@ -38,18 +40,6 @@ std::string number(double value, int decimals = 4) {
     if (std::string_view(text).find_first_not_of("-0.") == std::string_view::npos)
         std::snprintf(text, sizeof text, "%.*f", decimals, 0.0);
     return text;
-}
-
-// A CSV field (RFC 4180), in UTF-8: bytes that are not become U+FFFD, as in the JSON file.
-std::string csv_field(const std::string& raw) {
-    const std::string text = detail::valid_utf8(raw);
-    if (text.find_first_of(",\"\n\r") == std::string::npos) return text;
-    std::string out = "\"";
-    for (char c : text) {
-        if (c == '"') out += '"';
-        out += c;
-    }
-    return out + "\"";
 }
 
 std::string icode(char c) { return c == ' ' ? std::string() : std::string(1, c); }

@@ -56,6 +56,19 @@ inline std::string valid_utf8(std::string_view text) {
     return out;
 }
 
+// A CSV field (RFC 4180), in UTF-8: bytes that are not become U+FFFD (as in the JSON files);
+// quoted, with its quotes doubled, when it holds a comma, a quote or a line break.
+inline std::string csv_field(std::string_view raw) {
+    const std::string text = valid_utf8(raw);
+    if (text.find_first_of(",\"\n\r") == std::string::npos) return text;
+    std::string out = "\"";
+    for (char c : text) {
+        if (c == '"') out += '"';
+        out += c;
+    }
+    return out + "\"";
+}
+
 // `text` with every control character as '?', as `ls -q` shows names: C0 (below 0x20), DEL, C1
 // (U+0080 to U+009F: CSI and the like, which some terminals act on) and bytes that are not
 // UTF-8; other characters as they are.

@@ -5,6 +5,7 @@
 #include <cctype>
 #include <cstdio>
 
+#include "base/text.hpp"
 #include "cli/json.hpp"
 #include "io/atomic_file.hpp"
 
@@ -12,22 +13,13 @@ namespace fdmsurf::cli {
 
 namespace {
 
+using detail::csv_field;
+
 bool ends_with_lower(const std::string& path, const std::string& suffix) {
     if (path.size() < suffix.size()) return false;
     std::string tail = path.substr(path.size() - suffix.size());
     for (char& c : tail) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     return tail == suffix;
-}
-
-// A CSV field: quoted when it holds a comma, a quote or a line break.
-std::string csv_field(const std::string& raw) {
-    if (raw.find_first_of(",\"\r\n") == std::string::npos) return raw;
-    std::string quoted = "\"";
-    for (char c : raw) {
-        if (c == '"') quoted += '"';
-        quoted += c;
-    }
-    return quoted + "\"";
 }
 
 std::string number(double value) {
