@@ -33,16 +33,16 @@ bool istarts_with(std::string_view s, std::string_view prefix) {
 
 std::string read_bytes(const std::string& path) {
     std::error_code ec;
-    if (std::filesystem::is_directory(path, ec))
+    const std::filesystem::file_status status = std::filesystem::status(path, ec);
+    if (std::filesystem::is_directory(status))
         throw Error(ErrorCode::Io, path + ": cannot open (it is a directory)");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error(ErrorCode::Io, path + ": cannot open (" + std::strerror(errno) + ")");
     std::string bytes;
     // A regular file's size up front: one allocation, no copies as the string grows (a pipe
     // or a special file has no size and grows as before).
-    const std::uintmax_t size = std::filesystem::is_regular_file(path, ec)
-                                    ? std::filesystem::file_size(path, ec)
-                                    : 0;
+    const std::uintmax_t size =
+        std::filesystem::is_regular_file(status) ? std::filesystem::file_size(path, ec) : 0;
     if (!ec && size > 0) bytes.reserve(static_cast<std::size_t>(size));
     char buffer[1 << 16];
     while (in.read(buffer, sizeof buffer) || in.gcount() > 0)
