@@ -25,6 +25,7 @@ usage error.
 """
 
 import argparse
+import contextlib
 import datetime
 import hashlib
 import json
@@ -390,6 +391,33 @@ class _Progress:
         print(line, file=self.stream, flush=True)
 
 
+@contextlib.contextmanager
+def _dask_client(client, scheduler, workers, memory_limit="auto"):
+    """(client, cluster) for a run: `client` as given (cluster None, left open), else a client
+    of `scheduler`, else of a LocalCluster of `workers` single-threaded processes (default:
+    default_workers()); those two are closed when the run ends."""
+    from distributed import Client, LocalCluster
+
+    if client is not None:
+        yield client, None
+        return
+    cluster = None
+    if scheduler:
+        client = Client(scheduler)
+    else:
+        import logging
+        cluster = LocalCluster(n_workers=workers or default_workers(), threads_per_worker=1,
+                               processes=True, dashboard_address=None, memory_limit=memory_limit,
+                               silence_logs=logging.ERROR)
+        client = Client(cluster)
+    try:
+        yield client, cluster
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+
+
 def _check_memory_limit(limit):
     """InvalidArgumentError unless LIMIT is one that LocalCluster takes: 'auto', None or 0 (no
     limit), a number of bytes, a fraction of the memory (a number up to 1, as '0.5'), or a size
@@ -464,22 +492,10 @@ def run(inputs, outdir, *, scheduler=None, workers=None, client=None, device=Non
     if not todo:
         return summary
 
-    from distributed import Client, LocalCluster, as_completed
+    from distributed import as_completed
 
     start = time.perf_counter()
-    cluster = None
-    own_client = client is None
-    if client is None:
-        if scheduler:
-            client = Client(scheduler)
-        else:
-            n = workers or default_workers()
-            import logging
-            cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                                   dashboard_address=None, memory_limit=memory_limit,
-                                   silence_logs=logging.ERROR)
-            client = Client(cluster)
-    try:
+    with _dask_client(client, scheduler, workers, memory_limit) as (client, cluster):
         responses = client.register_worker_plugin(EnginePlugin(device, validation), name=PLUGIN)
         broken = {w: r for w, r in responses.items() if r.get("status") != "OK"}
         if responses and len(broken) == len(responses):
@@ -518,11 +534,6 @@ def run(inputs, outdir, *, scheduler=None, workers=None, client=None, device=Non
                 summary["rows"].append(row)
                 summary["computed" if row["status"] == "ok" else "failed"] += 1
                 report(row)
-    finally:
-        if own_client:
-            client.close()
-            if cluster is not None:
-                cluster.close()
     # A worker killed while writing leaves its temporary file: remove those of this run's
     # meshes (every task has ended, so none is being written).
     remove_stale_temporaries(outdir, [stem_of(path) for path in todo], mesh_format)
@@ -680,20 +691,7 @@ def trajectory(source, *, chunk=100, start=0, stop=None, client=None, scheduler=
     if not ranges:
         return []
 
-    from distributed import Client, LocalCluster
-
-    cluster = None
-    own_client = client is None
-    if client is None:
-        if scheduler:
-            client = Client(scheduler)
-        else:
-            import logging
-            cluster = LocalCluster(n_workers=workers or default_workers(), threads_per_worker=1,
-                                   processes=True, dashboard_address=None,
-                                   silence_logs=logging.ERROR)
-            client = Client(cluster)
-    try:
+    with _dask_client(client, scheduler, workers) as (client, _):
         client.register_worker_plugin(EnginePlugin(device, False), name=PLUGIN)
         if ses and grid is None:
             dims = client.gather([client.submit(_chunk_grid, source, a, b, dict(keywords),
@@ -711,8 +709,3 @@ def trajectory(source, *, chunk=100, start=0, stop=None, client=None, scheduler=
                       f"({i + 1}/{len(ranges)}, {time.perf_counter() - started:.1f} s)",
                       file=progress, flush=True)
         return rows
-    finally:
-        if own_client:
-            client.close()
-            if cluster is not None:
-                cluster.close()
