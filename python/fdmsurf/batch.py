@@ -406,8 +406,11 @@ def _dask_client(client, scheduler, workers, memory_limit="auto"):
         client = Client(scheduler)
     else:
         import logging
+        # dashboard_address=None still binds the scheduler's HTTP server to port 8787, and a
+        # second cluster on the machine then warns on stderr that the port is taken: ":0" takes
+        # a free port.
         cluster = LocalCluster(n_workers=workers or default_workers(), threads_per_worker=1,
-                               processes=True, dashboard_address=None, memory_limit=memory_limit,
+                               processes=True, dashboard_address=":0", memory_limit=memory_limit,
                                silence_logs=logging.ERROR)
         client = Client(cluster)
     try:

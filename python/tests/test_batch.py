@@ -176,7 +176,7 @@ def test_a_worker_killed_mid_run(data, tmp_path):
     inputs += [data / "4hhb.pdb.gz", data / "3al1.pdb"]
     out = tmp_path / "out"
     cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                       dashboard_address=None, silence_logs=50)
+                                       dashboard_address=":0", silence_logs=50)
     client = distributed.Client(cluster)
     try:
         pids = client.run(os.getpid)
@@ -224,7 +224,7 @@ def test_a_worker_killed_mid_run(data, tmp_path):
 def test_joining_a_running_cluster(data, tmp_path):
     """--scheduler ADDRESS: the run uses that cluster's workers and leaves the cluster up."""
     cluster = distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True,
-                                       dashboard_address=None, silence_logs=50)
+                                       dashboard_address=":0", silence_logs=50)
     try:
         done = run_batch(data / "1crn.pdb", data / "3al1.pdb", "-o", tmp_path,
                          "--scheduler", cluster.scheduler_address, "--spacing", "1.0")
