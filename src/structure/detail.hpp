@@ -68,6 +68,12 @@ std::string at_line(std::size_t line);
 
 // --- pdb_text.cpp: PDB text as gemmi can read it ---
 
+// An ATOM or HETATM record (gemmi matches record names case-insensitively on their first four
+// letters).
+bool is_atom_record(std::string_view line);
+// END (not ENDMDL), which ends gemmi's reading, so fdmsurf's checks stop there too.
+bool is_end_record(std::string_view line);
+
 // Checks every ATOM/HETATM record's coordinates (Error(Format) naming the line and columns) and
 // returns the text rewritten where gemmi would refuse or misread it: records whose fields
 // overflow their columns, unreadable charges, repeated MODEL numbers or a missing ENDMDL

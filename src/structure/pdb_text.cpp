@@ -20,15 +20,6 @@ bool record_is(std::string_view line, std::string_view four) {
     return line.size() >= 4 && iequals(line.substr(0, 4), four);
 }
 
-bool is_atom_record(std::string_view line) {
-    return record_is(line, "ATOM") || record_is(line, "HETA");
-}
-
-// END (not ENDMDL) ends gemmi's reading, so the checks stop there too.
-bool is_end_record(std::string_view line) {
-    return line.size() >= 3 && iequals(line.substr(0, 3), "END") &&
-           (line.size() == 3 || is_space(line[3]));
-}
 
 // Hybrid-36 (gemmi reads it): `width` digits, then upper-case base 36 from A000 (10000) or
 // A0000 (100000) on; "" beyond its range.
@@ -313,6 +304,15 @@ struct Fixes {
 }
 
 }  // namespace
+
+bool is_atom_record(std::string_view line) {
+    return record_is(line, "ATOM") || record_is(line, "HETA");
+}
+
+bool is_end_record(std::string_view line) {
+    return line.size() >= 3 && iequals(line.substr(0, 3), "END") &&
+           (line.size() == 3 || is_space(line[3]));
+}
 
 std::string prepare_pdb_text(std::string_view text, const std::string& name,
                              std::vector<std::string>& warnings) {

@@ -24,18 +24,6 @@ namespace fdmsurf::detail {
 
 namespace {
 
-// gemmi matches record names case-insensitively on their first four letters.
-bool is_atom_record(std::string_view line) {
-    return line.size() >= 4 &&
-           (iequals(line.substr(0, 4), "ATOM") || iequals(line.substr(0, 4), "HETA"));
-}
-
-// END (not ENDMDL) ends gemmi's reading, so the checks stop there too.
-bool is_end_record(std::string_view line) {
-    return line.size() >= 3 && iequals(line.substr(0, 3), "END") &&
-           (line.size() == 3 || std::isspace(static_cast<unsigned char>(line[3])));
-}
-
 // True for a number outside int's range ("99999999999"): gemmi's string_to_int does not check
 // for overflow (found by fuzz_mmcif), so such a value would come out as another number
 // (read_gemmi.cpp is compiled with -fwrapv, which makes it defined). `value` is the token as
