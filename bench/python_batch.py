@@ -76,7 +76,9 @@ def chain_subsets(path, name, count, rng, folder):
         write_pdb(part, folder / f"{name}-{''.join(pick)}.pdb")
 
 
-def make_set(folder, rng):
+def make_set(folder, rng, subsets=6):
+    """The set's files in `folder` (sorted paths) and notes; `subsets` random chain subsets
+    each of 1AON and of 4YVS when ../shared/data holds them."""
     folder.mkdir(parents=True, exist_ok=True)
     notes = []
     data = REPO / "tests" / "data"
@@ -95,9 +97,9 @@ def make_set(folder, rng):
             if (SHARED / name).exists():
                 shutil.copy(SHARED / name, folder / f"shared-{name}")
         if (SHARED / "1aon.pdb.gz").exists():
-            chain_subsets(SHARED / "1aon.pdb.gz", "1aon", 6, rng, folder)
+            chain_subsets(SHARED / "1aon.pdb.gz", "1aon", subsets, rng, folder)
         if (SHARED / "4yvs.cif.gz").exists():
-            chain_subsets(SHARED / "4yvs.cif.gz", "4yvs", 6, rng, folder)
+            chain_subsets(SHARED / "4yvs.cif.gz", "4yvs", subsets, rng, folder)
     else:
         notes.append(f"{SHARED} is absent: the set has only the structures made from tests/data")
     return sorted(str(p) for p in folder.iterdir()), notes

@@ -17,6 +17,7 @@
 #include <cmath>
 #include <cstdint>
 #include <numbers>
+#include <numeric>
 #include <string>
 #include <vector>
 
@@ -33,16 +34,28 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-// A buried cap of the unit sphere: n·u > h, of angular radius θ (cos θ = h, sin θ = s), with an
-// orthonormal basis (e1, e2) of the plane of its circle for azimuths.
+// A buried cap of the unit sphere: n·u > h, of angular radius θ (cos θ = h, sin θ = s).
 struct Cap {
-    Vec3 u, e1, e2;
+    Vec3 u;
     double h, s;
 };
 
-Vec3 on_circle(const Cap& c, double phi) {
-    return add(add(scale(c.u, c.h), scale(c.e1, c.s * std::cos(phi))),
-               scale(c.e2, c.s * std::sin(phi)));
+// An orthonormal basis (e1, e2) of the plane of a cap's circle, for azimuths.
+struct Basis {
+    Vec3 e1, e2;
+};
+
+Basis basis_of(const Cap& c) {
+    // Any unit vector not along u will do.
+    const Vec3 helper = std::abs(c.u[0]) < 0.6 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+    Vec3 e1 = cross(c.u, helper);
+    e1 = scale(e1, 1.0 / std::sqrt(dot(e1, e1)));
+    return {e1, cross(c.u, e1)};
+}
+
+Vec3 on_circle(const Cap& c, const Basis& b, double phi) {
+    return add(add(scale(c.u, c.h), scale(b.e1, c.s * std::cos(phi))),
+               scale(b.e2, c.s * std::sin(phi)));
 }
 
 // Signed solid angle of the geodesic triangle (a, b, c), unit vectors; positive when they turn
@@ -60,27 +73,40 @@ double circular_segment(double cos_t, double dphi) {
     return dphi * (1.0 - cos_t) - triangle;
 }
 
-// An exposed crossing point of two circles.
-struct Crossing {
+// One exposed crossing on a circle: a pseudo-angle that orders the points around the circle as
+// the azimuth does (no trigonometry), and the point.
+struct OnCircle {
+    double key;
     Vec3 n;
 };
 
-// One crossing on a circle: the point, the other circle, and a pseudo-angle that orders the
-// points around the circle as the azimuth does (no trigonometry).
-struct OnCircle {
-    double key;
-    std::uint32_t crossing;
-    std::uint32_t other;
+// Two circles that cross, of caps j and k (ranks; j has the lower index), at `plus` and `minus`
+// (x± = base ± t u_j × u_k), with the points' pseudo-angles on each circle.
+struct Pair {
+    Vec3 plus, minus;
+    std::uint32_t j, k;
+    double j_plus, j_minus, k_plus, k_minus;
 };
 
-// Scratch space of one thread, reused from atom to atom.
+// Scratch space of one thread, reused from atom to atom. The caps that no other cap holds are
+// kept and numbered by rank, from the largest (least h) to the smallest; per rank, the cap's
+// index, its centre and height in arrays of their own (the tests read them in runs), and the
+// ranks of the caps it meets, in increasing rank.
 struct Scratch {
-    std::vector<std::uint8_t> dropped;
-    std::vector<std::vector<std::uint32_t>> overlapping;  // per cap, the caps it meets
-    std::vector<std::vector<OnCircle>> around;            // per cap, its crossings
-    std::vector<Crossing> crossings;
-    std::vector<std::uint8_t> crossed;  // per cap: its circle crosses another
+    std::vector<std::uint32_t> order;
+    std::vector<std::uint32_t> kept;
+    std::vector<double> ux, uy, uz, h, s;
+    std::vector<std::vector<std::uint32_t>> overlapping;
+    std::vector<std::uint32_t> meets;           // the ranks the cap being ranked meets
+    std::vector<Basis> basis;                   // per rank
+    std::vector<Pair> pairs;                    // the circles that cross
+    std::vector<double> from, to;               // per rank, the intervals other caps hold
+    std::vector<std::uint32_t> held;            // per rank, how many
+    std::vector<std::vector<OnCircle>> around;  // per rank, its exposed crossings
+    std::vector<std::uint32_t> rank_of;         // per cap index; `kNone` when held by another
 };
+
+constexpr std::uint32_t kNone = ~std::uint32_t(0);
 
 double pseudo_angle(double x, double y) {
     const double t = x / (std::abs(x) + std::abs(y));
@@ -96,56 +122,83 @@ double pseudo_angle(double x, double y) {
 double exposed_solid_angle(const std::vector<Cap>& caps, Scratch& w) {
     constexpr double eps = 1e-12;
     const std::size_t m = caps.size();
-    w.dropped.assign(m, 0);
-    if (w.overlapping.size() < m) w.overlapping.resize(m);
-    if (w.around.size() < m) w.around.resize(m);
-    for (std::size_t j = 0; j < m; ++j) {
-        w.overlapping[j].clear();
-        w.around[j].clear();
-    }
-    w.crossings.clear();
-    // Caps inside other caps (or equal to one) change nothing: drop them. The others that
-    // meet are listed: only they can bury a point of each other's circle.
-    for (std::size_t j = 0; j < m; ++j) {
-        const Cap& a = caps[j];
-        for (std::size_t k = j + 1; k < m; ++k) {
-            const Cap& b = caps[k];
-            const double g = dot(a.u, b.u);
-            if (g <= a.h * b.h - a.s * b.s) continue;  // apart: angle >= θ_j + θ_k
-            if (g >= a.h * b.h + a.s * b.s - eps) {
-                // One inside the other: angle <= |θ_j − θ_k|; the smaller goes (of equal ones
-                // the later).
-                w.dropped[a.h > b.h + eps ? j : k] = 1;
+    // Caps inside other caps (or equal to one) change nothing: drop them. Taken from the
+    // largest down, a cap can only lie inside one already kept; about half of a protein atom's
+    // caps do, so the pairs of those that remain are far fewer than all pairs. Of the kept ones,
+    // those that meet are listed: only they can bury a point of each other's circle.
+    w.order.resize(m);
+    std::iota(w.order.begin(), w.order.end(), std::uint32_t(0));
+    std::sort(w.order.begin(), w.order.end(), [&](std::uint32_t x, std::uint32_t y) {
+        return caps[x].h < caps[y].h || (caps[x].h == caps[y].h && x < y);
+    });
+    w.kept.clear();
+    w.ux.clear();
+    w.uy.clear();
+    w.uz.clear();
+    w.h.clear();
+    w.s.clear();
+    w.rank_of.assign(m, kNone);
+    for (const std::uint32_t c : w.order) {
+        const Cap& b = caps[c];
+        const std::size_t ranked = w.kept.size();
+        w.meets.clear();
+        bool inside = false;
+        for (std::size_t a = 0; a < ranked; ++a) {
+            // The same products as dot(u_a, u_b) and the bounds below in either order.
+            const double g = w.ux[a] * b.u[0] + w.uy[a] * b.u[1] + w.uz[a] * b.u[2];
+            if (g <= w.h[a] * b.h - w.s[a] * b.s) {
+                // Apart (angle >= θ_a + θ_b), or, when θ_a + θ_b > π (h_a + h_b < 0), so far
+                // round the back that the two cover the sphere (angle >= 2π − θ_a − θ_b).
+                if (w.h[a] + b.h < 0.0) return 0.0;
                 continue;
             }
-            w.overlapping[j].push_back(std::uint32_t(k));
-            w.overlapping[k].push_back(std::uint32_t(j));
-        }
-    }
-    // A point of circle j inside another cap (that cap meets cap j: it is in j's list). The cap
-    // that buried the last point is tried first: neighbouring points share it.
-    std::uint32_t last = 0;
-    auto buried_by = [&](const Vec3& n, std::size_t j, std::size_t skip) {
-        if (last != skip && last < m && !w.dropped[last] &&
-            dot(n, caps[last].u) > caps[last].h + eps)
-            return true;
-        for (const std::uint32_t k : w.overlapping[j])
-            if (k != skip && !w.dropped[k] && dot(n, caps[k].u) > caps[k].h + eps) {
-                last = k;
-                return true;
+            if (g >= w.h[a] * b.h + w.s[a] * b.s - eps) {
+                // Inside cap a (angle <= θ_b − θ_a), or equal to it: it goes.
+                inside = true;
+                break;
             }
-        return false;
+            w.meets.push_back(std::uint32_t(a));
+        }
+        if (inside) continue;
+        w.rank_of[c] = std::uint32_t(ranked);
+        w.kept.push_back(c);
+        w.ux.push_back(b.u[0]);
+        w.uy.push_back(b.u[1]);
+        w.uz.push_back(b.u[2]);
+        w.h.push_back(b.h);
+        w.s.push_back(b.s);
+        if (w.overlapping.size() <= ranked) w.overlapping.resize(ranked + 1);
+        w.overlapping[ranked].assign(w.meets.begin(), w.meets.end());
+        for (const std::uint32_t a : w.meets) w.overlapping[a].push_back(std::uint32_t(ranked));
+    }
+    const std::size_t n = w.kept.size();
+    if (w.around.size() < n) w.around.resize(n);
+    w.basis.resize(n);
+    // Circle r's intervals are from[r n + l], to[r n + l] for l < held[r]: at most n − 1.
+    w.from.resize(n * n);
+    w.to.resize(n * n);
+    w.held.assign(n, 0);
+    for (std::size_t r = 0; r < n; ++r) {
+        w.around[r].clear();
+        w.basis[r] = basis_of(caps[w.kept[r]]);
+    }
+    auto key = [&](const Vec3& x, std::size_t r) {
+        return pseudo_angle(dot(x, w.basis[r].e1), dot(x, w.basis[r].e2));
     };
-    // Crossing points of the circles that cross. A buried one is only counted: both arcs at
-    // it lie inside the cap that buries it (neither crosses that cap's circle before the next
-    // crossing), so only exposed crossings can end an exposed arc.
-    w.crossed.assign(m, 0);
-    for (std::size_t j = 0; j < m; ++j) {
-        if (w.dropped[j]) continue;
-        const Cap& a = caps[j];
-        for (const std::uint32_t k : w.overlapping[j]) {
-            if (k <= j || w.dropped[k]) continue;
-            const Cap& b = caps[k];
+    // The crossing points of the circles that cross, each pair taken in the order of the caps'
+    // indices (which fixes the arithmetic's rounding). Going counter-clockwise about u_j, the
+    // circle of cap j enters cap k at the crossing x₋ and leaves it at x₊ (the derivative of
+    // x·u_k along the circle is −x·(u_j × u_k)); the circle of cap k enters cap j at x₊. So each
+    // pair puts an interval of azimuths (as pseudo-angles) on both circles.
+    w.pairs.clear();
+    for (std::size_t ra = 0; ra < n; ++ra) {
+        for (const std::uint32_t rb : w.overlapping[ra]) {
+            if (rb <= ra) continue;
+            const bool swap = w.kept[rb] < w.kept[ra];
+            const std::uint32_t j = std::uint32_t(swap ? rb : ra),
+                                k = std::uint32_t(swap ? ra : rb);
+            const Cap& a = caps[w.kept[j]];
+            const Cap& b = caps[w.kept[k]];
             const double g = dot(a.u, b.u);
             const double w2 = 1.0 - g * g;
             if (w2 < 1e-14) continue;
@@ -154,55 +207,107 @@ double exposed_solid_angle(const std::vector<Cap>& caps, Scratch& w) {
             if (rest <= 0.0) continue;  // tangent (within rounding)
             const double t = std::sqrt(rest / w2);
             const Vec3 base = add(scale(a.u, p), scale(b.u, q)), c = cross(a.u, b.u);
-            w.crossed[j] = w.crossed[k] = 1;
-            for (const double sign : {1.0, -1.0}) {
-                const Vec3 n = add(base, scale(c, sign * t));
-                if (buried_by(n, j, k)) continue;
-                const std::uint32_t id = std::uint32_t(w.crossings.size());
-                w.crossings.push_back({n});
-                w.around[j].push_back({pseudo_angle(dot(n, a.e1), dot(n, a.e2)), id, k});
-                w.around[k].push_back(
-                    {pseudo_angle(dot(n, b.e1), dot(n, b.e2)), id, std::uint32_t(j)});
-            }
+            Pair pair;
+            pair.j = j;
+            pair.k = k;
+            pair.plus = add(base, scale(c, t));
+            pair.minus = add(base, scale(c, -t));
+            pair.j_plus = key(pair.plus, j);
+            pair.j_minus = key(pair.minus, j);
+            pair.k_plus = key(pair.plus, k);
+            pair.k_minus = key(pair.minus, k);
+            w.from[j * n + w.held[j]] = pair.j_minus;
+            w.to[j * n + w.held[j]++] = pair.j_plus;
+            w.from[k * n + w.held[k]] = pair.k_plus;
+            w.to[k * n + w.held[k]++] = pair.k_minus;
+            w.pairs.push_back(pair);
         }
     }
+    // A crossing of circle j lies inside a third cap exactly when its azimuth lies strictly
+    // inside that cap's interval on circle j (a cap that holds the point meets circle j; one
+    // that holds all of circle j holds cap j or covers the sphere with it, and is gone). Its
+    // own pair's interval ends there, so it never holds it. A buried crossing is only counted:
+    // both arcs at it lie inside the cap that buries it (neither crosses that cap's circle
+    // before the next crossing), so only exposed crossings can end an exposed arc.
+    auto exposed_on = [&](double e, std::size_t j) {
+        const double* from = w.from.data() + j * n;
+        const double* to = w.to.data() + j * n;
+        // f < e < t, or for an interval across the key's 0, f < e or e < t; in runs of four
+        // without a branch.
+        auto holds = [&](std::size_t l) -> std::int64_t {
+            const double f = from[l], t = to[l];
+            const std::int64_t lo = f < e, hi = e<t, across = f> t;
+            return (lo & hi) | (across & (lo | hi));
+        };
+        const std::size_t count = w.held[j];
+        std::size_t l = 0;
+        for (; l + 4 <= count; l += 4)
+            if (holds(l) | holds(l + 1) | holds(l + 2) | holds(l + 3)) return false;
+        for (; l < count; ++l)
+            if (holds(l)) return false;
+        return true;
+    };
+    for (const Pair& pair : w.pairs) {
+        if (exposed_on(pair.j_plus, pair.j)) {
+            w.around[pair.j].push_back({pair.j_plus, pair.plus});
+            w.around[pair.k].push_back({pair.k_plus, pair.plus});
+        }
+        if (exposed_on(pair.j_minus, pair.j)) {
+            w.around[pair.j].push_back({pair.j_minus, pair.minus});
+            w.around[pair.k].push_back({pair.k_minus, pair.minus});
+        }
+    }
+    // A point of circle j inside another cap (that cap meets cap j: it is in j's list); ranks.
+    // The cap that buried the last point is tried first: neighbouring points share it.
+    std::uint32_t last = 0;
+    auto buried_by = [&](const Vec3& p, std::size_t j) {
+        if (last != j &&
+            p[0] * w.ux[last] + p[1] * w.uy[last] + p[2] * w.uz[last] > w.h[last] + eps)
+            return true;
+        for (const std::uint32_t k : w.overlapping[j])
+            if (p[0] * w.ux[k] + p[1] * w.uy[k] + p[2] * w.uz[k] > w.h[k] + eps) {
+                last = k;
+                return true;
+            }
+        return false;
+    };
     // The pole: N, the antipode of the centre S of the largest cap; S is buried and every arc
     // stays at least that cap's angular radius away from it.
-    std::size_t largest = m;
-    for (std::size_t j = 0; j < m; ++j)
-        if (!w.dropped[j] && (largest == m || caps[j].h < caps[largest].h)) largest = j;
-    const Vec3 pole = scale(caps[largest].u, -1.0);
+    const Vec3 pole = scale(caps[w.kept[0]].u, -1.0);
 
-    // One exposed arc of circle j from `from` to `to` (counter-clockwise about u_j, spanning
+    // One exposed arc of circle c from `from` to `to` (counter-clockwise about u, spanning
     // `dphi`), integrated from `to` back to `from`: the cap on the right.
-    auto arc = [&](const Cap& c, const Vec3& from, const Vec3& to, double dphi) {
+    auto arc = [&](const Cap& c, std::size_t r, const Vec3& from, const Vec3& to, double dphi) {
         // The great circle through the ends cuts into the cap for θ <= π/2 (the arc bounds less
         // than the chord's triangle) and into the exposed side otherwise.
         auto segment = [&](double step) {
             return c.h >= 0.0 ? -circular_segment(c.h, step) : circular_segment(-c.h, step);
         };
         if (dphi <= 0.5 * kPi) return solid_angle(pole, to, from) + segment(dphi);
+        const Basis& b = w.basis[r];
         const int pieces = int(std::ceil(dphi / (0.5 * kPi)));
         const double step = dphi / pieces;
-        const double phi0 = std::atan2(dot(from, c.e2), dot(from, c.e1));
+        const double phi0 = std::atan2(dot(from, b.e2), dot(from, b.e1));
         double sum = 0.0;
         Vec3 a = to;
         for (int s = 1; s <= pieces; ++s) {
-            const Vec3 b = s == pieces ? from : on_circle(c, phi0 + dphi - s * step);
-            sum += solid_angle(pole, a, b) + segment(step);
-            a = b;
+            const Vec3 e = s == pieces ? from : on_circle(c, b, phi0 + dphi - s * step);
+            sum += solid_angle(pole, a, e) + segment(step);
+            a = e;
         }
         return sum;
     };
+    // The arcs, summed in the caps' index order.
     double total = 0.0;
-    for (std::size_t j = 0; j < m; ++j) {
-        if (w.dropped[j]) continue;
-        const Cap& c = caps[j];
+    for (std::size_t i = 0; i < m; ++i) {
+        const std::size_t j = w.rank_of[i];
+        if (j == kNone) continue;
+        const Cap& c = caps[i];
         std::vector<OnCircle>& around = w.around[j];
-        if (!w.crossed[j]) {
+        if (w.held[j] == 0) {
             // No crossing: the whole circle is boundary unless another cap buries it.
-            const Vec3 p = on_circle(c, 0.0);
-            if (!buried_by(p, j, m)) total += arc(c, p, p, 2.0 * kPi);
+            const Vec3 p = on_circle(c, w.basis[j], 0.0);
+            if (!buried_by(p, j)) total += arc(c, j, p, p, 2.0 * kPi);
             continue;
         }
         // One exposed crossing or none: every arc touches a buried one.
@@ -211,12 +316,10 @@ double exposed_solid_angle(const std::vector<Cap>& caps, Scratch& w) {
                   [](const OnCircle& x, const OnCircle& y) { return x.key < y.key; });
         const std::size_t count = around.size();
         for (std::size_t t = 0; t < count; ++t) {
-            const OnCircle& from = around[t];
-            const OnCircle& to = around[(t + 1) % count];
-            const Crossing& p = w.crossings[from.crossing];
-            const Crossing& q = w.crossings[to.crossing];
+            const Vec3& p = around[t].n;
+            const Vec3& q = around[(t + 1) % count].n;
             // In the circle's plane: the ends' directions from its centre, the angle between.
-            const Vec3 pa = add(p.n, scale(c.u, -c.h)), pb = add(q.n, scale(c.u, -c.h));
+            const Vec3 pa = add(p, scale(c.u, -c.h)), pb = add(q, scale(c.u, -c.h));
             const double cosine = dot(pa, pb), sine = dot(cross(pa, pb), c.u);
             double dphi = std::atan2(sine, cosine);
             if (dphi < 0.0) dphi += 2.0 * kPi;
@@ -231,14 +334,13 @@ double exposed_solid_angle(const std::vector<Cap>& caps, Scratch& w) {
                 len = std::sqrt(dot(mid_dir, mid_dir));
             }
             const Vec3 mid = add(scale(c.u, c.h), scale(mid_dir, c.s / len));
-            if (buried_by(mid, j, m)) continue;
-            total += arc(c, p.n, q.n, dphi);
+            if (buried_by(mid, j)) continue;
+            total += arc(c, j, p, q, dphi);
         }
     }
     // Rounding can leave a hair below 0 or above 4π.
     return std::clamp(total, 0.0, 4.0 * kPi);
 }
-
 }  // namespace
 
 std::vector<double> exact_ball_areas(const Atoms& atoms, double radius_add, double pi_iso) {
@@ -291,12 +393,6 @@ std::vector<double> exact_ball_areas(const Atoms& atoms, double radius_add, doub
                 cap.u = scale(e, 1.0 / d);
                 cap.h = h;
                 cap.s = std::sqrt(std::max(0.0, 1.0 - h * h));
-                // Any unit vector not along u for the azimuth basis.
-                const Vec3 helper = std::abs(cap.u[0]) < 0.6 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
-                Vec3 e1 = cross(cap.u, helper);
-                e1 = scale(e1, 1.0 / std::sqrt(dot(e1, e1)));
-                cap.e1 = e1;
-                cap.e2 = cross(cap.u, e1);
                 caps.push_back(cap);
             });
             double omega = 4.0 * kPi;

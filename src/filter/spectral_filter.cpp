@@ -77,6 +77,7 @@ void glslang_acquire() {
     if (g_glslang_users == 0 && !glslang_initialize_process())
         throw Error(ErrorCode::Fft, "glslang_initialize_process failed");
     ++g_glslang_users;
+    trace("glslang: process initialised");
 }
 
 void glslang_release() {

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <utility>
 
+#include "base/trace.hpp"
 #include "shader_interface.h"
 #include "vulkan/check.hpp"
 
@@ -201,6 +202,7 @@ Context::Context(const EngineOptions& options) {
     }
     bool debug_utils = false;
     instance_ = create_instance(options.validation, &debug_utils);
+    trace("vulkan: instance");
     try {
         if (debug_utils) {
             auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
@@ -222,6 +224,7 @@ Context::Context(const EngineOptions& options) {
         }
 
         auto devices = physical_devices(instance_);
+        trace("vulkan: physical devices listed");
         if (devices.empty()) throw Error(ErrorCode::NoDevice, no_device_help());
         std::vector<DeviceInfo> infos;
         for (std::uint32_t i = 0; i < devices.size(); ++i) infos.push_back(describe_device(devices[i], i));
@@ -294,6 +297,7 @@ Context::Context(const EngineOptions& options) {
         }
         FDM_VK_CHECK(vkCreateDevice(physical_, &info, nullptr, &device_));
         vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
+        trace("vulkan: device created");
     } catch (...) {
         if (device_) vkDestroyDevice(device_, nullptr);
         if (messenger_) {

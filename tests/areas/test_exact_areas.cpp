@@ -108,6 +108,23 @@ TEST(AtomExactAreas, CoveredTwinsAndContainedBallsHaveNone) {
     EXPECT_TRUE(atom_exact_areas(Atoms{}, 1.4f).empty());
 }
 
+TEST(AtomExactAreas, TwoCapsLargerThanHemispheresCanCoverASphere) {
+    // Each neighbour buries more than half of the middle ball (h = -1/3, 109.5° from its
+    // centre) and the two overlap round the back: nothing is left, though neither circle
+    // crosses the other. The outer two keep the sphere less the other's cap (which holds the
+    // middle one's).
+    const Atoms atoms = make_atoms({{0, 0, 0, 1.0f}, {1.2f, 0, 0, 1.8f}, {-1.2f, 0, 0, 1.8f}});
+    const std::vector<double> a = atom_exact_areas(atoms, 0.0f);
+    const double r = ball(1.8f, 0.0f), d = 2.0 * double(1.2f);
+    EXPECT_EQ(a[0], 0.0);
+    EXPECT_NEAR(a[1], cut_sphere(r, r, d), 1e-11 * r * r);
+    EXPECT_NEAR(a[2], a[1], 1e-11 * r * r);
+    // Smaller neighbours leave a band round the middle: its two circles are whole.
+    const Atoms band = make_atoms({{0, 0, 0, 1.0f}, {0, 1.5f, 0, 1.2f}, {0, -1.5f, 0, 1.2f}});
+    const double cap = 4 * kPi - cut_sphere(1.0, ball(1.2f, 0.0f), 1.5);
+    EXPECT_NEAR(atom_exact_areas(band, 0.0f)[0], 4 * kPi - 2 * cap, 1e-11);
+}
+
 TEST(AtomExactAreas, RandomClustersAgreeWithDenseSampling) {
     // Clusters of 12 balls of radius 1.2-2 Å in a 5 Å box (many arcs, corners, covered caps):
     // every atom against Shrake-Rupley with 200,000 points (sampling error about 0.02 Å²).
