@@ -39,10 +39,6 @@ std::array<double, 3> position(const Mesh& mesh, Index v) {
 // The corners at each vertex of the triangles that are not degenerate, each as the corner's
 // next and previous vertex (the triangle runs v -> next -> prev), so that the edges around a
 // vertex are read in one run, not gathered from the triangles.
-struct CornerEnds {
-    Index next, prev;
-};
-
 // Vertices are taken in blocks of 2^12 to 2^16 (at least four per thread where the mesh allows):
 // the corners of a block's vertices, from the triangles that hold them, fit in the cache, where
 // its vertices are then read, and nothing as large as every corner of the mesh is written to
@@ -53,9 +49,10 @@ int block_shift(std::size_t vertices, unsigned threads) {
     return shift;
 }
 
-// The corners of the vertices [lo, hi): ends[start[v - lo], start[v - lo + 1]), placed from the
-// triangles [first, last) (all those with a corner in the block); one per thread, its memory
-// kept from block to block.
+// The corners of the vertices [lo, hi): next[i] and prev[i] for i in [begin(v), end(v)), placed
+// from the triangles [first, last) (all those with a corner in the block); one per thread, its
+// memory kept from block to block. 16 more entries than corners, so that 16 can be read from
+// any vertex's first.
 class BlockCorners {
 public:
     void build(const std::vector<Index>& idx, Index lo, Index hi, std::size_t first,
@@ -71,29 +68,35 @@ public:
                 if (tri[k] - lo < size) ++count[tri[k] - lo];
         }
         for (Index v = 0; v < size; ++v) start_[v + 1] += start_[v];
-        if (start_[size] > capacity_) {
-            capacity_ = start_[size];
-            ends_.reset(new CornerEnds[capacity_]);  // filled below, so not zeroed first
+        if (std::size_t{start_[size]} + 16 > capacity_) {
+            capacity_ = std::size_t{start_[size]} + 16;
+            // Filled below, so not zeroed first; the 16 past the end are never compared.
+            next_.reset(new Index[capacity_]);
+            prev_.reset(new Index[capacity_]());
         }
         cursor_.assign(start_.begin(), start_.end() - 1);
         for (std::size_t t = first; t < last; ++t) {
             const Index* tri = &idx[3 * t];
             if (is_degenerate(tri)) continue;
-            for (int k = 0; k < 3; ++k)
-                if (tri[k] - lo < size)
-                    ends_[cursor_[tri[k] - lo]++] = {tri[(k + 1) % 3], tri[(k + 2) % 3]};
+            for (int k = 0; k < 3; ++k) {
+                if (tri[k] - lo >= size) continue;
+                const Index at = cursor_[tri[k] - lo]++;
+                next_[at] = tri[(k + 1) % 3];
+                prev_[at] = tri[(k + 2) % 3];
+            }
         }
     }
     Index begin(Index v) const { return start_[v - lo_]; }
     Index end(Index v) const { return start_[v - lo_ + 1]; }
-    const CornerEnds* at(Index v) const { return &ends_[start_[v - lo_]]; }
-    const CornerEnds& operator[](Index i) const { return ends_[i]; }
+    Index next(Index i) const { return next_[i]; }
+    Index prev(Index i) const { return prev_[i]; }
+    const Index* prevs(Index v) const { return &prev_[begin(v)]; }
 
 private:
     Index lo_ = 0;
     std::vector<Index> start_, cursor_;
-    std::unique_ptr<CornerEnds[]> ends_;
-    Index capacity_ = 0;
+    std::unique_ptr<Index[]> next_, prev_;
+    std::size_t capacity_ = 0;
 };
 
 // Where the corners of each block lie: every block's range of triangles, found in one pass
@@ -228,8 +231,8 @@ struct LocalUse {
     bool forward;  // the triangle runs v -> other
 };
 
-// Which of the 16 slots hold x: bit j for slot j (SSE2 compares four slots at once).
-std::uint32_t slots_holding(const Index (&slots)[16], Index x) {
+// Which of the 16 entries from `slots` on hold x: bit j for slots[j] (SSE2 compares four at once).
+std::uint32_t slots_holding(const Index* slots, Index x) {
 #if defined(__SSE2__)
     const __m128i key = _mm_set1_epi32(int(x));
     const auto equal = [&](int j) {
@@ -251,20 +254,19 @@ std::uint32_t slots_holding(const Index (&slots)[16], Index x) {
 // directions and the corners make one fan, which is what the general count below would find.
 // At most 16 corners; otherwise false.
 bool closed_fan(const BlockCorners& corners, Index v) {
-    const Index count = corners.end(v) - corners.begin(v);
+    const Index first = corners.begin(v), count = corners.end(v) - first;
     if (count < 3 || count > 16) return false;
-    const CornerEnds* e = corners.at(v);
-    // The previous vertices in 16 slots (the rest never matches: no index is ~0), so that the
-    // corners a corner links to are found by one comparison of all slots, without branches.
-    Index prev[16];
-    for (Index j = 0; j < 16; ++j) prev[j] = j < count ? e[j].prev : ~Index{0};
+    // The corners a corner links to, found by one comparison of 16 previous vertices from v's
+    // first on, without branches; those past v's own are masked off.
+    const Index* prev = corners.prevs(v);
+    const std::uint32_t own = (std::uint32_t{1} << count) - 1;
     // Each step finds the corner linked to `at`: exactly one, not visited yet, so after
     // `count` steps every corner was visited once, each link read once, and the last step
     // must come back to the first corner.
     std::uint32_t visited = 0;
     Index at = 0;
     for (Index step = 0; step < count; ++step) {
-        const std::uint32_t link = slots_holding(prev, e[at].next);
+        const std::uint32_t link = slots_holding(prev, corners.next(first + at)) & own;
         if (link == 0 || (link & (link - 1)) != 0 || (visited & link) != 0) return false;
         visited |= link;
         at = Index(std::countr_zero(link));
@@ -339,13 +341,13 @@ void vertex_part(const Mesh& mesh, const CornerPlan& plan,
                 continue;
             }
             if (closed_fan(corners, v)) {  // the usual vertex: every edge used twice, one way each
-                for (Index i = corners.begin(v); i < corners.end(v); ++i) meet(corners[i].next);
+                for (Index i = corners.begin(v); i < corners.end(v); ++i) meet(corners.next(i));
             } else {
                 uses.clear();
                 Index local = 0;
                 for (Index i = corners.begin(v); i < corners.end(v); ++i) {
-                    uses.push_back({corners[i].next, local, true});
-                    uses.push_back({corners[i].prev, local, false});
+                    uses.push_back({corners.next(i), local, true});
+                    uses.push_back({corners.prev(i), local, false});
                     ++local;
                 }
                 // By the other end (a dozen uses at a vertex of a closed mesh: an insertion sort,
