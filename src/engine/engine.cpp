@@ -243,13 +243,13 @@ SurfaceResult Engine::make_surface(const Atoms& atoms, const SurfaceOptions& opt
                            property_warnings.end());
     const bool ses = options.surface == SurfaceKind::Ses;
     const bool fdm = ses && options.method == SesMethod::Fdm;
-    // The pieces and their statistics, found once: what the speck and cavity removals read, and
-    // the statistics when asked for (those of the pieces kept).
+    // The pieces and their statistics, found once when the statistics are asked for (those of
+    // the pieces kept), or when both removals read them; a single removal alone finds its own.
     const bool specks = ses && !fdm;
     const bool cavities =
         options.min_cavity_volume > 0.0f || (options.min_cavity_volume < 0.0f && fdm);
     std::optional<detail::MeshAnalysis> analysis;
-    if ((specks || cavities || options.mesh_stats) && result.mesh.triangle_count() > 0) {
+    if ((options.mesh_stats || (specks && cavities)) && result.mesh.triangle_count() > 0) {
         const double t_pieces = detail::now_ms();
         analysis = detail::analyse_mesh(result.mesh, options.mesh_stats, "remove_cavities");
         result.times.push_back({"pieces", detail::now_ms() - t_pieces, false});

@@ -351,7 +351,7 @@ std::size_t remove_pieces_if(Mesh& mesh, const std::function<bool(double)>& cand
     }
     // Every per-vertex array (positions, normals, atoms, colours, scalars) follows the vertices;
     // unreferenced vertices are kept, as before.
-    if (removed > 0) keep_pieces(mesh, *analysis, drop);
+    if (removed > 0) keep_pieces(mesh, *analysis, drop, !own);
     return removed;
 }
 

@@ -187,39 +187,47 @@ struct Partial {
 };
 using Runs = PieceRuns<Partial>;
 
-// The area and signed volume (divergence theorem) that triangle t adds to its piece's sums.
-struct TriangleSums {
-    double area, volume;
-};
-TriangleSums triangle_sums(const Mesh& mesh, const Index* t) {
-    const auto a = position(mesh, t[0]);
-    const auto b = position(mesh, t[1]);
-    const auto d = position(mesh, t[2]);
+// The signed volume (divergence theorem) and the area of triangle (a, b, d).
+double triangle_volume(const std::array<double, 3>& a, const std::array<double, 3>& b,
+                       const std::array<double, 3>& d) {
+    return (a[0] * (b[1] * d[2] - b[2] * d[1]) + a[1] * (b[2] * d[0] - b[0] * d[2]) +
+            a[2] * (b[0] * d[1] - b[1] * d[0])) /
+           6.0;
+}
+double triangle_area(const std::array<double, 3>& a, const std::array<double, 3>& b,
+                     const std::array<double, 3>& d) {
     const std::array<double, 3> u{b[0] - a[0], b[1] - a[1], b[2] - a[2]};
     const std::array<double, 3> w{d[0] - a[0], d[1] - a[1], d[2] - a[2]};
     const std::array<double, 3> cr{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
                                    u[0] * w[1] - u[1] * w[0]};
-    return {0.5 * std::sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]),
-            (a[0] * (b[1] * d[2] - b[2] * d[1]) + a[1] * (b[2] * d[0] - b[0] * d[2]) +
-             a[2] * (b[0] * d[1] - b[1] * d[0])) /
-                6.0};
+    return 0.5 * std::sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
 }
 
-// Area, signed volume and triangle counts of the triangles in chunk k.
+// Signed volume and triangle counts of the triangles in chunk k, and (kStats, for the
+// statistics) their area and the degenerate ones; the cavity removal alone needs the volumes.
+template <bool kStats>
 void triangle_chunk(const Mesh& mesh, const Pieces& pieces, std::size_t k, Runs& runs) {
     const auto& idx = mesh.indices;
     const std::size_t end = std::min(idx.size(), (k + 1) * 3 * kTriangleChunk);
+    Index piece = no_piece;
+    Partial* part = nullptr;  // the run of `piece`, the last one
     for (std::size_t c = k * 3 * kTriangleChunk; c < end; c += 3) {
-        Partial& part = piece_sum(runs, pieces.of_vertex[idx[c]]);
-        MeshStats& s = part.stats;
-        const TriangleSums ts = triangle_sums(mesh, &idx[c]);
+        if (pieces.of_vertex[idx[c]] != piece) {
+            piece = pieces.of_vertex[idx[c]];
+            part = &piece_sum(runs, piece);
+        }
+        MeshStats& s = part->stats;
+        const auto a = position(mesh, idx[c]), b = position(mesh, idx[c + 1]),
+                   d = position(mesh, idx[c + 2]);
         ++s.triangles;
-        s.area += ts.area;
-        s.volume += ts.volume;
-        if (is_degenerate(&idx[c])) {
-            ++s.degenerate_triangles;
-        } else {
-            ++part.faces;
+        s.volume += triangle_volume(a, b, d);
+        if constexpr (kStats) {
+            s.area += triangle_area(a, b, d);
+            if (is_degenerate(&idx[c])) {
+                ++s.degenerate_triangles;
+            } else {
+                ++part->faces;
+            }
         }
     }
 }
@@ -486,7 +494,13 @@ MeshAnalysis analyse_mesh(const Mesh& mesh, bool topology, const char* who,
     // The triangles' sums, chunk after chunk (their runs kept).
     sum_by_piece<Partial>(
         chunk_count(mesh.triangle_count(), kTriangleChunk), threads,
-        [&](std::size_t k, Runs& runs) { triangle_chunk(mesh, pieces, k, runs); },
+        [&](std::size_t k, Runs& runs) {
+            if (topology) {
+                triangle_chunk<true>(mesh, pieces, k, runs);
+            } else {
+                triangle_chunk<false>(mesh, pieces, k, runs);
+            }
+        },
         [&](Index piece, const Partial& part) {
             MeshStats& s = stats[piece];
             s.triangles += part.stats.triangles;
@@ -497,15 +511,16 @@ MeshAnalysis analyse_mesh(const Mesh& mesh, bool topology, const char* who,
             a.runs.push_back({piece, Index(part.stats.triangles)});
         });
     trace("mesh analysis: triangles");
-    // The referenced vertices (integers: in any order).
-    sum_by_piece<std::size_t>(
-        chunk_count(mesh.vertex_count(), kVertexChunk), threads,
-        [&](std::size_t k, PieceRuns<std::size_t>& runs) {
-            for (std::size_t v = k * kVertexChunk;
-                 v < std::min(mesh.vertex_count(), (k + 1) * kVertexChunk); ++v)
-                if (pieces.of_vertex[v] != no_piece) ++piece_sum(runs, pieces.of_vertex[v]);
-        },
-        [&](Index piece, std::size_t vertices) { stats[piece].vertices += vertices; });
+    // The referenced vertices (integers: in any order), for the statistics.
+    if (topology)
+        sum_by_piece<std::size_t>(
+            chunk_count(mesh.vertex_count(), kVertexChunk), threads,
+            [&](std::size_t k, PieceRuns<std::size_t>& runs) {
+                for (std::size_t v = k * kVertexChunk;
+                     v < std::min(mesh.vertex_count(), (k + 1) * kVertexChunk); ++v)
+                    if (pieces.of_vertex[v] != no_piece) ++piece_sum(runs, pieces.of_vertex[v]);
+            },
+            [&](Index piece, std::size_t vertices) { stats[piece].vertices += vertices; });
     // Each piece's edges: every edge at a vertex whose corners close one fan is used twice, so
     // 3 faces = 2 edges - boundary + excess over the piece, the odd vertices' edges counted.
     std::vector<long> excess(pieces.count, 0);
@@ -530,7 +545,7 @@ MeshAnalysis analyse_mesh(const Mesh& mesh, bool topology, const char* who,
     return a;
 }
 
-void keep_pieces(Mesh& mesh, MeshAnalysis& a, const std::vector<char>& drop) {
+void keep_pieces(Mesh& mesh, MeshAnalysis& a, const std::vector<char>& drop, bool update) {
     const std::size_t count = a.pieces.count;
     // The kept pieces' new numbers and statistics (their sums taken again below).
     std::vector<Index> renumber(count, no_piece);
@@ -559,14 +574,16 @@ void keep_pieces(Mesh& mesh, MeshAnalysis& a, const std::vector<char>& drop) {
         first_kept[k + 1] = kept;
     });
     for (std::size_t k = 0; k < vertex_chunks; ++k) first_kept[k + 1] += first_kept[k];
-    std::vector<Index> remap(nv), kept(first_kept[vertex_chunks]), kept_piece(kept.size());
+    std::vector<Index> remap(nv), kept(first_kept[vertex_chunks]);
+    std::vector<Index> kept_piece(update ? kept.size() : 0);
     parallel_chunks(vertex_chunks, threads, [&](std::size_t k) {
         std::size_t i = first_kept[k];
         for (std::size_t v = k * kVertexChunk; v < std::min(nv, (k + 1) * kVertexChunk); ++v) {
             if (dropped(Index(v))) continue;
             remap[v] = Index(i);
-            kept[i] = Index(v);
-            kept_piece[i++] = of_vertex[v] == no_piece ? no_piece : renumber[of_vertex[v]];
+            if (update)
+                kept_piece[i] = of_vertex[v] == no_piece ? no_piece : renumber[of_vertex[v]];
+            kept[i++] = Index(v);
         }
     });
     trace("keep pieces: vertices numbered");
@@ -585,8 +602,8 @@ void keep_pieces(Mesh& mesh, MeshAnalysis& a, const std::vector<char>& drop) {
         in += run.triangles;
     }
     const std::size_t nt = out;
-    // Each new chunk on a thread: its triangles moved, in place, and its sums taken as
-    // analyse_mesh takes them. Chunk k writes [k C, (k + 1) C) from old triangles at or after
+    // Each new chunk on a thread: its triangles moved, in place, and (`update`) its sums taken
+    // as analyse_mesh takes them. Chunk k writes [k C, (k + 1) C) from old triangles at or after
     // the place of each; only its first places that lie before its own old triangles may hold
     // old triangles of the chunks before it, not yet read: those wait in a buffer until every
     // chunk is done.
@@ -603,15 +620,20 @@ void keep_pieces(Mesh& mesh, MeshAnalysis& a, const std::vector<char>& drop) {
         const std::size_t hold = std::min(end, chunk_start[k]);
         held[k].resize(3 * (hold - begin));
         std::size_t t = chunk_start[k];
+        Index last = no_piece;
+        Sums* sums = nullptr;  // the run of `last`, the chunk's last one
         for (std::size_t o = begin; o < end; ++t) {
             const Index tri[3] = {idx[3 * t], idx[3 * t + 1], idx[3 * t + 2]};
             const Index piece = of_vertex[tri[0]];
             if (drop[piece]) continue;
-            Sums& sums = piece_sum(runs[k], renumber[piece]);
-            const TriangleSums ts = triangle_sums(mesh, tri);
-            sums.area += ts.area;
-            sums.volume += ts.volume;
-            ++sums.triangles;
+            if (update) {
+                if (piece != last) last = piece, sums = &piece_sum(runs[k], renumber[piece]);
+                const auto p0 = position(mesh, tri[0]), p1 = position(mesh, tri[1]),
+                           p2 = position(mesh, tri[2]);
+                sums->volume += triangle_volume(p0, p1, p2);
+                if (a.topology) sums->area += triangle_area(p0, p1, p2);
+                ++sums->triangles;
+            }
             Index* to = o < hold ? &held[k][3 * (o - begin)] : &idx[3 * o];
             for (int j = 0; j < 3; ++j) to[j] = remap[tri[j]];
             ++o;
@@ -621,6 +643,9 @@ void keep_pieces(Mesh& mesh, MeshAnalysis& a, const std::vector<char>& drop) {
         std::copy(held[k].begin(), held[k].end(), idx + 3 * k * kTriangleChunk);
     });
     mesh.indices.resize(3 * nt);
+    keep_vertices(mesh, kept);
+    trace("keep pieces: triangles and vertices moved");
+    if (!update) return;
     a.runs.clear();
     for (const PieceRuns<Sums>& of_chunk : runs)
         for (const PieceRun<Sums>& run : of_chunk) {
@@ -629,9 +654,6 @@ void keep_pieces(Mesh& mesh, MeshAnalysis& a, const std::vector<char>& drop) {
             a.runs.push_back({run.piece, run.sum.triangles});
         }
     for (MeshStats& s : stats) end_sums(s);
-    trace("keep pieces: triangles moved and summed");
-    keep_vertices(mesh, kept);
-    trace("keep pieces: vertices moved");
     a.pieces.of_vertex = std::move(kept_piece);
     a.pieces.count = stats.size();
     a.stats = std::move(stats);
