@@ -64,7 +64,7 @@ LABEL = {"fdmsurf": "fdmsurf (SES 0.5 Å)", "fdmsurf-edt": "fdmsurf --method edt
 STAGE_ORDER = ["parse", "init", "bin-atoms", "density", "fft-forward", "mask", "fft-inverse",
                "read-field", "filter-host", "assemble-field", "upload-part", "mc-occupancy", "mc-count",
                "mc-scan", "mc-vertices", "mc-triangles", "mc-emit", "read-back", "unpack-mesh", "mc-host",
-               "stitch", "cavities", "vertex-atoms", "vertex-atoms-host", "write", "mesh-stats"]
+               "stitch", "pieces", "cavities", "vertex-atoms", "vertex-atoms-host", "write", "mesh-stats"]
 
 LOG = None
 

@@ -196,7 +196,12 @@ public:
                                 "patch '" + options.patch + "' matches none of the " +
                                     std::to_string(input->atoms.size()) + " atoms");
             }
-            result = engine.make_surface(input->atoms, options.surface);
+            // The statistics from the engine, with the cavity removal's pieces, when the mesh
+            // is kept as the engine gives it (no patch, simplification or reordering after).
+            SurfaceOptions surface = options.surface;
+            surface.mesh_stats =
+                options.patch.empty() && !options.simplify_requested && !options.optimize;
+            result = engine.make_surface(input->atoms, surface);
             if (validation_)
                 for (std::string& m : engine.take_validation_messages())
                     result.warnings.push_back("validation: " + m);
@@ -230,7 +235,7 @@ public:
                      std::chrono::duration<double, std::milli>(Clock::now() - t).count(), false});
                 out.optimized = true;
             }
-            stats = compute_stats(result.mesh);
+            stats = result.stats ? *result.stats : compute_stats(result.mesh);
         }
         out.mesh = std::make_shared<Mesh>(std::move(result.mesh));
         out.stats = stats;

@@ -314,14 +314,18 @@ SurfaceResult InputRun::compute_surface() {
 // whose length is the probe's, smooths atoms this small away at any spacing). A warning says so.
 SurfaceResult InputRun::surface_at_a_spacing_that_finds_it() {
     const Atoms& atoms = job_.structure.atoms;
-    SurfaceResult result = job_.engine.make_surface(atoms, options_.surface);
+    // The statistics from the engine, with the cavity removal's pieces, when the mesh is written
+    // as the engine gives it (no --patch, --simplify or --optimize after).
+    SurfaceOptions surface = options_.surface;
+    surface.mesh_stats = patch_.empty() && !options_.simplify_requested && !options_.optimize;
+    SurfaceResult result = job_.engine.make_surface(atoms, surface);
     if (options_.explicit_spacing || result.mesh.triangle_count() > 0 || atoms.size() == 0 ||
         options_.surface.level > 0.0f)
         return result;
     const float add = options_.surface.surface == SurfaceKind::Sas ? options_.surface.probe : 0.0f;
     float r_max = 0.0f;
     for (float r : atoms.radius) r_max = std::max(r_max, r + add);
-    SurfaceOptions finer = options_.surface;
+    SurfaceOptions finer = surface;
     finer.spacing = std::clamp(r_max / 2.0f, 0.05f, options_.surface.spacing);
     const bool exact = finer.surface == SurfaceKind::Ses && finer.method == SesMethod::Fdm;
     if (exact) finer.method = SesMethod::Edt;
@@ -433,22 +437,30 @@ void InputRun::write_mesh_file(const Mesh& mesh) {
 // The mesh, the pictures and the areas file, then the summary.
 void InputRun::write_outputs(const SurfaceResult& result, const AtomAreas& areas,
                              const std::vector<Picture>& pictures) {
-    // The statistics read the mesh while it is written: on a thread of their own, overlapped.
-    auto stats_job = std::async(std::launch::async, [&mesh = result.mesh] {
-        const auto t0 = Clock::now();
-        MeshStats stats = compute_stats(mesh);
-        return std::make_pair(stats, ms_since(t0));
-    });
+    // The statistics, unless the engine gave them (SurfaceOptions::mesh_stats, asked for only
+    // when the mesh is written as it came), read the mesh while it is written: on a thread of
+    // their own, overlapped.
+    std::future<std::pair<MeshStats, double>> stats_job;
+    if (!result.stats)
+        stats_job = std::async(std::launch::async, [&mesh = result.mesh] {
+            const auto t0 = Clock::now();
+            MeshStats stats = compute_stats(mesh);
+            return std::make_pair(stats, ms_since(t0));
+        });
     // The mesh, the pictures and the areas file appear together or not at all (a mesh on
     // standard output goes as it is written).
     detail::CommitGroup files;
     if (!options_.image_output) write_mesh_file(result.mesh);
     write_pictures(pictures, report_, job_.progress);
 
-    const auto [stats, stats_ms] = stats_job.get();
-    detail::trace("cli: statistics");
-    report_.stats = stats;
-    report_.times.push_back({"mesh-stats", stats_ms, false});
+    if (result.stats) {
+        report_.stats = *result.stats;
+    } else {
+        const auto [stats, stats_ms] = stats_job.get();
+        detail::trace("cli: statistics");
+        report_.stats = stats;
+        report_.times.push_back({"mesh-stats", stats_ms, false});
+    }
     report_.closed_manifold = report_.stats.is_closed_manifold();
     if (job_.model_row != nullptr) add_mesh(*job_.model_row, result.mesh, report_.stats);
     if (areas_wanted()) {

@@ -44,7 +44,7 @@ double Progress::fraction_after(std::string_view name) {
         {"parse", 0.05},     {"init", 0.10},          {"bin-atoms", 0.15},
         {"ses-features", 0.15}, {"density", 0.75},    {"ses-distance", 0.75},
         {"stitch", 0.76},    {"refine", 0.79},        {"snap", 0.81},
-        {"cavities", 0.82},
+        {"pieces", 0.815},   {"cavities", 0.82},
         {"vertex properties", 0.92}, {"patch", 0.94}, {"write", 0.98},
         {"mesh-stats", 1.0},
     };

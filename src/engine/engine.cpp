@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "base/trace.hpp"
@@ -18,6 +19,7 @@
 #include "grid/ses_distance_host.hpp"
 #include "grid/ses_features.hpp"
 #include "mesh/cavities.hpp"
+#include "mesh/mesh_stats_detail.hpp"
 #include "properties/vertex_properties.hpp"
 #include "refine/refine.hpp"
 #include "vulkan/check.hpp"
@@ -239,23 +241,38 @@ SurfaceResult Engine::make_surface(const Atoms& atoms, const SurfaceOptions& opt
     SurfaceResult result = impl_->run(atoms, options);
     result.warnings.insert(result.warnings.end(), property_warnings.begin(),
                            property_warnings.end());
-    const double t0 = detail::now_ms();
     const bool ses = options.surface == SurfaceKind::Ses;
     const bool fdm = ses && options.method == SesMethod::Fdm;
-    if (ses && !fdm) {
+    // The pieces and their statistics, found once when the statistics are asked for (those of
+    // the pieces kept), or when both removals read them; a single removal alone finds its own.
+    const bool specks = ses && !fdm;
+    const bool cavities =
+        options.min_cavity_volume > 0.0f || (options.min_cavity_volume < 0.0f && fdm);
+    std::optional<detail::MeshAnalysis> analysis;
+    if ((options.mesh_stats || (specks && cavities)) && result.mesh.triangle_count() > 0) {
+        const double t_pieces = detail::now_ms();
+        analysis = detail::analyse_mesh(result.mesh, options.mesh_stats, "remove_cavities");
+        result.times.push_back({"pieces", detail::now_ms() - t_pieces, false});
+        impl_->report("pieces");
+        detail::trace("engine: pieces");
+    }
+    const double t0 = detail::now_ms();
+    detail::MeshAnalysis* const pieces = analysis ? &*analysis : nullptr;
+    if (specks) {
         // The exact SES touches itself at isolated points (where probes meet around a tiny
         // unswept gap); the grid turns some into closed specks far smaller than a cell.
         const double h = options.spacing;
-        result.specks_removed = detail::remove_specks(result.mesh, h * h * h);
+        result.specks_removed = detail::remove_specks(result.mesh, h * h * h, pieces);
     }
     if (options.min_cavity_volume >= 0.0f) {
         if (options.min_cavity_volume > 0.0f)
-            result.cavities_removed = remove_cavities(result.mesh, options.min_cavity_volume);
+            result.cavities_removed =
+                detail::remove_cavities_below(result.mesh, options.min_cavity_volume, pieces);
     } else if (fdm) {
         // A void is part of the SES only if the probe fits in it; the filter also opens voids
         // where it does not (and closes some where it does).
         result.cavities_removed =
-            detail::remove_cavities_without_probe(result.mesh, atoms, options.probe);
+            detail::remove_cavities_without_probe(result.mesh, atoms, options.probe, pieces);
     }
     // (By default the exact SES, vdw and sas keep every cavity.)
     if (result.mesh.triangle_count() == 0 && !atoms.empty())
@@ -263,6 +280,9 @@ SurfaceResult Engine::make_surface(const Atoms& atoms, const SurfaceOptions& opt
     result.times.push_back({"cavities", detail::now_ms() - t0, false});
     impl_->report("cavities");
     detail::trace("engine: cavities");
+    if (options.mesh_stats)
+        result.stats =
+            analysis ? detail::total_stats(*analysis, result.mesh) : compute_stats(result.mesh);
     // On the final mesh: the atom of each vertex, colours and scalars.
     detail::add_vertex_properties(impl_->vertex_properties, impl_->commands, atoms, options,
                                   result);

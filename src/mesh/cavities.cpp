@@ -18,8 +18,8 @@
 #include "fdmsurf/mesh.hpp"
 #include "mesh/mesh_attributes.hpp"
 #include "mesh/mesh_pieces.hpp"
+#include "mesh/mesh_stats_detail.hpp"
 #include "mesh/mesh_validate.hpp"
-#include "mesh/union_find.hpp"
 
 namespace fdmsurf {
 
@@ -305,49 +305,36 @@ double cavity_clearance(const std::vector<std::array<P3, 3>>& tris, const Atoms&
 }
 
 std::size_t remove_pieces_if(Mesh& mesh, const std::function<bool(double)>& candidate,
-                             const std::function<bool(const MeshPiece&)>& remove,
-                             bool concurrent) {
-    validate_mesh(mesh, "remove_cavities", true);
+                             const std::function<bool(const MeshPiece&)>& remove, bool concurrent,
+                             MeshAnalysis* analysis) {
+    // The indices are checked by the analysis.
+    validate_mesh_arrays(mesh, "remove_cavities", true);
     validate_attributes(mesh, "remove_cavities");
-    const std::size_t nv = mesh.vertex_count(), nt = mesh.triangle_count();
-    if (nt == 0) return 0;
-    const VertexPieces parts = vertex_pieces(mesh);
-    trace("cavities: pieces");
-    // Signed volume per piece (divergence theorem), summed chunk by chunk in a fixed order.
-    const float* p = mesh.positions.data();
-    std::vector<double> volume(parts.count, 0.0);
-    sum_by_piece<double>(
-        chunk_count(nt, kTriangleChunk), thread_count(),
-        [&](std::size_t k, PieceRuns<double>& runs) {
-            for (std::size_t t = k * kTriangleChunk; t < std::min(nt, (k + 1) * kTriangleChunk);
-                 ++t) {
-                const float* a = p + 3 * mesh.indices[3 * t];
-                const float* b = p + 3 * mesh.indices[3 * t + 1];
-                const float* c = p + 3 * mesh.indices[3 * t + 2];
-                const double det = double(a[0]) * (double(b[1]) * c[2] - double(b[2]) * c[1]) -
-                                   double(a[1]) * (double(b[0]) * c[2] - double(b[2]) * c[0]) +
-                                   double(a[2]) * (double(b[0]) * c[1] - double(b[1]) * c[0]);
-                piece_sum(runs, parts.of_vertex[mesh.indices[3 * t]]) += det / 6.0;
-            }
-        },
-        [&](std::uint32_t piece, double v) { volume[piece] += v; });
-    trace("cavities: volumes");
-    // The triangles of each candidate piece, for the predicate.
-    std::vector<std::uint32_t> candidate_of(parts.count, UINT32_MAX);
+    if (mesh.triangle_count() == 0) return 0;
+    std::optional<MeshAnalysis> own;
+    if (!analysis) analysis = &own.emplace(analyse_mesh(mesh, false, "remove_cavities"));
+    const std::size_t count = analysis->pieces.count;
+    // The triangles of each candidate piece, for the predicate: read run by run, so that only
+    // the candidates' runs are visited.
+    std::vector<std::uint32_t> candidate_of(count, UINT32_MAX);
     std::vector<MeshPiece> pieces;
-    for (std::size_t q = 0; q < parts.count; ++q) {
-        if (!candidate(volume[q])) continue;
+    for (std::size_t q = 0; q < count; ++q) {
+        if (!candidate(analysis->stats[q].volume)) continue;
         candidate_of[q] = static_cast<std::uint32_t>(pieces.size());
-        pieces.push_back(MeshPiece{volume[q], {}});
+        pieces.push_back(MeshPiece{analysis->stats[q].volume, {}});
     }
     if (pieces.empty()) return 0;
-    for (std::size_t t = 0; t < nt; ++t) {
-        const std::uint32_t c = candidate_of[parts.of_vertex[mesh.indices[3 * t]]];
-        if (c == UINT32_MAX) continue;
-        std::array<P3, 3> tri;
-        for (int k = 0; k < 3; ++k)
-            for (int a = 0; a < 3; ++a) tri[k][a] = p[3 * mesh.indices[3 * t + k] + a];
-        pieces[c].triangles.push_back(tri);
+    const float* p = mesh.positions.data();
+    std::size_t first = 0;
+    for (const TriangleRun& run : analysis->runs) {
+        const std::uint32_t c = candidate_of[run.piece];
+        for (std::size_t t = first; c != UINT32_MAX && t < first + run.triangles; ++t) {
+            std::array<P3, 3> tri;
+            for (int k = 0; k < 3; ++k)
+                for (int a = 0; a < 3; ++a) tri[k][a] = p[3 * mesh.indices[3 * t + k] + a];
+            pieces[c].triangles.push_back(tri);
+        }
+        first += run.triangles;
     }
     trace("cavities: candidates gathered");
     // The verdicts, in piece order, on all threads when `remove` allows it.
@@ -355,45 +342,32 @@ std::size_t remove_pieces_if(Mesh& mesh, const std::function<bool(double)>& cand
     parallel_chunks(pieces.size(), concurrent ? thread_count() : 1,
                     [&](std::size_t i) { verdict[i] = remove(pieces[i]) ? 1 : 0; });
     trace("cavities: verdicts");
-    std::vector<char> drop(parts.count, 0);
+    std::vector<char> drop(count, 0);
     std::size_t removed = 0;
-    for (std::size_t q = 0; q < parts.count; ++q) {
+    for (std::size_t q = 0; q < count; ++q) {
         if (candidate_of[q] == UINT32_MAX || !verdict[candidate_of[q]]) continue;
         drop[q] = 1;
         ++removed;
     }
-    if (removed == 0) return 0;
     // Every per-vertex array (positions, normals, atoms, colours, scalars) follows the vertices;
     // unreferenced vertices are kept, as before.
-    const auto dropped = [&](std::uint32_t v) {
-        return parts.of_vertex[v] != kNoPiece && drop[parts.of_vertex[v]];
-    };
-    std::vector<std::uint32_t> remap(nv, UINT32_MAX);
-    std::vector<std::uint32_t> kept;
-    for (std::size_t v = 0; v < nv; ++v) {
-        if (dropped(static_cast<std::uint32_t>(v))) continue;
-        remap[v] = static_cast<std::uint32_t>(kept.size());
-        kept.push_back(static_cast<std::uint32_t>(v));
-    }
-    keep_vertices(mesh, kept);
-    std::size_t out = 0;
-    for (std::size_t t = 0; t < nt; ++t) {
-        if (dropped(mesh.indices[3 * t])) continue;
-        for (int k = 0; k < 3; ++k) mesh.indices[3 * out + k] = remap[mesh.indices[3 * t + k]];
-        ++out;
-    }
-    mesh.indices.resize(3 * out);
+    if (removed > 0) keep_pieces(mesh, *analysis, drop, !own);
     return removed;
 }
 
 std::size_t remove_cavities_if(Mesh& mesh, const std::function<bool(const MeshPiece&)>& remove,
-                               bool concurrent) {
+                               bool concurrent, MeshAnalysis* analysis) {
     return remove_pieces_if(
-        mesh, [](double volume) { return volume < 0.0; }, remove, concurrent);
+        mesh, [](double volume) { return volume < 0.0; }, remove, concurrent, analysis);
+}
+
+std::size_t remove_cavities_below(Mesh& mesh, double max_volume, MeshAnalysis* analysis) {
+    return remove_cavities_if(
+        mesh, [&](const MeshPiece& c) { return -c.volume < max_volume; }, false, analysis);
 }
 
 std::size_t remove_cavities_without_probe(Mesh& mesh, const Atoms& atoms, double probe,
-                                          double step) {
+                                          MeshAnalysis* analysis, double step) {
     // A void that holds a probe ball encloses at least the ball's volume; below half of it
     // (room for the approximate surface's own error) no search is needed.
     const double half_ball = 0.5 * 4.0 / 3.0 * 3.14159265358979 * probe * probe * probe;
@@ -406,20 +380,19 @@ std::size_t remove_cavities_without_probe(Mesh& mesh, const Atoms& atoms, double
             std::call_once(built, [&] { by_x.emplace(atoms); });
             return cavity_clearance(c.triangles, atoms, step, probe, &*by_x) < probe;
         },
-        true);
+        true, analysis);
 }
 
-std::size_t remove_specks(Mesh& mesh, double max_volume) {
+std::size_t remove_specks(Mesh& mesh, double max_volume, MeshAnalysis* analysis) {
     return remove_pieces_if(
         mesh, [&](double volume) { return std::abs(volume) < max_volume; },
-        [](const MeshPiece&) { return true; });
+        [](const MeshPiece&) { return true; }, false, analysis);
 }
 
 }  // namespace detail
 
 std::size_t remove_cavities(Mesh& mesh, double max_volume) {
-    return detail::remove_cavities_if(
-        mesh, [&](const detail::MeshPiece& c) { return -c.volume < max_volume; });
+    return detail::remove_cavities_below(mesh, max_volume, nullptr);
 }
 
 }  // namespace fdmsurf

@@ -4,13 +4,14 @@
 
 #include <array>
 #include <cstddef>
-#include <functional>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <vector>
 
 #include "fdmsurf/mesh.hpp"
 #include "fdmsurf/structure.hpp"
+#include "mesh/mesh_stats_detail.hpp"
 
 namespace fdmsurf::detail {
 
@@ -25,17 +26,20 @@ struct MeshPiece {
 // (triangles are gathered for candidates only), keeping the order of the other vertices and
 // triangles; returns how many were removed. `concurrent`: `remove` is safe to call from several
 // threads at once, and is (on all of the machine's threads); otherwise it is called in piece
-// order on the calling thread.
+// order on the calling thread. `analysis`: the pieces of `mesh` and their statistics
+// (analyse_mesh), read for the volumes and brought up to date (keep_pieces); nullptr: found here.
 std::size_t remove_pieces_if(Mesh& mesh, const std::function<bool(double)>& candidate,
                              const std::function<bool(const MeshPiece&)>& remove,
-                             bool concurrent = false);
+                             bool concurrent = false, MeshAnalysis* analysis = nullptr);
 // The same for cavities (pieces of negative volume).
 std::size_t remove_cavities_if(Mesh& mesh, const std::function<bool(const MeshPiece&)>& remove,
-                               bool concurrent = false);
+                               bool concurrent = false, MeshAnalysis* analysis = nullptr);
+// remove_cavities with an analysis of the mesh, as above.
+std::size_t remove_cavities_below(Mesh& mesh, double max_volume, MeshAnalysis* analysis);
 
 // Removes pieces, inward or outward, enclosing less than `max_volume` Å³: specks smaller than a
 // grid cell, where the exact SES touches itself at a point (no probe-sized feature is that small).
-std::size_t remove_specks(Mesh& mesh, double max_volume);
+std::size_t remove_specks(Mesh& mesh, double max_volume, MeshAnalysis* analysis = nullptr);
 
 // The inside test of the clearance search: does a ray from p along a fixed generic direction
 // cross the closed piece `tris` an odd number of times? The plain form tests every triangle.
@@ -89,6 +93,6 @@ double cavity_clearance(const std::vector<std::array<std::array<double, 3>, 3>>&
 // are not part of the SES, whatever their volume (the FDM method's default). Voids of less than
 // half a probe ball's volume are removed without the search.
 std::size_t remove_cavities_without_probe(Mesh& mesh, const Atoms& atoms, double probe,
-                                          double step = 0.3);
+                                          MeshAnalysis* analysis = nullptr, double step = 0.3);
 
 }  // namespace fdmsurf::detail

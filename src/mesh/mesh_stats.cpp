@@ -1,18 +1,24 @@
 // Mesh statistics: area, signed volume, connected pieces, and the edge and vertex topology checks,
 // on all of the machine's threads (the sums are taken in a fixed order: the same figures for any
-// number of threads).
+// number of threads), piece by piece: the analysis the cavity removal shares, and its update
+// when pieces are removed.
 #include <algorithm>
 #include <array>
-#include <atomic>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <memory>
 #include <numeric>
 #include <vector>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "base/parallel.hpp"
 #include "base/trace.hpp"
 #include "fdmsurf/mesh.hpp"
+#include "mesh/mesh_attributes.hpp"
 #include "mesh/mesh_pieces.hpp"
 #include "mesh/mesh_stats_detail.hpp"
 #include "mesh/mesh_validate.hpp"
@@ -23,57 +29,152 @@ namespace {
 
 using Index = std::uint32_t;
 
-bool is_degenerate(const Index* t) { return t[0] == t[1] || t[1] == t[2] || t[2] == t[0]; }
+bool is_degenerate(const Index* t) { return (t[0] == t[1]) | (t[1] == t[2]) | (t[2] == t[0]); }
 
 std::array<double, 3> position(const Mesh& mesh, Index v) {
     const float* p = &mesh.positions[3 * std::size_t{v}];
     return {p[0], p[1], p[2]};
 }
 
-// The corners at each vertex of the triangles that are not degenerate: ends[start[v],
-// start[v + 1]), in triangle order, each the corner's next and previous vertex (the triangle
-// runs v -> next -> prev), so that the edges around a vertex are read in one run, not gathered
-// from the triangles. Each thread owns a range of vertices and reads all triangles in order,
-// counting and placing only its own corners: no atomic operations, which would stall on every
-// cache miss of this scattered access.
-struct CornerEnds {
-    Index next, prev;
-};
-struct VertexCorners {
-    std::vector<Index> start;
-    std::unique_ptr<CornerEnds[]> ends;  // filled below, so not zeroed first
+// The corners at each vertex of the triangles that are not degenerate, each as the corner's
+// next and previous vertex (the triangle runs v -> next -> prev), so that the edges around a
+// vertex are read in one run, not gathered from the triangles.
+// Vertices are taken in blocks of 2^12 to 2^16 (at least four per thread where the mesh allows):
+// the corners of a block's vertices, from the triangles that hold them, fit in the cache, where
+// its vertices are then read, and nothing as large as every corner of the mesh is written to
+// memory and read back.
+int block_shift(std::size_t vertices, unsigned threads) {
+    int shift = 16;
+    while (shift > 12 && (vertices >> shift) < 4 * std::size_t{threads}) --shift;
+    return shift;
+}
+
+// The corners of the vertices [lo, hi): next[i] and prev[i] for i in [begin(v), end(v)), placed
+// from the triangles [first, last) (all those with a corner in the block); one per thread, its
+// memory kept from block to block. 16 more entries than corners, so that 16 can be read from
+// any vertex's first.
+class BlockCorners {
+public:
+    void build(const std::vector<Index>& idx, Index lo, Index hi, std::size_t first,
+               std::size_t last) {
+        lo_ = lo;
+        const Index size = hi - lo;
+        start_.assign(std::size_t{size} + 1, 0);
+        Index* count = start_.data() + 1;
+        for (std::size_t t = first; t < last; ++t) {
+            const Index* tri = &idx[3 * t];
+            if (is_degenerate(tri)) continue;
+            for (int k = 0; k < 3; ++k)
+                if (tri[k] - lo < size) ++count[tri[k] - lo];
+        }
+        for (Index v = 0; v < size; ++v) start_[v + 1] += start_[v];
+        if (std::size_t{start_[size]} + 16 > capacity_) {
+            capacity_ = std::size_t{start_[size]} + 16;
+            // Filled below, so not zeroed first; the 16 past the end are never compared.
+            next_.reset(new Index[capacity_]);
+            prev_.reset(new Index[capacity_]());
+        }
+        cursor_.assign(start_.begin(), start_.end() - 1);
+        for (std::size_t t = first; t < last; ++t) {
+            const Index* tri = &idx[3 * t];
+            if (is_degenerate(tri)) continue;
+            for (int k = 0; k < 3; ++k) {
+                if (tri[k] - lo >= size) continue;
+                const Index at = cursor_[tri[k] - lo]++;
+                next_[at] = tri[(k + 1) % 3];
+                prev_[at] = tri[(k + 2) % 3];
+            }
+        }
+    }
+    Index begin(Index v) const { return start_[v - lo_]; }
+    Index end(Index v) const { return start_[v - lo_ + 1]; }
+    Index next(Index i) const { return next_[i]; }
+    Index prev(Index i) const { return prev_[i]; }
+    const Index* prevs(Index v) const { return &prev_[begin(v)]; }
+
+private:
+    Index lo_ = 0;
+    std::vector<Index> start_, cursor_;
+    std::unique_ptr<Index[]> next_, prev_;
+    std::size_t capacity_ = 0;
 };
 
-VertexCorners corners_by_vertex(const std::vector<Index>& idx, std::size_t n, unsigned threads) {
-    VertexCorners vc;
-    vc.start.assign(n + 1, 0);
-    const std::size_t triangles = idx.size() / 3;
-    const std::size_t parts = std::max<std::size_t>(1, std::min<std::size_t>(threads, n / 4096));
-    const auto range = [&](std::size_t part) { return part * n / parts; };
-    parallel_chunks(parts, threads, [&](std::size_t part) {
-        const Index lo = Index(range(part)), hi = Index(range(part + 1));
-        Index* count = vc.start.data() + 1;
-        for (std::size_t t = 0; t < triangles; ++t) {
+// Where the corners of each block lie: every block's range of triangles, found in one pass
+// over them (a mesh whose triangles come in the order of their vertices, as a surface from a
+// grid does, gives short ranges). When the ranges together exceed three times the triangles,
+// the blocks are the parts' vertex ranges instead, each read from all triangles. The vertices
+// are split into `parts` runs of whole blocks, one per thread.
+struct CornerPlan {
+    std::size_t parts = 1;
+    std::vector<Index> block_start;        // the blocks' first vertices, and n at the end
+    std::vector<std::size_t> first, last;  // each block's triangles [first, last)
+    std::vector<std::size_t> part_block;   // each part's first block, and the block count
+    std::vector<Index> degenerate;         // the degenerate triangles, in order
+};
+
+// Throws as validate_mesh does when an index is out of range (found in the same pass).
+CornerPlan plan_corners(const Mesh& mesh, const char* who, unsigned threads) {
+    const std::vector<Index>& idx = mesh.indices;
+    const std::size_t n = mesh.vertex_count(), nt = mesh.triangle_count();
+    const int shift = block_shift(n, threads);
+    const std::size_t blocks = (n + (std::size_t{1} << shift) - 1) >> shift;
+    CornerPlan plan;
+    plan.parts = std::max<std::size_t>(1, std::min<std::size_t>(threads, blocks));
+    // Each part of the triangles on a thread, with ranges of its own.
+    struct Seen {
+        std::vector<std::size_t> first, last;
+        std::vector<Index> degenerate;
+        Index largest = 0;
+    };
+    std::vector<Seen> seen(plan.parts);
+    parallel_chunks(plan.parts, threads, [&](std::size_t part) {
+        Seen& own = seen[part];
+        own.first.assign(blocks, nt);
+        own.last.assign(blocks, 0);
+        std::size_t* first = own.first.data();
+        std::size_t* last = own.last.data();
+        Index largest = 0;
+        for (std::size_t t = part * nt / plan.parts; t < (part + 1) * nt / plan.parts; ++t) {
             const Index* tri = &idx[3 * t];
-            if (is_degenerate(tri)) continue;
-            for (int k = 0; k < 3; ++k)
-                if (tri[k] >= lo && tri[k] < hi) ++count[tri[k]];
+            largest = std::max({largest, tri[0], tri[1], tri[2]});
+            if (largest >= n) break;  // checked below
+            if (is_degenerate(tri)) own.degenerate.push_back(Index(t));
+            // Mostly all three in one block.
+            const std::size_t b0 = tri[0] >> shift, b1 = tri[1] >> shift, b2 = tri[2] >> shift;
+            first[b0] = std::min(first[b0], t);
+            last[b0] = t + 1;
+            if (b1 != b0) first[b1] = std::min(first[b1], t), last[b1] = t + 1;
+            if (b2 != b0 && b2 != b1) first[b2] = std::min(first[b2], t), last[b2] = t + 1;
         }
+        own.largest = largest;
     });
-    for (std::size_t v = 1; v <= n; ++v) vc.start[v] += vc.start[v - 1];
-    vc.ends.reset(new CornerEnds[vc.start[n]]);
-    parallel_chunks(parts, threads, [&](std::size_t part) {
-        const Index lo = Index(range(part)), hi = Index(range(part + 1));
-        std::vector<Index> cursor(vc.start.begin() + lo, vc.start.begin() + hi);
-        for (std::size_t t = 0; t < triangles; ++t) {
-            const Index* tri = &idx[3 * t];
-            if (is_degenerate(tri)) continue;
-            for (int k = 0; k < 3; ++k)
-                if (tri[k] >= lo && tri[k] < hi)
-                    vc.ends[cursor[tri[k] - lo]++] = {tri[(k + 1) % 3], tri[(k + 2) % 3]};
+    std::size_t spanned = 0;
+    plan.first.assign(blocks, nt);
+    plan.last.assign(blocks, 0);
+    for (const Seen& own : seen) {
+        if (own.largest >= n) validate_mesh(mesh, who, false);  // throws
+        plan.degenerate.insert(plan.degenerate.end(), own.degenerate.begin(), own.degenerate.end());
+        for (std::size_t b = 0; b < blocks; ++b) {
+            plan.first[b] = std::min(plan.first[b], own.first[b]);
+            plan.last[b] = std::max(plan.last[b], own.last[b]);
         }
-    });
-    return vc;
+    }
+    for (std::size_t b = 0; b < blocks; ++b)
+        spanned += plan.last[b] > plan.first[b] ? plan.last[b] - plan.first[b] : 0;
+    if (spanned <= 3 * nt) {
+        for (std::size_t b = 0; b <= blocks; ++b)
+            plan.block_start.push_back(Index(std::min(n, b << shift)));
+        for (std::size_t part = 0; part <= plan.parts; ++part)
+            plan.part_block.push_back(part * blocks / plan.parts);
+    } else {
+        plan.first.assign(plan.parts, 0);
+        plan.last.assign(plan.parts, nt);
+        for (std::size_t part = 0; part <= plan.parts; ++part) {
+            plan.block_start.push_back(Index(std::min(n, part * blocks / plan.parts << shift)));
+            plan.part_block.push_back(part);
+        }
+    }
+    return plan;
 }
 
 using Pieces = VertexPieces;
@@ -82,34 +183,51 @@ constexpr Index no_piece = kNoPiece;
 // One chunk's contribution to one piece (sum_by_piece adds them up in chunk order).
 struct Partial {
     MeshStats stats;
-    long edges = 0;
     long faces = 0;  // non-degenerate triangles
 };
 using Runs = PieceRuns<Partial>;
 
-// Area, signed volume and triangle counts of the triangles in chunk k.
+// The signed volume (divergence theorem) and the area of triangle (a, b, d).
+double triangle_volume(const std::array<double, 3>& a, const std::array<double, 3>& b,
+                       const std::array<double, 3>& d) {
+    return (a[0] * (b[1] * d[2] - b[2] * d[1]) + a[1] * (b[2] * d[0] - b[0] * d[2]) +
+            a[2] * (b[0] * d[1] - b[1] * d[0])) /
+           6.0;
+}
+double triangle_area(const std::array<double, 3>& a, const std::array<double, 3>& b,
+                     const std::array<double, 3>& d) {
+    const std::array<double, 3> u{b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    const std::array<double, 3> w{d[0] - a[0], d[1] - a[1], d[2] - a[2]};
+    const std::array<double, 3> cr{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
+                                   u[0] * w[1] - u[1] * w[0]};
+    return 0.5 * std::sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
+}
+
+// Signed volume and triangle counts of the triangles in chunk k, and (kStats, for the
+// statistics) their area and the degenerate ones; the cavity removal alone needs the volumes.
+template <bool kStats>
 void triangle_chunk(const Mesh& mesh, const Pieces& pieces, std::size_t k, Runs& runs) {
     const auto& idx = mesh.indices;
     const std::size_t end = std::min(idx.size(), (k + 1) * 3 * kTriangleChunk);
+    Index piece = no_piece;
+    Partial* part = nullptr;  // the run of `piece`, the last one
     for (std::size_t c = k * 3 * kTriangleChunk; c < end; c += 3) {
-        Partial& part = piece_sum(runs, pieces.of_vertex[idx[c]]);
-        MeshStats& s = part.stats;
-        const auto a = position(mesh, idx[c]);
-        const auto b = position(mesh, idx[c + 1]);
-        const auto d = position(mesh, idx[c + 2]);
-        const std::array<double, 3> u{b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-        const std::array<double, 3> w{d[0] - a[0], d[1] - a[1], d[2] - a[2]};
-        const std::array<double, 3> cr{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
-                                       u[0] * w[1] - u[1] * w[0]};
+        if (pieces.of_vertex[idx[c]] != piece) {
+            piece = pieces.of_vertex[idx[c]];
+            part = &piece_sum(runs, piece);
+        }
+        MeshStats& s = part->stats;
+        const auto a = position(mesh, idx[c]), b = position(mesh, idx[c + 1]),
+                   d = position(mesh, idx[c + 2]);
         ++s.triangles;
-        s.area += 0.5 * std::sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
-        s.volume += (a[0] * (b[1] * d[2] - b[2] * d[1]) + a[1] * (b[2] * d[0] - b[0] * d[2]) +
-                     a[2] * (b[0] * d[1] - b[1] * d[0])) /
-                    6.0;
-        if (is_degenerate(&idx[c])) {
-            ++s.degenerate_triangles;
-        } else {
-            ++part.faces;
+        s.volume += triangle_volume(a, b, d);
+        if constexpr (kStats) {
+            s.area += triangle_area(a, b, d);
+            if (is_degenerate(&idx[c])) {
+                ++s.degenerate_triangles;
+            } else {
+                ++part->faces;
+            }
         }
     }
 }
@@ -121,159 +239,429 @@ struct LocalUse {
     bool forward;  // the triangle runs v -> other
 };
 
-// Whether the corners at v form one closed fan: each corner's next vertex is the previous
-// vertex of exactly one other corner, and following that link visits every corner once. Then
-// each edge at v is used by two triangles in opposite directions and the corners make one fan,
-// which is what the general count below would find. At most 16 corners; otherwise false.
-bool closed_fan(const VertexCorners& vc, std::size_t v) {
-    const Index first = vc.start[v], count = vc.start[v + 1] - first;
-    if (count < 3 || count > 16) return false;
-    const CornerEnds* e = &vc.ends[first];
-    std::uint8_t link[16];
-    std::uint32_t taken = 0;
-    for (Index i = 0; i < count; ++i) {
-        int match = -1;
-        for (Index j = 0; j < count; ++j) {
-            if (e[j].prev != e[i].next) continue;
-            if (match >= 0) return false;  // two corners end where this one starts
-            match = int(j);
-        }
-        if (match < 0 || (taken >> match & 1u)) return false;
-        taken |= 1u << match;
-        link[i] = std::uint8_t(match);
-    }
-    Index at = 0, steps = 0;
-    do {
-        at = link[at];
-        ++steps;
-    } while (at != 0 && steps <= count);
-    return at == 0 && steps == count;
+// Which of the 16 entries from `slots` on hold x: bit j for slots[j] (SSE2 compares four at once).
+std::uint32_t slots_holding(const Index* slots, Index x) {
+#if defined(__SSE2__)
+    const __m128i key = _mm_set1_epi32(int(x));
+    const auto equal = [&](int j) {
+        return _mm_cmpeq_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(slots + j)), key);
+    };
+    const __m128i low = _mm_packs_epi32(equal(0), equal(4));
+    const __m128i high = _mm_packs_epi32(equal(8), equal(12));
+    return std::uint32_t(_mm_movemask_epi8(_mm_packs_epi16(low, high)));
+#else
+    std::uint32_t holding = 0;
+    for (int j = 0; j < 16; ++j) holding |= std::uint32_t(slots[j] == x) << j;
+    return holding;
+#endif
 }
 
-// The edges and fans around the vertices of chunk k. Each edge {v, w} is seen from both ends
-// and counted at its smaller end v; the corners at v that share an edge form one fan, and more
-// than one fan makes v a non-manifold vertex.
-void vertex_chunk(const Mesh& mesh, const Pieces& pieces, const VertexCorners& vc, std::size_t k,
-                  Runs& runs) {
-    const std::size_t n = mesh.vertex_count();
+// Whether the corners at v form one closed fan: each corner's next vertex is the previous
+// vertex of exactly one other corner, and following that link from the first corner visits
+// every corner once and comes back. Then each edge at v is used by two triangles in opposite
+// directions and the corners make one fan, which is what the general count below would find.
+// At most 16 corners; otherwise false.
+bool closed_fan(const BlockCorners& corners, Index v) {
+    const Index first = corners.begin(v), count = corners.end(v) - first;
+    if (count < 3 || count > 16) return false;
+    // The corners a corner links to, found by one comparison of 16 previous vertices from v's
+    // first on, without branches; those past v's own are masked off.
+    const Index* prev = corners.prevs(v);
+    const std::uint32_t own = (std::uint32_t{1} << count) - 1;
+    // Each step finds the corner linked to `at`: exactly one, not visited yet, so after
+    // `count` steps every corner was visited once, each link read once, and the last step
+    // must come back to the first corner.
+    std::uint32_t visited = 0;
+    Index at = 0;
+    for (Index step = 0; step < count; ++step) {
+        const std::uint32_t link = slots_holding(prev, corners.next(first + at)) & own;
+        if (link == 0 || (link & (link - 1)) != 0 || (visited & link) != 0) return false;
+        visited |= link;
+        at = Index(std::countr_zero(link));
+    }
+    return at == 0;
+}
+
+// What a vertex whose corners do not close one fan adds to its piece: the edges counted at
+// it (their smaller end) that one triangle uses (boundary), that two use the same way
+// (inconsistent), that more use (non-manifold; `excess`: their uses beyond two), and whether
+// its corners make more than one fan.
+struct OddVertex {
+    Index vertex;
+    Index boundary = 0, inconsistent = 0, nonmanifold = 0, excess = 0;
+    bool nonmanifold_vertex = false;
+};
+
+// One part's labels: provisional pieces, each first met at a vertex that no smaller vertex of
+// the part joins; two labels found to meet are united (the smaller number becomes the root, so
+// a root is its set's first label, met at its smallest vertex).
+struct PartLabels {
+    std::vector<Index> parent;
+    std::vector<OddVertex> odd;
+    std::vector<std::pair<Index, Index>> across;  // edges to a smaller part's vertex
+    Index find(Index x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+    }
+    Index unite(Index a, Index b) {
+        a = find(a), b = find(b);
+        if (a < b) return parent[b] = a;
+        if (b < a) return parent[a] = b;
+        return a;
+    }
+};
+
+// The vertices of one part, in order: the edges and fans around each (each edge {v, w} is seen
+// from both ends and counted at its smaller end v; the corners at v that share an edge form
+// one fan, and more than one fan makes v a non-manifold vertex), and the pieces, swept: each
+// vertex takes the label of its smaller neighbours in the part (uniting theirs when they
+// differ), or a new one; label[v] is that label, or kNoPiece for an unreferenced vertex.
+// Linear in the corners, and the labels a vertex reads are of vertices just before it.
+void vertex_part(const Mesh& mesh, const CornerPlan& plan,
+                 const std::vector<Index>& degenerate_vertices, std::size_t part, Index* label,
+                 PartLabels& out) {
+    const Index lo = plan.block_start[plan.part_block[part]];
+    BlockCorners corners;
     std::vector<LocalUse> uses;
     std::vector<Index> parent;
     const auto find = [&](Index x) {
         while (parent[x] != x) x = parent[x] = parent[parent[x]];
         return x;
     };
-    const std::size_t end = std::min(n, (k + 1) * kVertexChunk);
-    for (std::size_t v = k * kVertexChunk; v < end; ++v) {
-        if (pieces.of_vertex[v] == no_piece) continue;
-        Partial& part = piece_sum(runs, pieces.of_vertex[v]);
-        MeshStats& s = part.stats;
-        ++s.vertices;
-        if (closed_fan(vc, v)) {  // the usual vertex: every edge used twice, one way each
-            for (Index i = vc.start[v]; i < vc.start[v + 1]; ++i)
-                part.edges += vc.ends[i].next > v ? 1 : 0;
-            continue;
-        }
-        uses.clear();
-        Index local = 0;
-        for (Index i = vc.start[v]; i < vc.start[v + 1]; ++i) {
-            uses.push_back({vc.ends[i].next, local, true});
-            uses.push_back({vc.ends[i].prev, local, false});
-            ++local;
-        }
-        // By the other end (a dozen uses at a vertex of a closed mesh: an insertion sort, a
-        // full sort for a crowded vertex; the order within a group does not matter below).
-        if (uses.size() > 32)
-            std::sort(uses.begin(), uses.end(),
-                      [](const LocalUse& x, const LocalUse& y) { return x.other < y.other; });
-        for (std::size_t i = 1; i < uses.size(); ++i) {
-            const LocalUse u = uses[i];
-            std::size_t j = i;
-            for (; j > 0 && uses[j - 1].other > u.other; --j) uses[j] = uses[j - 1];
-            uses[j] = u;
-        }
-        parent.resize(local);
-        std::iota(parent.begin(), parent.end(), Index{0});
-        Index fans = local;
-        for (std::size_t g = 0; g < uses.size();) {
-            std::size_t e = g + 1;
-            while (e < uses.size() && uses[e].other == uses[g].other) ++e;
-            if (uses[g].other > v) {
-                ++part.edges;
-                if (e - g == 1) {
-                    ++s.boundary_edges;
-                } else if (e - g == 2) {
-                    if (uses[g].forward == uses[g + 1].forward) ++s.inconsistent_edges;
-                } else {
-                    ++s.nonmanifold_edges;
+    auto degenerate = std::lower_bound(degenerate_vertices.begin(), degenerate_vertices.end(), lo);
+    for (std::size_t block = plan.part_block[part]; block < plan.part_block[part + 1]; ++block) {
+        corners.build(mesh.indices, plan.block_start[block], plan.block_start[block + 1],
+                      plan.first[block], plan.last[block]);
+        for (Index v = plan.block_start[block]; v < plan.block_start[block + 1]; ++v) {
+            Index at = no_piece;  // v's label
+            const auto meet = [&](Index w) {
+                if (w >= v) return;
+                if (w < lo) {
+                    out.across.push_back({v, w});
+                } else if (label[w] != at) {  // mostly equal: v's neighbours share one label
+                    at = at == no_piece ? out.find(label[w]) : out.unite(at, label[w]);
                 }
+            };
+            const bool in_degenerate = degenerate != degenerate_vertices.end() && *degenerate == v;
+            if (in_degenerate) ++degenerate;
+            if (corners.begin(v) == corners.end(v) && !in_degenerate) {
+                label[v] = no_piece;
+                continue;
             }
-            for (std::size_t u = g + 1; u < e; ++u) {
-                const Index a = find(uses[g].corner), b = find(uses[u].corner);
-                if (a != b) {
-                    parent[std::max(a, b)] = std::min(a, b);
-                    --fans;
+            if (closed_fan(corners, v)) {  // the usual vertex: every edge used twice, one way each
+                for (Index i = corners.begin(v); i < corners.end(v); ++i) meet(corners.next(i));
+            } else {
+                uses.clear();
+                Index local = 0;
+                for (Index i = corners.begin(v); i < corners.end(v); ++i) {
+                    uses.push_back({corners.next(i), local, true});
+                    uses.push_back({corners.prev(i), local, false});
+                    ++local;
                 }
+                // By the other end (a dozen uses at a vertex of a closed mesh: an insertion sort,
+                // a full sort for a crowded vertex; the order within a group does not matter).
+                if (uses.size() > 32)
+                    std::sort(uses.begin(), uses.end(), [](const LocalUse& x, const LocalUse& y) {
+                        return x.other < y.other;
+                    });
+                for (std::size_t i = 1; i < uses.size(); ++i) {
+                    const LocalUse u = uses[i];
+                    std::size_t j = i;
+                    for (; j > 0 && uses[j - 1].other > u.other; --j) uses[j] = uses[j - 1];
+                    uses[j] = u;
+                }
+                parent.resize(local);
+                std::iota(parent.begin(), parent.end(), Index{0});
+                Index fans = local;
+                OddVertex odd{v};
+                for (std::size_t g = 0; g < uses.size();) {
+                    std::size_t e = g + 1;
+                    while (e < uses.size() && uses[e].other == uses[g].other) ++e;
+                    meet(uses[g].other);
+                    if (uses[g].other > v) {
+                        if (e - g == 1) {
+                            ++odd.boundary;
+                        } else if (e - g == 2) {
+                            if (uses[g].forward == uses[g + 1].forward) ++odd.inconsistent;
+                        } else {
+                            ++odd.nonmanifold;
+                            odd.excess += Index(e - g - 2);
+                        }
+                    }
+                    for (std::size_t u = g + 1; u < e; ++u) {
+                        const Index a = find(uses[g].corner), b = find(uses[u].corner);
+                        if (a != b) {
+                            parent[std::max(a, b)] = std::min(a, b);
+                            --fans;
+                        }
+                    }
+                    g = e;
+                }
+                odd.nonmanifold_vertex = fans > 1;
+                if (odd.boundary || odd.inconsistent || odd.nonmanifold || odd.nonmanifold_vertex)
+                    out.odd.push_back(odd);
             }
-            g = e;
+            if (at == no_piece) {
+                at = Index(out.parent.size());
+                out.parent.push_back(at);
+            }
+            label[v] = at;
         }
-        if (fans > 1) ++s.nonmanifold_vertices;
     }
 }
 
-// Statistics of every piece, in piece order; `vertices` counts referenced vertices only.
-std::vector<MeshStats> analyse_pieces(const Mesh& mesh, unsigned requested_threads) {
-    // Normals play no part in the statistics, so they are not checked.
-    validate_mesh(mesh, "mesh statistics", false);
-    const unsigned threads = thread_count(requested_threads);
-    trace("mesh statistics: checked");
-    const VertexCorners vc = corners_by_vertex(mesh.indices, mesh.vertex_count(), threads);
-    trace("mesh statistics: corners by vertex");
-    const Pieces pieces = vertex_pieces(mesh, threads);
-    trace("mesh statistics: pieces");
+// A piece's area and volume end on + 0.0, as when each piece's vertex runs (of area and volume
+// 0) were added after its triangle runs: a sum of -0 reads 0.
+void end_sums(MeshStats& s) {
+    s.area += 0.0;
+    s.volume += 0.0;
+}
 
-    const std::size_t triangle_chunks = chunk_count(mesh.triangle_count(), kTriangleChunk);
-    const std::size_t vertex_chunks = chunk_count(mesh.vertex_count(), kVertexChunk);
-    std::vector<MeshStats> stats(pieces.count);
-    std::vector<long> edge_count(pieces.count, 0);
-    std::vector<long> face_count(pieces.count, 0);
-    const auto add = [&](Index piece, const Partial& part) {
-        MeshStats& s = stats[piece];
-        const MeshStats& q = part.stats;
-        s.vertices += q.vertices;
-        s.triangles += q.triangles;
-        s.area += q.area;
-        s.volume += q.volume;
-        s.boundary_edges += q.boundary_edges;
-        s.nonmanifold_edges += q.nonmanifold_edges;
-        s.nonmanifold_vertices += q.nonmanifold_vertices;
-        s.inconsistent_edges += q.inconsistent_edges;
-        s.degenerate_triangles += q.degenerate_triangles;
-        edge_count[piece] += part.edges;
-        face_count[piece] += part.faces;
-    };
-    // The triangles' sums, then the vertices' counts (integers: their order does not matter).
-    sum_by_piece<Partial>(
-        triangle_chunks, threads,
-        [&](std::size_t k, Runs& runs) { triangle_chunk(mesh, pieces, k, runs); }, add);
-    trace("mesh statistics: triangles");
-    sum_by_piece<Partial>(
-        vertex_chunks, threads,
-        [&](std::size_t k, Runs& runs) { vertex_chunk(mesh, pieces, vc, k, runs); }, add);
-    trace("mesh statistics: vertices");
-    for (std::size_t p = 0; p < stats.size(); ++p) {
-        MeshStats& s = stats[p];
-        s.pieces = 1;
-        s.closed_pieces = s.boundary_edges == 0 && s.nonmanifold_edges == 0 ? 1 : 0;
-        s.euler_characteristic = long(s.vertices) - edge_count[p] + face_count[p];
+// The pieces from the corners (vertex_part on each part, then the labels that meet across parts
+// or through degenerate triangles united), numbered in the order of their smallest vertex; and
+// the odd vertices.
+VertexPieces swept_pieces(const Mesh& mesh, const CornerPlan& plan, unsigned threads,
+                          std::vector<OddVertex>& odd) {
+    const auto& idx = mesh.indices;
+    std::vector<Index> degenerate_vertices;
+    for (Index t : plan.degenerate)
+        degenerate_vertices.insert(degenerate_vertices.end(), &idx[3 * t], &idx[3 * t + 3]);
+    std::sort(degenerate_vertices.begin(), degenerate_vertices.end());
+    degenerate_vertices.erase(std::unique(degenerate_vertices.begin(), degenerate_vertices.end()),
+                              degenerate_vertices.end());
+    VertexPieces pieces;
+    std::vector<Index>& label = pieces.of_vertex;
+    label.resize(mesh.vertex_count());
+    std::vector<PartLabels> parts(plan.parts);
+    parallel_chunks(plan.parts, threads, [&](std::size_t part) {
+        vertex_part(mesh, plan, degenerate_vertices, part, label.data(), parts[part]);
+    });
+    const auto range = [&](std::size_t part) { return plan.block_start[plan.part_block[part]]; };
+    // All parts' labels in one table (a part's labels after the smaller parts'), so that a
+    // root is still its set's label met first, at its smallest vertex.
+    PartLabels all;
+    std::vector<Index> first_label(plan.parts + 1, 0);
+    for (std::size_t part = 0; part < plan.parts; ++part) {
+        first_label[part + 1] = first_label[part] + Index(parts[part].parent.size());
+        for (Index p : parts[part].parent) all.parent.push_back(p + first_label[part]);
+        odd.insert(odd.end(), parts[part].odd.begin(), parts[part].odd.end());
     }
-    return stats;
+    const auto part_of = [&](Index v) {
+        std::size_t part = 0;
+        while (v >= range(part + 1)) ++part;
+        return part;
+    };
+    const auto global = [&](Index v) { return label[v] + first_label[part_of(v)]; };
+    for (const PartLabels& part : parts)
+        for (const auto& [v, w] : part.across) all.unite(global(v), global(w));
+    for (Index t : plan.degenerate)
+        for (int k = 1; k < 3; ++k) all.unite(global(idx[3 * t]), global(idx[3 * t + k]));
+    std::vector<Index> piece_of(all.parent.size());
+    for (Index l = 0; l < piece_of.size(); ++l)
+        piece_of[l] = all.find(l) == l ? Index(pieces.count++) : piece_of[all.find(l)];
+    parallel_chunks(plan.parts, threads, [&](std::size_t part) {
+        for (Index v = range(part); v < range(part + 1); ++v)
+            if (label[v] != no_piece) label[v] = piece_of[label[v] + first_label[part]];
+    });
+    return pieces;
 }
 
 }  // namespace
 
-MeshStats total_stats(const Mesh& mesh, unsigned threads) {
+MeshAnalysis analyse_mesh(const Mesh& mesh, bool topology, const char* who,
+                          unsigned requested_threads) {
+    const unsigned threads = thread_count(requested_threads);
+    MeshAnalysis a;
+    a.topology = topology;
+    std::vector<OddVertex> odd;
+    if (topology) {
+        // Normals play no part in the statistics, so they are not checked; the indices are,
+        // while the corners are counted.
+        validate_mesh_arrays(mesh, who, false);
+        const CornerPlan plan = plan_corners(mesh, who, threads);
+        trace("mesh analysis: corners planned");
+        a.pieces = swept_pieces(mesh, plan, threads, odd);
+        trace("mesh analysis: vertices and pieces");
+    } else {
+        validate_mesh(mesh, who, false);
+        a.pieces = vertex_pieces(mesh, threads);
+        trace("mesh analysis: pieces");
+    }
+    const Pieces& pieces = a.pieces;
+    std::vector<MeshStats>& stats = a.stats;
+    stats.resize(pieces.count);
+    std::vector<long> face_count(pieces.count, 0);
+    // The triangles' sums, chunk after chunk (their runs kept).
+    sum_by_piece<Partial>(
+        chunk_count(mesh.triangle_count(), kTriangleChunk), threads,
+        [&](std::size_t k, Runs& runs) {
+            if (topology) {
+                triangle_chunk<true>(mesh, pieces, k, runs);
+            } else {
+                triangle_chunk<false>(mesh, pieces, k, runs);
+            }
+        },
+        [&](Index piece, const Partial& part) {
+            MeshStats& s = stats[piece];
+            s.triangles += part.stats.triangles;
+            s.area += part.stats.area;
+            s.volume += part.stats.volume;
+            s.degenerate_triangles += part.stats.degenerate_triangles;
+            face_count[piece] += part.faces;
+            a.runs.push_back({piece, Index(part.stats.triangles)});
+        });
+    trace("mesh analysis: triangles");
+    // The referenced vertices (integers: in any order), for the statistics.
+    if (topology)
+        sum_by_piece<std::size_t>(
+            chunk_count(mesh.vertex_count(), kVertexChunk), threads,
+            [&](std::size_t k, PieceRuns<std::size_t>& runs) {
+                for (std::size_t v = k * kVertexChunk;
+                     v < std::min(mesh.vertex_count(), (k + 1) * kVertexChunk); ++v)
+                    if (pieces.of_vertex[v] != no_piece) ++piece_sum(runs, pieces.of_vertex[v]);
+            },
+            [&](Index piece, std::size_t vertices) { stats[piece].vertices += vertices; });
+    // Each piece's edges: every edge at a vertex whose corners close one fan is used twice, so
+    // 3 faces = 2 edges - boundary + excess over the piece, the odd vertices' edges counted.
+    std::vector<long> excess(pieces.count, 0);
+    for (const OddVertex& o : odd) {
+        const Index piece = pieces.of_vertex[o.vertex];
+        MeshStats& s = stats[piece];
+        s.boundary_edges += o.boundary;
+        s.inconsistent_edges += o.inconsistent;
+        s.nonmanifold_edges += o.nonmanifold;
+        s.nonmanifold_vertices += o.nonmanifold_vertex ? 1 : 0;
+        excess[piece] += o.excess;
+    }
+    for (std::size_t p = 0; p < stats.size(); ++p) {
+        MeshStats& s = stats[p];
+        end_sums(s);
+        s.pieces = 1;
+        if (!topology) continue;
+        s.closed_pieces = s.boundary_edges == 0 && s.nonmanifold_edges == 0 ? 1 : 0;
+        const long edges = (3 * face_count[p] + long(s.boundary_edges) - excess[p]) / 2;
+        s.euler_characteristic = long(s.vertices) - edges + face_count[p];
+    }
+    return a;
+}
+
+void keep_pieces(Mesh& mesh, MeshAnalysis& a, const std::vector<char>& drop, bool update) {
+    const std::size_t count = a.pieces.count;
+    // The kept pieces' new numbers and statistics (their sums taken again below).
+    std::vector<Index> renumber(count, no_piece);
+    std::vector<MeshStats> stats;
+    for (std::size_t q = 0; q < count; ++q) {
+        if (drop[q]) continue;
+        renumber[q] = Index(stats.size());
+        stats.push_back(a.stats[q]);
+        stats.back().area = 0.0;
+        stats.back().volume = 0.0;
+    }
+    if (stats.size() == count) return;
+    const unsigned threads = thread_count();
+    const std::vector<Index>& of_vertex = a.pieces.of_vertex;
+    const auto dropped = [&](Index v) { return of_vertex[v] != no_piece && drop[of_vertex[v]]; };
+
+    // The kept vertices (unreferenced ones too), chunk by chunk: where each chunk's go, then
+    // each one's new number and piece.
+    const std::size_t nv = mesh.vertex_count();
+    const std::size_t vertex_chunks = chunk_count(nv, kVertexChunk);
+    std::vector<std::size_t> first_kept(vertex_chunks + 1, 0);
+    parallel_chunks(vertex_chunks, threads, [&](std::size_t k) {
+        std::size_t kept = 0;
+        for (std::size_t v = k * kVertexChunk; v < std::min(nv, (k + 1) * kVertexChunk); ++v)
+            kept += dropped(Index(v)) ? 0 : 1;
+        first_kept[k + 1] = kept;
+    });
+    for (std::size_t k = 0; k < vertex_chunks; ++k) first_kept[k + 1] += first_kept[k];
+    std::vector<Index> remap(nv), kept(first_kept[vertex_chunks]);
+    std::vector<Index> kept_piece(update ? kept.size() : 0);
+    parallel_chunks(vertex_chunks, threads, [&](std::size_t k) {
+        std::size_t i = first_kept[k];
+        for (std::size_t v = k * kVertexChunk; v < std::min(nv, (k + 1) * kVertexChunk); ++v) {
+            if (dropped(Index(v))) continue;
+            remap[v] = Index(i);
+            if (update)
+                kept_piece[i] = of_vertex[v] == no_piece ? no_piece : renumber[of_vertex[v]];
+            kept[i++] = Index(v);
+        }
+    });
+    trace("keep pieces: vertices numbered");
+
+    // Where each chunk of the new triangles starts among the old ones, from the runs (a run is
+    // of one piece, so wholly kept or wholly dropped).
+    std::vector<std::size_t> chunk_start;
+    std::size_t in = 0, out = 0;
+    for (const TriangleRun& run : a.runs) {
+        if (!drop[run.piece]) {
+            for (std::size_t b = chunk_start.size() * kTriangleChunk; b < out + run.triangles;
+                 b += kTriangleChunk)
+                chunk_start.push_back(in + (b - out));
+            out += run.triangles;
+        }
+        in += run.triangles;
+    }
+    const std::size_t nt = out;
+    // Each new chunk on a thread: its triangles moved, in place, and (`update`) its sums taken
+    // as analyse_mesh takes them. Chunk k writes [k C, (k + 1) C) from old triangles at or after
+    // the place of each; only its first places that lie before its own old triangles may hold
+    // old triangles of the chunks before it, not yet read: those wait in a buffer until every
+    // chunk is done.
+    struct Sums {
+        double area = 0.0;
+        double volume = 0.0;
+        Index triangles = 0;
+    };
+    Index* idx = mesh.indices.data();
+    std::vector<PieceRuns<Sums>> runs(chunk_start.size());
+    std::vector<std::vector<Index>> held(chunk_start.size());
+    parallel_chunks(chunk_start.size(), threads, [&](std::size_t k) {
+        const std::size_t begin = k * kTriangleChunk, end = std::min(nt, begin + kTriangleChunk);
+        const std::size_t hold = std::min(end, chunk_start[k]);
+        held[k].resize(3 * (hold - begin));
+        std::size_t t = chunk_start[k];
+        Index last = no_piece;
+        Sums* sums = nullptr;  // the run of `last`, the chunk's last one
+        for (std::size_t o = begin; o < end; ++t) {
+            const Index tri[3] = {idx[3 * t], idx[3 * t + 1], idx[3 * t + 2]};
+            const Index piece = of_vertex[tri[0]];
+            if (drop[piece]) continue;
+            if (update) {
+                if (piece != last) last = piece, sums = &piece_sum(runs[k], renumber[piece]);
+                const auto p0 = position(mesh, tri[0]), p1 = position(mesh, tri[1]),
+                           p2 = position(mesh, tri[2]);
+                sums->volume += triangle_volume(p0, p1, p2);
+                if (a.topology) sums->area += triangle_area(p0, p1, p2);
+                ++sums->triangles;
+            }
+            Index* to = o < hold ? &held[k][3 * (o - begin)] : &idx[3 * o];
+            for (int j = 0; j < 3; ++j) to[j] = remap[tri[j]];
+            ++o;
+        }
+    });
+    parallel_chunks(chunk_start.size(), threads, [&](std::size_t k) {
+        std::copy(held[k].begin(), held[k].end(), idx + 3 * k * kTriangleChunk);
+    });
+    mesh.indices.resize(3 * nt);
+    keep_vertices(mesh, kept);
+    trace("keep pieces: triangles and vertices moved");
+    if (!update) return;
+    a.runs.clear();
+    for (const PieceRuns<Sums>& of_chunk : runs)
+        for (const PieceRun<Sums>& run : of_chunk) {
+            stats[run.piece].area += run.sum.area;
+            stats[run.piece].volume += run.sum.volume;
+            a.runs.push_back({run.piece, run.sum.triangles});
+        }
+    for (MeshStats& s : stats) end_sums(s);
+    a.pieces.of_vertex = std::move(kept_piece);
+    a.pieces.count = stats.size();
+    a.stats = std::move(stats);
+}
+
+MeshStats total_stats(const MeshAnalysis& analysis, const Mesh& mesh) {
     MeshStats total;
-    for (const MeshStats& s : analyse_pieces(mesh, threads)) {
+    for (const MeshStats& s : analysis.stats) {
         total.area += s.area;
         total.volume += s.volume;
         total.pieces += s.pieces;
@@ -291,6 +679,10 @@ MeshStats total_stats(const Mesh& mesh, unsigned threads) {
     return total;
 }
 
+MeshStats total_stats(const Mesh& mesh, unsigned threads) {
+    return total_stats(analyse_mesh(mesh, true, "mesh statistics", threads), mesh);
+}
+
 }  // namespace detail
 
 bool MeshStats::is_closed_manifold() const {
@@ -301,7 +693,7 @@ bool MeshStats::is_closed_manifold() const {
 MeshStats compute_stats(const Mesh& mesh) { return detail::total_stats(mesh, 0); }
 
 std::vector<MeshStats> piece_stats(const Mesh& mesh) {
-    std::vector<MeshStats> pieces = detail::analyse_pieces(mesh, 0);
+    std::vector<MeshStats> pieces = detail::analyse_mesh(mesh, true, "mesh statistics").stats;
     std::stable_sort(pieces.begin(), pieces.end(),
                      [](const MeshStats& a, const MeshStats& b) { return a.area > b.area; });
     return pieces;

@@ -9,7 +9,7 @@
 
 namespace fdmsurf::detail {
 
-void validate_mesh(const Mesh& mesh, const char* who, bool check_normals) {
+void validate_mesh_arrays(const Mesh& mesh, const char* who, bool check_normals) {
     auto fail = [who](const std::string& what) {
         throw Error(ErrorCode::InvalidArgument, std::string(who) + ": " + what);
     };
@@ -21,6 +21,13 @@ void validate_mesh(const Mesh& mesh, const char* who, bool check_normals) {
     // Corner numbers (3 t + k) and vertex numbers are kept in 32 bits internally.
     constexpr std::size_t limit = std::numeric_limits<std::uint32_t>::max();
     if (mesh.vertex_count() > limit || mesh.indices.size() > limit) fail("mesh too large");
+}
+
+void validate_mesh(const Mesh& mesh, const char* who, bool check_normals) {
+    validate_mesh_arrays(mesh, who, check_normals);
+    auto fail = [who](const std::string& what) {
+        throw Error(ErrorCode::InvalidArgument, std::string(who) + ": " + what);
+    };
     const std::size_t n = mesh.vertex_count();
     for (std::uint32_t i : mesh.indices) {
         if (i >= n) {

@@ -10,4 +10,8 @@ namespace fdmsurf::detail {
 // one per vertex.
 void validate_mesh(const Mesh& mesh, const char* who, bool check_normals);
 
+// The same without the indices' range, for callers that check it as they read them (and then
+// call validate_mesh for the message).
+void validate_mesh_arrays(const Mesh& mesh, const char* who, bool check_normals);
+
 }  // namespace fdmsurf::detail

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -89,6 +90,9 @@ struct SurfaceOptions {
     bool canonical_grid = true;
     // Colours and per-vertex scalars (Mesh::colors, Mesh::scalars). Mesh::atoms is always set.
     PropertyOptions properties;
+    // Also give SurfaceResult::stats: the mesh's statistics, found with the pieces the cavity
+    // removal finds anyway (one analysis of the mesh for both), cheaper than compute_stats after.
+    bool mesh_stats = false;
 };
 
 // The settings of Giard & Macq (2010): ideal mask at f_c = 1/(4 probe), level T, cavities kept.
@@ -119,6 +123,8 @@ struct SurfaceResult {
     std::vector<std::string> warnings;
     std::size_t cavities_removed = 0;  // pieces removed by SurfaceOptions::min_cavity_volume
     std::size_t specks_removed = 0;    // edt: closed pieces enclosing less than one grid cell
+    // With SurfaceOptions::mesh_stats: compute_stats(mesh), bit for bit; otherwise empty.
+    std::optional<MeshStats> stats;
 };
 
 struct DeviceInfo {

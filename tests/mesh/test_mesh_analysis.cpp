@@ -1,0 +1,196 @@
+// Tests of the mesh analysis (mesh_stats_detail.hpp): the pieces and their statistics found once,
+// the cavity removal reading them, and the statistics of the pieces kept, against the
+// statistics computed on the mesh after the removal.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <numeric>
+#include <random>
+#include <vector>
+
+#include "fdmsurf/mesh.hpp"
+#include "mesh/cavities.hpp"
+#include "mesh/mesh_pieces.hpp"
+#include "mesh/mesh_shapes.hpp"
+#include "mesh/mesh_stats_detail.hpp"
+#include "support/test_data.hpp"
+
+namespace fdmsurf {
+namespace {
+
+// Appends `add`'s vertices to `m` and puts its triangles (turned inside out with `inward`) at
+// `at` among m's, so that pieces interleave in the triangle order.
+void insert_piece(Mesh& m, const Mesh& add, bool inward, std::size_t at) {
+    const auto base = static_cast<std::uint32_t>(m.vertex_count());
+    m.positions.insert(m.positions.end(), add.positions.begin(), add.positions.end());
+    for (float n : add.normals) m.normals.push_back(inward ? -n : n);
+    std::vector<std::uint32_t> tris;
+    for (std::size_t t = 0; t < add.triangle_count(); ++t) {
+        tris.push_back(base + add.indices[3 * t]);
+        tris.push_back(base + add.indices[3 * t + (inward ? 2 : 1)]);
+        tris.push_back(base + add.indices[3 * t + (inward ? 1 : 2)]);
+    }
+    m.indices.insert(m.indices.begin() + std::ptrdiff_t(3 * at), tris.begin(), tris.end());
+}
+
+// Several chunks of triangles (kTriangleChunk), with pieces whose triangles interleave: an
+// outer sphere (327,680 triangles), six cavities of several sizes whose triangles sit among
+// the outer one's (so that removing them moves every chunk boundary after them), a sphere
+// outside it, a speck, and a vertex no triangle uses. The cavities' vertices come first, so
+// that they are the first pieces.
+Mesh interleaved_pieces() {
+    Mesh m;
+    const std::array<std::array<double, 4>, 6> voids = {{{2.0, 0, 0, 0},
+                                                         {0.9, 5, 0, 0},
+                                                         {0.6, -5, 0, 0},
+                                                         {1.2, 0, 5, 0},
+                                                         {0.5, 0, -5, 0},
+                                                         {1.5, 0, 0, 5}}};
+    std::size_t at = 0;
+    for (const auto& v : voids) {
+        insert_piece(m, test::icosphere(v[0], 3, {v[1], v[2], v[3]}), true, at);
+        at = m.triangle_count();
+    }
+    const Mesh outer = test::icosphere(10.0, 7);
+    insert_piece(m, outer, false, m.triangle_count());
+    // Move each cavity's triangles in among the outer sphere's.
+    std::vector<std::uint32_t> cavities(m.indices.begin(), m.indices.begin() + 3 * at);
+    m.indices.erase(m.indices.begin(), m.indices.begin() + 3 * at);
+    const std::size_t per = at / voids.size();
+    for (std::size_t i = 0; i < voids.size(); ++i) {
+        const std::size_t where = (i + 1) * 45'000 + i * per;
+        m.indices.insert(m.indices.begin() + std::ptrdiff_t(3 * where),
+                         cavities.begin() + std::ptrdiff_t(3 * i * per),
+                         cavities.begin() + std::ptrdiff_t(3 * (i + 1) * per));
+    }
+    insert_piece(m, test::icosphere(3.0, 4, {30, 0, 0}), false, 100'000);
+    insert_piece(m, test::icosphere(0.05, 1, {0, 30, 0}), false, m.triangle_count());
+    test::add_vertex(m, 50, 50, 50);
+    m.normals.insert(m.normals.end(), {1, 0, 0});
+    return m;
+}
+
+void expect_same_stats(const MeshStats& a, const MeshStats& b) {
+    EXPECT_EQ(a.vertices, b.vertices);
+    EXPECT_EQ(a.triangles, b.triangles);
+    EXPECT_EQ(a.area, b.area);  // bit for bit
+    EXPECT_EQ(a.volume, b.volume);
+    EXPECT_EQ(a.pieces, b.pieces);
+    EXPECT_EQ(a.closed_pieces, b.closed_pieces);
+    EXPECT_EQ(a.boundary_edges, b.boundary_edges);
+    EXPECT_EQ(a.nonmanifold_edges, b.nonmanifold_edges);
+    EXPECT_EQ(a.nonmanifold_vertices, b.nonmanifold_vertices);
+    EXPECT_EQ(a.inconsistent_edges, b.inconsistent_edges);
+    EXPECT_EQ(a.degenerate_triangles, b.degenerate_triangles);
+    EXPECT_EQ(a.euler_characteristic, b.euler_characteristic);
+}
+
+TEST(MeshAnalysis, StatisticsOfThePiecesKeptEqualThoseOfTheMeshAfter) {
+    const Mesh mesh = interleaved_pieces();
+    ASSERT_GT(mesh.triangle_count(), 5 * detail::kTriangleChunk);
+    ASSERT_EQ(compute_stats(mesh).pieces, 9u);
+    for (double max_volume : {5.0, std::numeric_limits<double>::infinity()}) {
+        // The plain way: the cavities removed, then the statistics of what is left.
+        Mesh plain = mesh;
+        const std::size_t removed = remove_cavities(plain, max_volume);
+        EXPECT_EQ(removed, max_volume < 10.0 ? 3u : 6u);
+        const MeshStats after = compute_stats(plain);
+        std::vector<MeshStats> pieces = piece_stats(plain);
+        for (unsigned threads : {1u, 2u, 3u, 0u}) {
+            // The fused way: one analysis, the cavities removed with it, its sums of the rest.
+            Mesh fused = mesh;
+            detail::MeshAnalysis analysis = detail::analyse_mesh(fused, true, "test", threads);
+            EXPECT_EQ(detail::remove_cavities_below(fused, max_volume, &analysis), removed);
+            EXPECT_EQ(fused.positions, plain.positions);
+            EXPECT_EQ(fused.normals, plain.normals);
+            EXPECT_EQ(fused.indices, plain.indices);
+            expect_same_stats(detail::total_stats(analysis, fused), after);
+            std::vector<MeshStats> kept = analysis.stats;
+            std::stable_sort(kept.begin(), kept.end(), [](const MeshStats& a, const MeshStats& b) {
+                return a.area > b.area;
+            });
+            ASSERT_EQ(kept.size(), pieces.size());
+            for (std::size_t p = 0; p < kept.size(); ++p) expect_same_stats(kept[p], pieces[p]);
+            // And the analysis kept up to date is the analysis of the mesh after.
+            const detail::MeshAnalysis fresh = detail::analyse_mesh(fused, true, "test", threads);
+            EXPECT_EQ(analysis.pieces.of_vertex, fresh.pieces.of_vertex);
+            ASSERT_EQ(analysis.runs.size(), fresh.runs.size());
+            for (std::size_t r = 0; r < fresh.runs.size(); ++r) {
+                EXPECT_EQ(analysis.runs[r].piece, fresh.runs[r].piece);
+                EXPECT_EQ(analysis.runs[r].triangles, fresh.runs[r].triangles);
+            }
+        }
+    }
+}
+
+TEST(MeshAnalysis, PiecesAreThoseOfTheUnionFindInAnyVertexOrder) {
+    // The analysis sweeps the vertices in order for the pieces; the union-find of vertex_pieces
+    // takes the triangles. Both number pieces by their smallest vertex. Degenerate triangles
+    // join their vertices too (one of them used by nothing else), and in a shuffled vertex
+    // order every block's triangles span the mesh (the plan's fallback).
+    Mesh mesh = interleaved_pieces();
+    const auto n = static_cast<std::uint32_t>(mesh.vertex_count());
+    test::add_vertex(mesh, 40, 0, 0);
+    test::add_vertex(mesh, 41, 0, 0);
+    mesh.normals.insert(mesh.normals.end(), {1, 0, 0, 1, 0, 0});
+    mesh.indices.insert(mesh.indices.end(), {n, n, 0, n + 1, n + 1, n + 1});
+    Mesh shuffled = mesh;
+    std::vector<std::uint32_t> order(shuffled.vertex_count());
+    std::iota(order.begin(), order.end(), 0u);
+    std::shuffle(order.begin(), order.end(), std::mt19937(7));
+    for (std::uint32_t& v : shuffled.indices) v = order[v];
+    for (std::size_t v = 0; v < order.size(); ++v)
+        for (int k = 0; k < 3; ++k) {
+            shuffled.positions[3 * order[v] + k] = mesh.positions[3 * v + k];
+            shuffled.normals[3 * order[v] + k] = mesh.normals[3 * v + k];
+        }
+    // Crambin's surface from the grid (its triangles in the order of their vertices: the plan's
+    // blocks), and two copies of it sharing a vertex, the copy's triangles first (pieces meet
+    // across the threads' vertex ranges).
+    const Mesh crambin = read_mesh(test::data_path("1crn-fdm-0.5.ply"));
+    Mesh glued = crambin;
+    std::vector<std::uint32_t> copy;
+    for (std::uint32_t v : crambin.indices)
+        copy.push_back(v == 7 ? 7 : v + std::uint32_t(crambin.vertex_count()));
+    glued.indices.insert(glued.indices.begin(), copy.begin(), copy.end());
+    glued.positions.insert(glued.positions.end(), crambin.positions.begin(),
+                           crambin.positions.end());
+    glued.normals.insert(glued.normals.end(), crambin.normals.begin(), crambin.normals.end());
+    glued.atoms.clear();
+    for (const Mesh* m : {&crambin, static_cast<const Mesh*>(&glued)}) {
+        const detail::VertexPieces expected = detail::vertex_pieces(*m, 1);
+        for (unsigned threads : {1u, 2u, 5u})
+            EXPECT_EQ(detail::analyse_mesh(*m, true, "test", threads).pieces.of_vertex,
+                      expected.of_vertex);
+    }
+    EXPECT_EQ(compute_stats(glued).pieces, 2 * compute_stats(crambin).pieces - 1);
+    EXPECT_EQ(compute_stats(glued).nonmanifold_vertices, 1u);
+    for (const Mesh* m : {&mesh, &shuffled}) {
+        const detail::VertexPieces expected = detail::vertex_pieces(*m, 1);
+        for (unsigned threads : {1u, 2u, 5u}) {
+            const detail::MeshAnalysis a = detail::analyse_mesh(*m, true, "test", threads);
+            EXPECT_EQ(a.pieces.count, expected.count);
+            EXPECT_EQ(a.pieces.of_vertex, expected.of_vertex);
+            const detail::MeshAnalysis plain = detail::analyse_mesh(*m, false, "test", threads);
+            EXPECT_EQ(plain.pieces.of_vertex, expected.of_vertex);
+        }
+        const MeshStats s = compute_stats(*m);
+        EXPECT_EQ(s.pieces, 10u);  // the nine and the lone vertex of a degenerate triangle
+        EXPECT_EQ(s.closed_pieces, 10u);
+        EXPECT_EQ(s.degenerate_triangles, 2u);
+    }
+    // The same figures in either order (the sums up to their order: pieces are numbered
+    // differently, so their sums are added in another order).
+    const MeshStats a = compute_stats(mesh), b = compute_stats(shuffled);
+    EXPECT_EQ(a.euler_characteristic, b.euler_characteristic);
+    EXPECT_EQ(a.boundary_edges + a.nonmanifold_edges + a.nonmanifold_vertices, 0u);
+    EXPECT_EQ(b.boundary_edges + b.nonmanifold_edges + b.nonmanifold_vertices, 0u);
+    EXPECT_NEAR(a.area, b.area, 1e-9 * a.area);
+    EXPECT_NEAR(a.volume, b.volume, 1e-9 * a.volume);
+}
+
+}  // namespace
+}  // namespace fdmsurf
