@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "base/parallel.hpp"
+#include "base/trace.hpp"
 #include "base/vec3.hpp"
 #include "fdmsurf/error.hpp"
 
@@ -102,44 +103,39 @@ double angle_of_pseudo(double p) {
 }
 
 // A conservative record of the part of a circle's turn of pseudo-angles [0, 4) that buried
-// intervals cover: 256 bins, each set when one interval holds it whole (strictly, ends
+// intervals cover: 64 bins, each set when one interval holds it whole (strictly, ends
 // included). Every bin set means no point of the circle is exposed, which exposed_parts would
 // find from the same intervals; a gap smaller than a bin leaves bins unset and exposed_parts
 // decides. Most circles buried by several balls are found so before their last ball.
 struct CoverBins {
-    static constexpr int kBins = 256;
+    static constexpr int kBins = 64;
     static constexpr double kPerUnit = kBins / 4.0;
-    std::uint64_t words[4] = {0, 0, 0, 0};
-    void set(int first, int last) {  // bins first..last, 0 <= first <= last < kBins
-        for (int w = first >> 6; w <= last >> 6; ++w) {
-            const int lo = std::max(first, w * 64) - w * 64, hi = std::min(last, w * 64 + 63) - w * 64;
-            const std::uint64_t upper = hi == 63 ? ~std::uint64_t(0) : (std::uint64_t(1) << (hi + 1)) - 1;
-            words[w] |= upper & (~std::uint64_t(0) << lo);
-        }
+    std::uint64_t bins = 0;
+    // Bits first..last, 0 <= first <= last < 64.
+    static std::uint64_t bits(int first, int last) {
+        return (~std::uint64_t(0) >> (63 - last)) & (~std::uint64_t(0) << first);
     }
     // The open interval (from, from + len) of pseudo-angles (from in [0, 4], len in (0, 4]);
     // returns whether every bin is now set.
     bool add(double from, double len) {
         if (len >= 4.0) {
-            for (auto& w : words) w = ~std::uint64_t(0);
+            bins = ~std::uint64_t(0);
             return true;
         }
-        // Bins b with from < b / kPerUnit and (b + 1) / kPerUnit < from + len, unwrapped
-        // (floor and ceil of values >= 0 by truncation).
+        // Bins b with from < b / kPerUnit and (b + 1) / kPerUnit < from + len, unwrapped: first
+        // in [1, 65], last below 2 kBins (floor and ceil of values >= 0 by truncation).
         const double lo = from * kPerUnit, hi = (from + len) * kPerUnit;
         const int first = static_cast<int>(lo) + 1;
         const int hi_floor = static_cast<int>(hi);
         const int last = hi_floor + (double(hi_floor) < hi) - 2;
         if (last < first) return false;
-        if (last < kBins) {
-            set(first, last);
-        } else if (first >= kBins) {
-            set(first - kBins, last - kBins);
-        } else {
-            set(first, kBins - 1);
-            set(0, last - kBins);
-        }
-        return (words[0] & words[1] & words[2] & words[3]) == ~std::uint64_t(0);
+        if (last < kBins)
+            bins |= bits(first, last);
+        else if (first >= kBins)
+            bins |= bits(first - kBins, last - kBins);
+        else
+            bins |= bits(first, kBins - 1) | bits(0, last - kBins);
+        return bins == ~std::uint64_t(0);
     }
 };
 
@@ -686,8 +682,11 @@ SesFeatures build_ses_features(const Atoms& atoms, float probe) {
     b.bin_spheres();
     Atoms unique;
     if (b.without_duplicates(unique)) return build_ses_features(unique, probe);
+    trace("ses features: balls binned");
     b.find_neighbours();
+    trace("ses features: neighbours");
     b.cut_circles();
+    trace("ses features: arcs");
     return std::move(b.f);
 }
 
