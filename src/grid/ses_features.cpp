@@ -268,7 +268,8 @@ struct FeatureBuilder {
         for (int a = 0; a < 3; ++a) {
             f.origin[a] = static_cast<float>(lo[a]);
             f.dims[a] = static_cast<std::uint32_t>(std::floor((hi[a] - lo[a]) / f.bin_size)) + 1;
-            bin_margin = std::max(bin_margin, 1e-3 + 1e-6 * std::max(std::abs(lo[a]), std::abs(hi[a])));
+            bin_margin =
+                std::max(bin_margin, 1e-3 + 1e-6 * std::max(std::abs(lo[a]), std::abs(hi[a])));
         }
         std::vector<std::size_t> bin_of(n);
         parallel_chunks(chunk_count, threads, [&](std::size_t chunk) {
@@ -282,7 +283,8 @@ struct FeatureBuilder {
         for (std::size_t i = 0; i < n; ++i) ++start[bin_of[i] + 1];
         for (std::size_t b = 0; b < f.bin_count(); ++b) start[b + 1] += start[b];
         order.resize(n);
-        for (std::size_t i = 0; i < n; ++i) order[start[bin_of[i]]++] = static_cast<std::uint32_t>(i);
+        for (std::size_t i = 0; i < n; ++i)
+            order[start[bin_of[i]]++] = static_cast<std::uint32_t>(i);
         unshift(start);
         sphere_of.resize(n);
         balls.resize(n);
@@ -392,28 +394,42 @@ struct FeatureBuilder {
 
     // Neighbours: the balls that intersect each ball (compressed rows by sphere, bin order).
     // Blocks of chunks of spheres, each chunk's rows on one of all threads into a list kept
-    // from block to block, the lists appended in sphere order: the memory is touched once
-    // (fresh pages cost more than the search here).
+    // from block to block (two sets, alternating), and the previous block's lists appended in
+    // sphere order beside them: the rows' memory is touched once, by the append (fresh pages
+    // cost more than the search on this kind of machine).
     void find_neighbours() {
         f.neighbour_start.assign(n + 1, 0);
         f.neighbours.clear();
         f.neighbours.reserve(n * kNeighboursReserved);
-        std::vector<std::vector<std::uint32_t>> lists(std::min(chunk_count, kBlockChunks));
-        for (std::size_t block = 0; block < chunk_count; block += kBlockChunks) {
-            const std::size_t chunks = std::min(kBlockChunks, chunk_count - block);
-            parallel_chunks(chunks, threads, [&](std::size_t c) {
-                std::vector<std::uint32_t>& list = lists[c];
+        const std::size_t block_lists = std::min(chunk_count, kBlockChunks);
+        std::vector<std::vector<std::uint32_t>> lists[2] = {
+            std::vector<std::vector<std::uint32_t>>(block_lists),
+            std::vector<std::vector<std::uint32_t>>(block_lists)};
+        std::size_t previous = 0;  // chunks in the previous block
+        for (std::size_t block = 0, round = 0; previous > 0 || block < chunk_count;
+             block += kBlockChunks, ++round) {
+            const std::size_t chunks =
+                block < chunk_count ? std::min(kBlockChunks, chunk_count - block) : 0;
+            auto& now = lists[round % 2];
+            const auto& before = lists[(round + 1) % 2];
+            // Task 0: the previous block's append; task 1 + c: chunk c of this block.
+            parallel_chunks(chunks + 1, threads, [&](std::size_t task) {
+                if (task == 0) {
+                    for (std::size_t c = 0; c < previous; ++c)
+                        f.neighbours.insert(f.neighbours.end(), before[c].begin(), before[c].end());
+                    return;
+                }
+                std::vector<std::uint32_t>& list = now[task - 1];
                 list.clear();
                 std::vector<std::uint32_t> scratch;
-                const std::size_t chunk = block + c;
+                const std::size_t chunk = block + task - 1;
                 for (std::size_t s = chunk * kChunk; s < std::min(n, (chunk + 1) * kChunk); ++s) {
-                    const std::size_t before = list.size();
+                    const std::size_t before_s = list.size();
                     neighbours_of_sphere(s, list, scratch);
-                    f.neighbour_start[s + 1] = static_cast<std::uint32_t>(list.size() - before);
+                    f.neighbour_start[s + 1] = static_cast<std::uint32_t>(list.size() - before_s);
                 }
             });
-            for (std::size_t c = 0; c < chunks; ++c)
-                f.neighbours.insert(f.neighbours.end(), lists[c].begin(), lists[c].end());
+            previous = chunks;
         }
         for (std::size_t s = 0; s < n; ++s) f.neighbour_start[s + 1] += f.neighbour_start[s];
     }
@@ -430,12 +446,12 @@ struct FeatureBuilder {
     // 2 rho M cos(theta - phi) < E, M = |(A, B)|, E = R_k^2 - |w|^2 - rho^2. Then the balls
     // that cut the circle (neither missing nor covering it) and the intervals they bury.
     struct Row {
-        std::vector<double> x, y, z, R2;  // centres, squared inflated radii
-        std::vector<std::uint32_t> atom;  // atom indices
-        std::vector<double> A, B, E, M;   // by row entry, for the current circle
+        std::vector<double> x, y, z, R2;            // centres, squared inflated radii
+        std::vector<std::uint32_t> atom;            // atom indices
+        std::vector<double> A, B, E, M;             // by row entry, for the current circle
         std::vector<std::uint32_t> cutting, which;  // the balls that cut it, and in depth order
-        std::vector<std::uint8_t> depth;              // their depth classes
-        std::vector<double> from, len;                // their buried intervals
+        std::vector<std::uint8_t> depth;            // their depth classes
+        std::vector<double> from, len;              // their buried intervals
         std::size_t size = 0;
         void resize(std::size_t k) {
             size = k;
@@ -613,21 +629,30 @@ struct FeatureBuilder {
             }
         });
         const std::size_t bins = f.bin_count();
-        f.arc_start.assign(bins + 1, 0);
+        std::size_t total = 0;
         for (const ChunkArcs& chunk : chunks) {
             f.circles += chunk.circles;
             f.buried_circles += chunk.buried_circles;
             f.rho_max = std::max(f.rho_max, chunk.rho_max);
-            for (const std::size_t b : chunk.bins) ++f.arc_start[b + 1];
+            total += chunk.arcs.size();
         }
-        for (std::size_t b = 0; b < bins; ++b) f.arc_start[b + 1] += f.arc_start[b];
-        const std::size_t total = f.arc_start[bins];
-        f.arcs.resize(total);
+        // The arcs' array (its fresh pages) beside the count of each bin's arcs.
+        parallel_chunks(2, threads, [&](std::size_t task) {
+            if (task == 0) {
+                f.arcs.resize(total);
+                return;
+            }
+            f.arc_start.assign(bins + 1, 0);
+            for (const ChunkArcs& chunk : chunks)
+                for (const std::size_t b : chunk.bins) ++f.arc_start[b + 1];
+            for (std::size_t b = 0; b < bins; ++b) f.arc_start[b + 1] += f.arc_start[b];
+        });
         std::vector<std::size_t> part_start(threads + 1, bins);
         for (unsigned part = 0; part < threads; ++part)
-            part_start[part] = std::size_t(std::lower_bound(f.arc_start.begin(), f.arc_start.end() - 1,
-                                                            total * part / threads) -
-                                           f.arc_start.begin());
+            part_start[part] =
+                std::size_t(std::lower_bound(f.arc_start.begin(), f.arc_start.end() - 1,
+                                             total * part / threads) -
+                            f.arc_start.begin());
         parallel_chunks(threads, threads, [&](std::size_t part) {
             const std::size_t first = part_start[part], end = part_start[part + 1];
             for (const ChunkArcs& chunk : chunks)
