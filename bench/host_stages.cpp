@@ -9,6 +9,9 @@
 // CLI) instead of computing it: no device work, the same mesh for two builds. --only stats,
 // cavities, fused or write: that stage alone (fused: the engine's path, the pieces and their
 // statistics found once, the cavities removed with them, the statistics of the pieces kept).
+// --only ses-features: the exact SES's features of STRUCTURE (build_ses_features: neighbours,
+// circles, exposed arcs; the CLI's ses-features stage less the host's index of them), without a
+// surface.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -23,6 +26,7 @@
 #include "base/trace.hpp"
 #include "fdmsurf/error.hpp"
 #include "fdmsurf/fdmsurf.hpp"
+#include "grid/ses_features.hpp"
 #include "mesh/cavities.hpp"
 #include "mesh/mesh_stats_detail.hpp"
 
@@ -55,7 +59,7 @@ int main(int argc, char** argv) try {
     int reps = 5;
     std::string out = std::filesystem::temp_directory_path().string();
     std::string mesh_file;
-    std::string only;  // --only stats|cavities|fused|write: that stage alone
+    std::string only;  // --only stats|cavities|fused|write|ses-features: that stage alone
     for (int i = 2; i + 1 < argc; i += 2) {
         if (!std::strcmp(argv[i], "--spacing")) options.spacing = std::strtof(argv[i + 1], nullptr);
         else if (!std::strcmp(argv[i], "--reps")) reps = std::max(1, std::atoi(argv[i + 1]));
@@ -72,6 +76,19 @@ int main(int argc, char** argv) try {
     const double read_ms = std::chrono::duration<double, std::milli>(
                                std::chrono::steady_clock::now() - t_read).count();
     const double file_mb = double(std::filesystem::file_size(argv[1])) / 1e6;
+    if (only == "ses-features") {
+        detail::SesFeatures f;
+        const double ms = median_ms(
+            reps, [&] { f = detail::build_ses_features(structure.atoms, options.probe); });
+        std::printf("%s: %zu atoms, %u threads\n\n", argv[1], structure.atoms.size(),
+                    std::thread::hardware_concurrency());
+        std::printf("| host stage | median ms (%d runs) | ns per atom |\n|---|---|---|\n", reps);
+        std::printf("| ses features | %.1f | %.0f |\n\n", ms,
+                    ms * 1e6 / double(structure.atoms.size()));
+        std::printf("circles %zu (buried %zu), arcs %zu, neighbours %zu, bins %zu\n", f.circles,
+                    f.buried_circles, f.arcs.size(), f.neighbours.size(), f.bin_count());
+        return 0;
+    }
     Mesh mesh;
     std::string device = "none (--mesh)";
     if (mesh_file.empty()) {

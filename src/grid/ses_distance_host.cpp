@@ -133,6 +133,7 @@ struct SesHostField::Arc {
     // Float copies for the field's row kernel, positions relative to m (the shader's precision).
     float fm[3], faxis[3], fe1[3], fe2[3], frho, fstart_dir[2], fend_dir[2], fstart[3], fend[3];
 
+    Arc() = default;  // uninitialised: filled by assignment, on all threads
     explicit Arc(const SesArc& a) {
         const double end = double(a.start) + double(a.length);
         start_dir[0] = std::cos(double(a.start)), start_dir[1] = std::sin(double(a.start));
@@ -222,7 +223,9 @@ SesHostField::~SesHostField() = default;
 
 void SesHostField::arc_row_distances(std::size_t arc, const float* xs, float y, float z, int xa,
                                      int xb, float* best) const {
-    arc_row(arcs_.at(arc), xs, y, z, xa, xb, best);
+    if (arc >= f_.arcs.size())
+        throw Error(ErrorCode::InvalidArgument, "host SES field: no such arc");
+    arc_row(arcs_[arc], xs, y, z, xa, xb, best);
 }
 
 // best[x] = min(best[x], the distance from (xs[x], y, z) to the arc) for x in [xa, xb], in
@@ -266,17 +269,50 @@ void SesHostField::arc_row(const Arc& arc, const float* xs, float y, float z, in
     }
 }
 
+namespace {
+
+// Indices 0 .. count - 1 in the order of `less` (a strict total order: the result does not
+// depend on the thread count): parts sorted on all threads, then merged in pairs.
+template <class Less>
+std::vector<std::uint32_t> sorted_indices(std::size_t count, unsigned threads, Less less) {
+    std::vector<std::uint32_t> order(count);
+    std::iota(order.begin(), order.end(), 0u);
+    std::vector<std::size_t> bounds;
+    for (unsigned part = 0; part <= threads; ++part) bounds.push_back(count * part / threads);
+    parallel_chunks(threads, threads, [&](std::size_t part) {
+        std::sort(order.begin() + bounds[part], order.begin() + bounds[part + 1], less);
+    });
+    std::vector<std::uint32_t> merged(count);
+    while (bounds.size() > 2) {
+        std::vector<std::size_t> next;
+        const std::size_t pairs = (bounds.size() - 1) / 2;
+        parallel_chunks(pairs + (bounds.size() - 1) % 2, threads, [&](std::size_t k) {
+            const std::size_t lo = bounds[2 * k],
+                              mid = bounds[std::min(2 * k + 1, bounds.size() - 1)],
+                              hi = bounds[std::min(2 * k + 2, bounds.size() - 1)];
+            std::merge(order.begin() + lo, order.begin() + mid, order.begin() + mid,
+                       order.begin() + hi, merged.begin() + lo, less);
+        });
+        for (std::size_t k = 0; k < bounds.size(); k += 2) next.push_back(bounds[k]);
+        if (next.back() != count) next.push_back(count);
+        bounds = std::move(next);
+        order.swap(merged);
+    }
+    return order;
+}
+
+}  // namespace
+
 SesHostField::SesHostField(const SesFeatures& f, double d_max, unsigned threads)
     : f_(f), threads_(thread_count(threads)), reach_(d_max) {
-    const std::size_t n = f.sphere_count();
+    const std::size_t n = f.sphere_count(), n_arcs = f.arcs.size();
     const float* s = f.spheres.data();
     const std::size_t bins = f.bin_count();
     if (f.neighbour_start.size() != n + 1)
         throw Error(ErrorCode::InvalidArgument, "host SES field: features without neighbour lists");
+    constexpr std::size_t kChunk = 4096;  // balls or arcs per task
 
-    spheres_by_z_.resize(n);
-    std::iota(spheres_by_z_.begin(), spheres_by_z_.end(), 0u);
-    std::sort(spheres_by_z_.begin(), spheres_by_z_.end(), [&](std::uint32_t a, std::uint32_t b) {
+    spheres_by_z_ = sorted_indices(n, threads_, [&](std::uint32_t a, std::uint32_t b) {
         return s[4 * a + 2] != s[4 * b + 2] ? s[4 * a + 2] < s[4 * b + 2] : a < b;
     });
     sphere_z_.resize(n);
@@ -284,67 +320,93 @@ SesHostField::SesHostField(const SesFeatures& f, double d_max, unsigned threads)
 
     // Each arc's bounds: along axis a its points are m_a + rho A cos(theta - phi), A and phi from
     // (e1_a, e2_a); the extreme is reached where theta = phi (or phi + pi) lies on the arc, else
-    // at an end. Widened by 1e-4 Å for the float rounding of the stored arc.
-    arc_box_.resize(f.arcs.size());
-    arcs_.reserve(f.arcs.size());
-    for (std::size_t k = 0; k < f.arcs.size(); ++k) {
-        const SesArc& a = f.arcs[k];
-        arcs_.emplace_back(a);
-        const Arc& added = arcs_.back();
-        arc_ball_.push_back({added.ball[0], added.ball[1], added.ball[2], added.ball_radius});
-        Box& box = arc_box_[k];
-        for (int ax = 0; ax < 3; ++ax) {
-            const double e1 = a.e1[ax], e2 = a.e2[ax];
-            auto at = [&](double t) { return a.m[ax] + a.rho * (std::cos(t) * e1 + std::sin(t) * e2); };
-            double lo = std::min(at(a.start), at(double(a.start) + a.length));
-            double hi = std::max(at(a.start), at(double(a.start) + a.length));
-            const double amp = std::hypot(e1, e2), phi = std::atan2(e2, e1);
-            if (on_arc(phi, a.start, a.length)) hi = a.m[ax] + a.rho * amp;
-            if (on_arc(phi + 0.5 * kTwoPi, a.start, a.length)) lo = a.m[ax] - a.rho * amp;
-            box.lo[ax] = static_cast<float>(lo - 1e-4);
-            box.hi[ax] = static_cast<float>(hi + 1e-4);
+    // at an end. Widened by 1e-4 Å for the float rounding of the stored arc. Chunks of arcs on
+    // all threads (their fresh pages too).
+    arcs_ = std::make_unique_for_overwrite<Arc[]>(n_arcs);
+    arc_ball_ = std::make_unique_for_overwrite<std::array<double, 4>[]>(n_arcs);
+    arc_box_ = std::make_unique_for_overwrite<Box[]>(n_arcs);
+    const std::size_t arc_chunks = (n_arcs + kChunk - 1) / kChunk;
+    std::vector<float> extent_z(arc_chunks, 0.0f);
+    parallel_chunks(arc_chunks, threads_, [&](std::size_t chunk) {
+        for (std::size_t k = chunk * kChunk; k < std::min(n_arcs, (chunk + 1) * kChunk); ++k) {
+            const SesArc& a = f.arcs[k];
+            arcs_[k] = Arc(a);
+            const Arc& added = arcs_[k];
+            arc_ball_[k] = {added.ball[0], added.ball[1], added.ball[2], added.ball_radius};
+            Box& box = arc_box_[k];
+            for (int ax = 0; ax < 3; ++ax) {
+                const double e1 = a.e1[ax], e2 = a.e2[ax];
+                auto at = [&](double t) {
+                    return a.m[ax] + a.rho * (std::cos(t) * e1 + std::sin(t) * e2);
+                };
+                double lo = std::min(at(a.start), at(double(a.start) + a.length));
+                double hi = std::max(at(a.start), at(double(a.start) + a.length));
+                const double amp = std::hypot(e1, e2), phi = std::atan2(e2, e1);
+                if (on_arc(phi, a.start, a.length)) hi = a.m[ax] + a.rho * amp;
+                if (on_arc(phi + 0.5 * kTwoPi, a.start, a.length)) lo = a.m[ax] - a.rho * amp;
+                box.lo[ax] = static_cast<float>(lo - 1e-4);
+                box.hi[ax] = static_cast<float>(hi + 1e-4);
+            }
+            extent_z[chunk] = std::max(extent_z[chunk], box.hi[2] - box.lo[2]);
         }
-        arc_extent_z_ = std::max(arc_extent_z_, box.hi[2] - box.lo[2]);
-    }
-    arcs_by_z_.resize(f.arcs.size());
-    std::iota(arcs_by_z_.begin(), arcs_by_z_.end(), 0u);
-    std::sort(arcs_by_z_.begin(), arcs_by_z_.end(), [&](std::uint32_t a, std::uint32_t b) {
+    });
+    for (const float e : extent_z) arc_extent_z_ = std::max(arc_extent_z_, e);
+    arcs_by_z_ = sorted_indices(n_arcs, threads_, [&](std::uint32_t a, std::uint32_t b) {
         return arc_box_[a].lo[2] != arc_box_[b].lo[2] ? arc_box_[a].lo[2] < arc_box_[b].lo[2]
                                                       : a < b;
     });
-    arc_lo_z_.resize(f.arcs.size());
-    for (std::size_t k = 0; k < f.arcs.size(); ++k) arc_lo_z_[k] = arc_box_[arcs_by_z_[k]].lo[2];
+    arc_lo_z_.resize(n_arcs);
+    for (std::size_t k = 0; k < n_arcs; ++k) arc_lo_z_[k] = arc_box_[arcs_by_z_[k]].lo[2];
 
     // Each arc in every bin that its box widened by reach_ overlaps (clamped to the bins, as a
     // point is: a point beyond the last bin within reach_ of the arc is beyond the arc's box's
-    // last bin too).
+    // last bin too), in arc order within a bin. Each part of the bins' planes (about as many
+    // arcs' lowest planes each) counted and filled on its own thread, every arc tried by its
+    // planes first.
     auto bin_range = [&](const Box& box, int lo[3], int hi[3]) {
         for (int a = 0; a < 3; ++a) {
             lo[a] = bin_cell(f, a, double(box.lo[a]) - reach_);
             hi[a] = bin_cell(f, a, double(box.hi[a]) + reach_);
         }
     };
+    std::vector<int> part_plane(threads_ + 1, int(f.dims[2]));
+    part_plane[0] = 0;
+    for (unsigned part = 1; part < threads_; ++part)
+        part_plane[part] =
+            n_arcs == 0
+                ? int(f.dims[2])
+                : std::max(part_plane[part - 1],
+                           bin_cell(f, 2, double(arc_lo_z_[n_arcs * part / threads_]) - reach_));
+    // body(k, z, y, x) for every bin of arc k within the part's planes, arcs in order.
+    auto each_bin = [&](std::size_t part, auto&& body) {
+        for (std::size_t k = 0; k < n_arcs; ++k) {
+            const Box& box = arc_box_[k];
+            const int z0 = std::max(bin_cell(f, 2, double(box.lo[2]) - reach_), part_plane[part]);
+            const int z1 =
+                std::min(bin_cell(f, 2, double(box.hi[2]) + reach_), part_plane[part + 1] - 1);
+            if (z0 > z1) continue;
+            int lo[3], hi[3];
+            bin_range(box, lo, hi);
+            for (int z = z0; z <= z1; ++z)
+                for (int y = lo[1]; y <= hi[1]; ++y)
+                    for (int x = lo[0]; x <= hi[0]; ++x)
+                        body(k, (std::size_t(z) * f.dims[1] + y) * f.dims[0] + x);
+        }
+    };
     bin_arc_start_.assign(bins + 1, 0);
-    for (const Box& box : arc_box_) {
-        int lo[3], hi[3];
-        bin_range(box, lo, hi);
-        for (int z = lo[2]; z <= hi[2]; ++z)
-            for (int y = lo[1]; y <= hi[1]; ++y)
-                for (int x = lo[0]; x <= hi[0]; ++x)
-                    ++bin_arc_start_[(std::size_t(z) * f.dims[1] + y) * f.dims[0] + x + 1];
-    }
+    parallel_chunks(threads_, threads_, [&](std::size_t part) {
+        each_bin(part, [&](std::size_t, std::size_t b) { ++bin_arc_start_[b + 1]; });
+    });
     for (std::size_t b = 0; b < bins; ++b) bin_arc_start_[b + 1] += bin_arc_start_[b];
-    bin_arcs_.resize(bin_arc_start_[bins]);
-    std::vector<std::uint32_t> fill(bin_arc_start_.begin(), bin_arc_start_.end() - 1);
-    for (std::size_t k = 0; k < arc_box_.size(); ++k) {
-        int lo[3], hi[3];
-        bin_range(arc_box_[k], lo, hi);
-        for (int z = lo[2]; z <= hi[2]; ++z)
-            for (int y = lo[1]; y <= hi[1]; ++y)
-                for (int x = lo[0]; x <= hi[0]; ++x)
-                    bin_arcs_[fill[(std::size_t(z) * f.dims[1] + y) * f.dims[0] + x]++] =
-                        static_cast<std::uint32_t>(k);
-    }
+    bin_arcs_ = std::make_unique_for_overwrite<std::uint32_t[]>(bin_arc_start_[bins]);
+    // Each bin's start advanced past its arcs as they are filled, then shifted back.
+    parallel_chunks(threads_, threads_, [&](std::size_t part) {
+        each_bin(part, [&](std::size_t k, std::size_t b) {
+            bin_arcs_[bin_arc_start_[b]++] = static_cast<std::uint32_t>(k);
+        });
+    });
+    std::copy_backward(bin_arc_start_.begin(), bin_arc_start_.end() - 2, bin_arc_start_.end() - 1);
+    bin_arc_start_[0] = 0;
 }
 
 double SesHostField::distance(const double p[3], double d_max, double* gradient) const {

@@ -20,6 +20,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "grid/grid_plan.hpp"
@@ -75,14 +76,15 @@ private:
     unsigned threads_;
     std::vector<std::uint32_t> spheres_by_z_;                  // ball indices by centre z
     std::vector<float> sphere_z_;                              // their centres' z, ascending
-    std::vector<Arc> arcs_;                                    // f.arcs, precomputed
-    std::vector<std::array<double, 4>> arc_ball_;              // each arc's ball: centre, radius
-    std::vector<Box> arc_box_;                                 // each arc's points' bounds
+    std::unique_ptr<Arc[]> arcs_;                              // f.arcs, precomputed
+    std::unique_ptr<std::array<double, 4>[]> arc_ball_;        // each arc's ball: centre, radius
+    std::unique_ptr<Box[]> arc_box_;                           // each arc's points' bounds
     std::vector<std::uint32_t> arcs_by_z_;                     // arc indices by arc_box_ lo z
     std::vector<float> arc_lo_z_;                              // ascending
     float arc_extent_z_ = 0.0f;                                // the largest hi z - lo z
     double reach_ = 0.0;                                       // the constructor's d_max
-    std::vector<std::uint32_t> bin_arc_start_, bin_arcs_;      // arcs within reach_ of a bin
+    std::vector<std::uint32_t> bin_arc_start_;                 // arcs within reach_ of a bin:
+    std::unique_ptr<std::uint32_t[]> bin_arcs_;                // [start[b], start[b + 1])
 };
 
 }  // namespace fdmsurf::detail

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "base/parallel.hpp"
+#include "base/trace.hpp"
 #include "base/vec3.hpp"
 #include "fdmsurf/error.hpp"
 
@@ -29,9 +30,61 @@ Vec3 perpendicular(const Vec3& u) {
 
 // A pseudo-angle of the direction (x, y) in [0, 4): increasing with its angle from +x like the
 // angle itself (the "diamond angle"), without trigonometry; antipodal directions differ by 2.
+// By quadrant y / (x + y), 1 - x / (y - x), 2 - y / (-x - y), 3 + x / (x - y): each
+// denominator is |x| + |y|, and offset + sign * q the same sum (-0 + q is q), so without a
+// branch the same bits.
 double pseudo_angle(double x, double y) {
-    if (y >= 0.0) return x >= 0.0 ? y / (x + y) : 1.0 - x / (y - x);
-    return x < 0.0 ? 2.0 - y / (-x - y) : 3.0 + x / (x - y);
+    static constexpr double kOffset[4] = {-0.0, 1.0, 2.0, 3.0};
+    static constexpr double kSign[4] = {1.0, -1.0, -1.0, 1.0};
+    const bool up = y >= 0.0, right = x >= 0.0;
+    const int quadrant = 2 * !up + (up != right);
+    const double num[2] = {y, x};
+    const double q = num[up != right] / (std::abs(x) + std::abs(y));
+    return kOffset[quadrant] + kSign[quadrant] * q;
+}
+
+// What balls 0..k-1 (centres x, y, z, squared inflated radii R2) do to the circle of centre m,
+// radius^2 rho2 in the plane of e1, e2: with w = m - c, the circle's points are inside a ball
+// where 2 rho M cos(theta - phi) < E, A = w.e1, B = w.e2, M = |(A, B)|, E = R^2 - |w|^2 - rho2
+// (phi the angle of (A, B)). One vectorised loop.
+void circle_cuts(std::size_t k, const double* __restrict x, const double* __restrict y,
+                 const double* __restrict z, const double* __restrict R2, const Vec3& m,
+                 const Vec3& e1, const Vec3& e2, double rho2, double* __restrict A,
+                 double* __restrict B, double* __restrict E, double* __restrict M) {
+    const double m0 = m[0], m1 = m[1], m2 = m[2];
+    const double a0 = e1[0], a1 = e1[1], a2 = e1[2];
+    const double b0 = e2[0], b1 = e2[1], b2 = e2[2];
+    for (std::size_t p = 0; p < k; ++p) {
+        const double wx = m0 - x[p], wy = m1 - y[p], wz = m2 - z[p];
+        const double a = wx * a0 + wy * a1 + wz * a2;
+        const double b = wx * b0 + wy * b1 + wz * b2;
+        A[p] = a;
+        B[p] = b;
+        E[p] = R2[p] - (wx * wx + wy * wy + wz * wz) - rho2;
+        M[p] = std::sqrt(a * a + b * b);
+    }
+}
+
+// The interval of pseudo-angle [from, from + len) that a ball (its A, B, E, M, cutting the
+// circle of radius rho: neither missing nor covering it) buries; len 0: none.
+void buried_interval(double A, double B, double E, double M, double rho, double& from,
+                     double& len) {
+    // Buried where cos(theta - phi) < t: from phi + open to phi - open + 2 pi, open = acos t.
+    // The ends as directions (rotations of (A, B) / M by +-open), ordered by their
+    // pseudo-angles: no trigonometry for the circles that end up buried (nine in ten).
+    const double t_cos = std::clamp(E / (2.0 * rho * M), -1.0, 1.0);
+    const double sin_open = std::sqrt(std::max(0.0, 1.0 - t_cos * t_cos));
+    const double ca = A / M, sa = B / M;
+    from = pseudo_angle(ca * t_cos - sa * sin_open, sa * t_cos + ca * sin_open);
+    const double to = pseudo_angle(ca * t_cos + sa * sin_open, sa * t_cos - ca * sin_open);
+    len = to - from;
+    if (len < 0.0) len += 4.0;
+    // At least half a turn (t >= 0) is at least 2 in pseudo-angle, less is less than 2. Past
+    // that, rounding has swapped the ends of an all but full or all but empty interval (a
+    // length near 0 or 4), or of a half turn (t near 0: the ends antipodal, a length a hair
+    // off 2); an all but empty one is dropped.
+    if (t_cos >= 0.0 && len < 2.0) len = len < 1.0 ? 4.0 : 2.0;
+    if (t_cos < 0.0 && len > 2.0) len = len > 3.0 ? 0.0 : 2.0;
 }
 
 // The angle in [0, 2 pi) of the direction whose pseudo-angle is p (in [0, 4)).
@@ -50,41 +103,39 @@ double angle_of_pseudo(double p) {
 }
 
 // A conservative record of the part of a circle's turn of pseudo-angles [0, 4) that buried
-// intervals cover: 256 bins, each set when one interval holds it whole (strictly, ends
+// intervals cover: 64 bins, each set when one interval holds it whole (strictly, ends
 // included). Every bin set means no point of the circle is exposed, which exposed_parts would
 // find from the same intervals; a gap smaller than a bin leaves bins unset and exposed_parts
 // decides. Most circles buried by several balls are found so before their last ball.
 struct CoverBins {
-    static constexpr int kBins = 256;
+    static constexpr int kBins = 64;
     static constexpr double kPerUnit = kBins / 4.0;
-    std::uint64_t words[4] = {0, 0, 0, 0};
-    void set(int first, int last) {  // bins first..last, 0 <= first <= last < kBins
-        for (int w = first >> 6; w <= last >> 6; ++w) {
-            const int lo = std::max(first, w * 64) - w * 64, hi = std::min(last, w * 64 + 63) - w * 64;
-            const std::uint64_t upper = hi == 63 ? ~std::uint64_t(0) : (std::uint64_t(1) << (hi + 1)) - 1;
-            words[w] |= upper & (~std::uint64_t(0) << lo);
-        }
+    std::uint64_t bins = 0;
+    // Bits first..last, 0 <= first <= last < 64.
+    static std::uint64_t bits(int first, int last) {
+        return (~std::uint64_t(0) >> (63 - last)) & (~std::uint64_t(0) << first);
     }
-    // The open interval (from, from + len) of pseudo-angles (from in [0, 4), len in (0, 4]);
+    // The open interval (from, from + len) of pseudo-angles (from in [0, 4], len in (0, 4]);
     // returns whether every bin is now set.
     bool add(double from, double len) {
         if (len >= 4.0) {
-            for (auto& w : words) w = ~std::uint64_t(0);
+            bins = ~std::uint64_t(0);
             return true;
         }
-        // Bins b with from < b / kPerUnit and (b + 1) / kPerUnit < from + len, unwrapped.
-        const int first = static_cast<int>(std::floor(from * kPerUnit)) + 1;
-        const int last = static_cast<int>(std::ceil((from + len) * kPerUnit)) - 2;
+        // Bins b with from < b / kPerUnit and (b + 1) / kPerUnit < from + len, unwrapped: first
+        // in [1, 65], last below 2 kBins (floor and ceil of values >= 0 by truncation).
+        const double lo = from * kPerUnit, hi = (from + len) * kPerUnit;
+        const int first = static_cast<int>(lo) + 1;
+        const int hi_floor = static_cast<int>(hi);
+        const int last = hi_floor + (double(hi_floor) < hi) - 2;
         if (last < first) return false;
-        if (last < kBins) {
-            set(first, last);
-        } else if (first >= kBins) {
-            set(first - kBins, last - kBins);
-        } else {
-            set(first, kBins - 1);
-            set(0, last - kBins);
-        }
-        return (words[0] & words[1] & words[2] & words[3]) == ~std::uint64_t(0);
+        if (last < kBins)
+            bins |= bits(first, last);
+        else if (first >= kBins)
+            bins |= bits(first - kBins, last - kBins);
+        else
+            bins |= bits(first, kBins - 1) | bits(0, last - kBins);
+        return bins == ~std::uint64_t(0);
     }
 };
 
@@ -126,34 +177,60 @@ void exposed_parts(const std::vector<Interval>& buried, std::vector<Interval>& c
         if (b - a > 1e-9) out.push_back({a, b - a});
 }
 
-// The steps of build_ses_features, in order: read_balls, without_duplicates (when two balls
-// coincide, the build starts again without the copies), bin_spheres, find_neighbours,
-// neighbours_by_sphere, cut_circles, bin_arcs.
+// A counting sort's starts after its fill: start[b] was advanced from the first to the end of
+// bucket b, i.e. to the next bucket's first; shifted back by one (the last entry, the total,
+// was not touched).
+void unshift(std::vector<std::uint32_t>& start) {
+    std::copy_backward(start.begin(), start.end() - 2, start.end() - 1);
+    start[0] = 0;
+}
+
+// The steps of build_ses_features, in order: read_balls, bin_spheres, without_duplicates (when
+// two balls coincide, the build starts again without the copies), find_neighbours, cut_circles.
+// The passes over the atoms run in chunks on all threads and read the balls in bin order, where
+// a ball's neighbours lie near it in memory; the work per atom does not grow with the
+// structure, and the large arrays are written once.
 struct FeatureBuilder {
-    // Atoms per task of the neighbour and circle passes.
+    // Atoms (or spheres) per task of the passes over them; bins per task of the duplicate check.
     static constexpr std::size_t kChunk = 256;
+    static constexpr std::size_t kBinChunk = 4096;
+    // Chunks per block of the neighbour search; neighbours per ball reserved (about 45 in
+    // proteins; more only cost a copy).
+    static constexpr std::size_t kBlockChunks = 64;
+    static constexpr std::size_t kNeighboursReserved = 64;
+
+    // A ball: its centre and inflated radius r + probe.
+    struct Ball {
+        Vec3 c;
+        double R;
+    };
 
     const Atoms& atoms;
     const float probe;
     const std::size_t n;
     const std::size_t chunk_count;
+    const unsigned threads;
     SesFeatures f;
-    std::vector<Vec3> c;    // centres, by atom
-    std::vector<double> R;  // inflated radii r + probe, by atom
     double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};  // centres' bounds
-    // The balls by bin: bin b holds atoms order[start[b]] .. order[start[b + 1] - 1].
-    std::vector<std::uint32_t> start, order;
-    std::vector<std::uint32_t> nb_start, nb;  // the intersecting balls of each atom (rows by atom)
+    // The balls by sphere (bin order: bin b holds spheres f.sphere_start[b] ..
+    // f.sphere_start[b + 1] - 1); sphere s is atom order[s], atom i is sphere sphere_of[i].
+    std::vector<Ball> balls;
+    std::vector<std::uint32_t> order, sphere_of;
+    double bin_margin = 0.0;  // Å: more than the rounding of a ball's bin and of the bins' bounds
 
     FeatureBuilder(const Atoms& atoms_in, float probe_in)
         : atoms(atoms_in),
           probe(probe_in),
           n(atoms_in.size()),
           chunk_count((n + kChunk - 1) / kChunk),
-          c(n),
-          R(n) {}
+          threads(thread_count()) {}
 
-    // Checks each atom's radius and coordinates; the centres, inflated radii and bounds.
+    Ball ball_of_atom(std::size_t i) const {
+        return {{atoms.xyz[3 * i], atoms.xyz[3 * i + 1], atoms.xyz[3 * i + 2]},
+                double(atoms.radius[i]) + probe};
+    }
+
+    // Checks each atom's radius and coordinates; the largest inflated radius and the bounds.
     void read_balls() {
         for (std::size_t i = 0; i < n; ++i) {
             const float r = atoms.radius[i];
@@ -164,46 +241,13 @@ struct FeatureBuilder {
                 if (!std::isfinite(atoms.xyz[3 * i + a]))
                     throw Error(ErrorCode::InvalidArgument,
                                 "atom " + std::to_string(i + 1) + " has a non-finite coordinate");
-            c[i] = {atoms.xyz[3 * i], atoms.xyz[3 * i + 1], atoms.xyz[3 * i + 2]};
-            R[i] = double(r) + probe;
-            f.r_max = std::max(f.r_max, static_cast<float>(R[i]));
-            const double p[3] = {c[i][0], c[i][1], c[i][2]};
+            const Ball b = ball_of_atom(i);
+            f.r_max = std::max(f.r_max, static_cast<float>(b.R));
             for (int a = 0; a < 3; ++a) {
-                lo[a] = std::min(lo[a], p[a]);
-                hi[a] = std::max(hi[a], p[a]);
+                lo[a] = std::min(lo[a], b.c[a]);
+                hi[a] = std::max(hi[a], b.c[a]);
             }
         }
-    }
-
-    // Coincident balls (the same centre and radius: duplicated atoms) are one ball. Kept twice,
-    // each would bury the other's face wherever rounding puts the projection a hair inside it,
-    // and no circle joins them: d would jump there. The first of each is kept. Balls are the
-    // same when their stored float spheres are (centre and float(r + probe), as the shaders read
-    // them), so that two radii that round to one inflated radius are one ball there too.
-    // Whether there were any; if so, `unique` holds the atoms without them.
-    bool without_duplicates(Atoms& unique) const {
-        std::vector<std::uint32_t> by_ball(n);
-        for (std::size_t i = 0; i < n; ++i) by_ball[i] = static_cast<std::uint32_t>(i);
-        auto key = [&](std::uint32_t i) {
-            return std::array<float, 4>{atoms.xyz[3 * i], atoms.xyz[3 * i + 1],
-                                        atoms.xyz[3 * i + 2], static_cast<float>(R[i])};
-        };
-        std::sort(by_ball.begin(), by_ball.end(), [&](std::uint32_t a, std::uint32_t b) {
-            const auto ka = key(a), kb = key(b);
-            return ka != kb ? ka < kb : a < b;
-        });
-        std::vector<std::uint8_t> duplicate(n, 0);
-        bool any = false;
-        for (std::size_t k = 1; k < n; ++k) {
-            if (key(by_ball[k]) == key(by_ball[k - 1])) duplicate[by_ball[k]] = 1, any = true;
-        }
-        if (!any) return false;
-        for (std::size_t i = 0; i < n; ++i) {
-            if (duplicate[i]) continue;
-            unique.xyz.insert(unique.xyz.end(), &atoms.xyz[3 * i], &atoms.xyz[3 * i] + 3);
-            unique.radius.push_back(atoms.radius[i]);
-        }
-        return true;
     }
 
     // The bin holding p (clamped to the bins), and its cell.
@@ -216,91 +260,178 @@ struct FeatureBuilder {
         return (std::size_t(cell[2]) * f.dims[1] + cell[1]) * f.dims[0] + cell[0];
     }
 
-    // Bins of edge r_max: two balls intersect only within two bins of each other. The balls
-    // by bin (start, order) and the features' spheres in that order.
+    // Bins of edge r_max: two balls intersect only within two bins of each other. The spheres
+    // in bin order (counting sort, atom order within a bin): order, sphere_of, balls and the
+    // features' spheres.
     void bin_spheres() {
         f.bin_size = f.r_max;
         for (int a = 0; a < 3; ++a) {
             f.origin[a] = static_cast<float>(lo[a]);
             f.dims[a] = static_cast<std::uint32_t>(std::floor((hi[a] - lo[a]) / f.bin_size)) + 1;
+            bin_margin =
+                std::max(bin_margin, 1e-3 + 1e-6 * std::max(std::abs(lo[a]), std::abs(hi[a])));
         }
         std::vector<std::size_t> bin_of(n);
+        parallel_chunks(chunk_count, threads, [&](std::size_t chunk) {
+            for (std::size_t i = chunk * kChunk; i < std::min(n, (chunk + 1) * kChunk); ++i) {
+                int cell[3];
+                bin_of[i] = bin_index(ball_of_atom(i).c, cell);
+            }
+        });
+        std::vector<std::uint32_t>& start = f.sphere_start;
         start.assign(f.bin_count() + 1, 0);
-        for (std::size_t i = 0; i < n; ++i) {
-            int cell[3];
-            bin_of[i] = bin_index(c[i], cell);
-            ++start[bin_of[i] + 1];
-        }
+        for (std::size_t i = 0; i < n; ++i) ++start[bin_of[i] + 1];
         for (std::size_t b = 0; b < f.bin_count(); ++b) start[b + 1] += start[b];
         order.resize(n);
-        {
-            std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-            for (std::size_t i = 0; i < n; ++i)
-                order[fill[bin_of[i]]++] = static_cast<std::uint32_t>(i);
-        }
-        f.sphere_start = start;
+        for (std::size_t i = 0; i < n; ++i)
+            order[start[bin_of[i]]++] = static_cast<std::uint32_t>(i);
+        unshift(start);
+        sphere_of.resize(n);
+        balls.resize(n);
         f.spheres.resize(4 * n);
-        for (std::size_t s = 0; s < n; ++s) {
-            const std::uint32_t i = order[s];
-            f.spheres[4 * s + 0] = atoms.xyz[3 * i + 0];
-            f.spheres[4 * s + 1] = atoms.xyz[3 * i + 1];
-            f.spheres[4 * s + 2] = atoms.xyz[3 * i + 2];
-            f.spheres[4 * s + 3] = static_cast<float>(R[i]);
-        }
+        parallel_chunks(chunk_count, threads, [&](std::size_t chunk) {
+            for (std::size_t s = chunk * kChunk; s < std::min(n, (chunk + 1) * kChunk); ++s) {
+                const std::uint32_t i = order[s];
+                sphere_of[i] = static_cast<std::uint32_t>(s);
+                balls[s] = ball_of_atom(i);
+                f.spheres[4 * s + 0] = atoms.xyz[3 * i + 0];
+                f.spheres[4 * s + 1] = atoms.xyz[3 * i + 1];
+                f.spheres[4 * s + 2] = atoms.xyz[3 * i + 2];
+                f.spheres[4 * s + 3] = static_cast<float>(balls[s].R);
+            }
+        });
     }
 
-    // The balls that intersect those of chunk `chunk`'s atoms, appended to `out` (ascending bin
-    // order), and each atom's count into nb_start[i + 1].
-    void neighbours_of_chunk(std::size_t chunk, std::vector<std::uint32_t>& out) {
-        for (std::size_t i = chunk * kChunk; i < std::min(n, (chunk + 1) * kChunk); ++i) {
-            const std::size_t before = out.size();
-            int cell[3];
-            bin_index(c[i], cell);
-            for (int z = std::max(cell[2] - 2, 0); z <= std::min(cell[2] + 2, int(f.dims[2]) - 1);
-                 ++z)
-                for (int y = std::max(cell[1] - 2, 0);
-                     y <= std::min(cell[1] + 2, int(f.dims[1]) - 1); ++y)
-                    for (int x = std::max(cell[0] - 2, 0);
-                         x <= std::min(cell[0] + 2, int(f.dims[0]) - 1); ++x) {
-                        const std::size_t b = (std::size_t(z) * f.dims[1] + y) * f.dims[0] + x;
-                        for (std::uint32_t s = start[b]; s < start[b + 1]; ++s) {
-                            const std::uint32_t j = order[s];
-                            if (j == i) continue;
-                            const Vec3 d = sub(c[j], c[i]);
-                            const double reach = R[i] + R[j];
-                            if (dot(d, d) < reach * reach) out.push_back(j);
+    // Coincident balls (the same centre and radius: duplicated atoms) are one ball. Kept twice,
+    // each would bury the other's face wherever rounding puts the projection a hair inside it,
+    // and no circle joins them: d would jump there. The first of each is kept. Balls are the
+    // same when their stored float spheres are (centre and float(r + probe), as the shaders read
+    // them), so that two radii that round to one inflated radius are one ball there too; such
+    // balls share a bin, so each bin's spheres are compared among themselves.
+    // Whether there were any; if so, `unique` holds the atoms without them.
+    bool without_duplicates(Atoms& unique) const {
+        const std::size_t bins = f.bin_count();
+        const std::size_t bin_chunks = (bins + kBinChunk - 1) / kBinChunk;
+        std::vector<std::uint8_t> duplicate(n, 0), found(bin_chunks, 0);
+        auto same = [&](std::uint32_t s, std::uint32_t t) {
+            const float* a = &f.spheres[4 * std::size_t(s)];
+            const float* b = &f.spheres[4 * std::size_t(t)];
+            return a[0] == b[0] && a[1] == b[1] && a[2] == b[2] && a[3] == b[3];
+        };
+        parallel_chunks(bin_chunks, threads, [&](std::size_t chunk) {
+            for (std::size_t b = chunk * kBinChunk; b < std::min(bins, (chunk + 1) * kBinChunk);
+                 ++b)
+                for (std::uint32_t s = f.sphere_start[b] + 1; s < f.sphere_start[b + 1]; ++s)
+                    for (std::uint32_t t = f.sphere_start[b]; t < s; ++t)
+                        if (same(s, t)) {
+                            duplicate[order[s]] = 1;
+                            found[chunk] = 1;
+                            break;
                         }
-                    }
-            nb_start[i + 1] = static_cast<std::uint32_t>(out.size() - before);
+        });
+        if (std::find(found.begin(), found.end(), 1) == found.end()) return false;
+        for (std::size_t i = 0; i < n; ++i) {
+            if (duplicate[i]) continue;
+            unique.xyz.insert(unique.xyz.end(), &atoms.xyz[3 * i], &atoms.xyz[3 * i] + 3);
+            unique.radius.push_back(atoms.radius[i]);
         }
+        return true;
     }
 
-    // Neighbours: balls that intersect (compressed rows, ascending bin order), chunks of atoms
-    // on all threads, joined in atom order.
+    // The balls that intersect ball s, appended to `out` in bin order (z, y, x, then sphere):
+    // the bins within two of s's along each axis, less those wholly farther from its centre
+    // than R_s + r_max (with a margin for the rounding of the bins' bounds and of r_max), which
+    // hold none; the kept bins of a row are one run of spheres.
+    void neighbours_of_sphere(std::size_t s, std::vector<std::uint32_t>& out,
+                              std::vector<std::uint32_t>& scratch) const {
+        const Ball& a = balls[s];
+        int cell[3];
+        bin_index(a.c, cell);
+        const double reach = a.R + double(f.r_max) * (1.0 + 1e-6) + bin_margin;
+        const double reach2 = reach * reach;
+        // Squared distances from the centre to the slabs of the cells cell - 2 .. cell + 2
+        // (widened by the margin) along each axis; beyond the bins: farther than any reach.
+        double gap2[3][5];
+        for (int ax = 0; ax < 3; ++ax)
+            for (int o = 0; o < 5; ++o) {
+                const int c = cell[ax] + o - 2;
+                const double lo_edge = double(f.origin[ax]) + double(f.bin_size) * c - bin_margin;
+                const double hi_edge = lo_edge + double(f.bin_size) + 2.0 * bin_margin;
+                const double g = std::max({0.0, lo_edge - a.c[ax], a.c[ax] - hi_edge});
+                gap2[ax][o] = c < 0 || c >= int(f.dims[ax]) ? 2.0 * reach2 : g * g;
+            }
+        // The bins' runs of spheres, then the test on each (written whole to `scratch`, kept by
+        // advancing past it).
+        std::uint32_t runs[25][2];
+        int n_runs = 0;
+        std::size_t candidates = 0;
+        for (int oz = 0; oz < 5; ++oz)
+            for (int oy = 0; oy < 5; ++oy) {
+                const double gyz = gap2[2][oz] + gap2[1][oy];
+                if (gyz > reach2) continue;
+                int x0 = 0, x1 = 4;
+                while (gyz + gap2[0][x0] > reach2) ++x0;
+                while (gyz + gap2[0][x1] > reach2) --x1;
+                const std::size_t row =
+                    (std::size_t(cell[2] + oz - 2) * f.dims[1] + (cell[1] + oy - 2)) * f.dims[0];
+                runs[n_runs][0] = f.sphere_start[row + cell[0] + x0 - 2];
+                runs[n_runs][1] = f.sphere_start[row + cell[0] + x1 - 1];
+                candidates += runs[n_runs][1] - runs[n_runs][0];
+                ++n_runs;
+            }
+        if (scratch.size() < candidates) scratch.resize(candidates);
+        std::uint32_t* dst = scratch.data();
+        std::size_t kept = 0;
+        for (int r = 0; r < n_runs; ++r)
+            for (std::uint32_t t = runs[r][0]; t < runs[r][1]; ++t) {
+                const Vec3 d = sub(balls[t].c, a.c);
+                const double reach_t = a.R + balls[t].R;
+                dst[kept] = t;
+                kept += (dot(d, d) < reach_t * reach_t) & (t != s);
+            }
+        out.insert(out.end(), dst, dst + kept);
+    }
+
+    // Neighbours: the balls that intersect each ball (compressed rows by sphere, bin order).
+    // Blocks of chunks of spheres, each chunk's rows on one of all threads into a list kept
+    // from block to block (two sets, alternating), and the previous block's lists appended in
+    // sphere order beside them: the rows' memory is touched once, by the append (fresh pages
+    // cost more than the search on this kind of machine).
     void find_neighbours() {
-        nb_start.assign(n + 1, 0);
-        std::vector<std::vector<std::uint32_t>> lists(chunk_count);
-        parallel_chunks(chunk_count, thread_count(),
-                        [&](std::size_t chunk) { neighbours_of_chunk(chunk, lists[chunk]); });
-        for (std::size_t i = 0; i < n; ++i) nb_start[i + 1] += nb_start[i];
-        nb.reserve(nb_start[n]);
-        for (const auto& list : lists) nb.insert(nb.end(), list.begin(), list.end());
-    }
-
-    // The same lists by sphere index, for the host's burial tests.
-    void neighbours_by_sphere() {
-        std::vector<std::uint32_t> sphere_of(n);
-        for (std::size_t s = 0; s < n; ++s) sphere_of[order[s]] = static_cast<std::uint32_t>(s);
         f.neighbour_start.assign(n + 1, 0);
-        for (std::size_t s = 0; s < n; ++s)
-            f.neighbour_start[s + 1] =
-                f.neighbour_start[s] + (nb_start[order[s] + 1] - nb_start[order[s]]);
-        f.neighbours.resize(nb.size());
-        for (std::size_t s = 0; s < n; ++s) {
-            std::uint32_t* out = f.neighbours.data() + f.neighbour_start[s];  // may be empty
-            for (std::uint32_t q = nb_start[order[s]]; q < nb_start[order[s] + 1]; ++q)
-                *out++ = sphere_of[nb[q]];
+        f.neighbours.clear();
+        f.neighbours.reserve(n * kNeighboursReserved);
+        const std::size_t block_lists = std::min(chunk_count, kBlockChunks);
+        std::vector<std::vector<std::uint32_t>> lists[2] = {
+            std::vector<std::vector<std::uint32_t>>(block_lists),
+            std::vector<std::vector<std::uint32_t>>(block_lists)};
+        std::size_t previous = 0;  // chunks in the previous block
+        for (std::size_t block = 0, round = 0; previous > 0 || block < chunk_count;
+             block += kBlockChunks, ++round) {
+            const std::size_t chunks =
+                block < chunk_count ? std::min(kBlockChunks, chunk_count - block) : 0;
+            auto& now = lists[round % 2];
+            const auto& before = lists[(round + 1) % 2];
+            // Task 0: the previous block's append; task 1 + c: chunk c of this block.
+            parallel_chunks(chunks + 1, threads, [&](std::size_t task) {
+                if (task == 0) {
+                    for (std::size_t c = 0; c < previous; ++c)
+                        f.neighbours.insert(f.neighbours.end(), before[c].begin(), before[c].end());
+                    return;
+                }
+                std::vector<std::uint32_t>& list = now[task - 1];
+                list.clear();
+                std::vector<std::uint32_t> scratch;
+                const std::size_t chunk = block + task - 1;
+                for (std::size_t s = chunk * kChunk; s < std::min(n, (chunk + 1) * kChunk); ++s) {
+                    const std::size_t before_s = list.size();
+                    neighbours_of_sphere(s, list, scratch);
+                    f.neighbour_start[s + 1] = static_cast<std::uint32_t>(list.size() - before_s);
+                }
+            });
+            previous = chunks;
         }
+        for (std::size_t s = 0; s < n; ++s) f.neighbour_start[s + 1] += f.neighbour_start[s];
     }
 
     // The circle where balls i and j meet: centre m, radius rho, plane spanned by e1 and e2.
@@ -309,75 +440,97 @@ struct FeatureBuilder {
         double rho, rho2;
     };
 
-    // Whether the neighbours of i other than j bury the circle whole; else the buried intervals
-    // of pseudo-angle into `buried`. The ball that buried the last circle of i whole often buries
-    // the next (`last_burier`): tried first (half of the circles are buried by one ball).
-    bool buried_whole(const Circle& circle, std::size_t i, std::uint32_t j,
-                      std::uint32_t& last_burier, std::vector<Interval>& buried) const {
-        const Vec3& m = circle.m;
-        const Vec3& e1 = circle.e1;
-        const Vec3& e2 = circle.e2;
-        const double rho = circle.rho, rho2 = circle.rho2;
-        buried.clear();
-        // What ball k does to the circle: with w = m - c_k,
-        // |P(theta) - c_k|^2 = |w|^2 + rho^2 + 2 rho (A cos theta + B sin theta) < R_k^2.
-        struct Cut {
-            double A, B, M, E;
-            bool misses, covers;  // no point inside ball k; every point inside it
-        };
-        auto cut_by = [&](std::uint32_t k) {
-            const Vec3 w = sub(m, c[k]);
-            Cut cut{dot(w, e1), dot(w, e2), 0.0, R[k] * R[k] - dot(w, w) - rho2, false, false};
-            cut.M = std::sqrt(cut.A * cut.A + cut.B * cut.B);
-            cut.misses = cut.E <= -2.0 * rho * cut.M;
-            cut.covers = !cut.misses && cut.E >= 2.0 * rho * cut.M;
-            return cut;
-        };
-        bool all_buried = last_burier != std::numeric_limits<std::uint32_t>::max() &&
-                          last_burier != j && cut_by(last_burier).covers;
-        CoverBins cover;
-        for (std::uint32_t t = nb_start[i]; t < nb_start[i + 1] && !all_buried; ++t) {
-            const std::uint32_t k = nb[t];
-            if (k == j) continue;
-            const Cut cut = cut_by(k);
-            if (cut.misses) continue;
-            if (cut.covers) {
-                all_buried = true;
-                last_burier = k;
-                break;
-            }
-            const double A = cut.A, B = cut.B, M = cut.M, E = cut.E;
-            // Buried where cos(theta - phi) < t, phi the angle of (A, B): from phi + open
-            // to phi - open + 2 pi, open = acos t. The ends as directions (rotations of
-            // (A, B) / M by +-open), ordered by their pseudo-angles: no trigonometry
-            // for the circles that end up buried (nine in ten).
-            const double t_cos = std::clamp(E / (2.0 * rho * M), -1.0, 1.0);
-            const double sin_open = std::sqrt(std::max(0.0, 1.0 - t_cos * t_cos));
-            const double ca = A / M, sa = B / M;
-            const double from =
-                pseudo_angle(ca * t_cos - sa * sin_open, sa * t_cos + ca * sin_open);
-            const double to = pseudo_angle(ca * t_cos + sa * sin_open, sa * t_cos - ca * sin_open);
-            double len = to - from;
-            if (len < 0.0) len += 4.0;
-            // At least half a turn (t >= 0) is at least 2 in pseudo-angle, less is less
-            // than 2. Past that, rounding has swapped the ends of an all but full or
-            // all but empty interval (a length near 0 or 4), or of a half turn (t near
-            // 0: the ends antipodal, a length a hair off 2).
-            if (t_cos >= 0.0 && len < 2.0) len = len < 1.0 ? 4.0 : 2.0;
-            if (t_cos < 0.0 && len > 2.0) {
-                if (len > 3.0) continue;
-                len = 2.0;
-            }
-            if (len > 0.0) {
-                buried.push_back({from, len});
-                // Covered whole by the intervals so far: buried, no more balls to try.
-                if (cover.add(from, len)) {
-                    all_buried = true;
-                    break;
-                }
-            }
+    // One atom's neighbours (the balls of its row, in its order) as arrays, and per circle what
+    // each does to it: with w = m - c_k, |P(theta) - c_k|^2 = |w|^2 + rho^2 + 2 rho (A cos
+    // theta + B sin theta), inside ball k where that is below R_k^2, i.e. where
+    // 2 rho M cos(theta - phi) < E, M = |(A, B)|, E = R_k^2 - |w|^2 - rho^2. Then the balls
+    // that cut the circle (neither missing nor covering it) and the intervals they bury.
+    struct Row {
+        std::vector<double> x, y, z, R2;            // centres, squared inflated radii
+        std::vector<std::uint32_t> atom;            // atom indices
+        std::vector<double> A, B, E, M;             // by row entry, for the current circle
+        std::vector<std::uint32_t> cutting, which;  // the balls that cut it, and in depth order
+        std::vector<std::uint8_t> depth;            // their depth classes
+        std::vector<double> from, len;              // their buried intervals
+        std::size_t size = 0;
+        void resize(std::size_t k) {
+            size = k;
+            if (atom.size() >= k) return;
+            for (auto* v : {&x, &y, &z, &R2, &A, &B, &E, &M, &from, &len}) v->resize(k);
+            for (auto* v : {&atom, &cutting, &which}) v->resize(k);
+            depth.resize(k);
         }
-        return all_buried;
+    };
+
+    // Whether the neighbours of i other than row entry q (ball j) bury the circle whole; else
+    // the buried intervals of pseudo-angle into `buried`. The ball that buried the last circle
+    // of i whole often buries the next (`last_burier`, a row entry): tried first (two circles in
+    // five are buried by one ball). Then every ball's cut in one vectorised loop, and the
+    // cutting balls' intervals, the deeper first, into the cover bins until they are full. The
+    // verdict and the intervals depend on the set of balls, not on the order they are tried in
+    // (exposed_parts sorts them).
+    static bool buried_whole(const Circle& circle, std::size_t q, std::size_t& last_burier,
+                             Row& row, std::vector<Interval>& buried) {
+        const double two_rho = 2.0 * circle.rho, minus_two_rho = -2.0 * circle.rho;
+        buried.clear();
+        double* A = row.A.data();
+        double* B = row.B.data();
+        double* E = row.E.data();
+        double* M = row.M.data();
+        auto cuts = [&](std::size_t first, std::size_t count) {
+            circle_cuts(count, row.x.data() + first, row.y.data() + first, row.z.data() + first,
+                        row.R2.data() + first, circle.m, circle.e1, circle.e2, circle.rho2,
+                        A + first, B + first, E + first, M + first);
+        };
+        // No point of the circle in ball p; every point in it.
+        auto misses = [=](std::size_t p) { return E[p] <= minus_two_rho * M[p]; };
+        auto covers = [=](std::size_t p) { return !misses(p) && E[p] >= two_rho * M[p]; };
+        if (last_burier != q && last_burier < row.size) {
+            cuts(last_burier, 1);
+            if (covers(last_burier)) return true;
+        }
+        const std::size_t k = row.size;
+        cuts(0, k);
+        E[q] = -std::numeric_limits<double>::infinity();  // ball j: not one of the others
+        // The balls that cut the circle (neither miss nor cover it), and whether one covers it.
+        std::uint32_t* cutting = row.cutting.data();
+        std::size_t n_cut = 0, covering = k;
+        for (std::size_t p = 0; p < k; ++p) {
+            const bool in = !misses(p);
+            covering = in & (E[p] >= two_rho * M[p]) ? p : covering;
+            cutting[n_cut] = static_cast<std::uint32_t>(p);
+            n_cut += in;
+        }
+        if (covering < k) {
+            last_burier = covering;
+            return true;
+        }
+        // The deeper balls first (by t = E / 2 rho M in [-1, 1), the longer buried intervals, in
+        // kDepths classes): a few bury most circles.
+        constexpr int kDepths = 8;
+        std::uint8_t* depth = row.depth.data();
+        std::uint32_t* which = row.which.data();
+        std::uint32_t first[kDepths + 1] = {};
+        for (std::size_t h = 0; h < n_cut; ++h) {
+            const std::uint32_t p = cutting[h];
+            const double t = E[p] / (two_rho * M[p]);
+            const int c = std::clamp(static_cast<int>((1.0 - t) * (0.5 * kDepths)), 0, kDepths - 1);
+            depth[h] = static_cast<std::uint8_t>(c);
+            ++first[c + 1];
+        }
+        for (int c = 0; c < kDepths; ++c) first[c + 1] += first[c];
+        for (std::size_t h = 0; h < n_cut; ++h) which[first[depth[h]]++] = cutting[h];
+        double* from = row.from.data();
+        double* len = row.len.data();
+        CoverBins cover;
+        for (std::size_t h = 0; h < n_cut; ++h) {
+            const std::uint32_t p = which[h];
+            buried_interval(A[p], B[p], E[p], M[p], circle.rho, from[h], len[h]);
+            if (len[h] > 0.0 && cover.add(from[h], len[h])) return true;
+        }
+        for (std::size_t h = 0; h < n_cut; ++h)
+            if (len[h] > 0.0) buried.push_back({from[h], len[h]});
+        return false;
     }
 
     // The exposed parts (pseudo-angles) of the circle as arcs, into `out`.
@@ -409,32 +562,45 @@ struct FeatureBuilder {
 
     struct ChunkArcs {
         std::vector<SesArc> arcs;
+        std::vector<std::size_t> bins;  // each arc's bin (of its circle's centre)
         std::size_t circles = 0, buried_circles = 0;
+        float rho_max = 0.0f;
     };
 
     // The circles of the pairs i < j of chunk `chunk`'s atoms i, cut by the other neighbours of
     // i: their exposed arcs into `out`.
     void arcs_of_chunk(std::size_t chunk, ChunkArcs& out) const {
         std::vector<Interval> buried, cuts, gaps, parts;
+        Row row;
         for (std::size_t i = chunk * kChunk; i < std::min(n, (chunk + 1) * kChunk); ++i) {
-            std::uint32_t last_burier = std::numeric_limits<std::uint32_t>::max();
-            for (std::uint32_t q = nb_start[i]; q < nb_start[i + 1]; ++q) {
-                const std::uint32_t j = nb[q];
-                if (j <= i) continue;
-                const Vec3 dij = sub(c[j], c[i]);
+            const std::size_t s = sphere_of[i];
+            const std::uint32_t* nb = f.neighbours.data() + f.neighbour_start[s];
+            row.resize(f.neighbour_start[s + 1] - f.neighbour_start[s]);
+            for (std::size_t p = 0; p < row.size; ++p) {
+                const Ball& k = balls[nb[p]];
+                row.x[p] = k.c[0], row.y[p] = k.c[1], row.z[p] = k.c[2];
+                row.R2[p] = k.R * k.R;
+                row.atom[p] = order[nb[p]];
+            }
+            const Ball& bi = balls[s];
+            std::size_t last_burier = std::numeric_limits<std::size_t>::max();
+            for (std::size_t q = 0; q < row.size; ++q) {
+                if (row.atom[q] <= i) continue;
+                const Ball& bj = balls[nb[q]];
+                const Vec3 dij = sub(bj.c, bi.c);
                 const double d = std::sqrt(dot(dij, dij));
-                if (d <= std::abs(R[i] - R[j]) || d == 0.0) continue;  // one ball inside the other
+                if (d <= std::abs(bi.R - bj.R) || d == 0.0) continue;  // one ball inside the other
                 const Vec3 u = scale(dij, 1.0 / d);
-                const double a = (d * d + R[i] * R[i] - R[j] * R[j]) / (2.0 * d);
-                const double rho2 = R[i] * R[i] - a * a;
+                const double a = (d * d + bi.R * bi.R - bj.R * bj.R) / (2.0 * d);
+                const double rho2 = bi.R * bi.R - a * a;
                 if (rho2 <= 0.0) continue;
                 const double rho = std::sqrt(rho2);
-                const Vec3 m = add(c[i], scale(u, a));
+                const Vec3 m = add(bi.c, scale(u, a));
                 const Vec3 e1 = perpendicular(u);
                 const Vec3 e2 = cross(u, e1);
                 const Circle circle{m, e1, e2, rho, rho2};
                 ++out.circles;
-                if (buried_whole(circle, i, j, last_burier, buried))
+                if (buried_whole(circle, q, last_burier, row, buried))
                     parts.clear();
                 else
                     exposed_parts(buried, cuts, gaps, parts);
@@ -445,35 +611,56 @@ struct FeatureBuilder {
     }
 
     // Circles of the pairs i < j, cut by the other neighbours of i: chunks of atoms on all
-    // threads, each with its own arcs, joined in atom order (the result does not depend on the
-    // thread count).
-    std::vector<SesArc> cut_circles() {
+    // threads, each with its own arcs. The arcs by the bin of their circle's centre (on the
+    // segment between two centres: in range), in atom order within a bin (the result does not
+    // depend on the thread count): each part of the bins, with about as many arcs as the
+    // others, filled on its own thread.
+    void cut_circles() {
         std::vector<ChunkArcs> chunks(chunk_count);
-        parallel_chunks(chunks.size(), thread_count(),
-                        [&](std::size_t chunk) { arcs_of_chunk(chunk, chunks[chunk]); });
-        std::vector<SesArc> arcs;
+        parallel_chunks(chunk_count, threads, [&](std::size_t chunk) {
+            ChunkArcs& out = chunks[chunk];
+            arcs_of_chunk(chunk, out);
+            out.bins.resize(out.arcs.size());
+            for (std::size_t k = 0; k < out.arcs.size(); ++k) {
+                const SesArc& arc = out.arcs[k];
+                int cell[3];
+                out.bins[k] = bin_index(Vec3{arc.m[0], arc.m[1], arc.m[2]}, cell);
+                out.rho_max = std::max(out.rho_max, arc.rho);
+            }
+        });
+        const std::size_t bins = f.bin_count();
+        std::size_t total = 0;
         for (const ChunkArcs& chunk : chunks) {
-            arcs.insert(arcs.end(), chunk.arcs.begin(), chunk.arcs.end());
             f.circles += chunk.circles;
             f.buried_circles += chunk.buried_circles;
+            f.rho_max = std::max(f.rho_max, chunk.rho_max);
+            total += chunk.arcs.size();
         }
-        for (const SesArc& arc : arcs) f.rho_max = std::max(f.rho_max, arc.rho);
-        return arcs;
-    }
-
-    // Arcs by the bin of their circle's centre (on the segment between two centres: in range).
-    void bin_arcs(const std::vector<SesArc>& arcs) {
-        std::vector<std::size_t> arc_bin(arcs.size());
-        f.arc_start.assign(f.bin_count() + 1, 0);
-        for (std::size_t k = 0; k < arcs.size(); ++k) {
-            int cell[3];
-            arc_bin[k] = bin_index(Vec3{arcs[k].m[0], arcs[k].m[1], arcs[k].m[2]}, cell);
-            ++f.arc_start[arc_bin[k] + 1];
-        }
-        for (std::size_t b = 0; b < f.bin_count(); ++b) f.arc_start[b + 1] += f.arc_start[b];
-        f.arcs.resize(arcs.size());
-        std::vector<std::uint32_t> fill(f.arc_start.begin(), f.arc_start.end() - 1);
-        for (std::size_t k = 0; k < arcs.size(); ++k) f.arcs[fill[arc_bin[k]]++] = arcs[k];
+        // The arcs' array (its fresh pages) beside the count of each bin's arcs.
+        parallel_chunks(2, threads, [&](std::size_t task) {
+            if (task == 0) {
+                f.arcs.resize(total);
+                return;
+            }
+            f.arc_start.assign(bins + 1, 0);
+            for (const ChunkArcs& chunk : chunks)
+                for (const std::size_t b : chunk.bins) ++f.arc_start[b + 1];
+            for (std::size_t b = 0; b < bins; ++b) f.arc_start[b + 1] += f.arc_start[b];
+        });
+        std::vector<std::size_t> part_start(threads + 1, bins);
+        for (unsigned part = 0; part < threads; ++part)
+            part_start[part] =
+                std::size_t(std::lower_bound(f.arc_start.begin(), f.arc_start.end() - 1,
+                                             total * part / threads) -
+                            f.arc_start.begin());
+        parallel_chunks(threads, threads, [&](std::size_t part) {
+            const std::size_t first = part_start[part], end = part_start[part + 1];
+            for (const ChunkArcs& chunk : chunks)
+                for (std::size_t k = 0; k < chunk.arcs.size(); ++k)
+                    if (chunk.bins[k] >= first && chunk.bins[k] < end)
+                        f.arcs[f.arc_start[chunk.bins[k]]++] = chunk.arcs[k];
+        });
+        unshift(f.arc_start);
     }
 };
 
@@ -517,12 +704,14 @@ SesFeatures build_ses_features(const Atoms& atoms, float probe) {
                     "the exact SES needs a probe radius > 0 Å (probe 0 is the vdw surface)");
     FeatureBuilder b(atoms, probe);
     b.read_balls();
+    b.bin_spheres();
     Atoms unique;
     if (b.without_duplicates(unique)) return build_ses_features(unique, probe);
-    b.bin_spheres();
+    trace("ses features: balls binned");
     b.find_neighbours();
-    b.neighbours_by_sphere();
-    b.bin_arcs(b.cut_circles());
+    trace("ses features: neighbours");
+    b.cut_circles();
+    trace("ses features: arcs");
     return std::move(b.f);
 }
 

@@ -3,10 +3,13 @@
 // independent brute force on crambin.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <map>
 #include <numbers>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "fdmsurf/error.hpp"
 #include "fdmsurf/structure.hpp"
@@ -353,6 +356,66 @@ TEST(SesFeatures, GradientIsTheUnitDirectionFromTheNearestPoint) {
         checked += diff < 1e-3;
     }
     EXPECT_GT(checked, 200u);
+}
+
+// Each sphere's neighbour row is every other ball it intersects (|c_s - c_t| < R_s + R_t in
+// double, R = r + probe), in ascending sphere order: against all pairs, on crambin moved far
+// from the origin (the bins' bounds are floats there) and on a lattice of balls 6 Å apart
+// whose inflated radii are 3 Å, on the bins' bounds: touching exactly (no intersection), or
+// one float step nearer (an intersection).
+TEST(SesFeatures, NeighbourRowsAreEveryIntersectingBall) {
+    const Atoms crambin = fdmsurf::read_structure(data_path("1crn.xyzr")).atoms;
+    Atoms far = crambin;
+    for (std::size_t i = 0; i < far.size(); ++i) {
+        far.xyz[3 * i] += 3000.0f;
+        far.xyz[3 * i + 1] -= 2000.0f;
+        far.xyz[3 * i + 2] += 1000.0f;
+    }
+    Atoms lattice;
+    for (int x = 0; x < 7; ++x)
+        for (int y = 0; y < 7; ++y)
+            for (int z = 0; z < 7; ++z) {
+                float p[3] = {6.0f * x, 6.0f * y, 6.0f * z};
+                if ((x + 2 * y + z) % 3 == 0) p[0] = std::nextafter(p[0], -1.0f);
+                lattice.xyz.insert(lattice.xyz.end(), {p[0], p[1], p[2]});
+                lattice.radius.push_back(1.6f);  // 1.6f + 1.4f is 3 exactly
+            }
+    for (const Atoms* atoms : std::array<const Atoms*, 3>{&crambin, &far, &lattice}) {
+        const float probe = 1.4f;
+        const SesFeatures f = build_ses_features(*atoms, probe);
+        const std::size_t n = f.sphere_count();
+        ASSERT_EQ(n, atoms->size());
+        // Each sphere's atom by its centre (all distinct here), for its inflated radius.
+        std::map<std::array<float, 3>, std::size_t> atom_at;
+        for (std::size_t i = 0; i < n; ++i)
+            atom_at[{atoms->xyz[3 * i], atoms->xyz[3 * i + 1], atoms->xyz[3 * i + 2]}] = i;
+        std::vector<double> R(n);
+        for (std::size_t s = 0; s < n; ++s) {
+            const auto it =
+                atom_at.find({f.spheres[4 * s], f.spheres[4 * s + 1], f.spheres[4 * s + 2]});
+            ASSERT_NE(it, atom_at.end());
+            R[s] = double(atoms->radius[it->second]) + probe;
+        }
+        std::size_t pairs = 0;
+        for (std::size_t s = 0; s < n; ++s) {
+            std::vector<std::uint32_t> expect;
+            for (std::size_t t = 0; t < n; ++t) {
+                if (t == s) continue;
+                double dd = 0.0;
+                for (int k = 0; k < 3; ++k) {
+                    const double d = double(f.spheres[4 * t + k]) - double(f.spheres[4 * s + k]);
+                    dd += d * d;
+                }
+                const double reach = R[s] + R[t];
+                if (dd < reach * reach) expect.push_back(static_cast<std::uint32_t>(t));
+            }
+            const std::vector<std::uint32_t> row(f.neighbours.begin() + f.neighbour_start[s],
+                                                 f.neighbours.begin() + f.neighbour_start[s + 1]);
+            ASSERT_EQ(row, expect) << "sphere " << s;
+            pairs += row.size();
+        }
+        EXPECT_GT(pairs, 0u);
+    }
 }
 
 }  // namespace
