@@ -16,6 +16,7 @@
 #include "mesh/mesh_pieces.hpp"
 #include "mesh/mesh_shapes.hpp"
 #include "mesh/mesh_stats_detail.hpp"
+#include "support/mesh_checks.hpp"
 #include "support/test_data.hpp"
 
 namespace fdmsurf {
@@ -73,21 +74,6 @@ Mesh interleaved_pieces() {
     return m;
 }
 
-void expect_same_stats(const MeshStats& a, const MeshStats& b) {
-    EXPECT_EQ(a.vertices, b.vertices);
-    EXPECT_EQ(a.triangles, b.triangles);
-    EXPECT_EQ(a.area, b.area);  // bit for bit
-    EXPECT_EQ(a.volume, b.volume);
-    EXPECT_EQ(a.pieces, b.pieces);
-    EXPECT_EQ(a.closed_pieces, b.closed_pieces);
-    EXPECT_EQ(a.boundary_edges, b.boundary_edges);
-    EXPECT_EQ(a.nonmanifold_edges, b.nonmanifold_edges);
-    EXPECT_EQ(a.nonmanifold_vertices, b.nonmanifold_vertices);
-    EXPECT_EQ(a.inconsistent_edges, b.inconsistent_edges);
-    EXPECT_EQ(a.degenerate_triangles, b.degenerate_triangles);
-    EXPECT_EQ(a.euler_characteristic, b.euler_characteristic);
-}
-
 TEST(MeshAnalysis, StatisticsOfThePiecesKeptEqualThoseOfTheMeshAfter) {
     const Mesh mesh = interleaved_pieces();
     ASSERT_GT(mesh.triangle_count(), 5 * detail::kTriangleChunk);
@@ -107,13 +93,13 @@ TEST(MeshAnalysis, StatisticsOfThePiecesKeptEqualThoseOfTheMeshAfter) {
             EXPECT_EQ(fused.positions, plain.positions);
             EXPECT_EQ(fused.normals, plain.normals);
             EXPECT_EQ(fused.indices, plain.indices);
-            expect_same_stats(detail::total_stats(analysis, fused), after);
+            ExpectSameStats(detail::total_stats(analysis, fused), after);
             std::vector<MeshStats> kept = analysis.stats;
             std::stable_sort(kept.begin(), kept.end(), [](const MeshStats& a, const MeshStats& b) {
                 return a.area > b.area;
             });
             ASSERT_EQ(kept.size(), pieces.size());
-            for (std::size_t p = 0; p < kept.size(); ++p) expect_same_stats(kept[p], pieces[p]);
+            for (std::size_t p = 0; p < kept.size(); ++p) ExpectSameStats(kept[p], pieces[p]);
             // And the analysis kept up to date is the analysis of the mesh after.
             const detail::MeshAnalysis fresh = detail::analyse_mesh(fused, true, "test", threads);
             EXPECT_EQ(analysis.pieces.of_vertex, fresh.pieces.of_vertex);

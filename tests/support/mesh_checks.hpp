@@ -1,4 +1,5 @@
-// Test helper: a GoogleTest assertion that a mesh is closed, manifold and outward-oriented.
+// Test helpers: a GoogleTest assertion that a mesh is closed, manifold and outward-oriented, and
+// expectations that two meshes' statistics are equal.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -30,4 +31,20 @@ inline ::testing::AssertionResult IsClosedManifold(const fdmsurf::Mesh& mesh) {
     count(s.degenerate_triangles, "degenerate triangles");
     if (!(s.volume > 0.0)) failure << " volume " << s.volume << " A^3 is not positive;";
     return failure;
+}
+
+// Every field of two MeshStats equal, the area and volume bit for bit.
+inline void ExpectSameStats(const fdmsurf::MeshStats& a, const fdmsurf::MeshStats& b) {
+    EXPECT_EQ(a.vertices, b.vertices);
+    EXPECT_EQ(a.triangles, b.triangles);
+    EXPECT_EQ(a.area, b.area);
+    EXPECT_EQ(a.volume, b.volume);
+    EXPECT_EQ(a.pieces, b.pieces);
+    EXPECT_EQ(a.closed_pieces, b.closed_pieces);
+    EXPECT_EQ(a.boundary_edges, b.boundary_edges);
+    EXPECT_EQ(a.nonmanifold_edges, b.nonmanifold_edges);
+    EXPECT_EQ(a.nonmanifold_vertices, b.nonmanifold_vertices);
+    EXPECT_EQ(a.inconsistent_edges, b.inconsistent_edges);
+    EXPECT_EQ(a.degenerate_triangles, b.degenerate_triangles);
+    EXPECT_EQ(a.euler_characteristic, b.euler_characteristic);
 }
