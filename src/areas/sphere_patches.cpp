@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "areas/areas_detail.hpp"
+#include "areas/power_cell.hpp"
 #include "base/cell_list.hpp"
 #include "base/parallel.hpp"
 #include "base/vec3.hpp"
@@ -361,8 +362,11 @@ std::vector<double> exact_ball_areas(const Atoms& atoms, double radius_add, doub
     const CellList cells = make_cell_list(atoms.xyz, 2.0 * r_max);
     const std::size_t chunk = 128;
     parallel_chunks((n + chunk - 1) / chunk, thread_count(), [&](std::size_t c) {
-        std::vector<Cap> caps;
+        std::vector<Cap> caps, shaping;
         Scratch scratch;
+        PowerCell cell;
+        std::vector<CellPlane> planes;
+        std::vector<std::uint32_t> order, keep;
         for (std::size_t i = c * chunk; i < std::min(n, (c + 1) * chunk); ++i) {
             const double ri = radius[i];
             if (ri == 0.0) continue;
@@ -398,8 +402,30 @@ std::vector<double> exact_ball_areas(const Atoms& atoms, double radius_add, doub
             double omega = 4.0 * kPi;
             if (buried)
                 omega = 0.0;
-            else if (!caps.empty())
-                omega = exposed_solid_angle(caps, scratch);
+            else if (!caps.empty()) {
+                // Only the caps whose planes are faces of the ball's power cell inside the ball
+                // can shape its exposed part (power_cell.hpp).
+                planes.resize(caps.size());
+                for (std::size_t c = 0; c < caps.size(); ++c) planes[c] = {caps[c].u, caps[c].h};
+                order.resize(caps.size());
+                std::iota(order.begin(), order.end(), std::uint32_t(0));
+                std::sort(order.begin(), order.end(), [&](std::uint32_t x, std::uint32_t y) {
+                    return caps[x].h < caps[y].h || (caps[x].h == caps[y].h && x < y);
+                });
+                switch (cell.filter(planes, order, keep)) {
+                case CellVerdict::Buried:
+                    omega = 0.0;
+                    break;
+                case CellVerdict::Filtered:
+                    shaping.clear();
+                    for (const std::uint32_t c : keep) shaping.push_back(caps[c]);
+                    omega = exposed_solid_angle(shaping, scratch);
+                    break;
+                case CellVerdict::Unknown:
+                    omega = exposed_solid_angle(caps, scratch);
+                    break;
+                }
+            }
             area[i] = omega * ri * ri;
         }
     });
