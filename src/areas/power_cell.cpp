@@ -64,14 +64,16 @@ void PowerCell::reset() {
                                  std::uint16_t(v & 4 ? 4 : 5)});
     }
     live_ = 8;
+    beyond_ = 8;
     free_.clear();
+    edges_made_.assign(8, 0);
+    edge_from_.resize(24);
     face_plane_.assign(6, -1);
     face_size_.assign(6, 4);
     corners_.resize(6 * kCorners);
     for (std::size_t f = 0; f < 6; ++f)
         std::copy(kBoxFaces[f], kBoxFaces[f] + 4, corners_.begin() + std::ptrdiff_t(f * kCorners));
     face_mark_.assign(6, 0);
-    reach_ = kBox * std::sqrt(3.0) * (1.0 + 1e-12);
 }
 
 // The polyhedron is simple: each vertex is on three faces (the box's are, and a clip makes each
@@ -79,9 +81,6 @@ void PowerCell::reset() {
 // vertices it cuts away, and only they are rewritten. Faces keep their places, each in a run of
 // kCorners corners; a vertex cut away becomes NaN and its place is reused.
 PowerCell::Clip PowerCell::clip(const CellPlane& plane, std::int32_t id) {
-    // No vertex is farther from the centre than `reach_`, nor farther beyond the plane than
-    // reach_ - h.
-    if (plane.h - reach_ > kTouch) return Clip::Missed;
     const std::size_t nv = x_.size();
     dist_.resize(nv);
     double* dist = dist_.data();
@@ -92,18 +91,20 @@ PowerCell::Clip PowerCell::clip(const CellPlane& plane, std::int32_t id) {
     // The faces to rewrite: those of the vertices cut away.
     const std::size_t faces = face_plane_.size();
     cut_faces_.clear();
-    gone_.clear();
+    gone_.resize(nv);
+    std::size_t gone = 0;
     for (std::size_t v = 0; v < nv; ++v) {
-        if (!(dist[v] > 0.0)) continue;
-        gone_.push_back(std::uint16_t(v));
-        for (const std::uint16_t f : vertex_faces_[v])
+        gone_[gone] = std::uint16_t(v);
+        gone += dist[v] > 0.0;
+    }
+    for (std::size_t g = 0; g < gone; ++g) {
+        edges_made_[gone_[g]] = 0;
+        for (const std::uint16_t f : vertex_faces_[gone_[g]])
             if (!face_mark_[f]) {
                 face_mark_[f] = 1;
                 cut_faces_.push_back(f);
             }
     }
-    edge_in_.clear();
-    edge_out_.clear();
     link_.clear();
     made_.clear();
     std::size_t reused = 0;  // places in free_ (cut away before this clip) taken
@@ -122,14 +123,18 @@ PowerCell::Clip PowerCell::clip(const CellPlane& plane, std::int32_t id) {
             if (a_in == b_in) continue;
             // Where edge (in, out) crosses the plane: made once, for the edge's two faces.
             const std::uint32_t in = a_in ? a : b, out = a_in ? b : a;
-            std::size_t k = 0;
-            while (k < edge_in_.size() && !(edge_in_[k] == in && edge_out_[k] == out)) ++k;
-            if (k == edge_in_.size()) {
+            // The edges made from `out` so far (it has three): new vertex k of edge (in, out).
+            const std::size_t made_from_out = edges_made_[out];
+            std::size_t k = made_.size();
+            for (std::size_t e = 0; e < made_from_out; ++e)
+                if (edge_from_[3 * out + e].in == in) k = edge_from_[3 * out + e].k;
+            if (k == made_.size()) {
                 // dist[in] <= 0 < dist[out], so t is in [0, 1).
                 const double t = dist[in] / (dist[in] - dist[out]);
                 const double px = x_[in] + t * (x_[out] - x_[in]);
                 const double py = y_[in] + t * (y_[out] - y_[in]);
                 const double pz = z_[in] + t * (z_[out] - z_[in]);
+                beyond_ += !(px * px + py * py + pz * pz < 1.0 - kReach);
                 std::uint16_t place;
                 if (reused < free_.size()) {
                     place = free_[free_.size() - 1 - reused++];
@@ -143,10 +148,13 @@ PowerCell::Clip PowerCell::clip(const CellPlane& plane, std::int32_t id) {
                     y_.push_back(py);
                     z_.push_back(pz);
                     vertex_faces_.push_back({});
+                    edges_made_.push_back(0);
+                    edge_from_.resize(edge_from_.size() + 3);
                 }
                 vertex_faces_[place] = {f, f, std::uint16_t(faces)};
-                edge_in_.push_back(in);
-                edge_out_.push_back(out);
+                if (made_from_out == 3) return Clip::Broken;
+                edge_from_[3 * out + made_from_out] = {std::uint16_t(in), std::uint16_t(k)};
+                edges_made_[out] = std::uint8_t(made_from_out + 1);
                 link_.push_back(-1);
                 made_.push_back(place);
             } else {
@@ -186,17 +194,15 @@ PowerCell::Clip PowerCell::clip(const CellPlane& plane, std::int32_t id) {
     }
     if (k != 0) return Clip::Broken;
     free_.resize(free_.size() - reused);
-    for (const std::uint16_t v : gone_) {
+    for (std::size_t g = 0; g < gone; ++g) {
+        const std::uint16_t v = gone_[g];
+        beyond_ -= !(x_[v] * x_[v] + y_[v] * y_[v] + z_[v] * z_[v] < 1.0 - kReach);
         x_[v] = y_[v] = z_[v] = kGone;
         free_.push_back(v);
     }
-    live_ = live_ + count - std::size_t(outside);
-    double r2 = 0.0;
-    for (std::size_t v = 0; v < x_.size(); ++v) {
-        const double q = x_[v] * x_[v] + y_[v] * y_[v] + z_[v] * z_[v];
-        r2 = q > r2 ? q : r2;  // false for NaN
-    }
-    reach_ = std::sqrt(r2) * (1.0 + 1e-12);
+    live_ = live_ + count - gone;
+    // P inside the open ball: the sphere misses it, and every later clip leaves it inside.
+    if (beyond_ == 0) return Clip::Emptied;
     return Clip::Cut;
 }
 

@@ -57,17 +57,22 @@ private:
     std::vector<double> x_, y_, z_;
     std::vector<std::array<std::uint16_t, 3>> vertex_faces_;
     std::size_t live_ = 0;
+    std::size_t beyond_ = 0;  // live vertices not inside the ball (by kReach)
     std::vector<std::uint16_t> free_;
     std::vector<std::int32_t> face_plane_;
     std::vector<std::uint8_t> face_size_;
     std::vector<std::uint16_t> corners_;
-    double reach_ = 0.0;  // no vertex is farther from the centre
     // Per clip: each vertex's signed distance, the vertices cut away and the faces they are on;
     // the new vertices' edges, places and links.
     std::vector<double> dist_;
     std::vector<std::uint16_t> gone_, cut_faces_;
     std::vector<std::uint8_t> face_mark_;
-    std::vector<std::uint32_t> edge_in_, edge_out_;  // new vertex k lies on edge (in, out)
+    // Per vertex cut away, the edges from it made so far: new vertex k on edge (in, it).
+    struct EdgeFrom {
+        std::uint16_t in, k;
+    };
+    std::vector<EdgeFrom> edge_from_;     // three per vertex
+    std::vector<std::uint8_t> edges_made_;  // how many of the three
     std::vector<std::int32_t> link_;                 // the new face goes from new vertex k to link_[k]
     std::vector<std::uint16_t> made_;                // new vertex k's place
     std::vector<std::uint8_t> touched_;              // per plane: within rounding of touching P

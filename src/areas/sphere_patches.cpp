@@ -342,6 +342,43 @@ double exposed_solid_angle(const std::vector<Cap>& caps, Scratch& w) {
     // Rounding can leave a hair below 0 or above 4π.
     return std::clamp(total, 0.0, 4.0 * kPi);
 }
+// A thread's scratch space for exposed_solid_angle below.
+struct Workspace {
+    Scratch scratch;
+    PowerCell cell;
+    std::vector<CellPlane> planes;
+    std::vector<std::uint32_t> order, keep;
+    std::vector<Cap> shaping;
+};
+
+// The exposed solid angle of a unit sphere less the union of `caps` (none empty), from only the
+// caps whose planes are faces of the ball's power cell inside the ball (power_cell.hpp): about
+// a third of a protein atom's, and none when the cell says the ball is buried.
+double exposed_solid_angle(const std::vector<Cap>& caps, Workspace& w) {
+    w.planes.resize(caps.size());
+    for (std::size_t c = 0; c < caps.size(); ++c) w.planes[c] = {caps[c].u, caps[c].h};
+    // Largest caps first, roughly, so that the cell shrinks soonest: sixteen bins of h (a
+    // counting sort) do as well as a full sort, for less.
+    constexpr int kBins = 16;
+    std::array<std::uint32_t, kBins + 1> first{};
+    auto bin_of = [](double h) { return std::clamp(int((h + 1.0) * (0.5 * kBins)), 0, kBins - 1); };
+    for (const Cap& c : caps) ++first[std::size_t(bin_of(c.h)) + 1];
+    for (int b = 0; b < kBins; ++b) first[std::size_t(b) + 1] += first[std::size_t(b)];
+    w.order.resize(caps.size());
+    for (std::size_t c = 0; c < caps.size(); ++c)
+        w.order[first[std::size_t(bin_of(caps[c].h))]++] = std::uint32_t(c);
+    switch (w.cell.filter(w.planes, w.order, w.keep)) {
+    case CellVerdict::Buried:
+        return 0.0;
+    case CellVerdict::Filtered:
+        w.shaping.clear();
+        for (const std::uint32_t c : w.keep) w.shaping.push_back(caps[c]);
+        return exposed_solid_angle(w.shaping, w.scratch);
+    case CellVerdict::Unknown:
+        break;
+    }
+    return exposed_solid_angle(caps, w.scratch);
+}
 }  // namespace
 
 std::vector<double> exact_ball_areas(const Atoms& atoms, double radius_add, double pi_iso) {
@@ -362,11 +399,8 @@ std::vector<double> exact_ball_areas(const Atoms& atoms, double radius_add, doub
     const CellList cells = make_cell_list(atoms.xyz, 2.0 * r_max);
     const std::size_t chunk = 128;
     parallel_chunks((n + chunk - 1) / chunk, thread_count(), [&](std::size_t c) {
-        std::vector<Cap> caps, shaping;
-        Scratch scratch;
-        PowerCell cell;
-        std::vector<CellPlane> planes;
-        std::vector<std::uint32_t> order, keep;
+        std::vector<Cap> caps;
+        Workspace work;
         for (std::size_t i = c * chunk; i < std::min(n, (c + 1) * chunk); ++i) {
             const double ri = radius[i];
             if (ri == 0.0) continue;
@@ -402,30 +436,8 @@ std::vector<double> exact_ball_areas(const Atoms& atoms, double radius_add, doub
             double omega = 4.0 * kPi;
             if (buried)
                 omega = 0.0;
-            else if (!caps.empty()) {
-                // Only the caps whose planes are faces of the ball's power cell inside the ball
-                // can shape its exposed part (power_cell.hpp).
-                planes.resize(caps.size());
-                for (std::size_t c = 0; c < caps.size(); ++c) planes[c] = {caps[c].u, caps[c].h};
-                order.resize(caps.size());
-                std::iota(order.begin(), order.end(), std::uint32_t(0));
-                std::sort(order.begin(), order.end(), [&](std::uint32_t x, std::uint32_t y) {
-                    return caps[x].h < caps[y].h || (caps[x].h == caps[y].h && x < y);
-                });
-                switch (cell.filter(planes, order, keep)) {
-                case CellVerdict::Buried:
-                    omega = 0.0;
-                    break;
-                case CellVerdict::Filtered:
-                    shaping.clear();
-                    for (const std::uint32_t c : keep) shaping.push_back(caps[c]);
-                    omega = exposed_solid_angle(shaping, scratch);
-                    break;
-                case CellVerdict::Unknown:
-                    omega = exposed_solid_angle(caps, scratch);
-                    break;
-                }
-            }
+            else if (!caps.empty())
+                omega = exposed_solid_angle(caps, work);
             area[i] = omega * ri * ri;
         }
     });
