@@ -12,9 +12,14 @@
 // or misses it, the whole sphere is buried. The cell is built by clipping a box round the ball
 // with each plane in turn, largest cap first (Voro++ builds Voronoi cells the same way).
 //
+// The polyhedron is kept as a graph of vertices, each on three planes with three neighbours (the
+// box's are, and a clip keeps it so), as Voro++ does: a clip makes a vertex on each edge from a
+// vertex it cuts away to one it keeps, and joins two new vertices when they share an old face,
+// so its work is that of the corner it cuts off.
+//
 // Every test leans towards keeping a cap: a kept cap that could have been dropped costs time,
 // never area. Whatever rounding makes of the polyhedron that is not a proper convex one (a face
-// cut twice, a new face that is not one cycle) gives up the filter, and every cap is kept.
+// cut twice) gives up the filter, and every cap is kept.
 #pragma once
 
 #include <array>
@@ -50,32 +55,29 @@ private:
     void reset();
     Clip clip(const CellPlane& plane, std::int32_t id);
 
-    // Vertices (coordinates apart, for the distance loop; NaN once cut away), the three faces
-    // each is on, how many are live and the places of those cut away; faces, each with the
-    // plane that made it (-1: the box) and its corners (vertex indices, counter-clockwise seen
-    // from outside) in a run of its own.
+    // Planes are numbered from 0 (the caller's) with the box's six before them, -6 to -1.
+    static constexpr std::int32_t kBoxPlanes = 6;
+    // Vertices: coordinates apart, for the distance loop (NaN once cut away, and the place
+    // reused); per vertex its three planes and, in slot s, the neighbour along the edge that
+    // leaves plane s (the edge on the other two planes).
     std::vector<double> x_, y_, z_;
-    std::vector<std::array<std::uint16_t, 3>> vertex_faces_;
+    std::vector<std::array<std::int32_t, 3>> planes_;
+    std::vector<std::array<std::uint16_t, 3>> next_;
     std::size_t live_ = 0;
     std::size_t beyond_ = 0;  // live vertices not inside the ball (by kReach)
     std::vector<std::uint16_t> free_;
-    std::vector<std::int32_t> face_plane_;
-    std::vector<std::uint8_t> face_size_;
-    std::vector<std::uint16_t> corners_;
-    // Per clip: each vertex's signed distance, the vertices cut away and the faces they are on;
-    // the new vertices' edges, places and links.
+    // Per clip: each vertex's signed distance; the vertices cut away; per plane (offset by
+    // kBoxPlanes), the new vertex and slot waiting for the other new vertex on that plane's face.
     std::vector<double> dist_;
-    std::vector<std::uint16_t> gone_, cut_faces_;
-    std::vector<std::uint8_t> face_mark_;
-    // Per vertex cut away, the edges from it made so far: new vertex k on edge (in, it).
-    struct EdgeFrom {
-        std::uint16_t in, k;
+    std::vector<std::uint16_t> gone_;
+    struct Waiting {
+        std::int32_t vertex;  // -1: none; -2: the face has its two
+        std::uint32_t slot;
     };
-    std::vector<EdgeFrom> edge_from_;     // three per vertex
-    std::vector<std::uint8_t> edges_made_;  // how many of the three
-    std::vector<std::int32_t> link_;                 // the new face goes from new vertex k to link_[k]
-    std::vector<std::uint16_t> made_;                // new vertex k's place
-    std::vector<std::uint8_t> touched_;              // per plane: within rounding of touching P
+    std::vector<Waiting> waiting_;
+    std::vector<std::int32_t> waited_;  // the planes whose entries to clear
+    std::vector<std::uint8_t> touched_;  // per plane: within rounding of touching P
+    std::vector<std::uint8_t> present_;  // per plane (offset): a face of P
 };
 
 }  // namespace fdmsurf::detail
