@@ -160,12 +160,15 @@ CellVerdict PowerCell::filter(const std::vector<CellPlane>& planes,
                               std::vector<std::uint32_t>& keep) {
     reset();
     touched_.assign(planes.size(), 0);
+    touched_any_ = false;
+    edges_.clear();
     waiting_.assign(planes.size() + kBoxPlanes, {-1, 0});
     for (const std::uint32_t p : order) {
         const Clip result = clip(planes[p], std::int32_t(p));
         if (result == Clip::Emptied) return CellVerdict::Buried;
         if (result == Clip::Broken) return CellVerdict::Unknown;
         if (result == Clip::Touched) touched_[p] = 1;
+        touched_any_ = touched_any_ || result == Clip::Touched;
     }
     if (beyond_ == 0) return CellVerdict::Buried;
     // The faces that meet the ball are kept; so is a plane that touched P within rounding, face
@@ -187,7 +190,9 @@ CellVerdict PowerCell::filter(const std::vector<CellPlane>& planes,
             const double t = len2 > 0.0 ? std::clamp(-dot(pa, ab) / len2, 0.0, 1.0) : 0.0;
             const Vec3 q = add(pa, scale(ab, t));
             if (!(dot(q, q) <= 1.0 + kReach)) continue;
-            for (const std::int32_t f : {planes_[v][(k + 1) % 3], planes_[v][(k + 2) % 3]})
+            const std::int32_t a = planes_[v][(k + 1) % 3], b = planes_[v][(k + 2) % 3];
+            if (a >= 0 && b >= 0) edges_.push_back({std::uint32_t(a), std::uint32_t(b)});
+            for (const std::int32_t f : {a, b})
                 if (f >= 0) {
                     wanted[std::size_t(f)] = 1;
                     any = true;

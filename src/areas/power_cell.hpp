@@ -50,6 +50,12 @@ public:
     CellVerdict filter(const std::vector<CellPlane>& planes,
                        const std::vector<std::uint32_t>& order, std::vector<std::uint32_t>& keep);
 
+    // After a Filtered verdict: whether a plane was kept for touching P within rounding (and so
+    // never cut it), and the edges of P between two planes that come into the ball, as the
+    // planes' indices.
+    bool touched() const { return touched_any_; }
+    const std::vector<std::array<std::uint32_t, 2>>& edges_in_ball() const { return edges_; }
+
 private:
     enum class Clip { Missed, Touched, Cut, Emptied, Broken };
     void reset();
@@ -77,7 +83,9 @@ private:
     std::vector<Waiting> waiting_;
     std::vector<std::int32_t> waited_;  // the planes whose entries to clear
     std::vector<std::uint8_t> touched_;  // per plane: within rounding of touching P
-    std::vector<std::uint8_t> present_;  // per plane (offset): a face of P
+    std::vector<std::uint8_t> present_;  // per plane: a face of P
+    bool touched_any_ = false;
+    std::vector<std::array<std::uint32_t, 2>> edges_;
 };
 
 }  // namespace fdmsurf::detail

@@ -120,7 +120,15 @@ double pseudo_angle(double x, double y) {
 // inside some other cap all along or outside all of them; when a crossing at its end lies
 // inside a third cap the arc does too. So exposed arcs run between exposed crossings, and an
 // arc between two consecutive exposed crossings is exposed when its midpoint is.
-double exposed_solid_angle(const std::vector<Cap>& caps, Scratch& w) {
+//
+// `edges`, when given, are the pairs of caps (indices into `caps`) whose planes meet on an edge
+// of the ball's power cell that comes into the ball (power_cell.hpp): an exposed crossing of
+// two circles is a point of the cell on both planes, so on that edge, and only those pairs are
+// crossed, each crossing tested against the caps that meet its circle. Returns -1 when a circle
+// is left with an odd number of exposed crossings (rounding of the cell): the caller then calls
+// without `edges`, which crosses every pair of circles.
+double exposed_solid_angle(const std::vector<Cap>& caps, Scratch& w,
+                           const std::vector<std::array<std::uint32_t, 2>>* edges) {
     constexpr double eps = 1e-12;
     const std::size_t m = caps.size();
     // Caps inside other caps (or equal to one) change nothing: drop them. Taken from the
@@ -192,7 +200,48 @@ double exposed_solid_angle(const std::vector<Cap>& caps, Scratch& w) {
     // x·u_k along the circle is −x·(u_j × u_k)); the circle of cap k enters cap j at x₊. So each
     // pair puts an interval of azimuths (as pseudo-angles) on both circles.
     w.pairs.clear();
-    for (std::size_t ra = 0; ra < n; ++ra) {
+    // A point of circle j inside another cap (that cap meets cap j: it is in j's list); ranks.
+    // The cap that buried the last point is tried first: neighbouring points share it.
+    std::uint32_t last = 0;
+    auto buried_by = [&](const Vec3& p, std::size_t j) {
+        if (last != j &&
+            p[0] * w.ux[last] + p[1] * w.uy[last] + p[2] * w.uz[last] > w.h[last] + eps)
+            return true;
+        for (const std::uint32_t k : w.overlapping[j])
+            if (p[0] * w.ux[k] + p[1] * w.uy[k] + p[2] * w.uz[k] > w.h[k] + eps) {
+                last = k;
+                return true;
+            }
+        return false;
+    };
+    for (std::size_t e = 0; edges && e < edges->size(); ++e) {
+        const std::uint32_t ra = w.rank_of[(*edges)[e][0]], rb = w.rank_of[(*edges)[e][1]];
+        if (ra == kNone || rb == kNone) continue;
+        // The same arithmetic as for every pair below.
+        const bool swap = w.kept[rb] < w.kept[ra];
+        const std::uint32_t j = std::uint32_t(swap ? rb : ra), k = std::uint32_t(swap ? ra : rb);
+        const Cap& a = caps[w.kept[j]];
+        const Cap& b = caps[w.kept[k]];
+        const double g = dot(a.u, b.u);
+        const double w2 = 1.0 - g * g;
+        if (w2 < 1e-14) continue;
+        const double p = (a.h - b.h * g) / w2, q = (b.h - a.h * g) / w2;
+        const double rest = 1.0 - (p * p + q * q + 2.0 * p * q * g);
+        if (rest <= 0.0) continue;  // tangent (within rounding)
+        const double t = std::sqrt(rest / w2);
+        const Vec3 base = add(scale(a.u, p), scale(b.u, q)), c = cross(a.u, b.u);
+        ++w.held[j];
+        ++w.held[k];
+        for (const double sign : {1.0, -1.0}) {
+            const Vec3 x = add(base, scale(c, sign * t));
+            if (buried_by(x, j)) continue;
+            w.around[j].push_back({key(x, j), x});
+            w.around[k].push_back({key(x, k), x});
+        }
+    }
+    for (std::size_t r = 0; edges && r < n; ++r)
+        if (w.around[r].size() % 2 == 1) return -1.0;
+    for (std::size_t ra = 0; ra < n && !edges; ++ra) {
         for (const std::uint32_t rb : w.overlapping[ra]) {
             if (rb <= ra) continue;
             const bool swap = w.kept[rb] < w.kept[ra];
@@ -258,20 +307,6 @@ double exposed_solid_angle(const std::vector<Cap>& caps, Scratch& w) {
             w.around[pair.k].push_back({pair.k_minus, pair.minus});
         }
     }
-    // A point of circle j inside another cap (that cap meets cap j: it is in j's list); ranks.
-    // The cap that buried the last point is tried first: neighbouring points share it.
-    std::uint32_t last = 0;
-    auto buried_by = [&](const Vec3& p, std::size_t j) {
-        if (last != j &&
-            p[0] * w.ux[last] + p[1] * w.uy[last] + p[2] * w.uz[last] > w.h[last] + eps)
-            return true;
-        for (const std::uint32_t k : w.overlapping[j])
-            if (p[0] * w.ux[k] + p[1] * w.uy[k] + p[2] * w.uz[k] > w.h[k] + eps) {
-                last = k;
-                return true;
-            }
-        return false;
-    };
     // The pole: N, the antipode of the centre S of the largest cap; S is buried and every arc
     // stays at least that cap's angular radius away from it.
     const Vec3 pole = scale(caps[w.kept[0]].u, -1.0);
@@ -349,6 +384,8 @@ struct Workspace {
     std::vector<CellPlane> planes;
     std::vector<std::uint32_t> order, keep;
     std::vector<Cap> shaping;
+    std::vector<std::uint32_t> shaping_index;           // per cap, its place in `shaping`
+    std::vector<std::array<std::uint32_t, 2>> edges;  // the cell's edges in the ball, in `shaping`
 };
 
 // The exposed solid angle of a unit sphere less the union of `caps` (none empty), from only the
@@ -370,14 +407,28 @@ double exposed_solid_angle(const std::vector<Cap>& caps, Workspace& w) {
     switch (w.cell.filter(w.planes, w.order, w.keep)) {
     case CellVerdict::Buried:
         return 0.0;
-    case CellVerdict::Filtered:
+    case CellVerdict::Filtered: {
         w.shaping.clear();
-        for (const std::uint32_t c : w.keep) w.shaping.push_back(caps[c]);
-        return exposed_solid_angle(w.shaping, w.scratch);
+        w.shaping_index.assign(caps.size(), kNone);
+        for (const std::uint32_t c : w.keep) {
+            w.shaping_index[c] = std::uint32_t(w.shaping.size());
+            w.shaping.push_back(caps[c]);
+        }
+        // A plane kept for touching the cell was never clipped, so its edges are missing.
+        if (!w.cell.touched()) {
+            w.edges.clear();
+            for (const auto& [a, b] : w.cell.edges_in_ball())
+                if (w.shaping_index[a] != kNone && w.shaping_index[b] != kNone)
+                    w.edges.push_back({w.shaping_index[a], w.shaping_index[b]});
+            const double omega = exposed_solid_angle(w.shaping, w.scratch, &w.edges);
+            if (omega >= 0.0) return omega;
+        }
+        return exposed_solid_angle(w.shaping, w.scratch, nullptr);
+    }
     case CellVerdict::Unknown:
         break;
     }
-    return exposed_solid_angle(caps, w.scratch);
+    return exposed_solid_angle(caps, w.scratch, nullptr);
 }
 }  // namespace
 
