@@ -448,42 +448,64 @@ std::vector<double> exact_ball_areas(const Atoms& atoms, double radius_add, doub
     // Two balls meet when their centres are closer than the sum of the radii, at most 2 r_max:
     // the neighbours are in the 27 cells around a centre's.
     const CellList cells = make_cell_list(atoms.xyz, 2.0 * r_max);
+    // The centres and radii in the cell list's order, so that the balls near a centre are a few
+    // runs of memory whose distance tests vectorise.
+    std::vector<double> bx(n), by(n), bz(n), br(n);
+    for (std::size_t s = 0; s < n; ++s) {
+        const std::uint32_t j = cells.items[s];
+        bx[s] = atoms.xyz[3 * j];
+        by[s] = atoms.xyz[3 * j + 1];
+        bz[s] = atoms.xyz[3 * j + 2];
+        br[s] = radius[j];
+    }
     const std::size_t chunk = 128;
     parallel_chunks((n + chunk - 1) / chunk, thread_count(), [&](std::size_t c) {
         std::vector<Cap> caps;
         Workspace work;
+        std::vector<std::uint32_t> near;
         for (std::size_t i = c * chunk; i < std::min(n, (c + 1) * chunk); ++i) {
             const double ri = radius[i];
             if (ri == 0.0) continue;
             const double ci[3] = {atoms.xyz[3 * i], atoms.xyz[3 * i + 1], atoms.xyz[3 * i + 2]};
+            // The balls that meet this one (and itself), in the cell list's order.
+            std::size_t meeting = 0;
+            cells.for_each_run_near(ci, [&](std::uint32_t first, std::uint32_t end) {
+                if (near.size() < meeting + (end - first)) near.resize(meeting + (end - first));
+                for (std::uint32_t s = first; s < end; ++s) {
+                    const double ex = bx[s] - ci[0], ey = by[s] - ci[1], ez = bz[s] - ci[2];
+                    const double reach = ri + br[s];
+                    near[meeting] = s;
+                    meeting += ex * ex + ey * ey + ez * ez < reach * reach;
+                }
+            });
             caps.clear();
             bool buried = false;
-            cells.for_each_near(ci, [&](std::uint32_t j) {
-                if (j == i || buried || radius[j] == 0.0) return;
+            for (std::size_t m = 0; m < meeting && !buried; ++m) {
+                const std::uint32_t j = cells.items[near[m]];
+                if (j == i || radius[j] == 0.0) continue;
                 const double cj[3] = {atoms.xyz[3 * j], atoms.xyz[3 * j + 1], atoms.xyz[3 * j + 2]};
                 const double rj = radius[j];
                 const Vec3 e{cj[0] - ci[0], cj[1] - ci[1], cj[2] - ci[2]};
                 const double d2 = dot(e, e);
-                if (d2 >= (ri + rj) * (ri + rj)) return;
                 if (d2 == 0.0) {
                     // Twins: the first keeps the area (as atom_sas_areas); a larger ball at the
                     // same centre buries this one, a smaller one nothing.
                     if (rj > ri || (rj == ri && j < i)) buried = true;
-                    return;
+                    continue;
                 }
                 const double d = std::sqrt(d2);
                 const double h = (d2 + ri * ri - rj * rj) / (2.0 * d * ri);
                 if (h <= -1.0) {
                     buried = true;  // inside ball j
-                    return;
+                    continue;
                 }
-                if (h >= 1.0) return;  // ball j inside this one
+                if (h >= 1.0) continue;  // ball j inside this one
                 Cap cap;
                 cap.u = scale(e, 1.0 / d);
                 cap.h = h;
                 cap.s = std::sqrt(std::max(0.0, 1.0 - h * h));
                 caps.push_back(cap);
-            });
+            }
             double omega = 4.0 * kPi;
             if (buried)
                 omega = 0.0;
