@@ -177,6 +177,10 @@ CellVerdict PowerCell::filter(const std::vector<CellPlane>& planes,
     std::vector<std::uint8_t>& wanted = touched_;
     present_.assign(planes.size(), 0);
     bool any = false;
+    constexpr double kLimit = 1.0 + kReach;
+    dist_.resize(x_.size());  // each vertex's squared distance from the centre
+    for (std::size_t v = 0; v < x_.size(); ++v)
+        dist_[v] = x_[v] * x_[v] + y_[v] * y_[v] + z_[v] * z_[v];
     for (std::size_t v = 0; v < x_.size(); ++v) {
         if (std::isnan(x_[v])) continue;
         for (std::uint32_t k = 0; k < 3; ++k) {
@@ -184,12 +188,13 @@ CellVerdict PowerCell::filter(const std::vector<CellPlane>& planes,
             if (face >= 0) present_[std::size_t(face)] = 1;
             const std::uint16_t w = next_[v][k];
             if (w < v) continue;  // each edge once
-            const Vec3 pa{x_[v], y_[v], z_[v]}, ab{x_[w] - x_[v], y_[w] - y_[v], z_[w] - z_[v]};
-            // The edge's point nearest the centre.
-            const double len2 = dot(ab, ab);
-            const double t = len2 > 0.0 ? std::clamp(-dot(pa, ab) / len2, 0.0, 1.0) : 0.0;
-            const Vec3 q = add(pa, scale(ab, t));
-            if (!(dot(q, q) <= 1.0 + kReach)) continue;
+            // The edge comes into the ball when an end does or, both ends outside, its point
+            // nearest the centre does: v + t (w - v) with t = s / |w - v|² in (0, 1).
+            if (!(dist_[v] <= kLimit || dist_[w] <= kLimit)) {
+                const Vec3 pa{x_[v], y_[v], z_[v]}, ab{x_[w] - x_[v], y_[w] - y_[v], z_[w] - z_[v]};
+                const double len2 = dot(ab, ab), s = -dot(pa, ab);
+                if (!(s > 0.0 && s < len2 && dist_[v] * len2 - s * s <= kLimit * len2)) continue;
+            }
             const std::int32_t a = planes_[v][(k + 1) % 3], b = planes_[v][(k + 2) % 3];
             if (a >= 0 && b >= 0) edges_.push_back({std::uint32_t(a), std::uint32_t(b)});
             for (const std::int32_t f : {a, b})
