@@ -196,7 +196,10 @@ CellVerdict PowerCell::filter(const std::vector<CellPlane>& planes,
                 if (!(s > 0.0 && s < len2 && dist_[v] * len2 - s * s <= kLimit * len2)) continue;
             }
             const std::int32_t a = planes_[v][(k + 1) % 3], b = planes_[v][(k + 2) % 3];
-            if (a >= 0 && b >= 0) edges_.push_back({std::uint32_t(a), std::uint32_t(b)});
+            // An edge with both ends inside the ball crosses no circle: only the others are
+            // handed on.
+            const bool inside = dist_[v] < 1.0 - kReach && dist_[w] < 1.0 - kReach;
+            if (a >= 0 && b >= 0 && !inside) edges_.push_back({std::uint32_t(a), std::uint32_t(b)});
             for (const std::int32_t f : {a, b})
                 if (f >= 0) {
                     wanted[std::size_t(f)] = 1;

@@ -51,8 +51,8 @@ public:
                        const std::vector<std::uint32_t>& order, std::vector<std::uint32_t>& keep);
 
     // After a Filtered verdict: whether a plane was kept for touching P within rounding (and so
-    // never cut it), and the edges of P between two planes that come into the ball, as the
-    // planes' indices.
+    // never cut it), and the edges of P between two planes that come into the ball with an end
+    // outside it (those that can cross the sphere), as the planes' indices.
     bool touched() const { return touched_any_; }
     const std::vector<std::array<std::uint32_t, 2>>& edges_in_ball() const { return edges_; }
 
