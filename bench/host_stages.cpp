@@ -60,7 +60,7 @@ int main(int argc, char** argv) try {
     int reps = 5;
     std::string out = std::filesystem::temp_directory_path().string();
     std::string mesh_file;
-    std::string only;  // --only stats|cavities|fused|write|ses-features: that stage alone
+    std::string only;  // --only stats|cavities|fused|write|ses-features|exact-areas: that alone
     for (int i = 2; i + 1 < argc; i += 2) {
         if (!std::strcmp(argv[i], "--spacing")) options.spacing = std::strtof(argv[i + 1], nullptr);
         else if (!std::strcmp(argv[i], "--reps")) reps = std::max(1, std::atoi(argv[i + 1]));

@@ -1,6 +1,6 @@
+// PowerCell: a ball's power cell clipped plane by plane, and the caps and edges it keeps.
 #include "areas/power_cell.hpp"
 
-#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -16,6 +16,8 @@ constexpr double kTouch = 1e-10;
 // How far outside the unit ball (in squared radius) a face may be and still count as meeting
 // it: rounding of the cell's vertices.
 constexpr double kReach = 1e-9;
+// How far beyond a plane a circle's centre may be and still count as on its inner side.
+constexpr double kBeyond = 1e-9;
 
 // A vertex cut away: NaN, which the distance loop counts neither in nor out.
 const double kGone = std::numeric_limits<double>::quiet_NaN();
@@ -172,11 +174,11 @@ CellVerdict PowerCell::filter(const std::vector<CellPlane>& planes,
         if (result == Clip::Touched) touched_[p] = 1;
         touched_any_ = touched_any_ || result == Clip::Touched;
     }
-    if (beyond_ == 0) return CellVerdict::Buried;
     // The faces that meet the ball are kept; so is a plane that touched P within rounding, face
     // or not. A face meets the ball where one of its edges does, or else when it holds the
     // centre of its circle (and so the whole disk).
-    std::vector<std::uint8_t>& wanted = touched_;
+    std::vector<std::uint8_t>& wanted = wanted_;
+    wanted.assign(touched_.begin(), touched_.end());
     present_.assign(planes.size(), 0);
     bool any = false;
     constexpr double kLimit = 1.0 + kReach;
@@ -214,7 +216,7 @@ CellVerdict PowerCell::filter(const std::vector<CellPlane>& planes,
         const Vec3 centre = scale(planes[j].u, planes[j].h);
         bool holds = true;
         for (std::size_t k = 0; k < planes.size() && holds; ++k)
-            holds = k == j || !present_[k] || dot(planes[k].u, centre) <= planes[k].h + kReach;
+            holds = k == j || !present_[k] || dot(planes[k].u, centre) <= planes[k].h + kBeyond;
         if (holds) {
             wanted[j] = 1;
             any = true;

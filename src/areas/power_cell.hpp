@@ -45,8 +45,9 @@ enum class CellVerdict {
 // Scratch space of one thread, reused from ball to ball.
 class PowerCell {
 public:
-    // The planes in `planes`, taken in the order of `order` (largest cap first makes P shrink
-    // soonest). `keep` gets the indices (into `planes`, increasing) of the planes to keep.
+    // The planes in `planes` (at least one), taken in the order of `order`, a permutation of
+    // their indices (largest cap first makes P shrink soonest). `keep` gets the indices (into
+    // `planes`, increasing) of the planes to keep.
     CellVerdict filter(const std::vector<CellPlane>& planes,
                        const std::vector<std::uint32_t>& order, std::vector<std::uint32_t>& keep);
 
@@ -83,6 +84,7 @@ private:
     std::vector<Waiting> waiting_;
     std::vector<std::int32_t> waited_;  // the planes whose entries to clear
     std::vector<std::uint8_t> touched_;  // per plane: within rounding of touching P
+    std::vector<std::uint8_t> wanted_;   // per plane: to keep
     std::vector<std::uint8_t> present_;  // per plane: a face of P
     bool touched_any_ = false;
     std::vector<std::array<std::uint32_t, 2>> edges_;

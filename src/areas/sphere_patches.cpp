@@ -102,7 +102,8 @@ struct Scratch {
     std::vector<Basis> basis;                   // per rank
     std::vector<Pair> pairs;                    // the circles that cross
     std::vector<double> from, to;               // per rank, the intervals other caps hold
-    std::vector<std::uint32_t> held;            // per rank, how many
+    std::vector<std::uint32_t> held;            // per rank, how many; from the cell's
+                                                // edges, how many pairs were crossed
     std::vector<std::vector<OnCircle>> around;  // per rank, its exposed crossings
     std::vector<std::uint32_t> rank_of;         // per cap index; `kNone` when held by another
 };
@@ -216,7 +217,9 @@ double exposed_solid_angle(const std::vector<Cap>& caps, Scratch& w,
     };
     for (std::size_t e = 0; edges && e < edges->size(); ++e) {
         const std::uint32_t ra = w.rank_of[(*edges)[e][0]], rb = w.rank_of[(*edges)[e][1]];
-        if (ra == kNone || rb == kNone) continue;
+        // A plane of the cell's that the ranking dropped (equal to a larger cap, as twin
+        // neighbours give) may carry part of an edge, and with it crossings: cross every pair.
+        if (ra == kNone || rb == kNone) return -1.0;
         // The same arithmetic as for every pair below.
         const bool swap = w.kept[rb] < w.kept[ra];
         const std::uint32_t j = std::uint32_t(swap ? rb : ra), k = std::uint32_t(swap ? ra : rb);
@@ -377,7 +380,8 @@ double exposed_solid_angle(const std::vector<Cap>& caps, Scratch& w,
     // Rounding can leave a hair below 0 or above 4π.
     return std::clamp(total, 0.0, 4.0 * kPi);
 }
-// A thread's scratch space for exposed_solid_angle below.
+
+// A thread's scratch space for cell_exposed_solid_angle below.
 struct Workspace {
     Scratch scratch;
     PowerCell cell;
@@ -389,9 +393,9 @@ struct Workspace {
 };
 
 // The exposed solid angle of a unit sphere less the union of `caps` (none empty), from only the
-// caps whose planes are faces of the ball's power cell inside the ball (power_cell.hpp): about
-// a third of a protein atom's, and none when the cell says the ball is buried.
-double exposed_solid_angle(const std::vector<Cap>& caps, Workspace& w) {
+// caps whose planes are faces of the ball's power cell that meet the ball (power_cell.hpp):
+// about a third of a protein atom's, and none when the cell says the ball is buried.
+double cell_exposed_solid_angle(const std::vector<Cap>& caps, Workspace& w) {
     w.planes.resize(caps.size());
     for (std::size_t c = 0; c < caps.size(); ++c) w.planes[c] = {caps[c].u, caps[c].h};
     // Largest caps first, roughly, so that the cell shrinks soonest: sixteen bins of h (a
@@ -417,9 +421,9 @@ double exposed_solid_angle(const std::vector<Cap>& caps, Workspace& w) {
         // A plane kept for touching the cell was never clipped, so its edges are missing.
         if (!w.cell.touched()) {
             w.edges.clear();
+            // Both planes of an edge in the ball are kept.
             for (const auto& [a, b] : w.cell.edges_in_ball())
-                if (w.shaping_index[a] != kNone && w.shaping_index[b] != kNone)
-                    w.edges.push_back({w.shaping_index[a], w.shaping_index[b]});
+                w.edges.push_back({w.shaping_index[a], w.shaping_index[b]});
             const double omega = exposed_solid_angle(w.shaping, w.scratch, &w.edges);
             if (omega >= 0.0) return omega;
         }
@@ -510,7 +514,7 @@ std::vector<double> exact_ball_areas(const Atoms& atoms, double radius_add, doub
             if (buried)
                 omega = 0.0;
             else if (!caps.empty())
-                omega = exposed_solid_angle(caps, work);
+                omega = cell_exposed_solid_angle(caps, work);
             area[i] = omega * ri * ri;
         }
     });
