@@ -11,7 +11,8 @@
 // statistics found once, the cavities removed with them, the statistics of the pieces kept).
 // --only ses-features: the exact SES's features of STRUCTURE (build_ses_features: neighbours,
 // circles, exposed arcs; the CLI's ses-features stage less the host's index of them), without a
-// surface.
+// surface. --only exact-areas: the exact per-atom SASA of STRUCTURE (atom_exact_areas at the
+// probe, sphere patches: what Engine.trajectory computes per frame), without a surface.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -59,7 +60,7 @@ int main(int argc, char** argv) try {
     int reps = 5;
     std::string out = std::filesystem::temp_directory_path().string();
     std::string mesh_file;
-    std::string only;  // --only stats|cavities|fused|write|ses-features: that stage alone
+    std::string only;  // --only stats|cavities|fused|write|ses-features|exact-areas: that alone
     for (int i = 2; i + 1 < argc; i += 2) {
         if (!std::strcmp(argv[i], "--spacing")) options.spacing = std::strtof(argv[i + 1], nullptr);
         else if (!std::strcmp(argv[i], "--reps")) reps = std::max(1, std::atoi(argv[i + 1]));
@@ -76,6 +77,24 @@ int main(int argc, char** argv) try {
     const double read_ms = std::chrono::duration<double, std::milli>(
                                std::chrono::steady_clock::now() - t_read).count();
     const double file_mb = double(std::filesystem::file_size(argv[1])) / 1e6;
+    if (only == "exact-areas") {
+        std::vector<double> area;
+        const double ms =
+            median_ms(reps, [&] { area = atom_exact_areas(structure.atoms, options.probe); });
+        double total = 0.0;
+        std::size_t exposed = 0;
+        for (const double a : area) {
+            total += a;
+            exposed += a > 0.0;
+        }
+        std::printf("%s: %zu atoms (%zu exposed), probe %.2f, %u threads, SASA %.3f A^2\n\n",
+                    argv[1], structure.atoms.size(), exposed, options.probe,
+                    std::thread::hardware_concurrency(), total);
+        std::printf("| host stage | median ms (%d runs) | ns per atom |\n|---|---|---|\n", reps);
+        std::printf("| exact areas | %.2f | %.0f |\n", ms,
+                    ms * 1e6 / double(structure.atoms.size()));
+        return 0;
+    }
     if (only == "ses-features") {
         detail::SesFeatures f;
         const double ms = median_ms(

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "areas/areas_detail.hpp"
+#include "areas/power_cell.hpp"
 #include "base/cell_list.hpp"
 #include "base/parallel.hpp"
 #include "base/vec3.hpp"
@@ -101,7 +102,8 @@ struct Scratch {
     std::vector<Basis> basis;                   // per rank
     std::vector<Pair> pairs;                    // the circles that cross
     std::vector<double> from, to;               // per rank, the intervals other caps hold
-    std::vector<std::uint32_t> held;            // per rank, how many
+    std::vector<std::uint32_t> held;            // per rank, how many; from the cell's
+                                                // edges, how many pairs were crossed
     std::vector<std::vector<OnCircle>> around;  // per rank, its exposed crossings
     std::vector<std::uint32_t> rank_of;         // per cap index; `kNone` when held by another
 };
@@ -119,7 +121,15 @@ double pseudo_angle(double x, double y) {
 // inside some other cap all along or outside all of them; when a crossing at its end lies
 // inside a third cap the arc does too. So exposed arcs run between exposed crossings, and an
 // arc between two consecutive exposed crossings is exposed when its midpoint is.
-double exposed_solid_angle(const std::vector<Cap>& caps, Scratch& w) {
+//
+// `edges`, when given, are the pairs of caps (indices into `caps`) whose planes meet on an edge
+// of the ball's power cell that comes into the ball (power_cell.hpp): an exposed crossing of
+// two circles is a point of the cell on both planes, so on that edge, and only those pairs are
+// crossed, each crossing tested against the caps that meet its circle. Returns -1 when a circle
+// is left with an odd number of exposed crossings (rounding of the cell): the caller then calls
+// without `edges`, which crosses every pair of circles.
+double exposed_solid_angle(const std::vector<Cap>& caps, Scratch& w,
+                           const std::vector<std::array<std::uint32_t, 2>>* edges) {
     constexpr double eps = 1e-12;
     const std::size_t m = caps.size();
     // Caps inside other caps (or equal to one) change nothing: drop them. Taken from the
@@ -191,7 +201,50 @@ double exposed_solid_angle(const std::vector<Cap>& caps, Scratch& w) {
     // x·u_k along the circle is −x·(u_j × u_k)); the circle of cap k enters cap j at x₊. So each
     // pair puts an interval of azimuths (as pseudo-angles) on both circles.
     w.pairs.clear();
-    for (std::size_t ra = 0; ra < n; ++ra) {
+    // A point of circle j inside another cap (that cap meets cap j: it is in j's list); ranks.
+    // The cap that buried the last point is tried first: neighbouring points share it.
+    std::uint32_t last = 0;
+    auto buried_by = [&](const Vec3& p, std::size_t j) {
+        if (last != j &&
+            p[0] * w.ux[last] + p[1] * w.uy[last] + p[2] * w.uz[last] > w.h[last] + eps)
+            return true;
+        for (const std::uint32_t k : w.overlapping[j])
+            if (p[0] * w.ux[k] + p[1] * w.uy[k] + p[2] * w.uz[k] > w.h[k] + eps) {
+                last = k;
+                return true;
+            }
+        return false;
+    };
+    for (std::size_t e = 0; edges && e < edges->size(); ++e) {
+        const std::uint32_t ra = w.rank_of[(*edges)[e][0]], rb = w.rank_of[(*edges)[e][1]];
+        // A plane of the cell's that the ranking dropped (equal to a larger cap, as twin
+        // neighbours give) may carry part of an edge, and with it crossings: cross every pair.
+        if (ra == kNone || rb == kNone) return -1.0;
+        // The same arithmetic as for every pair below.
+        const bool swap = w.kept[rb] < w.kept[ra];
+        const std::uint32_t j = std::uint32_t(swap ? rb : ra), k = std::uint32_t(swap ? ra : rb);
+        const Cap& a = caps[w.kept[j]];
+        const Cap& b = caps[w.kept[k]];
+        const double g = dot(a.u, b.u);
+        const double w2 = 1.0 - g * g;
+        if (w2 < 1e-14) continue;
+        const double p = (a.h - b.h * g) / w2, q = (b.h - a.h * g) / w2;
+        const double rest = 1.0 - (p * p + q * q + 2.0 * p * q * g);
+        if (rest <= 0.0) continue;  // tangent (within rounding)
+        const double t = std::sqrt(rest / w2);
+        const Vec3 base = add(scale(a.u, p), scale(b.u, q)), c = cross(a.u, b.u);
+        ++w.held[j];
+        ++w.held[k];
+        for (const double sign : {1.0, -1.0}) {
+            const Vec3 x = add(base, scale(c, sign * t));
+            if (buried_by(x, j)) continue;
+            w.around[j].push_back({key(x, j), x});
+            w.around[k].push_back({key(x, k), x});
+        }
+    }
+    for (std::size_t r = 0; edges && r < n; ++r)
+        if (w.around[r].size() % 2 == 1) return -1.0;
+    for (std::size_t ra = 0; ra < n && !edges; ++ra) {
         for (const std::uint32_t rb : w.overlapping[ra]) {
             if (rb <= ra) continue;
             const bool swap = w.kept[rb] < w.kept[ra];
@@ -257,20 +310,6 @@ double exposed_solid_angle(const std::vector<Cap>& caps, Scratch& w) {
             w.around[pair.k].push_back({pair.k_minus, pair.minus});
         }
     }
-    // A point of circle j inside another cap (that cap meets cap j: it is in j's list); ranks.
-    // The cap that buried the last point is tried first: neighbouring points share it.
-    std::uint32_t last = 0;
-    auto buried_by = [&](const Vec3& p, std::size_t j) {
-        if (last != j &&
-            p[0] * w.ux[last] + p[1] * w.uy[last] + p[2] * w.uz[last] > w.h[last] + eps)
-            return true;
-        for (const std::uint32_t k : w.overlapping[j])
-            if (p[0] * w.ux[k] + p[1] * w.uy[k] + p[2] * w.uz[k] > w.h[k] + eps) {
-                last = k;
-                return true;
-            }
-        return false;
-    };
     // The pole: N, the antipode of the centre S of the largest cap; S is buried and every arc
     // stays at least that cap's angular radius away from it.
     const Vec3 pole = scale(caps[w.kept[0]].u, -1.0);
@@ -341,6 +380,60 @@ double exposed_solid_angle(const std::vector<Cap>& caps, Scratch& w) {
     // Rounding can leave a hair below 0 or above 4π.
     return std::clamp(total, 0.0, 4.0 * kPi);
 }
+
+// A thread's scratch space for cell_exposed_solid_angle below.
+struct Workspace {
+    Scratch scratch;
+    PowerCell cell;
+    std::vector<CellPlane> planes;
+    std::vector<std::uint32_t> order, keep;
+    std::vector<Cap> shaping;
+    std::vector<std::uint32_t> shaping_index;           // per cap, its place in `shaping`
+    std::vector<std::array<std::uint32_t, 2>> edges;  // the cell's edges in the ball, in `shaping`
+};
+
+// The exposed solid angle of a unit sphere less the union of `caps` (none empty), from only the
+// caps whose planes are faces of the ball's power cell that meet the ball (power_cell.hpp):
+// about a third of a protein atom's, and none when the cell says the ball is buried.
+double cell_exposed_solid_angle(const std::vector<Cap>& caps, Workspace& w) {
+    w.planes.resize(caps.size());
+    for (std::size_t c = 0; c < caps.size(); ++c) w.planes[c] = {caps[c].u, caps[c].h};
+    // Largest caps first, roughly, so that the cell shrinks soonest: sixteen bins of h (a
+    // counting sort) do as well as a full sort, for less.
+    constexpr int kBins = 16;
+    std::array<std::uint32_t, kBins + 1> first{};
+    auto bin_of = [](double h) { return std::clamp(int((h + 1.0) * (0.5 * kBins)), 0, kBins - 1); };
+    for (const Cap& c : caps) ++first[std::size_t(bin_of(c.h)) + 1];
+    for (int b = 0; b < kBins; ++b) first[std::size_t(b) + 1] += first[std::size_t(b)];
+    w.order.resize(caps.size());
+    for (std::size_t c = 0; c < caps.size(); ++c)
+        w.order[first[std::size_t(bin_of(caps[c].h))]++] = std::uint32_t(c);
+    switch (w.cell.filter(w.planes, w.order, w.keep)) {
+    case CellVerdict::Buried:
+        return 0.0;
+    case CellVerdict::Filtered: {
+        w.shaping.clear();
+        w.shaping_index.assign(caps.size(), kNone);
+        for (const std::uint32_t c : w.keep) {
+            w.shaping_index[c] = std::uint32_t(w.shaping.size());
+            w.shaping.push_back(caps[c]);
+        }
+        // A plane kept for touching the cell was never clipped, so its edges are missing.
+        if (!w.cell.touched()) {
+            w.edges.clear();
+            // Both planes of an edge in the ball are kept.
+            for (const auto& [a, b] : w.cell.edges_in_ball())
+                w.edges.push_back({w.shaping_index[a], w.shaping_index[b]});
+            const double omega = exposed_solid_angle(w.shaping, w.scratch, &w.edges);
+            if (omega >= 0.0) return omega;
+        }
+        return exposed_solid_angle(w.shaping, w.scratch, nullptr);
+    }
+    case CellVerdict::Unknown:
+        break;
+    }
+    return exposed_solid_angle(caps, w.scratch, nullptr);
+}
 }  // namespace
 
 std::vector<double> exact_ball_areas(const Atoms& atoms, double radius_add, double pi_iso) {
@@ -359,47 +452,69 @@ std::vector<double> exact_ball_areas(const Atoms& atoms, double radius_add, doub
     // Two balls meet when their centres are closer than the sum of the radii, at most 2 r_max:
     // the neighbours are in the 27 cells around a centre's.
     const CellList cells = make_cell_list(atoms.xyz, 2.0 * r_max);
+    // The centres and radii in the cell list's order, so that the balls near a centre are a few
+    // runs of memory whose distance tests vectorise.
+    std::vector<double> bx(n), by(n), bz(n), br(n);
+    for (std::size_t s = 0; s < n; ++s) {
+        const std::uint32_t j = cells.items[s];
+        bx[s] = atoms.xyz[3 * j];
+        by[s] = atoms.xyz[3 * j + 1];
+        bz[s] = atoms.xyz[3 * j + 2];
+        br[s] = radius[j];
+    }
     const std::size_t chunk = 128;
     parallel_chunks((n + chunk - 1) / chunk, thread_count(), [&](std::size_t c) {
         std::vector<Cap> caps;
-        Scratch scratch;
+        Workspace work;
+        std::vector<std::uint32_t> near;
         for (std::size_t i = c * chunk; i < std::min(n, (c + 1) * chunk); ++i) {
             const double ri = radius[i];
             if (ri == 0.0) continue;
             const double ci[3] = {atoms.xyz[3 * i], atoms.xyz[3 * i + 1], atoms.xyz[3 * i + 2]};
+            // The balls that meet this one (and itself), in the cell list's order.
+            std::size_t meeting = 0;
+            cells.for_each_run_near(ci, [&](std::uint32_t first, std::uint32_t end) {
+                if (near.size() < meeting + (end - first)) near.resize(meeting + (end - first));
+                for (std::uint32_t s = first; s < end; ++s) {
+                    const double ex = bx[s] - ci[0], ey = by[s] - ci[1], ez = bz[s] - ci[2];
+                    const double reach = ri + br[s];
+                    near[meeting] = s;
+                    meeting += ex * ex + ey * ey + ez * ez < reach * reach;
+                }
+            });
             caps.clear();
             bool buried = false;
-            cells.for_each_near(ci, [&](std::uint32_t j) {
-                if (j == i || buried || radius[j] == 0.0) return;
+            for (std::size_t m = 0; m < meeting && !buried; ++m) {
+                const std::uint32_t j = cells.items[near[m]];
+                if (j == i || radius[j] == 0.0) continue;
                 const double cj[3] = {atoms.xyz[3 * j], atoms.xyz[3 * j + 1], atoms.xyz[3 * j + 2]};
                 const double rj = radius[j];
                 const Vec3 e{cj[0] - ci[0], cj[1] - ci[1], cj[2] - ci[2]};
                 const double d2 = dot(e, e);
-                if (d2 >= (ri + rj) * (ri + rj)) return;
                 if (d2 == 0.0) {
                     // Twins: the first keeps the area (as atom_sas_areas); a larger ball at the
                     // same centre buries this one, a smaller one nothing.
                     if (rj > ri || (rj == ri && j < i)) buried = true;
-                    return;
+                    continue;
                 }
                 const double d = std::sqrt(d2);
                 const double h = (d2 + ri * ri - rj * rj) / (2.0 * d * ri);
                 if (h <= -1.0) {
                     buried = true;  // inside ball j
-                    return;
+                    continue;
                 }
-                if (h >= 1.0) return;  // ball j inside this one
+                if (h >= 1.0) continue;  // ball j inside this one
                 Cap cap;
                 cap.u = scale(e, 1.0 / d);
                 cap.h = h;
                 cap.s = std::sqrt(std::max(0.0, 1.0 - h * h));
                 caps.push_back(cap);
-            });
+            }
             double omega = 4.0 * kPi;
             if (buried)
                 omega = 0.0;
             else if (!caps.empty())
-                omega = exposed_solid_angle(caps, scratch);
+                omega = cell_exposed_solid_angle(caps, work);
             area[i] = omega * ri * ri;
         }
     });

@@ -39,6 +39,20 @@ struct CellList {
                     for (std::uint32_t s = start[cell]; s < start[cell + 1]; ++s) f(items[s]);
                 }
     }
+    // The same points as for_each_near, in the same order, as runs of `items`: f(first, end)
+    // for each of the up to 9 rows of three cells along x (consecutive cells are consecutive in
+    // `items`).
+    template <class F>
+    void for_each_run_near(const double p[3], F&& f) const {
+        const std::int64_t c[3] = {axis(p[0], 0), axis(p[1], 1), axis(p[2], 2)};
+        const std::int64_t x0 = std::max<std::int64_t>(c[0] - 1, 0),
+                           x1 = std::min(c[0] + 1, dims[0] - 1);
+        for (std::int64_t z = std::max<std::int64_t>(c[2] - 1, 0);
+             z <= std::min(c[2] + 1, dims[2] - 1); ++z)
+            for (std::int64_t y = std::max<std::int64_t>(c[1] - 1, 0);
+                 y <= std::min(c[1] + 1, dims[1] - 1); ++y)
+                f(start[std::size_t(index(x0, y, z))], start[std::size_t(index(x1, y, z)) + 1]);
+    }
 };
 
 // Bins the points xyz (3 floats each) in cells of side `size` (> 0, Å); far-apart points widen

@@ -165,3 +165,54 @@ TEST(AtomExactAreas, CrambinMatchesFineSampling) {
         "  1CRN SASA exact %.2f Å², Shrake-Rupley 20,000 points %.2f Å², worst atom %.3f Å²\n",
         sum(exact), sum(fine), worst);
 }
+
+TEST(AtomExactAreas, TwinNeighboursChangeNothing) {
+    // Every fifth atom of crambin doubled (the same centre and radius): the first of each pair
+    // keeps the area it had alone, the twin gets none, and no other atom moves (its two equal
+    // caps are one).
+    const Atoms atoms = read_structure(fdmsurf::test::data_path("1crn.pdb")).atoms;
+    Atoms doubled = atoms;
+    std::vector<std::size_t> twin_of;
+    for (std::size_t i = 0; i < atoms.size(); i += 5) {
+        twin_of.push_back(i);
+        doubled.xyz.insert(doubled.xyz.end(), atoms.xyz.begin() + std::ptrdiff_t(3 * i),
+                           atoms.xyz.begin() + std::ptrdiff_t(3 * i + 3));
+        doubled.radius.push_back(atoms.radius[i]);
+    }
+    for (const float probe : {0.0f, 1.4f}) {
+        const std::vector<double> alone = atom_exact_areas(atoms, probe);
+        const std::vector<double> with = atom_exact_areas(doubled, probe);
+        for (std::size_t i = 0; i < atoms.size(); ++i) {
+            const double r = atoms.radius[i] + probe;
+            EXPECT_NEAR(with[i], alone[i], 1e-9 * 4 * kPi * r * r) << "atom " << i << " " << probe;
+        }
+        for (std::size_t t = 0; t < twin_of.size(); ++t)
+            EXPECT_EQ(with[atoms.size() + t], 0.0) << "twin of " << twin_of[t];
+    }
+}
+
+TEST(AtomExactAreas, LatticeAtomsAreAlikeAndMatchSampling) {
+    // A simple cubic lattice (5³ balls 3 Å apart, radius 2.3 Å, no probe): each inner ball meets
+    // its six face neighbours (overlapping caps) and twelve edge neighbours, all in exactly
+    // symmetric places, so planes pass through the cell's vertices. The 27 inner balls have one
+    // area, which dense sampling confirms.
+    Atoms atoms;
+    for (int i = 0; i < 5; ++i)
+        for (int j = 0; j < 5; ++j)
+            for (int k = 0; k < 5; ++k) {
+                atoms.xyz.insert(atoms.xyz.end(), {3.0f * i, 3.0f * j, 3.0f * k});
+                atoms.radius.push_back(2.3f);
+            }
+    const std::vector<double> exact = atom_exact_areas(atoms, 0.0f);
+    const std::vector<double> sampled = atom_sas_areas(atoms, 0.0f, 200000);
+    const std::size_t centre = (2 * 5 + 2) * 5 + 2;
+    EXPECT_GT(exact[centre], 1.0);
+    for (int i = 1; i < 4; ++i)
+        for (int j = 1; j < 4; ++j)
+            for (int k = 1; k < 4; ++k) {
+                const std::size_t a = std::size_t((i * 5 + j) * 5 + k);
+                EXPECT_NEAR(exact[a], exact[centre], 1e-12 * exact[centre]) << a;
+                EXPECT_NEAR(exact[a], sampled[a], 2e-4 * 4 * kPi * 2.3 * 2.3 + 1e-3) << a;
+            }
+}
+
