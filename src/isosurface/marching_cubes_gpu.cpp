@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <limits>
 #include <string>
 
 #include "base/parallel.hpp"
@@ -144,6 +145,20 @@ GpuMesh MarchingCubesPass::run(Commands& cmds, StagingArena& arena, const Buffer
 }
 
 Mesh MarchingCubesPass::read_back(Commands& cmds, const GpuMesh& gpu) {
+    Mesh mesh;
+    read_back_append(cmds, gpu, mesh);
+    return mesh;
+}
+
+void MarchingCubesPass::read_back_append(Commands& cmds, const GpuMesh& gpu, Mesh& mesh,
+                                         double reserve_scale) {
+    if (mesh.normals.size() != mesh.positions.size() || !mesh.atoms.empty() ||
+        !mesh.colors.empty() || !mesh.scalars.empty())
+        throw Error(ErrorCode::Internal, "read-back: appending to a mesh of another kind");
+    const std::size_t v0 = mesh.vertex_count(), i0 = mesh.indices.size();
+    if (v0 + gpu.vertex_count > std::numeric_limits<std::uint32_t>::max() - 3)
+        throw Error(ErrorCode::InvalidArgument,
+                    "marching cubes: more than 2^32 vertices; use smaller slabs");
     StagingArena arena;
     cmds.begin();
     std::size_t vbytes = std::size_t(gpu.vertex_count) * 24, ibytes = std::size_t(gpu.triangle_count) * 12;
@@ -157,10 +172,18 @@ Mesh MarchingCubesPass::read_back(Commands& cmds, const GpuMesh& gpu) {
     const double t0 = now_ms();
     v.invalidate();
     i.invalidate();
-    Mesh mesh;
-    mesh.positions.resize(std::size_t(gpu.vertex_count) * 3);
-    mesh.normals.resize(std::size_t(gpu.vertex_count) * 3);
-    mesh.indices.resize(std::size_t(gpu.triangle_count) * 3);
+    const std::size_t floats = 3 * (v0 + gpu.vertex_count), indices = i0 + ibytes / 4;
+    if (mesh.positions.capacity() < floats || mesh.indices.capacity() < indices) {
+        // Room for the slabs' parts still to come (see marching_cubes_host_append).
+        const double scale = std::max(reserve_scale, 1.0);
+        mesh.positions.reserve(std::size_t(double(floats) * scale));
+        mesh.normals.reserve(std::size_t(double(floats) * scale));
+        mesh.indices.reserve(std::size_t(double(indices) * scale));
+    }
+    mesh.positions.resize(floats);
+    mesh.normals.resize(floats);
+    mesh.indices.resize(indices);
+    const std::uint32_t base = std::uint32_t(v0);
     // Split the interleaved vertices and copy the indices on all threads, in blocks.
     const float* src = static_cast<const float*>(v.mapped());
     constexpr std::size_t block = std::size_t{1} << 16;
@@ -169,18 +192,21 @@ Mesh MarchingCubesPass::read_back(Commands& cmds, const GpuMesh& gpu) {
     parallel_chunks(vertex_blocks + index_blocks, thread_count(), [&](std::size_t b) {
         if (b < vertex_blocks) {
             for (std::size_t k = b * block; k < std::min<std::size_t>(gpu.vertex_count, (b + 1) * block); ++k) {
-                std::memcpy(&mesh.positions[3 * k], src + 6 * k, 12);
-                std::memcpy(&mesh.normals[3 * k], src + 6 * k + 3, 12);
+                std::memcpy(&mesh.positions[3 * (v0 + k)], src + 6 * k, 12);
+                std::memcpy(&mesh.normals[3 * (v0 + k)], src + 6 * k + 3, 12);
             }
         } else {
             const std::size_t first = (b - vertex_blocks) * block;
             const std::size_t count = std::min(block, ibytes / 4 - first);
-            std::memcpy(mesh.indices.data() + first, static_cast<const std::uint32_t*>(i.mapped()) + first,
-                        count * 4);
+            const std::uint32_t* from = static_cast<const std::uint32_t*>(i.mapped()) + first;
+            std::uint32_t* to = mesh.indices.data() + i0 + first;
+            if (base == 0)
+                std::memcpy(to, from, count * 4);
+            else
+                for (std::size_t k = 0; k < count; ++k) to[k] = from[k] + base;
         }
     });
     unpack_ms_ = now_ms() - t0;
-    return mesh;
 }
 
 }  // namespace fdmsurf::detail

@@ -31,4 +31,11 @@ struct PlaneStack {
 // p.z_end of `f`, on `threads` threads (0: all). Throws as marching_cubes_cpu does.
 Mesh marching_cubes_host(const PlaneStack& f, const McParams& p, unsigned threads = 0);
 
+// The same mesh appended to `out` (positions and normals only, as marching cubes makes them):
+// its vertices after out's, its indices offset by out's vertex count. Where out's arrays must
+// grow they are reserved for reserve_scale (>= 1) times what they hold after this mesh, for the
+// slabs still to come (address space: pages are touched as they are written).
+void marching_cubes_host_append(const PlaneStack& f, const McParams& p, Mesh& out,
+                                double reserve_scale = 1.0, unsigned threads = 0);
+
 }  // namespace fdmsurf::detail
