@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cstring>
-#include <limits>
 #include <string>
 
 #include "base/parallel.hpp"
@@ -152,13 +151,7 @@ Mesh MarchingCubesPass::read_back(Commands& cmds, const GpuMesh& gpu) {
 
 void MarchingCubesPass::read_back_append(Commands& cmds, const GpuMesh& gpu, Mesh& mesh,
                                          double reserve_scale) {
-    if (mesh.normals.size() != mesh.positions.size() || !mesh.atoms.empty() ||
-        !mesh.colors.empty() || !mesh.scalars.empty())
-        throw Error(ErrorCode::Internal, "read-back: appending to a mesh of another kind");
     const std::size_t v0 = mesh.vertex_count(), i0 = mesh.indices.size();
-    if (v0 + gpu.vertex_count > std::numeric_limits<std::uint32_t>::max() - 3)
-        throw Error(ErrorCode::InvalidArgument,
-                    "marching cubes: more than 2^32 vertices; use smaller slabs");
     StagingArena arena;
     cmds.begin();
     std::size_t vbytes = std::size_t(gpu.vertex_count) * 24, ibytes = std::size_t(gpu.triangle_count) * 12;
@@ -172,17 +165,7 @@ void MarchingCubesPass::read_back_append(Commands& cmds, const GpuMesh& gpu, Mes
     const double t0 = now_ms();
     v.invalidate();
     i.invalidate();
-    const std::size_t floats = 3 * (v0 + gpu.vertex_count), indices = i0 + ibytes / 4;
-    if (mesh.positions.capacity() < floats || mesh.indices.capacity() < indices) {
-        // Room for the slabs' parts still to come (see marching_cubes_host_append).
-        const double scale = std::max(reserve_scale, 1.0);
-        mesh.positions.reserve(std::size_t(double(floats) * scale));
-        mesh.normals.reserve(std::size_t(double(floats) * scale));
-        mesh.indices.reserve(std::size_t(double(indices) * scale));
-    }
-    mesh.positions.resize(floats);
-    mesh.normals.resize(floats);
-    mesh.indices.resize(indices);
+    grow_mesh_for_part(mesh, gpu.vertex_count, ibytes / 4, reserve_scale);
     const std::uint32_t base = std::uint32_t(v0);
     // Split the interleaved vertices and copy the indices on all threads, in blocks.
     const float* src = static_cast<const float*>(v.mapped());

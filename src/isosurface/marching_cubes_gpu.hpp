@@ -37,7 +37,7 @@ public:
                 std::uint32_t ny, std::uint32_t nz, std::uint32_t pitch, const McParams& params);
     // Copies a GpuMesh to the host.
     Mesh read_back(Commands& cmds, const GpuMesh& mesh);
-    // The same appended to `out`, as marching_cubes_host_append appends (reserve_scale there).
+    // The same appended to `out`, as marching_cubes_host_append appends.
     void read_back_append(Commands& cmds, const GpuMesh& mesh, Mesh& out,
                           double reserve_scale = 1.0);
     // Host time of the last read_back() or read_back_append() spent unpacking the buffers into a Mesh, ms.

@@ -176,23 +176,7 @@ struct BitMarcher {
     // triangles `mesh` holds, its vertex count added to the indices.
     void build_mesh(Mesh& mesh, double reserve_scale) const {
         const std::size_t v0 = mesh.vertex_count(), i0 = mesh.indices.size();
-        if (v0 + first_vertex[rows] > std::numeric_limits<std::uint32_t>::max() - 3) {
-            throw Error(ErrorCode::InvalidArgument,
-                        "marching cubes: more than 2^32 vertices; use smaller slabs");
-        }
-        const std::size_t floats = 3 * (v0 + first_vertex[rows]);
-        const std::size_t indices = i0 + 3 * first_triangle[rows];
-        if (mesh.positions.capacity() < floats || mesh.indices.capacity() < indices) {
-            // Room for the parts still to come, so that they are written where they stay: a
-            // vector that grows copies what it holds into fresh pages.
-            const double scale = std::max(reserve_scale, 1.0);
-            mesh.positions.reserve(std::size_t(double(floats) * scale));
-            mesh.normals.reserve(std::size_t(double(floats) * scale));
-            mesh.indices.reserve(std::size_t(double(indices) * scale));
-        }
-        mesh.positions.resize(floats);
-        mesh.normals.resize(floats);
-        mesh.indices.resize(indices);
+        grow_mesh_for_part(mesh, first_vertex[rows], 3 * first_triangle[rows], reserve_scale);
         const std::uint32_t base = std::uint32_t(v0);
         parallel_chunks(planes, threads, [&](std::size_t zi) {
             const std::uint32_t z = p.z_begin + std::uint32_t(zi);
@@ -233,9 +217,6 @@ struct BitMarcher {
 void marching_cubes_host_append(const PlaneStack& f, const McParams& p, Mesh& out,
                                 double reserve_scale, unsigned threads) {
     check_mc_arguments(has_planes(f), f.nx, f.ny, f.nz, f.pitch, p);
-    if (out.normals.size() != out.positions.size() || !out.atoms.empty() ||
-        !out.colors.empty() || !out.scalars.empty())
-        throw Error(ErrorCode::Internal, "marching cubes: appending to a mesh of another kind");
     BitMarcher m(f, p, thread_count(threads));
     m.inside_bits();
     m.count_crossings();

@@ -32,9 +32,8 @@ struct PlaneStack {
 Mesh marching_cubes_host(const PlaneStack& f, const McParams& p, unsigned threads = 0);
 
 // The same mesh appended to `out` (positions and normals only, as marching cubes makes them):
-// its vertices after out's, its indices offset by out's vertex count. Where out's arrays must
-// grow they are reserved for reserve_scale (>= 1) times what they hold after this mesh, for the
-// slabs still to come (address space: pages are touched as they are written).
+// its vertices after out's, its indices offset by out's vertex count; reserve_scale as in
+// grow_mesh_for_part (marching_cubes_cpu.hpp).
 void marching_cubes_host_append(const PlaneStack& f, const McParams& p, Mesh& out,
                                 double reserve_scale = 1.0, unsigned threads = 0);
 
