@@ -238,10 +238,11 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
     // marching cubes runs on the cells of slab k's core once slab k + 1's first planes are in:
     // its top cells and the gradients there (one extra plane on both sides, so that the normals
     // equal those of a single pass) need them. The host keeps only the core whose cells are
-    // pending (and the one just read) and the plane under it; the whole field is gathered only for refinement of the filtered SES, which
-    // reads it anywhere (1.3 GB for the 686³ grid of the 4YVS assembly). The slab buffer stays
-    // while marching cubes runs on the earlier cores (one more buffer of at most field_budget()
-    // beside marching cubes' own; released before the last).
+    // pending (and the one just read) and the plane under it; the whole field is gathered only
+    // for refinement of the filtered SES, which reads it anywhere (1.3 GB for the 686³ grid of
+    // the 4YVS assembly). The slab buffer stays while marching cubes runs on the earlier cores
+    // (one more buffer of at most field_budget() beside marching cubes' own; released before
+    // the last).
     const std::size_t plane_floats = std::size_t(d[0]) * d[1];
     std::vector<float> full(in.gather_field ? plane_floats * d[2] : 0);
     // The exact SES is evaluated per point from the features of all atoms (binned once); the

@@ -132,7 +132,8 @@ TEST(SlabStitch, InPlaceEqualsTheReferenceOnRealStructures) {
         for (const std::vector<std::uint32_t>& starts :
              {std::vector<std::uint32_t>{0, last / 2, last},
               std::vector<std::uint32_t>{0, last / 3, 2 * last / 3, last},
-              std::vector<std::uint32_t>{0, 9, 10, last}, std::vector<std::uint32_t>{0, last - 1, last}}) {
+              std::vector<std::uint32_t>{0, 9, 10, last},
+              std::vector<std::uint32_t>{0, last - 1, last}}) {
             SCOPED_TRACE(std::to_string(starts.size() - 1) + " parts");
             expect_in_place_equals_reference(f, starts);
         }
