@@ -5,7 +5,6 @@
 // The slab sizes come from plan_slabs (slab_plan.hpp).
 #include <algorithm>
 #include <cstring>
-#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -24,7 +23,9 @@ namespace {
 
 // Marching cubes on the cores of the slabs as they come in: the cells of the pending core
 // [a, b] are marched from the plane under it, the core and the first planes of the next one,
-// on the host or on the device, each into a part that the stitch joins.
+// on the host or on the device, each part appended to the one mesh and stitched to the next
+// there (its top plane's vertices dropped for the next part's copies), so that no part is
+// copied again.
 struct SlabMarcher {
     EngineImpl& e;
     const GridPlan& plan;
@@ -33,8 +34,9 @@ struct SlabMarcher {
     bool host_mc = false;
     std::size_t plane_floats = 0;
     std::uint64_t mc_plane_bytes = 0;
-    std::vector<Mesh> parts;
-    std::vector<std::uint32_t> starts;  // the first plane of each part, then the grid's last
+    Mesh mesh;  // the parts so far, stitched
+    double stitch_ms = 0.0;
+    double surface_z0 = 0.0, surface_z1 = 0.0;  // the planes of the atoms' extent, probe added
     std::vector<float> pending,
         below;  // the core of the slab whose cells are next; the plane under it
     std::uint32_t pending_z0 = 0;
@@ -63,18 +65,34 @@ struct SlabMarcher {
         mc.z_begin = a - lo;
         mc.z_end = b - lo;
         set_interpolation(mc, plan);
+        // Room for the parts to come when the mesh must grow (address space only; see
+        // grow_mesh_for_part): a surface has about as many triangles on each plane of the
+        // molecule's height (a sphere's zones of equal height have equal areas), so the planes
+        // of the atoms' extent still to march as many per plane as those so far, three times
+        // over: 1AON's middle planes hold twice its mean (a margin of 1.5 made it grow and copy
+        // 58% of its mesh at 0.25 Å, 3 copies 8%: the first parts, small, at the extent's end).
+        const double span = std::max(surface_z1 - surface_z0, 1.0);
+        const double done = std::clamp(double(b) - surface_z0, span / 16, span);
+        const double reserve_scale = b + 1 < d[2] ? 3.0 * span / done : 1.0;
+        const std::size_t first_vertex = mesh.vertex_count(), first_index = mesh.indices.size();
         if (host_mc)
-            march_on_host(next, mc, a, lo, hi, core_planes, from_next);
+            march_on_host(next, mc, a, lo, hi, core_planes, from_next, reserve_scale);
         else
-            march_on_device(next, mc, a, lo, hi, from_next);
+            march_on_device(next, mc, a, lo, hi, from_next, reserve_scale);
         e.report("marching cubes, z " + std::to_string(b) + "/" + std::to_string(d[2] - 1));
-        starts.push_back(a);
+        if (b + 1 < d[2]) {
+            // Plane b is the next part's bottom plane: its first two planes are b and b + 1.
+            const double t = now_ms();
+            stitch_top_plane(mesh, first_vertex, first_index, next.data(),
+                             next.data() + plane_floats, d[0], d[1], plan.iso);
+            stitch_ms += now_ms() - t;
+        }
     }
 
     // The planes where they are: the one under the core, the core, the next core's first.
     void march_on_host(const std::vector<float>& next, const McParams& mc, std::uint32_t a,
                        std::uint32_t lo, std::uint32_t hi, std::uint32_t core_planes,
-                       std::uint32_t from_next) {
+                       std::uint32_t from_next, double reserve_scale) {
         const auto& d = plan.info.dims;
         const double t_mc = now_ms();
         PlaneStack planes{{}, d[0], d[1], hi - lo + 1, d[0]};
@@ -83,13 +101,14 @@ struct SlabMarcher {
             planes.planes.push_back(pending.data() + std::size_t(z) * plane_floats);
         for (std::uint32_t z = 0; z < from_next; ++z)
             planes.planes.push_back(next.data() + std::size_t(z) * plane_floats);
-        parts.push_back(marching_cubes_host(planes, mc));
+        marching_cubes_host_append(planes, mc, mesh, reserve_scale);
         add_times(result.times, {{"mc-host", now_ms() - t_mc, false}});
     }
 
     // The same planes uploaded into part_field and marched on the device.
     void march_on_device(const std::vector<float>& next, const McParams& mc, std::uint32_t a,
-                         std::uint32_t lo, std::uint32_t hi, std::uint32_t from_next) {
+                         std::uint32_t lo, std::uint32_t hi, std::uint32_t from_next,
+                         double reserve_scale) {
         const auto& d = plan.info.dims;
         StagingArena arena;
         const double t_upload = now_ms();
@@ -107,7 +126,7 @@ struct SlabMarcher {
         GpuMesh gpu =
             e.marching_cubes.run(e.commands, arena, part_field, d[0], d[1], hi - lo + 1, d[0], mc);
         add_times(result.times, e.marching_cubes.stage_times());
-        parts.push_back(e.marching_cubes.read_back(e.commands, gpu));
+        e.marching_cubes.read_back_append(e.commands, gpu, mesh, reserve_scale);
         add_times(result.times, e.commands.stage_times());
         add_times(result.times, {{"unpack-mesh", e.marching_cubes.unpack_ms(), false}});
     }
@@ -219,11 +238,11 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
     // marching cubes runs on the cells of slab k's core once slab k + 1's first planes are in:
     // its top cells and the gradients there (one extra plane on both sides, so that the normals
     // equal those of a single pass) need them. The host keeps only the core whose cells are
-    // pending (and the one just read), the plane under it, and the two planes of each seam for
-    // the stitch; the whole field is gathered only for refinement of the filtered SES, which
-    // reads it anywhere (1.3 GB for the 686³ grid of the 4YVS assembly). The slab buffer stays
-    // while marching cubes runs on the earlier cores (one more buffer of at most field_budget()
-    // beside marching cubes' own; released before the last).
+    // pending (and the one just read) and the plane under it; the whole field is gathered only
+    // for refinement of the filtered SES, which reads it anywhere (1.3 GB for the 686³ grid of
+    // the 4YVS assembly). The slab buffer stays while marching cubes runs on the earlier cores
+    // (one more buffer of at most field_budget() beside marching cubes' own; released before
+    // the last).
     const std::size_t plane_floats = std::size_t(d[0]) * d[1];
     std::vector<float> full(in.gather_field ? plane_floats * d[2] : 0);
     // The exact SES is evaluated per point from the features of all atoms (binned once); the
@@ -246,8 +265,17 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
     marcher.host_mc = on_host(marching_cubes_place);
     marcher.plane_floats = plane_floats;
     marcher.mc_plane_bytes = std::uint64_t(d[0]) * d[1] * sizeof(float);
+    if (!atoms.empty()) {
+        double z0 = atoms.xyz[2] - atoms.radius[0], z1 = atoms.xyz[2] + atoms.radius[0];
+        for (std::size_t i = 1; i < atoms.size(); ++i) {
+            z0 = std::min(z0, double(atoms.xyz[3 * i + 2]) - atoms.radius[i]);
+            z1 = std::max(z1, double(atoms.xyz[3 * i + 2]) + atoms.radius[i]);
+        }
+        const double h = plan.info.spacing;
+        marcher.surface_z0 = (z0 - options.probe - plan.info.origin[2]) / h;
+        marcher.surface_z1 = (z1 + options.probe - plan.info.origin[2]) / h;
+    }
     result.grid.host_marching_cubes = marcher.host_mc;
-    std::map<std::uint32_t, std::vector<float>> seams;  // plane z -> its values, for the stitch
     SlabFields fields{*this, atoms, options, plan, features, ses.get(), result, slab};
     fields.host_ses = host_ses;
     fields.host_gaussian = gaussian_on_host(options, plan);
@@ -270,11 +298,6 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
         // buffers (the earlier parts run beside it).
         if (k + 1 == slab.slabs) fields.field = Buffer();
         if (k > 0) {
-            // The seam at zc0: the stitch reads planes zc0 and zc0 + 1 (both in this core, which
-            // has at least 8 planes unless it is the last, where zc0 + 1 may not exist).
-            for (std::int64_t z = zc0; z < std::min<std::int64_t>(zc0 + 2, zc1); ++z)
-                seams[std::uint32_t(z)].assign(slab_core.begin() + (z - zc0) * plane_floats,
-                                               slab_core.begin() + (z - zc0 + 1) * plane_floats);
             marcher.march(slab_core);
             marcher.below.assign(marcher.pending.end() - plane_floats, marcher.pending.end());
         }
@@ -286,20 +309,10 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
     marcher.pending = {};
     slab_core = {};
     marcher.below = {};
-    marcher.starts.push_back(d[2] - 1);
-    double t1 = now_ms();
-    const SlabPlanes seam_planes{
-        d[0], d[1], d[2], [&](std::uint32_t z) -> const float* {
-            const auto it = seams.find(z);
-            if (it == seams.end())
-                throw Error(ErrorCode::Internal,
-                            "stitch: plane " + std::to_string(z) + " was not kept");
-            return it->second.data();
-        }};
-    result.mesh = stitch_slabs(marcher.parts, seam_planes, plan.iso, marcher.starts);
-    result.times.push_back({"stitch", now_ms() - t1, false});
+    // The seams were stitched as the parts came in: the stage is their time.
+    result.mesh = std::move(marcher.mesh);
+    result.times.push_back({"stitch", marcher.stitch_ms, false});
     report("stitch");
-    seams.clear();
     const FieldView view{full.data(), d[0], d[1], d[2], d[0]};
     host_stages(result, atoms, options, plan, ses.get(), nullptr, full.empty() ? nullptr : &view);
     return result;

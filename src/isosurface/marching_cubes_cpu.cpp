@@ -7,9 +7,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <new>
 #include <string>
 #include <vector>
 
+#include "base/trace.hpp"
 #include "fdmsurf/error.hpp"
 #include "fdmsurf_generated/mc_tables.hpp"
 
@@ -41,6 +43,34 @@ void check_mc_arguments(bool has_data, std::uint32_t nx, std::uint32_t ny, std::
              "] outside the grid's " + std::to_string(nz) + " planes");
     }
     if (!(p.spacing > 0.0f) || !std::isfinite(p.spacing)) fail("spacing must be positive");
+}
+
+void grow_mesh_for_part(Mesh& mesh, std::size_t vertices, std::size_t indices,
+                        double reserve_scale) {
+    if (mesh.normals.size() != mesh.positions.size() || !mesh.atoms.empty() ||
+        !mesh.colors.empty() || !mesh.scalars.empty())
+        throw Error(ErrorCode::Internal, "marching cubes: appending to a mesh of another kind");
+    const std::size_t v = mesh.vertex_count() + vertices, n = mesh.indices.size() + indices;
+    if (v > std::numeric_limits<std::uint32_t>::max() - 3)
+        throw Error(ErrorCode::InvalidArgument,
+                    "marching cubes: more than 2^32 vertices; use smaller slabs");
+    if (mesh.positions.capacity() < 3 * v || mesh.indices.capacity() < n) {
+        const double scale = std::max(reserve_scale, 1.0);
+        try {
+            mesh.positions.reserve(std::size_t(double(3 * v) * scale));
+            mesh.normals.reserve(std::size_t(double(3 * v) * scale));
+            mesh.indices.reserve(std::size_t(double(n) * scale));
+        } catch (const std::bad_alloc&) {
+            // Address space refused (strict overcommit): what this part needs is enough.
+            mesh.positions.reserve(3 * v);
+            mesh.normals.reserve(3 * v);
+            mesh.indices.reserve(n);
+        }
+        trace("marching cubes: mesh arrays reserved");
+    }
+    mesh.positions.resize(3 * v);
+    mesh.normals.resize(3 * v);
+    mesh.indices.resize(n);
 }
 
 Mesh marching_cubes_cpu(const FieldView& f, const McParams& p) {

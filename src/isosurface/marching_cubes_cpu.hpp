@@ -46,6 +46,15 @@ struct McParams {
 void check_mc_arguments(bool has_data, std::uint32_t nx, std::uint32_t ny, std::uint32_t nz,
                         std::uint32_t pitch, const McParams& p);
 
+// Room in `mesh` (positions and normals only) for `vertices` more vertices and `indices` more
+// indices, their values unset, for a part appended to it (marching_cubes_host_append,
+// MarchingCubesPass::read_back_append). Where the arrays must grow they are reserved for
+// reserve_scale (>= 1) times what they hold after the part, for the slabs still to come: a
+// vector that grows copies what it holds into fresh pages, and a reservation is address space
+// only until written. Throws Error(InvalidArgument) past 2^32 vertices.
+void grow_mesh_for_part(Mesh& mesh, std::size_t vertices, std::size_t indices,
+                        double reserve_scale);
+
 // Where along the edge from v0 (t = 0) to v1 (t = 1) the field crosses `iso`, clamped to
 // [0.001, 0.999]; shared by the CPU reference and mirrored by shaders/mc_vertices.comp.
 float edge_crossing(float v0, float v1, const McParams& p);

@@ -144,6 +144,14 @@ GpuMesh MarchingCubesPass::run(Commands& cmds, StagingArena& arena, const Buffer
 }
 
 Mesh MarchingCubesPass::read_back(Commands& cmds, const GpuMesh& gpu) {
+    Mesh mesh;
+    read_back_append(cmds, gpu, mesh);
+    return mesh;
+}
+
+void MarchingCubesPass::read_back_append(Commands& cmds, const GpuMesh& gpu, Mesh& mesh,
+                                         double reserve_scale) {
+    const std::size_t v0 = mesh.vertex_count(), i0 = mesh.indices.size();
     StagingArena arena;
     cmds.begin();
     std::size_t vbytes = std::size_t(gpu.vertex_count) * 24, ibytes = std::size_t(gpu.triangle_count) * 12;
@@ -157,10 +165,8 @@ Mesh MarchingCubesPass::read_back(Commands& cmds, const GpuMesh& gpu) {
     const double t0 = now_ms();
     v.invalidate();
     i.invalidate();
-    Mesh mesh;
-    mesh.positions.resize(std::size_t(gpu.vertex_count) * 3);
-    mesh.normals.resize(std::size_t(gpu.vertex_count) * 3);
-    mesh.indices.resize(std::size_t(gpu.triangle_count) * 3);
+    grow_mesh_for_part(mesh, gpu.vertex_count, ibytes / 4, reserve_scale);
+    const std::uint32_t base = std::uint32_t(v0);
     // Split the interleaved vertices and copy the indices on all threads, in blocks.
     const float* src = static_cast<const float*>(v.mapped());
     constexpr std::size_t block = std::size_t{1} << 16;
@@ -169,18 +175,21 @@ Mesh MarchingCubesPass::read_back(Commands& cmds, const GpuMesh& gpu) {
     parallel_chunks(vertex_blocks + index_blocks, thread_count(), [&](std::size_t b) {
         if (b < vertex_blocks) {
             for (std::size_t k = b * block; k < std::min<std::size_t>(gpu.vertex_count, (b + 1) * block); ++k) {
-                std::memcpy(&mesh.positions[3 * k], src + 6 * k, 12);
-                std::memcpy(&mesh.normals[3 * k], src + 6 * k + 3, 12);
+                std::memcpy(&mesh.positions[3 * (v0 + k)], src + 6 * k, 12);
+                std::memcpy(&mesh.normals[3 * (v0 + k)], src + 6 * k + 3, 12);
             }
         } else {
             const std::size_t first = (b - vertex_blocks) * block;
             const std::size_t count = std::min(block, ibytes / 4 - first);
-            std::memcpy(mesh.indices.data() + first, static_cast<const std::uint32_t*>(i.mapped()) + first,
-                        count * 4);
+            const std::uint32_t* from = static_cast<const std::uint32_t*>(i.mapped()) + first;
+            std::uint32_t* to = mesh.indices.data() + i0 + first;
+            if (base == 0)
+                std::memcpy(to, from, count * 4);
+            else
+                for (std::size_t k = 0; k < count; ++k) to[k] = from[k] + base;
         }
     });
     unpack_ms_ = now_ms() - t0;
-    return mesh;
 }
 
 }  // namespace fdmsurf::detail

@@ -37,7 +37,11 @@ public:
                 std::uint32_t ny, std::uint32_t nz, std::uint32_t pitch, const McParams& params);
     // Copies a GpuMesh to the host.
     Mesh read_back(Commands& cmds, const GpuMesh& mesh);
-    // Host time of the last read_back() spent unpacking the buffers into a Mesh, ms.
+    // The same appended to `out`, as marching_cubes_host_append appends.
+    void read_back_append(Commands& cmds, const GpuMesh& mesh, Mesh& out,
+                          double reserve_scale = 1.0);
+    // Host time of the last read_back() or read_back_append() spent unpacking the buffers into
+    // a Mesh, ms.
     double unpack_ms() const { return unpack_ms_; }
     // Stage times of the submissions of the last run().
     const std::vector<StageTime>& stage_times() const { return times_; }

@@ -172,17 +172,17 @@ struct BitMarcher {
         return std::uint32_t(v);
     }
 
-    // (3) Vertices and triangles where the serial order puts them.
-    Mesh build_mesh() const {
-        Mesh mesh;
-        mesh.positions.resize(3 * first_vertex[rows]);
-        mesh.normals.resize(3 * first_vertex[rows]);
-        mesh.indices.resize(3 * first_triangle[rows]);
+    // (3) Vertices and triangles where the serial order puts them, after the vertices and
+    // triangles `mesh` holds, its vertex count added to the indices.
+    void build_mesh(Mesh& mesh, double reserve_scale) const {
+        const std::size_t v0 = mesh.vertex_count(), i0 = mesh.indices.size();
+        grow_mesh_for_part(mesh, first_vertex[rows], 3 * first_triangle[rows], reserve_scale);
+        const std::uint32_t base = std::uint32_t(v0);
         parallel_chunks(planes, threads, [&](std::size_t zi) {
             const std::uint32_t z = p.z_begin + std::uint32_t(zi);
             for (std::uint32_t y = 0; y < ny; ++y) {
                 const std::size_t row = row_of(zi, y);
-                std::size_t v = first_vertex[row];
+                std::size_t v = v0 + first_vertex[row];
                 for (std::size_t k = 0; k < words; ++k) {
                     const std::size_t i = row * words + k;
                     const Word crossed[3] = {cross_x[i], cross_y[i], cross_z[i]};
@@ -197,30 +197,37 @@ struct BitMarcher {
                     }
                 }
                 if (zi + 1 >= planes || y + 1 >= ny) continue;
-                std::uint32_t* out = mesh.indices.data() + 3 * first_triangle[row];
+                std::uint32_t* out = mesh.indices.data() + i0 + 3 * first_triangle[row];
                 for_cells(zi, y, [&](std::size_t k, int j, unsigned cube) {
                     const std::uint32_t x = std::uint32_t(64 * k) + std::uint32_t(j);
                     for (int c = 0; c < 3 * mc::kTriCount[cube]; ++c) {
                         const int e = mc::kTriEdges[cube][c];
-                        *out++ = vertex_of(x + mc::kEdgeOwner[e][0], y + mc::kEdgeOwner[e][1],
-                                           zi + mc::kEdgeOwner[e][2], mc::kEdgeAxis[e]);
+                        *out++ = base + vertex_of(x + mc::kEdgeOwner[e][0],
+                                                  y + mc::kEdgeOwner[e][1],
+                                                  zi + mc::kEdgeOwner[e][2], mc::kEdgeAxis[e]);
                     }
                 });
             }
         });
-        return mesh;
     }
 };
 
 }  // namespace
 
-Mesh marching_cubes_host(const PlaneStack& f, const McParams& p, unsigned threads) {
+void marching_cubes_host_append(const PlaneStack& f, const McParams& p, Mesh& out,
+                                double reserve_scale, unsigned threads) {
     check_mc_arguments(has_planes(f), f.nx, f.ny, f.nz, f.pitch, p);
     BitMarcher m(f, p, thread_count(threads));
     m.inside_bits();
     m.count_crossings();
     m.prefix_sums();
-    return m.build_mesh();
+    m.build_mesh(out, reserve_scale);
+}
+
+Mesh marching_cubes_host(const PlaneStack& f, const McParams& p, unsigned threads) {
+    Mesh mesh;
+    marching_cubes_host_append(f, p, mesh, 1.0, threads);
+    return mesh;
 }
 
 }  // namespace fdmsurf::detail

@@ -31,4 +31,10 @@ struct PlaneStack {
 // p.z_end of `f`, on `threads` threads (0: all). Throws as marching_cubes_cpu does.
 Mesh marching_cubes_host(const PlaneStack& f, const McParams& p, unsigned threads = 0);
 
+// The same mesh appended to `out` (positions and normals only, as marching cubes makes them):
+// its vertices after out's, its indices offset by out's vertex count; reserve_scale as in
+// grow_mesh_for_part (marching_cubes_cpu.hpp).
+void marching_cubes_host_append(const PlaneStack& f, const McParams& p, Mesh& out,
+                                double reserve_scale = 1.0, unsigned threads = 0);
+
 }  // namespace fdmsurf::detail

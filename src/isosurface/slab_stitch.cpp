@@ -1,10 +1,15 @@
 // Slab stitching: the vertices of a shared plane are identified by (x, y, axis), found by
 // replaying the crossing tests of marching_cubes_cpu on host copies of the shared planes.
+// stitch_slabs joins finished parts into a new mesh (the reference); stitch_top_plane joins them
+// in the mesh they are appended to, which the slab pipeline uses: the copy into fresh pages was
+// most of the stitch's time.
 #include "isosurface/slab_stitch.hpp"
 
+#include <algorithm>
 #include <cstring>
 #include <unordered_map>
 
+#include "base/parallel.hpp"
 #include "fdmsurf/error.hpp"
 
 namespace fdmsurf::detail {
@@ -27,7 +32,47 @@ std::vector<std::uint32_t> plane_keys(const float* here, const float* next, std:
     return keys;
 }
 
+// For each crossed x/y edge of plane z (`here`), in vertex order, its vertex's position among
+// the vertices of plane z with its z edges to plane z + 1 (`next`): the order of the next part's
+// first vertices, which keep the same points in the same order with the z edges between.
+std::vector<std::uint32_t> top_to_bottom(const float* here, const float* next, std::uint32_t nx,
+                                         std::uint32_t ny, float iso) {
+    std::vector<std::uint32_t> where;
+    std::uint32_t bottom = 0;
+    for (std::uint32_t y = 0; y < ny; ++y)
+        for (std::uint32_t x = 0; x < nx; ++x) {
+            const std::size_t i = std::size_t(y) * nx + x;
+            const bool in = here[i] >= iso;
+            if (x + 1 < nx && (here[i + 1] >= iso) != in) where.push_back(bottom++);
+            if (y + 1 < ny && (here[i + nx] >= iso) != in) where.push_back(bottom++);
+            if (next != nullptr && (next[i] >= iso) != in) ++bottom;
+        }
+    return where;
+}
+
 }  // namespace
+
+void stitch_top_plane(Mesh& mesh, std::size_t first_vertex, std::size_t first_index,
+                      const float* here, const float* next, std::uint32_t nx, std::uint32_t ny,
+                      float iso) {
+    const std::vector<std::uint32_t> where = top_to_bottom(here, next, nx, ny, iso);
+    const std::size_t vertices = mesh.vertex_count();
+    if (first_vertex > vertices || vertices - first_vertex < where.size() ||
+        first_index > mesh.indices.size())
+        throw Error(ErrorCode::Internal, "stitch: slab has fewer vertices than its top plane");
+    // The next part's first vertex comes where this part's top plane begins.
+    const std::uint32_t kept_end = static_cast<std::uint32_t>(vertices - where.size());
+    std::uint32_t* idx = mesh.indices.data();
+    constexpr std::size_t block = std::size_t{1} << 18;
+    const std::size_t count = mesh.indices.size() - first_index;
+    parallel_chunks((count + block - 1) / block, thread_count(), [&](std::size_t b) {
+        const std::size_t end = first_index + std::min(count, (b + 1) * block);
+        for (std::size_t k = first_index + b * block; k < end; ++k)
+            if (idx[k] >= kept_end) idx[k] = kept_end + where[idx[k] - kept_end];
+    });
+    mesh.positions.resize(3 * std::size_t(kept_end));
+    if (!mesh.normals.empty()) mesh.normals.resize(3 * std::size_t(kept_end));
+}
 
 Mesh stitch_slabs(std::vector<Mesh>& parts, const SlabPlanes& field, float iso,
                   const std::vector<std::uint32_t>& starts) {

@@ -25,4 +25,15 @@ struct SlabPlanes {
 Mesh stitch_slabs(std::vector<Mesh>& parts, const SlabPlanes& field, float iso,
                   const std::vector<std::uint32_t>& starts);
 
+// The same stitch in place, one seam at a time, as the parts are appended to one mesh (by
+// marching_cubes_host_append or MarchingCubesPass::read_back_append), so that no part is copied
+// again. `mesh` ends with a part, from vertex first_vertex and index first_index on, whose top
+// plane is a plane z of the field: `here` is its nx * ny values, `next` those of plane z + 1. The
+// part's top-plane vertices (its last) are dropped and its triangles re-pointed at the next
+// part's copies of them, which are that part's first vertices once it is appended after this
+// call. stitch_slabs' mesh, vertex for vertex and index for index.
+void stitch_top_plane(Mesh& mesh, std::size_t first_vertex, std::size_t first_index,
+                      const float* here, const float* next, std::uint32_t nx, std::uint32_t ny,
+                      float iso);
+
 }  // namespace fdmsurf::detail
