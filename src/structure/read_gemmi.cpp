@@ -330,7 +330,7 @@ void elements_from_names(gemmi::Structure& st, const std::string& name,
 // An mmCIF file whose first item comes before any data_ header (a table cut out of a file, as
 // Biopython's tests keep one): the text with a header in front, with a warning; "" when the
 // file has its header.
-std::string with_block_header(const std::string& text, const std::string& name,
+std::string with_block_header(std::string_view text, const std::string& name,
                               std::vector<std::string>& warnings) {
     LineReader lines(text);
     std::string_view line;
@@ -341,7 +341,7 @@ std::string with_block_header(const std::string& text, const std::string& name,
         if (!(t[0] == '_' || (t.size() >= 5 && iequals(t.substr(0, 5), "loop_")))) return "";
         warnings.push_back(name + ": no data_ header before the first item" + at_line(lines.number()) +
                            "; the file read as one data block");
-        return "data_file\n" + text;
+        return "data_file\n" + std::string(text);
     }
     return "";
 }
@@ -617,12 +617,12 @@ void select_atoms(const gemmi::Model& model, const ReadOptions& options, const s
 
 }  // namespace
 
-std::vector<Structure> read_pdb_or_mmcif(const std::string& text_in, const std::string& name,
+std::vector<Structure> read_pdb_or_mmcif(std::string_view text_in, const std::string& name,
                                          StructureFormat format, const ReadOptions& options) {
     // gemmi wants a newline after the last record to count its columns right.
     std::string text_nl;
-    if (text_in.back() != '\n') text_nl = text_in + '\n';
-    const std::string& text = text_nl.empty() ? text_in : text_nl;
+    if (text_in.back() != '\n') text_nl = std::string(text_in) + '\n';
+    const std::string_view text = text_nl.empty() ? text_in : text_nl;
 
     gemmi::Structure st;
     gemmi::cif::Document doc;
@@ -630,12 +630,12 @@ std::vector<Structure> read_pdb_or_mmcif(const std::string& text_in, const std::
     with_gemmi(name, [&] {
         if (format == StructureFormat::Pdb) {
             const std::string prepared = prepare_pdb_text(text, name, file_warnings);
-            const std::string& pdb = prepared.empty() ? text : prepared;
+            const std::string_view pdb = prepared.empty() ? text : prepared;
             st = gemmi::read_pdb_from_memory(pdb.data(), pdb.size(), name);
             elements_from_names(st, name, file_warnings);
         } else {
             const std::string headed = with_block_header(text, name, file_warnings);
-            const std::string& cif = headed.empty() ? text : headed;
+            const std::string_view cif = headed.empty() ? text : headed;
             doc = gemmi::cif::read_memory(cif.data(), cif.size(), name.c_str());
             complete_cif_columns(doc, name, file_warnings);
             st = gemmi::make_structure(doc);
