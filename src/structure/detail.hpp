@@ -1,6 +1,7 @@
 // Internals of the structure-input stage, shared by its source files (not installed).
 #pragma once
 
+#include <cctype>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -73,6 +74,12 @@ std::vector<std::string_view> split_fields(std::string_view line);
 // The same into `fields` (cleared first), whose storage is reused from line to line.
 void split_fields(std::string_view line, std::vector<std::string_view>& fields);
 std::string_view trim(std::string_view s);
+// std::isspace of the byte (split_fields' and trim's white space), without its call for ASCII:
+// the C locale's six, which glibc's locales keep for bytes below 0x80; others as the locale says.
+inline bool is_space(char c) {
+    const auto b = static_cast<unsigned char>(c);
+    return b < 0x80 ? b == ' ' || (b >= '\t' && b <= '\r') : std::isspace(b) != 0;
+}
 bool iequals(std::string_view a, std::string_view b);
 
 enum class NumberStatus { Ok, NotNumber, NotFinite, OutOfRange };

@@ -1,6 +1,8 @@
 // PDB and mmCIF through gemmi, with our own checks where gemmi is lenient; selection and radii.
 // C++17 only here: clang compiles this file as C++17 (CMakeLists.txt says why: gemmi 0.5).
 #include <algorithm>
+#include <array>
+#include <limits>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -354,7 +356,10 @@ public:
         : text_(text), doc_(doc), format_(format) {}
 
     float radius(const gemmi::Residue& res, const gemmi::Atom& atom) {
-        float r = vdw_radius(atom.element.name());
+        // The radius is the element's: looked up once per element, not per atom.
+        float& known = by_element_[std::size_t(atom.element.elem)];
+        if (std::isnan(known)) known = vdw_radius(atom.element.name());
+        const float r = known;
         if (r > 0.0f) return r;
         if (!symbols_read_) {
             symbols_ =
@@ -388,6 +393,12 @@ private:
     std::string_view text_;
     gemmi::cif::Document& doc_;
     StructureFormat format_;
+    std::array<float, std::size_t(gemmi::El::END)> by_element_ = make_unknown();
+    static std::array<float, std::size_t(gemmi::El::END)> make_unknown() {
+        std::array<float, std::size_t(gemmi::El::END)> a;
+        a.fill(std::numeric_limits<float>::quiet_NaN());
+        return a;
+    }
     SymbolMap symbols_;
     bool symbols_read_ = false;
     std::map<std::string, Unknown> unknown_;  // by symbol, for a stable warning order

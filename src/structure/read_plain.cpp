@@ -92,8 +92,6 @@ private:
     std::vector<std::size_t> first_line_;
 };
 
-bool is_space(char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; }
-
 // Whether the first field of `line` (as split_fields gives it) is ATOM or HETATM in any case.
 bool is_pqr_atom_record(std::string_view line) {
     std::size_t i = 0;
