@@ -61,36 +61,27 @@ bool add_atom(Atoms& atoms, std::initializer_list<std::string_view> xyzr,
     return add_atom(atoms.xyz, atoms.radius, xyzr, name, line);
 }
 
-// A text cut into pieces of about 1 MiB of whole lines, to be read on all threads, with the
-// number of lines before each piece (every piece but the last ends in a newline).
-class TextPieces {
-public:
-    explicit TextPieces(std::string_view text) {
-        constexpr std::size_t kPiece = std::size_t{1} << 20;
-        for (std::size_t at = 0; at < text.size();) {
-            std::size_t end = std::min(text.size(), at + kPiece);
-            if (end < text.size()) {
-                const std::size_t nl = text.find('\n', end);
-                end = nl == std::string_view::npos ? text.size() : nl + 1;
-            }
-            pieces_.push_back(text.substr(at, end - at));
-            at = end;
+// A text cut into pieces of about 1 MiB of whole lines, to be read on all threads (every piece
+// but the last ends in a newline).
+std::vector<std::string_view> text_pieces(std::string_view text) {
+    constexpr std::size_t kPiece = std::size_t{1} << 20;
+    std::vector<std::string_view> pieces;
+    for (std::size_t at = 0; at < text.size();) {
+        std::size_t end = std::min(text.size(), at + kPiece);
+        if (end < text.size()) {
+            const std::size_t nl = text.find('\n', end);
+            end = nl == std::string_view::npos ? text.size() : nl + 1;
         }
-        first_line_.assign(pieces_.size() + 1, 0);
-        parallel_chunks(pieces_.size(), thread_count(), [&](std::size_t k) {
-            first_line_[k + 1] = std::size_t(std::count(pieces_[k].begin(), pieces_[k].end(), '\n'));
-        });
-        for (std::size_t k = 0; k < pieces_.size(); ++k) first_line_[k + 1] += first_line_[k];
+        pieces.push_back(text.substr(at, end - at));
+        at = end;
     }
-    std::size_t size() const { return pieces_.size(); }
-    std::string_view piece(std::size_t k) const { return pieces_[k]; }
-    // Lines before piece k; k == size(): the newlines of the whole text.
-    std::size_t first_line(std::size_t k) const { return first_line_[k]; }
+    return pieces;
+}
 
-private:
-    std::vector<std::string_view> pieces_;
-    std::vector<std::size_t> first_line_;
-};
+// Running sums in place: counts per piece at [1..n] become the counts before each piece.
+void running_sums(std::vector<std::size_t>& v) {
+    for (std::size_t k = 1; k < v.size(); ++k) v[k] += v[k - 1];
+}
 
 // Whether the first field of `line` (as split_fields gives it) is ATOM or HETATM in any case.
 bool is_pqr_atom_record(std::string_view line) {
@@ -358,7 +349,14 @@ void read_pqr_part(std::string_view text, std::size_t first_line, const std::str
             if (!is_pqr_atom_record(line)) continue;
             const std::size_t number = first_line + lines.number();
             split_fields(line, f);
-            if (f.size() < 10 || !numbers(f, f.size() - 5)) {
+            // x y z charge radius as plain decimals (base/decimal.hpp): read once, here, with
+            // the values that numbers(), number_field() and sphere() would give.
+            double v[5] = {};
+            bool fast = f.size() >= 10;
+            for (std::size_t i = 0; fast && i < 5; ++i)
+                fast = parse_decimal_fast(f[f.size() - 5 + i], v[i]);
+            fast = fast && v[4] >= 0.0;
+            if (!fast && (f.size() < 10 || !numbers(f, f.size() - 5))) {
                 std::vector<std::string_view> columns = pqr_columns(line);
                 if (!columns.empty()) {
                     f = std::move(columns);
@@ -372,7 +370,8 @@ void read_pqr_part(std::string_view text, std::size_t first_line, const std::str
                             "radius)");
             std::size_t n = f.size();
             AtomMeta m;
-            m.charge = static_cast<float>(number_field(f[n - 2], "charge", name, number));
+            m.charge = static_cast<float>(fast ? v[3]
+                                               : number_field(f[n - 2], "charge", name, number));
             m.has_charge = true;
             if (!parse_int(f[1], m.serial)) m.serial = 0;  // serials are informative only
             m.name = std::string(f[2]);
@@ -380,8 +379,11 @@ void read_pqr_part(std::string_view text, std::size_t first_line, const std::str
             m.hetero = iequals(f[0], "HETATM");
             pqr_residue(f, m, name, number);
             Unsized atom;
-            double r = 0.0;
-            sphere({f[n - 5], f[n - 4], f[n - 3], f[n - 1]}, name, number, atom.xyz, r);
+            double r = v[4];
+            if (fast)
+                for (int i = 0; i < 3; ++i) atom.xyz[i] = static_cast<float>(v[i]);
+            else
+                sphere({f[n - 5], f[n - 4], f[n - 3], f[n - 1]}, name, number, atom.xyz, r);
             if (r > 0.0) {
                 const std::size_t at = slot + part.atoms++;
                 std::copy(atom.xyz, atom.xyz + 3, atoms.xyz.begin() + std::ptrdiff_t(3 * at));
@@ -412,15 +414,18 @@ void read_pqr_part(std::string_view text, std::size_t first_line, const std::str
 // counted first), the gaps that radius-0 atoms leave closed after: the same atoms, warnings
 // and first error as one pass from the top.
 Structure read_pqr(std::string_view text, const std::string& name) {
-    const TextPieces pieces(text);
+    const std::vector<std::string_view> pieces = text_pieces(text);
     const std::size_t count = pieces.size();
-    std::vector<std::size_t> first_slot(count + 1, 0);
+    // The records and the lines before each piece.
+    std::vector<std::size_t> first_slot(count + 1, 0), first_line(count + 1, 0);
     parallel_chunks(count, thread_count(), [&](std::size_t k) {
-        LineReader lines(pieces.piece(k));
+        LineReader lines(pieces[k]);
         std::string_view line;
         while (lines.next(line)) first_slot[k + 1] += is_pqr_atom_record(line);
+        first_line[k + 1] = lines.number();  // the newlines: the piece ends in one (or is last)
     });
-    for (std::size_t k = 0; k < count; ++k) first_slot[k + 1] += first_slot[k];
+    running_sums(first_slot);
+    running_sums(first_line);
     Structure s;
     const std::size_t slots = first_slot.back();
     s.atoms.xyz.resize(3 * slots);
@@ -429,7 +434,7 @@ Structure read_pqr(std::string_view text, const std::string& name) {
     s.atoms.meta.resize(slots);
     std::vector<PqrPart> parts(count);
     parallel_chunks(count, thread_count(), [&](std::size_t k) {
-        read_pqr_part(pieces.piece(k), pieces.first_line(k), name, s.atoms, first_slot[k],
+        read_pqr_part(pieces[k], first_line[k], name, s.atoms, first_slot[k],
                       parts[k]);
     });
     std::size_t atoms = 0, zero = 0, first_zero = 0, in_columns = 0, first_in_columns = 0;
@@ -478,9 +483,13 @@ Structure read_pqr(std::string_view text, const std::string& name) {
 // arrays (an atom per line at most), the gaps that comments and radius-0 lines leave closed
 // after: the same atoms, and the same first error, as one pass from the top.
 Structure read_xyzr(std::string_view text, const std::string& name) {
-    const TextPieces pieces(text);
-    std::vector<std::size_t> first_line(pieces.size() + 1);
-    for (std::size_t k = 0; k <= pieces.size(); ++k) first_line[k] = pieces.first_line(k);
+    const std::vector<std::string_view> pieces = text_pieces(text);
+    // The lines before each piece.
+    std::vector<std::size_t> first_line(pieces.size() + 1, 0);
+    parallel_chunks(pieces.size(), thread_count(), [&](std::size_t k) {
+        first_line[k + 1] = std::size_t(std::count(pieces[k].begin(), pieces[k].end(), '\n'));
+    });
+    running_sums(first_line);
     Structure s;
     // A slot per line; the last line may have no newline.
     const std::size_t slots = first_line.back() + 1;
@@ -488,7 +497,7 @@ Structure read_xyzr(std::string_view text, const std::string& name) {
     s.atoms.radius.resize(slots);
     std::vector<XyzrPart> parts(pieces.size());
     parallel_chunks(pieces.size(), thread_count(), [&](std::size_t k) {
-        read_xyzr_part(pieces.piece(k), first_line[k], name, s.atoms.xyz.data() + 3 * first_line[k],
+        read_xyzr_part(pieces[k], first_line[k], name, s.atoms.xyz.data() + 3 * first_line[k],
                        s.atoms.radius.data() + first_line[k], parts[k]);
     });
     std::size_t zero = 0, first_zero = 0, atoms = 0;
