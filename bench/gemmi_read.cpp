@@ -45,7 +45,8 @@ int main(int argc, char** argv) try {
     for (int i = 1; i < argc; ++i) {
         if (!std::strcmp(argv[i], "--reps") && i + 1 < argc)
             reps = std::max(1, std::atoi(argv[++i]));
-        else if (!std::strcmp(argv[i], "--only") && i + 1 < argc && !std::strcmp(argv[i + 1], "gemmi"))
+        else if (!std::strcmp(argv[i], "--only") && i + 1 < argc &&
+                 !std::strcmp(argv[i + 1], "gemmi"))
             gemmi_only = true, ++i;
         else
             files.push_back(argv[i]);

@@ -117,8 +117,7 @@ bool xyzr_line_fast(std::string_view line, float xyz[3], double& r) {
 }
 
 // One piece of an XYZR text (whole lines), read on a thread of its own into the atoms' arrays
-// from `xyz` and `radius` on: its atom and line counts, its radius-0 atoms, and the error that
-// stopped it.
+// from `xyz` and `radius` on: its atom count, its radius-0 atoms, and the error that stopped it.
 struct XyzrPart {
     std::size_t atoms = 0, zero = 0, first_zero = 0;
     std::exception_ptr error;
@@ -327,7 +326,6 @@ void radii_from_elements(Structure& s, std::vector<Unsized>& unsized, const std:
         "; a PQR's own radii are kept as soon as one atom has a radius above 0");
 }
 
-
 // A PQR's pieces, each read on a thread of its own into the atoms' arrays from its first
 // atom's slot on: the counts and first lines of its radius-0 atoms and of its records read in
 // columns, its radius-0 atoms while it has no atom with a radius, and the error that stopped it.
@@ -445,9 +443,11 @@ Structure read_pqr(std::string_view text, const std::string& name) {
             Atoms& a = s.atoms;
             const auto from = std::ptrdiff_t(first_slot[k]), to = std::ptrdiff_t(atoms);
             const auto n = std::ptrdiff_t(part.atoms);
-            std::copy(a.xyz.begin() + 3 * from, a.xyz.begin() + 3 * (from + n), a.xyz.begin() + 3 * to);
+            std::copy(a.xyz.begin() + 3 * from, a.xyz.begin() + 3 * (from + n),
+                      a.xyz.begin() + 3 * to);
             std::copy(a.radius.begin() + from, a.radius.begin() + from + n, a.radius.begin() + to);
-            std::move(a.element.begin() + from, a.element.begin() + from + n, a.element.begin() + to);
+            std::move(a.element.begin() + from, a.element.begin() + from + n,
+                      a.element.begin() + to);
             std::move(a.meta.begin() + from, a.meta.begin() + from + n, a.meta.begin() + to);
         }
         atoms += part.atoms;

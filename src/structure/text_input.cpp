@@ -164,21 +164,25 @@ std::string load_file(const std::string& path) { return decompress(read_bytes(pa
 
 FileText::FileText(const std::string& path) {
 #ifdef FDMSURF_MAP_FILES
-    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    // Only a regular file is opened here: opening a named pipe would wait for its writer, and
+    // closing it again would cut that writer off.
     struct stat st {};
-    if (fd >= 0 && ::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0) {
-        int flags = MAP_PRIVATE;
+    if (::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0) {
+        const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+        if (fd >= 0 && ::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0) {
+            int flags = MAP_PRIVATE;
 #ifdef MAP_POPULATE
-        flags |= MAP_POPULATE;  // the page cache's pages mapped in one call, not a fault each
+            flags |= MAP_POPULATE;  // the page cache's pages mapped in one call, not a fault each
 #endif
-        void* map = ::mmap(nullptr, std::size_t(st.st_size), PROT_READ, flags, fd, 0);
-        if (map != MAP_FAILED) {
-            map_ = map;
-            map_size_ = std::size_t(st.st_size);
-            text_ = std::string_view(static_cast<const char*>(map), map_size_);
+            void* map = ::mmap(nullptr, std::size_t(st.st_size), PROT_READ, flags, fd, 0);
+            if (map != MAP_FAILED) {
+                map_ = map;
+                map_size_ = std::size_t(st.st_size);
+                text_ = std::string_view(static_cast<const char*>(map), map_size_);
+            }
         }
+        if (fd >= 0) ::close(fd);
     }
-    if (fd >= 0) ::close(fd);
     if (map_ && !is_gzip(text_)) return;
     if (map_) {
         owned_ = decompress(std::string(text_), path);
