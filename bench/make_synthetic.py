@@ -23,6 +23,7 @@ Two kinds (deterministic for a given --seed):
   python3 bench/make_synthetic.py --atoms 1000000 -o /tmp/synthetic-1m.xyzr
   build/fdmsurf /tmp/synthetic-1m.xyzr -o /tmp/synthetic-1m.ply --spacing 1.0 --stats json
   python3 bench/make_synthetic.py --kind shell -o /tmp/shell.xyzr
+  python3 bench/make_synthetic.py --kind shell --format pqr -o /tmp/shell.pqr
 
 Plain Python 3, no packages.
 """
@@ -124,6 +125,9 @@ def main():
     parser.add_argument("--density", type=float, default=0.05, help="atoms per cubic angstrom")
     parser.add_argument("--pitch", type=float, default=None, help="globule spacing, A")
     parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--format", choices=["xyzr", "pqr"], default="xyzr",
+                        help="pqr: the same atoms as pdb2pqr's ATOM records (a chain per "
+                        "26 x 10,000 residues of 10 atoms, charge 0), for the PQR reader")
     parser.add_argument("-o", "--output", required=True)
     args = parser.parse_args()
 
@@ -143,11 +147,18 @@ def main():
     hi = [-math.inf] * 3
     n = 0
     with open(args.output, "w") as out:
-        out.write(f"# fdmsurf synthetic structure: {info}; seed {args.seed}\n")
+        comment = "REMARK   1" if args.format == "pqr" else "#"
+        out.write(f"{comment} fdmsurf synthetic structure: {info}; seed {args.seed}\n")
         lines = []
         for p in points:
             r = p[3] if len(p) > 3 else rng.choices(RADII, SHARES)[0]
-            lines.append(f"{p[0]:.3f} {p[1]:.3f} {p[2]:.3f} {r:.2f}\n")
+            if args.format == "pqr":
+                element = {1.55: "N", 1.52: "O", 1.80: "S"}.get(round(r, 2), "C")
+                chain = chr(ord("A") + (n // 100000) % 26)
+                lines.append(f"ATOM  {n + 1:>7} {element:<4} ALA {chain}{n // 10 % 10000:>5}    "
+                             f"{p[0]:8.3f} {p[1]:8.3f} {p[2]:8.3f} {0.0:7.4f} {r:6.4f}\n")
+            else:
+                lines.append(f"{p[0]:.3f} {p[1]:.3f} {p[2]:.3f} {r:.2f}\n")
             for a in range(3):
                 lo[a] = min(lo[a], p[a])
                 hi[a] = max(hi[a], p[a])

@@ -1,6 +1,7 @@
 // Internals of the structure-input stage, shared by its source files (not installed).
 #pragma once
 
+#include <cctype>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -25,6 +26,26 @@ namespace fdmsurf::detail {
 // The whole file; gzip data (by its magic bytes, whatever the name) is decompressed.
 // Throws Error(Io) when the file cannot be read, Error(Format) for a broken gzip stream.
 std::string load_file(const std::string& path);
+
+// A structure file's text. A regular file that is not gzip data is mapped, not copied: on the VM
+// of docs/performance.md a fresh page costs more than reading it, and a copy of the shell's 71 MB
+// cost more than the parse. (Should another program cut the file short while it is mapped, the
+// pages past its new end raise SIGBUS, as for any mapped file.) Any other file is read, and
+// decompressed, as load_file does, with its errors.
+class FileText {
+public:
+    explicit FileText(const std::string& path);
+    ~FileText();
+    FileText(const FileText&) = delete;
+    FileText& operator=(const FileText&) = delete;
+    std::string_view text() const { return text_; }
+
+private:
+    std::string owned_;
+    void* map_ = nullptr;
+    std::size_t map_size_ = 0;
+    std::string_view text_;
+};
 
 // The bytes themselves, or their decompression when they are gzip data; `name` for messages.
 std::string decompress(std::string bytes, const std::string& name);
@@ -53,6 +74,12 @@ std::vector<std::string_view> split_fields(std::string_view line);
 // The same into `fields` (cleared first), whose storage is reused from line to line.
 void split_fields(std::string_view line, std::vector<std::string_view>& fields);
 std::string_view trim(std::string_view s);
+// std::isspace of the byte (split_fields' and trim's white space), without its call for ASCII:
+// the C locale's six, which glibc's locales keep for bytes below 0x80; others as the locale says.
+inline bool is_space(char c) {
+    const auto b = static_cast<unsigned char>(c);
+    return b < 0x80 ? b == ' ' || (b >= '\t' && b <= '\r') : std::isspace(b) != 0;
+}
 bool iequals(std::string_view a, std::string_view b);
 
 enum class NumberStatus { Ok, NotNumber, NotFinite, OutOfRange };
@@ -128,7 +155,7 @@ void filter_read_atoms(Structure& s, const ReadOptions& options, const std::stri
 
 // Every model (options.model == kAllModels) or options.model alone; the model number and the
 // assembly option were checked to be >= 0.
-std::vector<Structure> read_pdb_or_mmcif(const std::string& text, const std::string& name,
+std::vector<Structure> read_pdb_or_mmcif(std::string_view text, const std::string& name,
                                          StructureFormat format, const ReadOptions& options);
 Structure read_pqr(std::string_view text, const std::string& name);
 Structure read_xyzr(std::string_view text, const std::string& name);

@@ -12,7 +12,6 @@ namespace fdmsurf::detail {
 namespace {
 
 bool is_digit(char c) { return c >= '0' && c <= '9'; }
-bool is_space(char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; }
 bool is_letter(char c) { return std::isalpha(static_cast<unsigned char>(c)) != 0; }
 
 // gemmi matches record names case-insensitively on their first four letters.
@@ -321,8 +320,18 @@ std::string prepare_pdb_text(std::string_view text, const std::string& name,
     bool changed = false, ended = false, open = false, atoms = false;
     int ordinal = 0;
     std::set<std::string> numbers;
+    // The rewritten text is built from the first line that changes on (or from the top when the
+    // models are renumbered): most files need no change, and then no copy of them is made.
     std::string out;
-    out.reserve(text.size() + 1024);
+    bool copying = order_models;
+    auto start_copy = [&](const char* line_start) {
+        out.reserve(text.size() + 1024);
+        LineReader before(text.substr(0, std::size_t(line_start - text.data())));
+        std::string_view l;
+        while (before.next(l)) out.append(l).push_back('\n');
+        copying = true;
+    };
+    if (copying) out.reserve(text.size() + 1024);
     LineReader lines(text);
     std::string_view line;
     while (lines.next(line)) {
@@ -377,12 +386,12 @@ std::string prepare_pdb_text(std::string_view text, const std::string& name,
             if (fixed.size() < 80) fixed.append(80 - fixed.size(), ' ');
         }
         if (fixed.empty()) {
-            out.append(line);
+            if (copying) out.append(line).push_back('\n');
         } else {
-            out += fixed;
+            if (!copying) start_copy(line.data());
+            out.append(fixed).push_back('\n');
             changed = true;
         }
-        out.push_back('\n');
     }
     if (realigned.count)
         warnings.push_back(name + ": " + std::to_string(realigned.count) +

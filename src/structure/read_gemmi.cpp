@@ -1,6 +1,8 @@
 // PDB and mmCIF through gemmi, with our own checks where gemmi is lenient; selection and radii.
 // C++17 only here: clang compiles this file as C++17 (CMakeLists.txt says why: gemmi 0.5).
 #include <algorithm>
+#include <array>
+#include <limits>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -330,7 +332,7 @@ void elements_from_names(gemmi::Structure& st, const std::string& name,
 // An mmCIF file whose first item comes before any data_ header (a table cut out of a file, as
 // Biopython's tests keep one): the text with a header in front, with a warning; "" when the
 // file has its header.
-std::string with_block_header(const std::string& text, const std::string& name,
+std::string with_block_header(std::string_view text, const std::string& name,
                               std::vector<std::string>& warnings) {
     LineReader lines(text);
     std::string_view line;
@@ -341,7 +343,7 @@ std::string with_block_header(const std::string& text, const std::string& name,
         if (!(t[0] == '_' || (t.size() >= 5 && iequals(t.substr(0, 5), "loop_")))) return "";
         warnings.push_back(name + ": no data_ header before the first item" + at_line(lines.number()) +
                            "; the file read as one data block");
-        return "data_file\n" + text;
+        return "data_file\n" + std::string(text);
     }
     return "";
 }
@@ -354,7 +356,10 @@ public:
         : text_(text), doc_(doc), format_(format) {}
 
     float radius(const gemmi::Residue& res, const gemmi::Atom& atom) {
-        float r = vdw_radius(atom.element.name());
+        // The radius is the element's: looked up once per element, not per atom.
+        float& known = by_element_[std::size_t(atom.element.elem)];
+        if (std::isnan(known)) known = vdw_radius(atom.element.name());
+        const float r = known;
         if (r > 0.0f) return r;
         if (!symbols_read_) {
             symbols_ =
@@ -388,6 +393,12 @@ private:
     std::string_view text_;
     gemmi::cif::Document& doc_;
     StructureFormat format_;
+    std::array<float, std::size_t(gemmi::El::END)> by_element_ = make_unknown();
+    static std::array<float, std::size_t(gemmi::El::END)> make_unknown() {
+        std::array<float, std::size_t(gemmi::El::END)> a;
+        a.fill(std::numeric_limits<float>::quiet_NaN());
+        return a;
+    }
     SymbolMap symbols_;
     bool symbols_read_ = false;
     std::map<std::string, Unknown> unknown_;  // by symbol, for a stable warning order
@@ -617,12 +628,12 @@ void select_atoms(const gemmi::Model& model, const ReadOptions& options, const s
 
 }  // namespace
 
-std::vector<Structure> read_pdb_or_mmcif(const std::string& text_in, const std::string& name,
+std::vector<Structure> read_pdb_or_mmcif(std::string_view text_in, const std::string& name,
                                          StructureFormat format, const ReadOptions& options) {
     // gemmi wants a newline after the last record to count its columns right.
     std::string text_nl;
-    if (text_in.back() != '\n') text_nl = text_in + '\n';
-    const std::string& text = text_nl.empty() ? text_in : text_nl;
+    if (text_in.back() != '\n') text_nl = std::string(text_in) + '\n';
+    const std::string_view text = text_nl.empty() ? text_in : text_nl;
 
     gemmi::Structure st;
     gemmi::cif::Document doc;
@@ -630,12 +641,12 @@ std::vector<Structure> read_pdb_or_mmcif(const std::string& text_in, const std::
     with_gemmi(name, [&] {
         if (format == StructureFormat::Pdb) {
             const std::string prepared = prepare_pdb_text(text, name, file_warnings);
-            const std::string& pdb = prepared.empty() ? text : prepared;
+            const std::string_view pdb = prepared.empty() ? text : prepared;
             st = gemmi::read_pdb_from_memory(pdb.data(), pdb.size(), name);
             elements_from_names(st, name, file_warnings);
         } else {
             const std::string headed = with_block_header(text, name, file_warnings);
-            const std::string& cif = headed.empty() ? text : headed;
+            const std::string_view cif = headed.empty() ? text : headed;
             doc = gemmi::cif::read_memory(cif.data(), cif.size(), name.c_str());
             complete_cif_columns(doc, name, file_warnings);
             st = gemmi::make_structure(doc);

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "base/decimal.hpp"
 #include "base/parallel.hpp"
 #include "structure/detail.hpp"
 
@@ -60,31 +61,96 @@ bool add_atom(Atoms& atoms, std::initializer_list<std::string_view> xyzr,
     return add_atom(atoms.xyz, atoms.radius, xyzr, name, line);
 }
 
-// One piece of an XYZR text (whole lines), read on a thread of its own: its atoms, its
-// radius-0 atoms, and the error that stopped it.
+// A text cut into pieces of about 1 MiB of whole lines, to be read on all threads (every piece
+// but the last ends in a newline).
+std::vector<std::string_view> text_pieces(std::string_view text) {
+    constexpr std::size_t kPiece = std::size_t{1} << 20;
+    std::vector<std::string_view> pieces;
+    for (std::size_t at = 0; at < text.size();) {
+        std::size_t end = std::min(text.size(), at + kPiece);
+        if (end < text.size()) {
+            const std::size_t nl = text.find('\n', end);
+            end = nl == std::string_view::npos ? text.size() : nl + 1;
+        }
+        pieces.push_back(text.substr(at, end - at));
+        at = end;
+    }
+    return pieces;
+}
+
+// Running sums in place: counts per piece at [1..n] become the counts before each piece.
+void running_sums(std::vector<std::size_t>& v) {
+    for (std::size_t k = 1; k < v.size(); ++k) v[k] += v[k - 1];
+}
+
+// Whether the first field of `line` (as split_fields gives it) is ATOM or HETATM in any case.
+bool is_pqr_atom_record(std::string_view line) {
+    std::size_t i = 0;
+    while (i < line.size() && is_space(line[i])) ++i;
+    std::size_t end = i;
+    while (end < line.size() && !is_space(line[end])) ++end;
+    const std::string_view first = line.substr(i, end - i);
+    return iequals(first, "ATOM") || iequals(first, "HETATM");
+}
+
+// x, y, z and the radius of an XYZR line whose first four fields are plain decimals (see
+// base/decimal.hpp), separated by spaces or tabs, the radius not negative: the values that
+// sphere() reads from them. False for anything else (a comment, a blank line, a '+', bytes
+// outside printable ASCII, what is an error), which sphere() and its messages then take.
+bool xyzr_line_fast(std::string_view line, float xyz[3], double& r) {
+    const char* p = line.data();
+    const char* const end = p + line.size();
+    double v[4];
+    for (double& value : v) {
+        while (p != end && (*p == ' ' || *p == '\t')) ++p;
+        const char* const start = p;
+        while (p != end && *p > ' ' && *p < 0x7f) ++p;
+        // The field must end where split_fields ends it: at white space or the line's end.
+        if (p != end && !(*p == ' ' || (*p >= '\t' && *p <= '\r'))) return false;
+        if (!parse_decimal_fast(std::string_view(start, std::size_t(p - start)), value))
+            return false;
+    }
+    if (v[3] < 0.0) return false;
+    for (int i = 0; i < 3; ++i) xyz[i] = static_cast<float>(v[i]);
+    r = v[3];
+    return true;
+}
+
+// One piece of an XYZR text (whole lines), read on a thread of its own into the atoms' arrays
+// from `xyz` and `radius` on: its atom count, its radius-0 atoms, and the error that stopped it.
 struct XyzrPart {
-    std::vector<float> xyz, radius;
-    std::size_t zero = 0, first_zero = 0;
+    std::size_t atoms = 0, zero = 0, first_zero = 0;
     std::exception_ptr error;
 };
 
-// XYZR lines of `text`, the first of which is line `first_line` + 1 of the file.
+// XYZR lines of `text`, the first of which is line `first_line` + 1 of the file; room for an
+// atom per line at `xyz` and `radius`.
 void read_xyzr_part(std::string_view text, std::size_t first_line, const std::string& name,
-                    XyzrPart& part) {
+                    float* xyz, float* radius, XyzrPart& part) {
     try {
         LineReader lines(text);
         std::string_view line;
         std::vector<std::string_view> f;
         while (lines.next(line)) {
-            std::string_view t = trim(line);
-            if (t.empty() || t[0] == '#') continue;
-            split_fields(t, f);
-            const std::size_t number = first_line + lines.number();
-            if (f.size() < 4)
-                fail_format(name + ": too few fields for an XYZR atom" + at_line(number) + " (" +
-                            std::to_string(f.size()) + "; expected: x y z radius)");
-            if (!add_atom(part.xyz, part.radius, {f[0], f[1], f[2], f[3]}, name, number))
-                if (part.zero++ == 0) part.first_zero = number;
+            float p[3];
+            double r = 0.0;
+            if (!xyzr_line_fast(line, p, r)) {
+                std::string_view t = trim(line);
+                if (t.empty() || t[0] == '#') continue;
+                split_fields(t, f);
+                if (f.size() < 4)
+                    fail_format(name + ": too few fields for an XYZR atom" +
+                                at_line(first_line + lines.number()) + " (" +
+                                std::to_string(f.size()) + "; expected: x y z radius)");
+                sphere({f[0], f[1], f[2], f[3]}, name, first_line + lines.number(), p, r);
+            }
+            // Radius 0: left out (add_atom says why).
+            if (r == 0.0) {
+                if (part.zero++ == 0) part.first_zero = first_line + lines.number();
+                continue;
+            }
+            std::copy(p, p + 3, xyz + 3 * part.atoms);
+            radius[part.atoms++] = static_cast<float>(r);
         }
     } catch (...) {
         part.error = std::current_exception();
@@ -260,65 +326,151 @@ void radii_from_elements(Structure& s, std::vector<Unsized>& unsized, const std:
         "; a PQR's own radii are kept as soon as one atom has a radius above 0");
 }
 
+// A PQR's pieces, each read on a thread of its own into the atoms' arrays from its first
+// atom's slot on: the counts and first lines of its radius-0 atoms and of its records read in
+// columns, its radius-0 atoms while it has no atom with a radius, and the error that stopped it.
+struct PqrPart {
+    std::size_t atoms = 0, zero = 0, first_zero = 0, in_columns = 0, first_in_columns = 0;
+    std::vector<Unsized> unsized;
+    std::exception_ptr error;
+};
+
+// The ATOM/HETATM records of `text` (whole lines, the first of which is line `first_line` + 1
+// of the file) into `atoms` from atom `slot` on, which has room for each of them.
+void read_pqr_part(std::string_view text, std::size_t first_line, const std::string& name,
+                   Atoms& atoms, std::size_t slot, PqrPart& part) {
+    try {
+        LineReader lines(text);
+        std::string_view line;
+        std::vector<std::string_view> f;
+        while (lines.next(line)) {
+            if (!is_pqr_atom_record(line)) continue;
+            const std::size_t number = first_line + lines.number();
+            split_fields(line, f);
+            // x y z charge radius as plain decimals (base/decimal.hpp): read once, here, with
+            // the values that numbers(), number_field() and sphere() would give.
+            double v[5] = {};
+            bool fast = f.size() >= 10;
+            for (std::size_t i = 0; fast && i < 5; ++i)
+                fast = parse_decimal_fast(f[f.size() - 5 + i], v[i]);
+            fast = fast && v[4] >= 0.0;
+            if (!fast && (f.size() < 10 || !numbers(f, f.size() - 5))) {
+                std::vector<std::string_view> columns = pqr_columns(line);
+                if (!columns.empty()) {
+                    f = std::move(columns);
+                    if (part.in_columns++ == 0) part.first_in_columns = number;
+                }
+            }
+            if (f.size() < 10)
+                fail_format(name + ": too few fields for a PQR atom" + at_line(number) + " (" +
+                            std::to_string(f.size()) +
+                            "; expected: record serial name resName [chain] resSeq x y z charge "
+                            "radius)");
+            std::size_t n = f.size();
+            AtomMeta m;
+            m.charge = static_cast<float>(fast ? v[3]
+                                               : number_field(f[n - 2], "charge", name, number));
+            m.has_charge = true;
+            if (!parse_int(f[1], m.serial)) m.serial = 0;  // serials are informative only
+            m.name = std::string(f[2]);
+            m.residue_name = std::string(f[3]);
+            m.hetero = iequals(f[0], "HETATM");
+            pqr_residue(f, m, name, number);
+            Unsized atom;
+            double r = v[4];
+            if (fast)
+                for (int i = 0; i < 3; ++i) atom.xyz[i] = static_cast<float>(v[i]);
+            else
+                sphere({f[n - 5], f[n - 4], f[n - 3], f[n - 1]}, name, number, atom.xyz, r);
+            if (r > 0.0) {
+                const std::size_t at = slot + part.atoms++;
+                std::copy(atom.xyz, atom.xyz + 3, atoms.xyz.begin() + std::ptrdiff_t(3 * at));
+                atoms.radius[at] = static_cast<float>(r);
+                atoms.element[at] = pqr_element(f[2], f[3]);
+                atoms.meta[at] = std::move(m);
+                part.unsized.clear();
+            } else {
+                if (part.zero++ == 0) part.first_zero = number;
+                if (part.atoms == 0) {
+                    atom.meta = std::move(m);
+                    atom.element = pqr_element(f[2], f[3]);
+                    part.unsized.push_back(std::move(atom));
+                }
+            }
+        }
+    } catch (...) {
+        part.error = std::current_exception();
+    }
+}
+
 }  // namespace
 
 // PQR: ATOM/HETATM serial name resName [chainID] resSeq x y z charge radius. The chain is
 // optional and fields are not in fixed columns, so x y z and radius are counted from the end;
-// where white space does not give the fields, PDB's fixed columns are tried.
+// where white space does not give the fields, PDB's fixed columns are tried. Pieces of about
+// 1 MiB on all threads, each written in place from its first record's slot (its records
+// counted first), the gaps that radius-0 atoms leave closed after: the same atoms, warnings
+// and first error as one pass from the top.
 Structure read_pqr(std::string_view text, const std::string& name) {
+    const std::vector<std::string_view> pieces = text_pieces(text);
+    const std::size_t count = pieces.size();
+    // The records and the lines before each piece.
+    std::vector<std::size_t> first_slot(count + 1, 0), first_line(count + 1, 0);
+    parallel_chunks(count, thread_count(), [&](std::size_t k) {
+        LineReader lines(pieces[k]);
+        std::string_view line;
+        while (lines.next(line)) first_slot[k + 1] += is_pqr_atom_record(line);
+        first_line[k + 1] = lines.number();  // the newlines: the piece ends in one (or is last)
+    });
+    running_sums(first_slot);
+    running_sums(first_line);
     Structure s;
-    std::size_t zero = 0, first_zero = 0, in_columns = 0, first_in_columns = 0;
-    std::vector<Unsized> unsized;  // radius-0 atoms, while no atom has a radius
-    LineReader lines(text);
-    std::string_view line;
-    while (lines.next(line)) {
-        std::vector<std::string_view> f = split_fields(line);
-        if (f.empty() || !(iequals(f[0], "ATOM") || iequals(f[0], "HETATM"))) continue;
-        if (f.size() < 10 || !numbers(f, f.size() - 5)) {
-            std::vector<std::string_view> columns = pqr_columns(line);
-            if (!columns.empty()) {
-                f = std::move(columns);
-                if (in_columns++ == 0) first_in_columns = lines.number();
-            }
+    const std::size_t slots = first_slot.back();
+    s.atoms.xyz.resize(3 * slots);
+    s.atoms.radius.resize(slots);
+    s.atoms.element.resize(slots);
+    s.atoms.meta.resize(slots);
+    std::vector<PqrPart> parts(count);
+    parallel_chunks(count, thread_count(), [&](std::size_t k) {
+        read_pqr_part(pieces[k], first_line[k], name, s.atoms, first_slot[k],
+                      parts[k]);
+    });
+    std::size_t atoms = 0, zero = 0, first_zero = 0, in_columns = 0, first_in_columns = 0;
+    for (std::size_t k = 0; k < count; ++k) {
+        PqrPart& part = parts[k];
+        if (part.error) std::rethrow_exception(part.error);
+        if (atoms != first_slot[k]) {  // close the gap before this piece (moves towards the front)
+            Atoms& a = s.atoms;
+            const auto from = std::ptrdiff_t(first_slot[k]), to = std::ptrdiff_t(atoms);
+            const auto n = std::ptrdiff_t(part.atoms);
+            std::copy(a.xyz.begin() + 3 * from, a.xyz.begin() + 3 * (from + n),
+                      a.xyz.begin() + 3 * to);
+            std::copy(a.radius.begin() + from, a.radius.begin() + from + n, a.radius.begin() + to);
+            std::move(a.element.begin() + from, a.element.begin() + from + n,
+                      a.element.begin() + to);
+            std::move(a.meta.begin() + from, a.meta.begin() + from + n, a.meta.begin() + to);
         }
-        if (f.size() < 10)
-            fail_format(name + ": too few fields for a PQR atom" + at_line(lines.number()) + " (" +
-                        std::to_string(f.size()) +
-                        "; expected: record serial name resName [chain] resSeq x y z charge "
-                        "radius)");
-        std::size_t n = f.size();
-        AtomMeta m;
-        m.charge = static_cast<float>(number_field(f[n - 2], "charge", name, lines.number()));
-        m.has_charge = true;
-        if (!parse_int(f[1], m.serial)) m.serial = 0;  // serials are informative only
-        m.name = std::string(f[2]);
-        m.residue_name = std::string(f[3]);
-        m.hetero = iequals(f[0], "HETATM");
-        pqr_residue(f, m, name, lines.number());
-        Unsized atom;
-        double r = 0.0;
-        sphere({f[n - 5], f[n - 4], f[n - 3], f[n - 1]}, name, lines.number(), atom.xyz, r);
-        if (r > 0.0) {
-            s.atoms.xyz.insert(s.atoms.xyz.end(), atom.xyz, atom.xyz + 3);
-            s.atoms.radius.push_back(static_cast<float>(r));
-            s.atoms.element.push_back(pqr_element(f[2], f[3]));
-            s.atoms.meta.push_back(std::move(m));
-            unsized.clear();
-        } else {
-            if (zero++ == 0) first_zero = lines.number();
-            if (s.atoms.empty()) {
-                atom.meta = std::move(m);
-                atom.element = pqr_element(f[2], f[3]);
-                unsized.push_back(std::move(atom));
-            }
-        }
+        atoms += part.atoms;
+        if (part.zero > 0 && zero == 0) first_zero = part.first_zero;
+        zero += part.zero;
+        if (part.in_columns > 0 && in_columns == 0) first_in_columns = part.first_in_columns;
+        in_columns += part.in_columns;
     }
+    s.atoms.xyz.resize(3 * atoms);
+    s.atoms.radius.resize(atoms);
+    s.atoms.element.resize(atoms);
+    s.atoms.meta.resize(atoms);
     if (in_columns)
         s.info.warnings.push_back(name + ": " + std::to_string(in_columns) +
                                   " record(s) read in PDB's fixed columns (fields run together "
                                   "or missing; the first at line " +
                                   std::to_string(first_in_columns) + ")");
-    if (s.atoms.empty() && !unsized.empty()) {
+    if (s.atoms.empty() && zero > 0) {
+        // No atom has a radius: every piece kept all its radius-0 atoms.
+        std::vector<Unsized> unsized;
+        unsized.reserve(zero);
+        for (PqrPart& part : parts)
+            std::move(part.unsized.begin(), part.unsized.end(), std::back_inserter(unsized));
         radii_from_elements(s, unsized, name);
         zero = first_zero = 0;
     }
@@ -327,47 +479,43 @@ Structure read_pqr(std::string_view text, const std::string& name) {
 }
 
 // XYZR (MSMS): "x y z r" and optionally more fields, which are ignored. Pieces of about 1 MiB
-// (whole lines) on all threads, joined in order: the same atoms, and the same first error, as
-// one pass from the top.
+// (whole lines) on all threads, each written in place at its first line's slot of the atoms'
+// arrays (an atom per line at most), the gaps that comments and radius-0 lines leave closed
+// after: the same atoms, and the same first error, as one pass from the top.
 Structure read_xyzr(std::string_view text, const std::string& name) {
-    constexpr std::size_t kPiece = std::size_t{1} << 20;
-    std::vector<std::string_view> pieces;
-    for (std::size_t at = 0; at < text.size();) {
-        std::size_t end = std::min(text.size(), at + kPiece);
-        if (end < text.size()) {
-            const std::size_t nl = text.find('\n', end);
-            end = nl == std::string_view::npos ? text.size() : nl + 1;
-        }
-        pieces.push_back(text.substr(at, end - at));
-        at = end;
-    }
-    // The lines before each piece (every piece but the last ends in a newline).
+    const std::vector<std::string_view> pieces = text_pieces(text);
+    // The lines before each piece.
     std::vector<std::size_t> first_line(pieces.size() + 1, 0);
     parallel_chunks(pieces.size(), thread_count(), [&](std::size_t k) {
         first_line[k + 1] = std::size_t(std::count(pieces[k].begin(), pieces[k].end(), '\n'));
     });
-    for (std::size_t k = 0; k < pieces.size(); ++k) first_line[k + 1] += first_line[k];
+    running_sums(first_line);
+    Structure s;
+    // A slot per line; the last line may have no newline.
+    const std::size_t slots = first_line.back() + 1;
+    s.atoms.xyz.resize(3 * slots);
+    s.atoms.radius.resize(slots);
     std::vector<XyzrPart> parts(pieces.size());
     parallel_chunks(pieces.size(), thread_count(), [&](std::size_t k) {
-        const std::size_t lines = first_line[k + 1] - first_line[k];
-        parts[k].xyz.reserve(3 * (lines + 1));
-        parts[k].radius.reserve(lines + 1);
-        read_xyzr_part(pieces[k], first_line[k], name, parts[k]);
+        read_xyzr_part(pieces[k], first_line[k], name, s.atoms.xyz.data() + 3 * first_line[k],
+                       s.atoms.radius.data() + first_line[k], parts[k]);
     });
-    Structure s;
     std::size_t zero = 0, first_zero = 0, atoms = 0;
-    for (const XyzrPart& part : parts) {
+    for (std::size_t k = 0; k < parts.size(); ++k) {
+        const XyzrPart& part = parts[k];
         if (part.error) std::rethrow_exception(part.error);
-        atoms += part.radius.size();
-    }
-    s.atoms.xyz.reserve(3 * atoms);
-    s.atoms.radius.reserve(atoms);
-    for (const XyzrPart& part : parts) {
-        s.atoms.xyz.insert(s.atoms.xyz.end(), part.xyz.begin(), part.xyz.end());
-        s.atoms.radius.insert(s.atoms.radius.end(), part.radius.begin(), part.radius.end());
+        if (atoms != first_line[k]) {  // close the gap before this piece (moves towards the front)
+            const float* xyz = s.atoms.xyz.data() + 3 * first_line[k];
+            const float* radius = s.atoms.radius.data() + first_line[k];
+            std::copy(xyz, xyz + 3 * part.atoms, s.atoms.xyz.data() + 3 * atoms);
+            std::copy(radius, radius + part.atoms, s.atoms.radius.data() + atoms);
+        }
+        atoms += part.atoms;
         if (part.zero > 0 && zero == 0) first_zero = part.first_zero;
         zero += part.zero;
     }
+    s.atoms.xyz.resize(3 * atoms);
+    s.atoms.radius.resize(atoms);
     s.atoms.element.resize(atoms);  // XYZR has no element; kept parallel to radius
     note_zero_radii(s, zero, first_zero, name);
     return finish(std::move(s), StructureFormat::Xyzr, name, "'x y z r'");

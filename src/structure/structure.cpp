@@ -13,11 +13,11 @@ namespace fdmsurf {
 namespace {
 
 // Every model (options.model == kAllModels) or the one asked for.
-std::vector<Structure> read_text(const std::string& text, const std::string& name,
+std::vector<Structure> read_text(std::string_view text, const std::string& name,
                                  const ReadOptions& options) {
     // A UTF-8 byte-order mark (editors on Windows write one) is not part of any record: gemmi
     // would refuse an mmCIF that starts with it ("expected block header").
-    if (std::string_view(text).substr(0, 3) == "\xEF\xBB\xBF")
+    if (text.substr(0, 3) == "\xEF\xBB\xBF")
         return read_text(text.substr(3), name, options);
     detail::check_text(text, name);
     if (options.model < 0)
@@ -53,7 +53,7 @@ std::vector<Structure> read_text(const std::string& text, const std::string& nam
     return out;
 }
 
-Structure one_model(const std::string& text, const std::string& name, const ReadOptions& options) {
+Structure one_model(std::string_view text, const std::string& name, const ReadOptions& options) {
     if (options.model == kAllModels)
         throw Error(ErrorCode::InvalidArgument,
                     name +
@@ -76,16 +76,18 @@ std::string load_stream(std::istream& in, const std::string& name) {
 }  // namespace
 
 Structure read_structure(const std::string& path, const ReadOptions& options) {
-    return one_model(detail::load_file(path), path, options);
+    const detail::FileText file(path);
+    return one_model(file.text(), path, options);
 }
 
 Structure read_structure_from_memory(std::string_view data, const std::string& name,
                                      const ReadOptions& options) {
-    return one_model(std::string(data), name, options);
+    return one_model(data, name, options);
 }
 
 std::vector<Structure> read_models(const std::string& path, const ReadOptions& options) {
-    return read_text(detail::load_file(path), path, options);
+    const detail::FileText file(path);
+    return read_text(file.text(), path, options);
 }
 
 Structure read_structure(std::istream& in, const std::string& name, const ReadOptions& options) {
@@ -99,7 +101,7 @@ std::vector<Structure> read_models(std::istream& in, const std::string& name,
 
 std::vector<Structure> read_models_from_memory(std::string_view data, const std::string& name,
                                                const ReadOptions& options) {
-    return read_text(std::string(data), name, options);
+    return read_text(data, name, options);
 }
 
 const char* to_string(StructureFormat format) noexcept {

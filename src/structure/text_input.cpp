@@ -10,6 +10,15 @@
 #include <fstream>
 #include <new>
 
+#if __has_include(<sys/mman.h>)
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
+#define FDMSURF_MAP_FILES 1
+#endif
+
+#include "base/decimal.hpp"
 #include "io/gzip_input.hpp"
 #include "structure/detail.hpp"
 
@@ -153,6 +162,47 @@ std::string at_line(std::size_t line) { return " at line " + std::to_string(line
 
 std::string load_file(const std::string& path) { return decompress(read_bytes(path), path); }
 
+FileText::FileText(const std::string& path) {
+#ifdef FDMSURF_MAP_FILES
+    // Only a regular file is opened here: opening a named pipe would wait for its writer, and
+    // closing it again would cut that writer off.
+    struct stat st {};
+    if (::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0) {
+        const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+        if (fd >= 0 && ::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0) {
+            int flags = MAP_PRIVATE;
+#ifdef MAP_POPULATE
+            flags |= MAP_POPULATE;  // the page cache's pages mapped in one call, not a fault each
+#endif
+            void* map = ::mmap(nullptr, std::size_t(st.st_size), PROT_READ, flags, fd, 0);
+            if (map != MAP_FAILED) {
+                map_ = map;
+                map_size_ = std::size_t(st.st_size);
+                text_ = std::string_view(static_cast<const char*>(map), map_size_);
+            }
+        }
+        if (fd >= 0) ::close(fd);
+    }
+    if (map_ && !is_gzip(text_)) return;
+    if (map_) {
+        owned_ = decompress(std::string(text_), path);
+        ::munmap(map_, map_size_);
+        map_ = nullptr;
+        text_ = owned_;
+        return;
+    }
+#endif
+    // Not mapped (not a regular file, empty, or an error that load_file reports).
+    owned_ = load_file(path);
+    text_ = owned_;
+}
+
+FileText::~FileText() {
+#ifdef FDMSURF_MAP_FILES
+    if (map_) ::munmap(map_, map_size_);
+#endif
+}
+
 std::string decompress(std::string bytes, const std::string& name) {
     return is_gzip(bytes) ? gunzip_or_fail(bytes, name) : bytes;
 }
@@ -209,29 +259,40 @@ void split_fields(std::string_view line, std::vector<std::string_view>& fields) 
     fields.clear();
     std::size_t i = 0;
     while (i < line.size()) {
-        while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+        while (i < line.size() && is_space(line[i])) ++i;
         std::size_t start = i;
-        while (i < line.size() && !std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+        while (i < line.size() && !is_space(line[i])) ++i;
         if (i > start) fields.push_back(line.substr(start, i - start));
     }
 }
 
 std::string_view trim(std::string_view s) {
-    while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
-    while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
+    while (!s.empty() && is_space(s.front())) s.remove_prefix(1);
+    while (!s.empty() && is_space(s.back())) s.remove_suffix(1);
     return s;
 }
 
 bool iequals(std::string_view a, std::string_view b) {
-    return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
-               return std::tolower(static_cast<unsigned char>(x)) ==
-                      std::tolower(static_cast<unsigned char>(y));
-           });
+    if (a.size() != b.size()) return false;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        const auto x = static_cast<unsigned char>(a[i]), y = static_cast<unsigned char>(b[i]);
+        if (x == y) continue;
+        // ASCII letters fold as the C locale folds them, without std::tolower's call; other
+        // bytes as the locale says.
+        if (x < 0x80 && y < 0x80) {
+            if ((x | 0x20) != (y | 0x20) || (x | 0x20) < 'a' || (x | 0x20) > 'z') return false;
+        } else if (std::tolower(x) != std::tolower(y)) {
+            return false;
+        }
+    }
+    return true;
 }
 
 NumberStatus parse_number(std::string_view s, double& value) {
     if (s.size() > 1 && s[0] == '+' && s[1] != '-') s.remove_prefix(1);
     if (s.empty()) return NumberStatus::NotNumber;
+    // Always finite, and within float's range: |m x 10^e| < 2^53 x 10^22.
+    if (parse_decimal_fast(s, value)) return NumberStatus::Ok;
     auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), value);
     if (end != s.data() + s.size()) return NumberStatus::NotNumber;
     if (ec == std::errc::result_out_of_range) return NumberStatus::OutOfRange;
