@@ -42,7 +42,7 @@ fi
 
 supp="$(pwd)/tests/sanitizers"
 cc -shared -fPIC -O1 -o "$build_dir/keep_loaded.so" "$supp/keep_loaded.c"
-export LD_PRELOAD="$(pwd)/$build_dir/keep_loaded.so${LD_PRELOAD:+:$LD_PRELOAD}"
+export LD_PRELOAD="$(realpath "$build_dir")/keep_loaded.so${LD_PRELOAD:+:$LD_PRELOAD}"
 # verify_asan_link_order=0: keep_loaded.so is preloaded ahead of the shared ASan runtime that
 # the CLI links, which ASan would otherwise refuse; keep_loaded.so only defines dlclose and
 # allocates nothing.
