@@ -215,28 +215,39 @@ double exposed_solid_angle(const std::vector<Cap>& caps, Scratch& w,
             }
         return false;
     };
+    // The crossing points of the circles of ranks ra and rb, x± = base ± t u_j × u_k, with j
+    // the one of the lower cap index (which fixes the arithmetic's rounding); false when they
+    // do not cross (or touch, within rounding).
+    auto crossing = [&](std::uint32_t ra, std::uint32_t rb, std::uint32_t& j, std::uint32_t& k,
+                        Vec3& plus, Vec3& minus) {
+        const bool swap = w.kept[rb] < w.kept[ra];
+        j = swap ? rb : ra;
+        k = swap ? ra : rb;
+        const Cap& a = caps[w.kept[j]];
+        const Cap& b = caps[w.kept[k]];
+        const double g = dot(a.u, b.u);
+        const double w2 = 1.0 - g * g;
+        if (w2 < 1e-14) return false;
+        const double p = (a.h - b.h * g) / w2, q = (b.h - a.h * g) / w2;
+        const double rest = 1.0 - (p * p + q * q + 2.0 * p * q * g);
+        if (rest <= 0.0) return false;
+        const double t = std::sqrt(rest / w2);
+        const Vec3 base = add(scale(a.u, p), scale(b.u, q)), c = cross(a.u, b.u);
+        plus = add(base, scale(c, t));
+        minus = add(base, scale(c, -t));
+        return true;
+    };
     for (std::size_t e = 0; edges && e < edges->size(); ++e) {
         const std::uint32_t ra = w.rank_of[(*edges)[e][0]], rb = w.rank_of[(*edges)[e][1]];
         // A plane of the cell's that the ranking dropped (equal to a larger cap, as twin
         // neighbours give) may carry part of an edge, and with it crossings: cross every pair.
         if (ra == kNone || rb == kNone) return -1.0;
-        // The same arithmetic as for every pair below.
-        const bool swap = w.kept[rb] < w.kept[ra];
-        const std::uint32_t j = std::uint32_t(swap ? rb : ra), k = std::uint32_t(swap ? ra : rb);
-        const Cap& a = caps[w.kept[j]];
-        const Cap& b = caps[w.kept[k]];
-        const double g = dot(a.u, b.u);
-        const double w2 = 1.0 - g * g;
-        if (w2 < 1e-14) continue;
-        const double p = (a.h - b.h * g) / w2, q = (b.h - a.h * g) / w2;
-        const double rest = 1.0 - (p * p + q * q + 2.0 * p * q * g);
-        if (rest <= 0.0) continue;  // tangent (within rounding)
-        const double t = std::sqrt(rest / w2);
-        const Vec3 base = add(scale(a.u, p), scale(b.u, q)), c = cross(a.u, b.u);
+        std::uint32_t j, k;
+        Vec3 plus, minus;
+        if (!crossing(ra, rb, j, k, plus, minus)) continue;
         ++w.held[j];
         ++w.held[k];
-        for (const double sign : {1.0, -1.0}) {
-            const Vec3 x = add(base, scale(c, sign * t));
+        for (const Vec3& x : {plus, minus}) {
             if (buried_by(x, j)) continue;
             w.around[j].push_back({key(x, j), x});
             w.around[k].push_back({key(x, k), x});
@@ -247,24 +258,9 @@ double exposed_solid_angle(const std::vector<Cap>& caps, Scratch& w,
     for (std::size_t ra = 0; ra < n && !edges; ++ra) {
         for (const std::uint32_t rb : w.overlapping[ra]) {
             if (rb <= ra) continue;
-            const bool swap = w.kept[rb] < w.kept[ra];
-            const std::uint32_t j = std::uint32_t(swap ? rb : ra),
-                                k = std::uint32_t(swap ? ra : rb);
-            const Cap& a = caps[w.kept[j]];
-            const Cap& b = caps[w.kept[k]];
-            const double g = dot(a.u, b.u);
-            const double w2 = 1.0 - g * g;
-            if (w2 < 1e-14) continue;
-            const double p = (a.h - b.h * g) / w2, q = (b.h - a.h * g) / w2;
-            const double rest = 1.0 - (p * p + q * q + 2.0 * p * q * g);
-            if (rest <= 0.0) continue;  // tangent (within rounding)
-            const double t = std::sqrt(rest / w2);
-            const Vec3 base = add(scale(a.u, p), scale(b.u, q)), c = cross(a.u, b.u);
             Pair pair;
-            pair.j = j;
-            pair.k = k;
-            pair.plus = add(base, scale(c, t));
-            pair.minus = add(base, scale(c, -t));
+            if (!crossing(std::uint32_t(ra), rb, pair.j, pair.k, pair.plus, pair.minus)) continue;
+            const std::uint32_t j = pair.j, k = pair.k;
             pair.j_plus = key(pair.plus, j);
             pair.j_minus = key(pair.minus, j);
             pair.k_plus = key(pair.plus, k);

@@ -73,6 +73,14 @@ CellPlane plane(Vec3 u, double h) {
     return {{u[0] / len, u[1] / len, u[2] / len}, h};
 }
 
+// A plane of random direction (uniform in the cube, +z when nearly 0) and height.
+CellPlane random_plane(std::mt19937& random, std::uniform_real_distribution<double>& unit,
+                       std::uniform_real_distribution<double>& height) {
+    Vec3 u{unit(random), unit(random), unit(random)};
+    if (fdmsurf::detail::dot(u, u) < 1e-6) u = {0, 0, 1};
+    return plane(u, height(random));
+}
+
 }  // namespace
 
 TEST(PowerCell, KeepsEveryCapThatBuriesAnExposedPointOfCrambin) {
@@ -164,9 +172,7 @@ TEST(PowerCell, RepeatedTouchingAndRandomPlanesKeepTheExposedRegion) {
         std::vector<CellPlane> planes;
         const int count = 3 + round % 40;
         for (int p = 0; p < count; ++p) {
-            Vec3 u{unit(random), unit(random), unit(random)};
-            if (fdmsurf::detail::dot(u, u) < 1e-6) u = {0, 0, 1};
-            planes.push_back(plane(u, height(random)));
+            planes.push_back(random_plane(random, unit, height));
             if (p % 7 == 3) planes.push_back(planes.back());  // the same plane twice
             if (p % 11 == 5) planes.push_back(plane({0, 0, 1}, 0.9999999));  // nearly tangent
         }
@@ -187,11 +193,7 @@ TEST(PowerCell, EveryExposedCrossingIsOnAnEdgeHandedOn) {
     for (int round = 0; round < 400; ++round) {
         std::vector<CellPlane> planes;
         const int count = 2 + round % 30;
-        for (int p = 0; p < count; ++p) {
-            Vec3 u{unit(random), unit(random), unit(random)};
-            if (fdmsurf::detail::dot(u, u) < 1e-6) u = {0, 0, 1};
-            planes.push_back(plane(u, height(random)));
-        }
+        for (int p = 0; p < count; ++p) planes.push_back(random_plane(random, unit, height));
         std::vector<std::uint32_t> order(planes.size()), keep;
         std::iota(order.begin(), order.end(), 0u);
         if (cell.filter(planes, order, keep) != CellVerdict::Filtered || cell.touched()) continue;
