@@ -307,6 +307,7 @@ TEST_F(HostMarchingCubesSlabs, AutoRunsOnTheHostExactlyOnACpuDevice) {
     EXPECT_EQ(one.grid.slabs, 1u);
     EXPECT_EQ(one.grid.host_marching_cubes, cpu);
     EXPECT_EQ(one.grid.host_filter, cpu);
+    EXPECT_EQ(one.grid.host_density, cpu);
     // A mesh left on the device for a renderer keeps the device's passes.
     const fdmsurf::DeviceSurfaceResult kept = whole.make_device_surface(atoms, SurfaceOptions{});
     EXPECT_FALSE(kept.grid.host_marching_cubes);
