@@ -61,7 +61,7 @@ LABEL = {"fdmsurf": "fdmsurf (SES 0.5 Å)", "fdmsurf-edt": "fdmsurf --method edt
          "molstar": "Mol* (0.5 Å)",
          "pymol-q0": "PyMOL (surface_quality 0)", "pymol-q1": "PyMOL (surface_quality 1)",
          "edtsurf": "EDTSurf (-f 4)"}
-STAGE_ORDER = ["parse", "init", "bin-atoms", "density", "fft-forward", "mask", "fft-inverse",
+STAGE_ORDER = ["parse", "init", "bin-atoms", "density", "density-host", "fft-forward", "mask", "fft-inverse",
                "read-field", "filter-host", "assemble-field", "upload-part", "mc-occupancy", "mc-count",
                "mc-scan", "mc-vertices", "mc-triangles", "mc-emit", "read-back", "unpack-mesh", "mc-host",
                "stitch", "pieces", "cavities", "vertex-atoms", "vertex-atoms-host", "write", "mesh-stats"]
@@ -767,7 +767,7 @@ class Bench:
             for label, atoms, grid, runs, mark in entries:
                 vox = grid[0] * grid[1] * grid[2]
                 t = {k: med([r["times"].get(k) for r in runs]) for k in runs[0]["times"]}
-                d = t.get("density") or 0.0
+                d = (t.get("density") or 0.0) + (t.get("density-host") or 0.0)
                 # The filter's transforms, or (on a CPU device) its convolution on the host.
                 fft = (t.get("fft-forward") or 0) + (t.get("fft-inverse") or 0) + (t.get("filter-host") or 0)
                 # Marching cubes up to the sizes (occupancy words and counts), then the output.

@@ -42,7 +42,7 @@ def main():
         atoms = np.array([[float(t) for t in ln.split()[:4]] for ln in fh if ln.strip()])
     # fdmsurf's own grid (dims, origin) and density time for this input
     out = subprocess.run([a.fdmsurf, a.xyzr, "-o", "/tmp/density_work.ply", "--spacing", str(a.spacing),
-                          "--stats", "json", "--quiet"], stdout=subprocess.PIPE, check=True, text=True).stdout
+                          "--stats", "json", "--quiet", "--host-density", "off"], stdout=subprocess.PIPE, check=True, text=True).stdout
     js = json.loads(out.strip().splitlines()[-1])
     nx, ny, nz = js["grid"]["dims"]
     origin = np.array(js["grid"]["origin"])

@@ -32,6 +32,7 @@ import time
 STAGES = {
     "parse": ("B", 1.0, "the file once"),
     "bin-atoms": ("a", 32.0, "atoms in (16 B), bins out (16 B)"),
+    "density-host": ("a", 16.0, "atoms once (the grid's points: 4 B each, not counted)"),
     "stitch": ("t", 24.0, "indices in and out (12 + 12 B per triangle)"),
     "snap": ("t", 24.0, "positions in and out (2 x 12 B per vertex, 2 triangles per vertex)"),
     "pieces": ("t", 18.0, "indices and positions once (12 + 6 B per triangle)"),

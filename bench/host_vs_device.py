@@ -33,8 +33,10 @@ MC_STAGES = ("upload-part", "mc-occupancy", "mc-count", "mc-scan", "mc-vertices"
              "read-back", "unpack-mesh", "mc-host")
 ATOM_STAGES = ("vertex-atoms", "vertex-atoms-host")
 SES_STAGES = ("ses-boxes", "ses-distance", "ses-host")
-MODES = {"device": ["--host-filter", "off", "--host-mc", "off", "--host-atoms", "off", "--host-ses", "off"],
-         "filter": ["--host-filter", "auto", "--host-mc", "off", "--host-atoms", "off", "--host-ses", "off"],
+MODES = {"device": ["--host-filter", "off", "--host-mc", "off", "--host-atoms", "off", "--host-ses", "off",
+                    "--host-density", "off"],
+         "filter": ["--host-filter", "auto", "--host-mc", "off", "--host-atoms", "off", "--host-ses", "off",
+                    "--host-density", "off"],
          "ses-device": ["--host-filter", "auto", "--host-mc", "auto", "--host-atoms", "auto",
                         "--host-ses", "off"],
          "host": ["--host-filter", "auto", "--host-mc", "auto", "--host-atoms", "auto", "--host-ses", "auto"]}
@@ -83,7 +85,8 @@ def main():
                                  filt=med(lambda s: stages(s, FILTER_STAGES)),
                                  mc=med(lambda s: stages(s, MC_STAGES)),
                                  atoms=med(lambda s: stages(s, ATOM_STAGES)),
-                                 density=med(lambda s: s["times"].get("density", 0.0)),
+                                 density=med(lambda s: s["times"].get("density", 0.0)
+                                             + s["times"].get("density-host", 0.0)),
                                  features=med(lambda s: s["times"].get("ses-features", 0.0)),
                                  ses=med(lambda s: stages(s, SES_STAGES)),
                                  snap=med(lambda s: s["times"].get("snap", 0.0)),

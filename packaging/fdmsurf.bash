@@ -9,15 +9,15 @@ _fdmsurf_options='--surface --method --spacing --probe --cutoff --sigma --level 
     --no-cavities --min-cavity-volume --padding --refine --no-snap --chord-tolerance
     --natural-grid --format --model --models --assembly --waters --hydrogens --no-ligands
     --chains --select --patch --color --properties --simplify --max-triangles --simplifier
-    --optimize --device --list-devices --validation --host-filter --host-mc --host-atoms
-    --host-ses -o --output --output-format --stats --quiet -h --help --version --areas
+    --optimize --device --list-devices --validation --host-filter --host-density --host-mc
+    --host-atoms --host-ses -o --output --output-format --stats --quiet -h --help --version --areas
     --relative --buried --image --image-size --view --views --rotate --background --outline
     --occlusion --depth-cue'
 _fdmsurf_compare_options='--spacing --stats --outer --weld-tol -h --help'
 _fdmsurf_prepare_options='--device --validation --quiet -h --help'
 _fdmsurf_msms_options='-if -of -af -probe_radius -density -hdensity -no_area -surface
-    -all_components -no_header -spacing -method -device -validation -host_filter -host_mc
-    -host_atoms -host_ses -h -help'
+    -all_components -no_header -spacing -method -device -validation -host_filter -host_density
+    -host_mc -host_atoms -host_ses -h -help'
 _fdmsurf_structures='pdb|ent|cif|mmcif|pqr|xyzr|xyzrn'
 _fdmsurf_meshes='ply|obj|glb|stl|off|vert|face'
 
@@ -33,7 +33,7 @@ _fdmsurf_values() {
         --color) echo 'chain element residue hydrophobicity bfactor coulombic none' ;;
         --properties) echo 'coulombic hydrophobicity bfactor mean_curvature gaussian_curvature shape_index' ;;
         --simplifier) echo 'collapse meshopt' ;;
-        --host-filter | --host-mc | --host-atoms | --host-ses) echo 'auto on off' ;;
+        --host-filter | --host-density | --host-mc | --host-atoms | --host-ses) echo 'auto on off' ;;
         --output-format) echo 'ply obj glb stl off png' ;;
         --stats) echo 'json text' ;;
         --relative) echo 'tien2013 miller1987 sander1994' ;;
@@ -48,7 +48,7 @@ _fdmsurf_values() {
         -of | -af) echo 'FILES' ;;
         -surface) echo 'tses ses ases' ;;
         -method) echo 'edt fdm' ;;
-        -host_filter | -host_mc | -host_atoms | -host_ses) echo 'auto on off' ;;
+        -host_filter | -host_density | -host_mc | -host_atoms | -host_ses) echo 'auto on off' ;;
         # compare
         compare:--stats) echo 'json' ;;
         *) return 1 ;;  # an option that takes no value, or not an option
@@ -61,12 +61,12 @@ _fdmsurf_takes_value() {
         --surface | --method | --spacing | --probe | --cutoff | --sigma | --level | --filter | \
         --min-cavity-volume | --padding | --refine | --chord-tolerance | --format | --model | \
         --models | --assembly | --chains | --select | --patch | --color | --properties | \
-        --simplify | --max-triangles | --simplifier | --device | --host-filter | --host-mc | \
-        --host-atoms | --host-ses | -o | --output | --output-format | --stats | --areas | \
-        --relative | --buried | --image | --image-size | --view | --views | --rotate | \
+        --simplify | --max-triangles | --simplifier | --device | --host-filter | --host-density | \
+        --host-mc | --host-atoms | --host-ses | -o | --output | --output-format | --stats | \
+        --areas | --relative | --buried | --image | --image-size | --view | --views | --rotate | \
         --background | --occlusion | --depth-cue | --weld-tol | -if | -of | -af | \
         -probe_radius | -density | -hdensity | -surface | -spacing | -method | -device | \
-        -host_filter | -host_mc | -host_atoms | -host_ses) return 0 ;;
+        -host_filter | -host_density | -host_mc | -host_atoms | -host_ses) return 0 ;;
     esac
     return 1
 }

@@ -164,21 +164,23 @@ class Engine:
     lock). close() (or a `with` block) frees the device early. Raises NoDeviceError when no
     usable Vulkan device exists (install mesa-vulkan-drivers for lavapipe, the CPU device).
 
-    host_filter, host_mc, host_atoms, host_ses: "auto" (default), "on" or "off", as the CLI's
-    --host-filter, --host-mc, --host-atoms and --host-ses: whether the Gaussian filter, marching
-    cubes, each vertex's atom and the exact SES's field run on the host's threads instead of
-    the device's passes; "auto" does so on a CPU device (lavapipe).
+    host_filter, host_mc, host_atoms, host_ses, host_density: "auto" (default), "on" or "off",
+    as the CLI's --host-filter, --host-mc, --host-atoms, --host-ses and --host-density: whether
+    the Gaussian filter, marching cubes, each vertex's atom, the exact SES's field and the
+    density run on the host's threads instead of the device's passes; "auto" does so on a CPU
+    device (lavapipe).
     """
 
     _PLACES = {"auto": 0, "off": 1, "on": 2}
 
     def __init__(self, device=None, validation=False, host_filter="auto", host_mc="auto",
-                 host_atoms="auto", host_ses="auto"):
+                 host_atoms="auto", host_ses="auto", host_density="auto"):
         if isinstance(device, bool) or not (device is None or isinstance(device, (int, str))):
             raise TypeError(f"device must be None, an index or a name, not {device!r}")
         places = []
         for name, value in (("host_filter", host_filter), ("host_mc", host_mc),
-                            ("host_atoms", host_atoms), ("host_ses", host_ses)):
+                            ("host_atoms", host_atoms), ("host_ses", host_ses),
+                            ("host_density", host_density)):
             if not isinstance(value, str) or value.lower() not in self._PLACES:
                 raise ValueError(f"{name} must be 'auto', 'on' or 'off', not {value!r}")
             places.append(self._PLACES[value.lower()])

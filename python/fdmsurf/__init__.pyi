@@ -137,7 +137,8 @@ class SurfaceResult(Mesh):
 class Engine:
     def __init__(self, device: Union[None, int, str] = None, validation: bool = False,
                  host_filter: Place = "auto", host_mc: Place = "auto",
-                 host_atoms: Place = "auto", host_ses: Place = "auto") -> None: ...
+                 host_atoms: Place = "auto", host_ses: Place = "auto",
+                 host_density: Place = "auto") -> None: ...
     def surface(self, source: Source, radii: Optional[ArrayLike] = None, *,
                 surface: SurfaceKind = "ses", method: Method = "fdm", spacing: float = 0.5,
                 probe: float = 1.4, cutoff: float = 0.0, sigma: float = 3.0,

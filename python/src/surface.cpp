@@ -38,6 +38,7 @@ py::dict grid_dict(const GridInfo& g, bool planned = false) {
     if (planned) return d;
     d["slabs"] = g.slabs;
     d["host_filter"] = g.host_filter;
+    d["host_density"] = g.host_density;
     d["host_marching_cubes"] = g.host_marching_cubes;
     d["host_ses_distance"] = g.host_ses_distance;
     return d;
@@ -155,9 +156,9 @@ using Clock = std::chrono::steady_clock;
 // threads compute at the same time.
 class PyEngine {
 public:
-    // places: where the Gaussian filter, marching cubes, the vertex atoms and the exact SES's
-    // field run (EngineOptions; 0 auto, 1 the device, 2 the host).
-    PyEngine(const std::string& device, bool validation, const std::array<int, 4>& places)
+    // places: where the Gaussian filter, marching cubes, the vertex atoms, the exact SES's
+    // field and the density run (EngineOptions; 0 auto, 1 the device, 2 the host).
+    PyEngine(const std::string& device, bool validation, const std::array<int, 5>& places)
         : validation_(validation) {
         EngineOptions options;
         options.device = device;
@@ -169,6 +170,7 @@ public:
         options.marching_cubes = place(places[1]);
         options.vertex_atoms = place(places[2]);
         options.ses_distance = place(places[3]);
+        options.density = place(places[4]);
         py::gil_scoped_release release;
         engine_ = std::make_unique<Engine>(options);
         info_ = engine_->device();
@@ -426,7 +428,8 @@ max_triangles= did), optimized, total_ms.)")
             "grid", [](const PySurface& s) { return grid_dict(s.grid); },
             "The grid: dims (points along x, y, z), spacing (Å), origin (Å), cutoff (1/Å, 0 for "
             "vdw, sas and edt), slabs (> 1 when processed in parts), host_filter (the Gaussian "
-            "filter ran on the host), host_marching_cubes (marching cubes ran on the host), "
+            "filter ran on the host), host_density (the density was computed on the host), "
+            "host_marching_cubes (marching cubes ran on the host), "
             "host_ses_distance (the exact SES field was computed on the host).")
         .def_property_readonly(
             "times", [](const PySurface& s) { return times_dict(s.times); },
@@ -482,7 +485,7 @@ is the area. Atoms that own no vertex get 0.)")
         .def("__repr__", [](PySurface& s) { return mesh_repr(s, "SurfaceResult"); });
 
     py::class_<PyEngine>(m, "_Engine")
-        .def(py::init<const std::string&, bool, const std::array<int, 4>&>(), py::arg("device"),
+        .def(py::init<const std::string&, bool, const std::array<int, 5>&>(), py::arg("device"),
              py::arg("validation"), py::arg("places"))
         .def("surface", &PyEngine::surface, py::arg("structure"), py::arg("options"))
         .def_property_readonly("device", &PyEngine::device)

@@ -251,14 +251,17 @@ def test_snap_and_chord_tolerance_change_the_mesh(engine):
 def test_result_describes_the_run(engine, data):
     result = engine.surface(data / "1crn.pdb", spacing=1.0)
     assert set(result.grid) == {"dims", "spacing", "origin", "cutoff", "slabs", "host_filter",
-                                "host_marching_cubes", "host_ses_distance"}
-    # At 1 Å the filter stays VkFFT's; marching cubes runs on the host on a CPU device.
-    assert result.grid["host_filter"] is False
-    assert result.grid["host_marching_cubes"] is (engine.device["type"] == "CPU")
+                                "host_density", "host_marching_cubes", "host_ses_distance"}
+    # On a CPU device the density, the filter and marching cubes run on the host.
+    cpu = engine.device["type"] == "CPU"
+    assert result.grid["host_filter"] is cpu and result.grid["host_density"] is cpu
+    assert result.grid["host_marching_cubes"] is cpu
     assert result.grid["host_ses_distance"] is False  # the FDM surface
     assert result.grid["spacing"] == 1.0 and result.grid["cutoff"] == pytest.approx(0.232, 1e-2)
-    assert "density" in result.times and all(ms >= 0 for ms in result.times.values())
-    assert ("density", result.times["density"], True) in result.stages
+    assert ("density-host" if cpu else "density") in result.times
+    assert all(ms >= 0 for ms in result.times.values())
+    density = "density-host" if cpu else "density"
+    assert (density, result.times[density], not cpu) in result.stages
     assert sum(ms for _, ms, _ in result.stages) == pytest.approx(sum(result.times.values()))
     assert isinstance(result.warnings, list)
     assert result.device == engine.device["name"]
@@ -374,6 +377,18 @@ def test_engine_places_its_stages(engine, data):
         fdmsurf.Engine(host_mc="gpu")
     with pytest.raises(ValueError, match="host_ses"):
         fdmsurf.Engine(host_ses=True)
+    # The density: on the host where the filter and marching cubes are, else on the device.
+    with fdmsurf.Engine(host_density="off", host_filter="on", host_mc="on") as e:
+        r = e.surface(data / "1crn.xyzr", spacing=0.5)
+        assert r.grid["host_density"] is False and "density" in r.times
+        assert r.grid["host_filter"] is True
+    with fdmsurf.Engine(host_density="on", host_filter="on", host_mc="on") as e:
+        h = e.surface(data / "1crn.xyzr", spacing=0.5)
+        assert h.grid["host_density"] is True and "density-host" in h.times
+        assert "density" not in h.times
+        assert h.area == pytest.approx(r.area, rel=1e-6)
+    with pytest.raises(ValueError, match="host_density"):
+        fdmsurf.Engine(host_density="yes")
 
 
 def test_compare_and_read_mesh(engine, data, tmp_path):

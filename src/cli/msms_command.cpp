@@ -36,14 +36,14 @@ struct MsmsOption {
     std::string_view name;
     int values;
 };
-constexpr std::array<MsmsOption, 26> kOptions{{
+constexpr std::array<MsmsOption, 27> kOptions{{
     {"if", 1},           {"of", 1},           {"af", 1},           {"probe_radius", 1},
     {"density", 1},      {"hdensity", 1},     {"no_area", 0},      {"surface", 1},
     {"socket", 1},       {"sinetd", 0},       {"noh", 0},          {"no_rest_on_pbr", 0},
     {"no_rest", 0},      {"free_vertices", 0}, {"all_components", 0}, {"one_cavity", -1},
     {"no_header", 0},    {"spacing", 1},      {"method", 1},       {"device", 1},
     {"validation", 0},   {"host_filter", 1},  {"host_mc", 1},      {"host_atoms", 1},
-    {"host_ses", 1},     {"help", 0},
+    {"host_ses", 1},     {"host_density", 1}, {"help", 0},
 }};
 
 const MsmsOption& find_option(const std::string& arg) {
@@ -167,6 +167,7 @@ EngineOptions msms_engine(const MsmsOptions& o) {
     eo.device = o.device;
     eo.validation = o.validation;
     eo.gaussian_filter = o.gaussian_filter;
+    eo.density = o.density_place;
     eo.marching_cubes = o.marching_cubes;
     eo.vertex_atoms = o.vertex_atoms;
     eo.ses_distance = o.ses_distance;
@@ -337,7 +338,8 @@ MsmsOptions parse_msms_args(const std::vector<std::string>& args) {
             const std::string& text = value();
             const std::optional<StagePlace> place = stage_place(text);
             if (!place) usage_error(name + " takes auto, on or off, not '" + text + "'");
-            (opt.name == "host_filter" ? o.gaussian_filter
+            (opt.name == "host_filter"    ? o.gaussian_filter
+             : opt.name == "host_density" ? o.density_place
              : opt.name == "host_mc"   ? o.marching_cubes
              : opt.name == "host_atoms" ? o.vertex_atoms
                                         : o.ses_distance) = *place;
@@ -353,7 +355,8 @@ std::string msms_usage_text() {
     return R"(usage: fdmsurf msms -if FILE [-of BASE] [-af BASE] [-probe_radius R] [-density D]
                     [-hdensity D] [-no_area] [-surface tses|ses|ases] [-all_components]
                     [-no_header] [-spacing H] [-method edt|fdm] [-device D] [-validation]
-                    [-host_filter P] [-host_mc P] [-host_atoms P] [-host_ses P]
+                    [-host_filter P] [-host_density P] [-host_mc P] [-host_atoms P]
+                    [-host_ses P]
        (also as a program named msms: a symlink to fdmsurf)
 
 MSMS's command line over fdmsurf: the solvent-excluded surface of the spheres of FILE (xyzr:
@@ -375,10 +378,11 @@ fdmsurf's own:
   -spacing H          grid spacing, Å (overrides the densities)
   -method M           edt (default): the exact SES, as MSMS; fdm: fdmsurf's filtered density
   -device D           Vulkan device index or name part; -validation: the validation layer
-  -host_filter P, -host_mc P, -host_atoms P, -host_ses P
-                      auto (default), on or off: the Gaussian filter, marching cubes, the
-                      vertex atoms and the exact SES field on the host's threads (on), on the
-                      device (off), or the host on a CPU device only (auto); fdmsurf --help
+  -host_filter P, -host_density P, -host_mc P, -host_atoms P, -host_ses P
+                      auto (default), on or off: the Gaussian filter, the density, marching
+                      cubes, the vertex atoms and the exact SES field on the host's threads
+                      (on), on the device (off), or the host on a CPU device only (auto);
+                      fdmsurf --help
 Ignored with a warning: -noh, -no_rest_on_pbr, -no_rest, -free_vertices, -one_cavity.
 Refused: -socket, -sinetd (server mode).
 

@@ -26,9 +26,10 @@ struct MsmsOptions {
     SesMethod method = SesMethod::Edt;  // -method (fdmsurf): edt, MSMS's exact SES, or fdm
     std::string device;         // -device (fdmsurf)
     bool validation = false;    // -validation (fdmsurf)
-    // -host_filter, -host_mc, -host_atoms, -host_ses (fdmsurf): where those stages run, as the
-    // main command's --host-* options (EngineOptions).
+    // -host_filter, -host_density, -host_mc, -host_atoms, -host_ses (fdmsurf): where those
+    // stages run, as the main command's --host-* options (EngineOptions).
     StagePlace gaussian_filter = StagePlace::Auto;
+    StagePlace density_place = StagePlace::Auto;
     StagePlace marching_cubes = StagePlace::Auto;
     StagePlace vertex_atoms = StagePlace::Auto;
     StagePlace ses_distance = StagePlace::Auto;

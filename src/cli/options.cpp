@@ -68,6 +68,7 @@ enum class Opt {
     MaxTriangles,
     Simplifier,
     HostFilter,
+    HostDensity,
     HostMc,
     HostAtoms,
     HostSes,
@@ -93,7 +94,7 @@ struct OptionSpec {
     bool numeric;  // a value that may start with '-' (a negative number, rejected later)
 };
 
-constexpr std::array<OptionSpec, 58> kOptions{{
+constexpr std::array<OptionSpec, 59> kOptions{{
     {"--output", "-o", Opt::Output, true, false},
     {"--output-format", "", Opt::OutputFormat, true, false},
     {"--surface", "", Opt::Surface, true, false},
@@ -136,6 +137,7 @@ constexpr std::array<OptionSpec, 58> kOptions{{
     {"--max-triangles", "", Opt::MaxTriangles, true, true},
     {"--simplifier", "", Opt::Simplifier, true, false},
     {"--host-filter", "", Opt::HostFilter, true, false},
+    {"--host-density", "", Opt::HostDensity, true, false},
     {"--host-mc", "", Opt::HostMc, true, false},
     {"--host-atoms", "", Opt::HostAtoms, true, false},
     {"--host-ses", "", Opt::HostSes, true, false},
@@ -493,6 +495,10 @@ bool apply_run_value(CliOptions& o, Opt id, std::string_view name, const std::st
         case Opt::HostFilter:
             o.engine.gaussian_filter =
                 parse_choice(name, text, kStagePlaces, "host filter setting", "auto, on or off");
+            return true;
+        case Opt::HostDensity:
+            o.engine.density = parse_choice(name, text, kStagePlaces, "host density setting",
+                                            "auto, on or off");
             return true;
         case Opt::HostMc:
             o.engine.marching_cubes = parse_choice(name, text, kStagePlaces,

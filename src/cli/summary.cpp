@@ -260,6 +260,7 @@ void grid_json(JsonWriter& w, const GridInfo& g) {
     w.member("cutoff", g.cutoff);
     w.member("slabs", g.slabs);
     w.member("host_filter", g.host_filter);
+    w.member("host_density", g.host_density);
     w.member("host_marching_cubes", g.host_marching_cubes);
     w.member("host_ses_distance", g.host_ses_distance);
     w.end_object();
@@ -413,6 +414,7 @@ std::string simplify_shortfall(const SimplifyReport& q, Simplifier simplifier) {
 std::string host_stages(const GridInfo& g) {
     std::vector<std::string> on_host;
     if (g.host_ses_distance) on_host.push_back("exact SES field");
+    if (g.host_density) on_host.push_back("density");
     if (g.host_filter) on_host.push_back("Gaussian filter");
     if (g.host_marching_cubes) on_host.push_back("marching cubes");
     std::string s;

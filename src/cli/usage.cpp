@@ -134,8 +134,12 @@ Device:
                          the host (the same low-pass) instead of VkFFT, for
                          grids in slabs and grids whose marching cubes runs on
                          the host: auto (default) does so when the device is a
-                         CPU (lavapipe), where the FFTs share the host's cores,
-                         at spacings up to about 0.54 Å (the default cut-off)
+                         CPU (lavapipe), where the FFTs share the host's cores
+  --host-density auto|on|off  the density computed on the host's threads (the
+                         same values to the exponential's rounding) instead of
+                         the device's pass, where the filter (if any) and
+                         marching cubes run on the host: auto (default) does so
+                         when the device is a CPU (lavapipe)
   --host-mc auto|on|off  marching cubes on the host's threads (the same mesh)
                          instead of the device's passes: auto (default) does so
                          when the device is a CPU (lavapipe)

@@ -68,7 +68,8 @@ void EngineImpl::find_field_sources(const Atoms& atoms, const SurfaceOptions& op
             src.ses = std::make_unique<SesHostField>(src.features, plan.ses_d_max);
         result.times.push_back({"ses-features", now_ms() - t0, false});
     } else {
-        src.bins = bin_atoms(atoms, plan);
+        // The host's density pass (run_on_host) needs no distances to non-empty bins.
+        src.bins = bin_atoms(atoms, plan, !(src.host_mc && density_on_host(options, plan)));
         result.times.push_back({"bin-atoms", now_ms() - t0, false});
     }
     report(plan.exact_ses ? "ses-features" : "bin-atoms");

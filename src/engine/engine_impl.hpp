@@ -52,7 +52,8 @@ struct EngineImpl {
           ses_distance(context), filter(context), marching_cubes(context),
           vertex_properties(context), progress(options.progress),
           gaussian_filter(options.gaussian_filter), marching_cubes_place(options.marching_cubes),
-          ses_distance_place(options.ses_distance), buffer_range_cap(options.max_buffer_range) {
+          ses_distance_place(options.ses_distance), density_place(options.density),
+          buffer_range_cap(options.max_buffer_range) {
         vertex_properties.set_on_host(on_host(options.vertex_atoms));
     }
 
@@ -72,6 +73,7 @@ struct EngineImpl {
     GaussianFilterPlace gaussian_filter;  // EngineOptions::gaussian_filter
     StagePlace marching_cubes_place;      // EngineOptions::marching_cubes
     StagePlace ses_distance_place;        // EngineOptions::ses_distance
+    StagePlace density_place;             // EngineOptions::density
     // EngineOptions::max_buffer_range (0: none): caps the host's one-piece field too, so that
     // tests can force slabs there.
     std::uint64_t buffer_range_cap;
@@ -91,10 +93,12 @@ struct EngineImpl {
         return place == StagePlace::Host || (place == StagePlace::Auto && context.cpu_device());
     }
     // Whether the Gaussian filter of `plan` runs on the host (EngineOptions::gaussian_filter):
-    // the FDM's Gaussian filter only; Auto on a CPU device where the sampled kernel is the mask's
-    // low-pass (sigma of at least kMinHostSigma points: 0.54 Å at the default cut-off; coarser
-    // grids keep VkFFT).
+    // the FDM's Gaussian filter only; Auto on a CPU device.
     bool gaussian_on_host(const SurfaceOptions& options, const GridPlan& plan) const;
+    // Whether the density of `plan` is computed on the host (EngineOptions::density): where
+    // nothing after it runs on the device (the host's Gaussian filter, or no filter), for a
+    // path whose marching cubes runs on the host.
+    bool density_on_host(const SurfaceOptions& options, const GridPlan& plan) const;
 
     // Tells the progress callback that `stage` has ended.
     void report(std::string_view stage) const {

@@ -89,9 +89,12 @@ double physical_memory() {
 
 bool EngineImpl::gaussian_on_host(const SurfaceOptions& options, const GridPlan& plan) const {
     if (!plan.filtered || plan.exact_ses || options.filter != FilterShape::Gaussian) return false;
-    return gaussian_filter == StagePlace::Host ||
-           (on_host(gaussian_filter) &&
-            gaussian_sigma_points(plan.info.cutoff, plan.info.spacing) >= kMinHostSigma);
+    return on_host(gaussian_filter);
+}
+
+bool EngineImpl::density_on_host(const SurfaceOptions& options, const GridPlan& plan) const {
+    if (plan.exact_ses || !on_host(density_place)) return false;
+    return !plan.filtered || gaussian_on_host(options, plan);
 }
 
 }  // namespace fdmsurf::detail

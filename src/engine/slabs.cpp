@@ -14,6 +14,7 @@
 #include "engine/engine_steps.hpp"
 #include "engine/slab_plan.hpp"
 #include "filter/spatial_gaussian.hpp"
+#include "grid/density_host.hpp"
 #include "isosurface/marching_cubes_host.hpp"
 #include "isosurface/slab_stitch.hpp"
 
@@ -146,9 +147,11 @@ struct SlabFields {
     SlabPlan slab;
     bool host_ses = false;
     bool host_gaussian = false;
+    bool host_density = false;
     GridPlan sp;   // one slab's plan: its dims[2] the slab's planes, its origin moved per slab
     Buffer field;  // the device's slab field (none where the host computes the field)
     std::vector<float> taps, filter_scratch;  // the host Gaussian filter's
+    std::vector<float> density;  // the host's density of a whole slab (nx floats a row)
 
     // Slab k's core planes into `slab_core`.
     void compute(std::uint32_t k, std::vector<float>& slab_core) {
@@ -166,7 +169,7 @@ struct SlabFields {
             Atoms near = atoms_near_planes(atoms, plan, double(z0), double(z0 + slab.slab_planes));
             empty = near.empty();
             if (!empty) {
-                bins = bin_atoms(near, sp);
+                bins = bin_atoms(near, sp, !host_density);
                 add_times(result.times, {{"bin-atoms", now_ms() - t0, false}});
             }
         }
@@ -179,6 +182,11 @@ struct SlabFields {
             // The exact SES has no overlap: the core's planes straight into the core.
             ses->evaluate(plan, std::uint32_t(zc0), std::uint32_t(zc1), slab_core.data(), d[0]);
             add_times(result.times, {{"ses-host", now_ms() - t0, false}});
+            e.report("field slab " + std::to_string(k + 1) + "/" + std::to_string(slab.slabs));
+            return;
+        }
+        if (host_density) {
+            density_on_host(bins, zc0, zc1, z0, slab_core);
             e.report("field slab " + std::to_string(k + 1) + "/" + std::to_string(slab.slabs));
             return;
         }
@@ -210,6 +218,29 @@ struct SlabFields {
                                 src + (std::size_t(z - z0) * d[1] + y) * sp.pitch,
                                 d[0] * sizeof(float));
             add_times(result.times, {{"assemble-field", now_ms() - t_copy, false}});
+        }
+    }
+
+    // The slab's density on the host, filtered on the host into the core (or, unfiltered, its
+    // core planes copied there).
+    void density_on_host(const AtomBins& bins, std::int64_t zc0, std::int64_t zc1,
+                         std::int64_t z0, std::vector<float>& slab_core) {
+        const auto d = plan.info.dims;
+        const std::size_t plane = std::size_t(d[0]) * d[1];
+        density.resize(plane * slab.slab_planes);
+        const double t0 = now_ms();
+        density_host(bins, sp, density.data(), d[0]);
+        add_times(result.times, {{"density-host", now_ms() - t0, false}});
+        const double t1 = now_ms();
+        if (host_gaussian) {
+            gaussian_filter_planes(density.data(), d[0], d[1], slab.slab_planes, d[0], taps,
+                                   std::uint32_t(zc0 - z0), std::uint32_t(zc1 - z0),
+                                   slab_core.data(), filter_scratch);
+            add_times(result.times, {{"filter-host", now_ms() - t1, false}});
+        } else {
+            std::copy(density.begin() + (zc0 - z0) * plane, density.begin() + (zc1 - z0) * plane,
+                      slab_core.begin());
+            add_times(result.times, {{"assemble-field", now_ms() - t1, false}});
         }
     }
 };
@@ -280,10 +311,12 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
     fields.host_ses = host_ses;
     fields.host_gaussian = gaussian_on_host(options, plan);
     if (fields.host_gaussian) fields.taps = host_gaussian_taps(options, plan);
+    fields.host_density = density_on_host(options, plan);
     result.grid.host_filter = fields.host_gaussian;
+    result.grid.host_density = fields.host_density;
     fields.sp = plan;
     fields.sp.info.dims[2] = slab.slab_planes;
-    if (!host_ses)
+    if (!host_ses && !fields.host_density)
         fields.field = Buffer(context, fields.sp.field_floats() * sizeof(float), MemoryUse::Device,
                               "field_slab");
     std::vector<float> slab_core;  // two core buffers, swapped: pages touched once, not per slab

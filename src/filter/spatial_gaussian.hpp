@@ -4,8 +4,10 @@
 // (VK_PHYSICAL_DEVICE_TYPE_CPU: lavapipe), where three passes of a short kernel cost a fraction
 // of the transforms (docs/performance.md). The sampled kernel's response is the mask plus its
 // aliases, exp(-pi^2 sigma^2 / 2) of the mask at the Nyquist frequency: below 2e-5 from
-// kMinHostSigma points on (0.54 Å at the default cut-off), which is where Auto uses it; beyond
-// the grid it reads zeros where the FFT wraps around.
+// kMinHostSigma points on (0.54 Å at the default cut-off); 0.04 at 1 Å, where the surface is as
+// close to the analytical SES as VkFFT's (docs/accuracy.md). Beyond the grid it reads zeros
+// where the FFT wraps around. Only the stretches of rows within the kernel's reach of a
+// non-zero value are convolved: a molecule's density is 0 in most of a large box.
 #pragma once
 
 #include <cstdint>

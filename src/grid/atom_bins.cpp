@@ -11,7 +11,7 @@
 
 namespace fdmsurf::detail {
 
-AtomBins bin_atoms(const Atoms& atoms, const GridPlan& plan) {
+AtomBins bin_atoms(const Atoms& atoms, const GridPlan& plan, bool first_shell) {
     AtomBins bins;
     float r_max = 0.0f;
     for (float r : atoms.radius) r_max = std::max(r_max, r + plan.density.radius_add);
@@ -55,6 +55,7 @@ AtomBins bin_atoms(const Atoms& atoms, const GridPlan& plan) {
         bins.atoms[4 * slot + 3] = r * r;
     }
 
+    if (!first_shell) return bins;
     // Multi-source BFS over 26-neighbours gives the Chebyshev distance in bins.
     const std::uint32_t cap = bins.max_shell + 1;
     bins.first_shell.assign(bins.bin_count(), cap);

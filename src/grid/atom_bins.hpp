@@ -23,8 +23,10 @@ struct AtomBins {
     std::size_t bin_count() const { return std::size_t(dims[0]) * dims[1] * dims[2]; }
 };
 
-// Bins covering the grid of `plan`; radii get plan.density.radius_add.
-AtomBins bin_atoms(const Atoms& atoms, const GridPlan& plan);
+// Bins covering the grid of `plan`; radii get plan.density.radius_add. `first_shell`: also the
+// distances to non-empty bins (the device pass's fallback search reads them; the host's pass
+// does not: first_shell is then left empty).
+AtomBins bin_atoms(const Atoms& atoms, const GridPlan& plan, bool first_shell = true);
 
 // The grid cut into boxes of group[0] x group[1] x group[2] points (the density pass's tiles),
 // numbered x fastest: the boxes that the Gaussian support (pi <= pi_cut) of some atom of `bins`

@@ -216,12 +216,13 @@ TEST_F(Interrupts, ReadOnlyFolderGivesTheOutputErrorAndNothing) {
 
 // A lost device (FDMSURF_FAULT=device-lost: the first wait for GPU work reports
 // VK_ERROR_DEVICE_LOST): exit 6 with the reason, nothing written, and the remaining inputs not
-// tried on a device that is gone.
+// tried on a device that is gone. The density on the device: a CPU device would compute the
+// whole field on the host, with no GPU work to wait for.
 TEST_F(Interrupts, DeviceLostIsExit6AndNothingWritten) {
     const std::string data = FDMSURF_TEST_DATA_DIR;
-    const FaultRun r = run_with_fault(
-        dir_, "device-lost",
-        {data + "/1crn.pdb", data + "/4hhb.pdb.gz", "-o", (dir_ / "out").string() + "/"});
+    const FaultRun r = run_with_fault(dir_, "device-lost",
+                                      {data + "/1crn.pdb", data + "/4hhb.pdb.gz", "-o",
+                                       (dir_ / "out").string() + "/", "--host-density", "off"});
     EXPECT_EQ(r.exit_code, 6) << r.err;
     EXPECT_NE(r.err.find("VK_ERROR_DEVICE_LOST"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("the Vulkan device was lost"), std::string::npos) << r.err;
@@ -242,11 +243,13 @@ TEST_F(Interrupts, DeviceLostLaterInTheRunIsExit6Too) {
 }
 
 // An allocation of device memory that fails (FDMSURF_FAULT=out-of-memory:field): exit 7, the
-// buffer and its size named with a spacing hint, nothing written.
+// buffer and its size named with a spacing hint, nothing written. The density on the device,
+// whose field buffer it is (a CPU device computes it on the host, with no such buffer).
 TEST_F(Interrupts, OutOfDeviceMemoryIsExit7AndNothingWritten) {
     const FaultRun r = run_with_fault(dir_, "out-of-memory:field",
                                       {std::string(FDMSURF_TEST_DATA_DIR) + "/1crn.pdb", "-o",
-                                       (dir_ / "out" / "1crn.ply").string()});
+                                       (dir_ / "out" / "1crn.ply").string(), "--host-density",
+                                       "off"});
     EXPECT_EQ(r.exit_code, 7) << r.err;
     EXPECT_NE(r.err.find("out of memory allocating"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("'field'"), std::string::npos) << r.err;

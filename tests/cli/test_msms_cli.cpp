@@ -68,11 +68,14 @@ TEST(MsmsOptions, AsMsmsSpellsThemAbbreviationsIncluded) {
     EXPECT_EQ(d.gaussian_filter, StagePlace::Auto);
     EXPECT_EQ(d.ses_distance, StagePlace::Auto);
     const MsmsOptions p = parse_msms_args({"-if", "x", "-host_filter", "on", "-host_mc", "off",
-                                           "-host_atoms", "auto", "-host_ses", "off"});
+                                           "-host_atoms", "auto", "-host_ses", "off",
+                                           "-host_density", "on"});
     EXPECT_EQ(p.gaussian_filter, StagePlace::Host);
     EXPECT_EQ(p.marching_cubes, StagePlace::Device);
     EXPECT_EQ(p.vertex_atoms, StagePlace::Auto);
     EXPECT_EQ(p.ses_distance, StagePlace::Device);
+    EXPECT_EQ(p.density_place, StagePlace::Host);
+    EXPECT_EQ(d.density_place, StagePlace::Auto);
 }
 
 TEST(MsmsOptions, BadValuesNameTheOption) {

@@ -203,6 +203,10 @@ TEST(CliOptions, HostStagesAutoOnOrOff) {
     EXPECT_EQ(parse_with({"--host-ses", "off"}).engine.ses_distance, StagePlace::Device);
     EXPECT_EQ(parse_with({"--host-ses=on"}).engine.ses_distance, StagePlace::Host);
     EXPECT_TRUE(contains(parse_error_with({"--host-ses", "yes"}), "--host-ses"));
+    EXPECT_EQ(none.engine.density, StagePlace::Auto);
+    EXPECT_EQ(parse_with({"--host-density", "off"}).engine.density, StagePlace::Device);
+    EXPECT_EQ(parse_with({"--host-density=on"}).engine.density, StagePlace::Host);
+    EXPECT_TRUE(contains(parse_error_with({"--host-density", "gpu"}), "--host-density"));
     const std::string message = parse_error_with({"--host-mc", "gpu"});
     EXPECT_TRUE(contains(message, "--host-mc")) << message;
     EXPECT_TRUE(contains(message, "auto, on or off")) << message;
@@ -212,6 +216,7 @@ TEST(CliOptions, HostStagesAutoOnOrOff) {
     EXPECT_TRUE(contains(help, "--host-mc auto|on|off")) << help;
     EXPECT_TRUE(contains(help, "--host-atoms auto|on|off")) << help;
     EXPECT_TRUE(contains(help, "--host-ses auto|on|off")) << help;
+    EXPECT_TRUE(contains(help, "--host-density auto|on|off")) << help;
 }
 
 TEST(CliOptions, OutputFlags) {

@@ -124,6 +124,13 @@ TEST(CliSummary, TextShowsWhatIsMissingFromAnOpenMesh) {
     EXPECT_TRUE(contains(
         three, ", 2 slabs (exact SES field, Gaussian filter and marching cubes on the host)\n"))
         << three;
+    // The FDM surface's field on the host: the density named before the filter.
+    g.grid.host_ses_distance = false;
+    g.grid.host_density = true;
+    const std::string fdm = fdmsurf::cli::text_summary(g);
+    EXPECT_TRUE(contains(
+        fdm, ", 2 slabs (density, Gaussian filter and marching cubes on the host)\n"))
+        << fdm;
     EXPECT_TRUE(contains(text,
                          "3 piece(s) (2 closed), closed manifold: no (12 boundary edges, "
                          "0 non-manifold edges)"))
@@ -290,11 +297,12 @@ TEST(CliSummary, JsonIsOneValidObjectWithEveryKey) {
 
     const JsonValue& grid = *value->find("grid");
     for (const char* key :
-         {"dims", "spacing", "origin", "cutoff", "slabs", "host_filter", "host_marching_cubes",
-          "host_ses_distance"}) {
+         {"dims", "spacing", "origin", "cutoff", "slabs", "host_filter", "host_density",
+          "host_marching_cubes", "host_ses_distance"}) {
         EXPECT_NE(grid.find(key), nullptr) << key;
     }
     EXPECT_EQ(grid.find("host_filter")->boolean, false);
+    EXPECT_EQ(grid.find("host_density")->boolean, false);
     EXPECT_EQ(grid.find("host_marching_cubes")->boolean, false);
     EXPECT_EQ(grid.find("host_ses_distance")->boolean, false);
     ASSERT_EQ(grid.find("dims")->array.size(), 3u);

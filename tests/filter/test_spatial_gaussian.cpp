@@ -91,7 +91,7 @@ TEST(SpatialGaussian, ResponseIsTheMaskFromOneAndAHalfPointsOfSigma) {
     // The taps' frequency response against the mask 2^-(f/F)^2, f in cycles per point up to
     // Nyquist: the sampled kernel adds the mask's aliases, exp(-pi^2 sigma^2 / 2) at Nyquist.
     // At 0.5 Å (sigma 1.62 points) and at kMinHostSigma they are below 2e-5; at 1 Å (0.81
-    // points), where Auto keeps VkFFT, they are not.
+    // points) they are not (0.04 at Nyquist; the surface is as close to the analytical SES).
     const double cutoff = 0.232;
     auto worst = [cutoff](double spacing) {
         const double sigma = gaussian_sigma_points(cutoff, spacing);
@@ -169,13 +169,16 @@ TEST_F(HostFilterSlabs, AutoFiltersOnTheHostExactlyOnACpuDevice) {
     SurfaceOptions o;
     const SurfaceResult r = e.make_surface(atoms, o);
     ASSERT_GT(r.grid.slabs, 1u);
-    EXPECT_EQ(r.grid.host_filter, e.device().type == "CPU") << e.device().type;
-    // At 1 Å the sampled kernel is not quite the mask's low-pass (sigma 0.81 points): VkFFT.
+    const bool cpu = e.device().type == "CPU";
+    EXPECT_EQ(r.grid.host_filter, cpu) << e.device().type;
+    EXPECT_EQ(r.grid.host_density, cpu);
+    // At 1 Å too (sigma 0.81 points), where the sampled kernel is a slightly different low-pass.
     Engine narrow(EngineOptions{.max_buffer_range = 512u << 10});
     o.spacing = 1.0f;
     const SurfaceResult coarse = narrow.make_surface(atoms, o);
     ASSERT_GT(coarse.grid.slabs, 1u);
-    EXPECT_FALSE(coarse.grid.host_filter);
+    EXPECT_EQ(coarse.grid.host_filter, cpu);
+    EXPECT_EQ(coarse.grid.host_density, cpu);
     o.spacing = 0.5f;
     // The ideal filter has no compact kernel: always VkFFT (its slabs overlap more, so they
     // need wider bindings).
@@ -184,6 +187,7 @@ TEST_F(HostFilterSlabs, AutoFiltersOnTheHostExactlyOnACpuDevice) {
     const SurfaceResult ideal = wide.make_surface(atoms, o);
     ASSERT_GT(ideal.grid.slabs, 1u);
     EXPECT_FALSE(ideal.grid.host_filter);
+    EXPECT_FALSE(ideal.grid.host_density);  // the FFT reads it on the device
 }
 
 }  // namespace

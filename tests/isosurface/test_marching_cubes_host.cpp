@@ -21,6 +21,7 @@
 #include "support/gpu_fixture.hpp"
 #include "support/mesh_checks.hpp"
 #include "support/test_data.hpp"
+#include "support/test_fields.hpp"
 
 namespace {
 
@@ -36,24 +37,7 @@ using fdmsurf::detail::marching_cubes_host;
 using fdmsurf::detail::McParams;
 using fdmsurf::detail::PlaneStack;
 
-// A field of nx x ny x nz points, x fastest, no padding, with the parameters of its whole range.
-struct Field {
-    std::vector<float> values;
-    std::uint32_t nx = 0, ny = 0, nz = 0;
-    McParams params;
-    FieldView view() const { return FieldView{values.data(), nx, ny, nz, nx}; }
-    // Planes [0, split) and [split, nz) from two separate copies, as the slab pipeline's pending
-    // core and the next core's first planes are.
-    PlaneStack stack(std::vector<float>& copy, std::uint32_t split) const {
-        copy.assign(values.begin() + std::ptrdiff_t(std::size_t(split) * nx * ny), values.end());
-        PlaneStack s{{}, nx, ny, nz, nx};
-        for (std::uint32_t z = 0; z < nz; ++z) {
-            s.planes.push_back(z < split ? values.data() + std::size_t(z) * nx * ny
-                                         : copy.data() + std::size_t(z - split) * nx * ny);
-        }
-        return s;
-    }
-};
+using Field = fdmsurf::test::TestField;
 
 void expect_identical(const Mesh& host, const Mesh& cpu) {
     EXPECT_EQ(host.vertex_count(), cpu.vertex_count());
@@ -64,40 +48,8 @@ void expect_identical(const Mesh& host, const Mesh& cpu) {
     EXPECT_TRUE(host.indices == cpu.indices);
 }
 
-// Crambin at 0.5 Å: the density of the CPU reference, filtered by the host Gaussian (the field
-// the slab pipeline's marching cubes reads on a CPU device) or left unfiltered (vdw, with the
-// power distance's interpolation along edges).
-Field crambin(bool filtered) {
-    const fdmsurf::Atoms atoms =
-        fdmsurf::read_structure(fdmsurf::test::data_path("1crn.pdb")).atoms;
-    SurfaceOptions o{.spacing = 0.5f};
-    if (!filtered) o.surface = SurfaceKind::Vdw;
-    const GridPlan plan = fdmsurf::detail::plan_grid(atoms, o);
-    Field f;
-    f.nx = plan.info.dims[0];
-    f.ny = plan.info.dims[1];
-    f.nz = plan.info.dims[2];
-    const std::vector<float> density = fdmsurf::detail::density_cpu(atoms, plan);
-    f.values.resize(std::size_t(f.nx) * f.ny * f.nz);
-    if (filtered) {
-        const double sigma = fdmsurf::detail::gaussian_sigma_points(plan.info.cutoff, 0.5);
-        const std::vector<float> taps =
-            fdmsurf::detail::gaussian_taps(sigma, std::uint32_t(std::ceil(6 * sigma)));
-        std::vector<float> scratch;
-        fdmsurf::detail::gaussian_filter_planes(density.data(), f.nx, f.ny, f.nz, plan.pitch, taps,
-                                                0, f.nz, f.values.data(), scratch);
-    } else {
-        for (std::size_t row = 0; row < std::size_t(f.ny) * f.nz; ++row)
-            std::copy_n(&density[row * plan.pitch], f.nx, &f.values[row * f.nx]);
-        f.params.power_sigma2 = plan.density.sigma * plan.density.sigma;
-        f.params.power_t = plan.density.level_t;
-    }
-    for (int a = 0; a < 3; ++a) f.params.origin[a] = plan.info.origin[a];
-    f.params.spacing = plan.info.spacing;
-    f.params.iso = plan.iso;
-    f.params.z_end = f.nz - 1;
-    return f;
-}
+// Crambin at 0.5 Å: filtered (the field the slab pipeline marches on a CPU device) or not (vdw).
+Field crambin(bool filtered) { return fdmsurf::test::structure_field("1crn.pdb", 0.5f, filtered); }
 
 TEST(MarchingCubesHost, FilteredCrambinIsTheReferenceMesh) {
     const Field f = crambin(true);
@@ -128,23 +80,7 @@ TEST(MarchingCubesHost, UnfilteredCrambinWithPowerInterpolationIsTheReferenceMes
 // Noise about the level: nearly every cell crossed, every bit of the words used. Rows on, just
 // past and just short of the 64-point words, the shortest rows, and a single row or column.
 Field noise(std::uint32_t nx, std::uint32_t ny, std::uint32_t nz, std::uint32_t seed) {
-    Field f;
-    f.nx = nx;
-    f.ny = ny;
-    f.nz = nz;
-    f.params.spacing = 0.5f;
-    f.params.origin[0] = -3.0f;
-    f.params.iso = 0.5f;
-    f.params.z_end = nz - 1;
-    std::uint32_t state = seed;
-    f.values.resize(std::size_t(nx) * ny * nz);
-    for (float& v : f.values) {
-        state = state * 1664525u + 1013904223u;
-        v = float(state >> 8) / float(1u << 24);
-        // Some values exactly at the level: the clamp keeps their vertices apart.
-        if ((state >> 4) % 23 == 0) v = 0.5f;
-    }
-    return f;
+    return fdmsurf::test::noise_field(nx, ny, nz, seed);
 }
 
 TEST(MarchingCubesHost, NoiseAtWordBoundariesIsTheReferenceMesh) {
@@ -307,6 +243,7 @@ TEST_F(HostMarchingCubesSlabs, AutoRunsOnTheHostExactlyOnACpuDevice) {
     EXPECT_EQ(one.grid.slabs, 1u);
     EXPECT_EQ(one.grid.host_marching_cubes, cpu);
     EXPECT_EQ(one.grid.host_filter, cpu);
+    EXPECT_EQ(one.grid.host_density, cpu);
     // A mesh left on the device for a renderer keeps the device's passes.
     const fdmsurf::DeviceSurfaceResult kept = whole.make_device_surface(atoms, SurfaceOptions{});
     EXPECT_FALSE(kept.grid.host_marching_cubes);

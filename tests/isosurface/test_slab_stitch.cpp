@@ -20,6 +20,7 @@
 #include "isosurface/slab_stitch.hpp"
 #include "support/mesh_checks.hpp"
 #include "support/test_data.hpp"
+#include "support/test_fields.hpp"
 
 namespace {
 
@@ -27,59 +28,11 @@ using fdmsurf::Mesh;
 using fdmsurf::detail::McParams;
 using fdmsurf::detail::PlaneStack;
 
-// A field of nx x ny x nz points, x fastest, no padding, with the parameters of its whole range.
-struct Field {
-    std::vector<float> values;
-    std::uint32_t nx = 0, ny = 0, nz = 0;
-    McParams params;
-    const float* plane(std::uint32_t z) const { return values.data() + std::size_t(z) * nx * ny; }
-    PlaneStack stack() const {
-        PlaneStack s{{}, nx, ny, nz, nx};
-        for (std::uint32_t z = 0; z < nz; ++z) s.planes.push_back(plane(z));
-        return s;
-    }
-};
-
-// The filtered density of a structure from tests/data at `spacing`: the field the slab pipeline
-// marches on a CPU device.
-Field structure_field(const std::string& file, float spacing) {
-    const fdmsurf::Atoms atoms = fdmsurf::read_structure(fdmsurf::test::data_path(file)).atoms;
-    const fdmsurf::SurfaceOptions o{.spacing = spacing};
-    const auto plan = fdmsurf::detail::plan_grid(atoms, o);
-    Field f;
-    f.nx = plan.info.dims[0];
-    f.ny = plan.info.dims[1];
-    f.nz = plan.info.dims[2];
-    const std::vector<float> density = fdmsurf::detail::density_cpu(atoms, plan);
-    const double sigma = fdmsurf::detail::gaussian_sigma_points(plan.info.cutoff, spacing);
-    const std::vector<float> taps =
-        fdmsurf::detail::gaussian_taps(sigma, std::uint32_t(std::ceil(6 * sigma)));
-    std::vector<float> scratch;
-    f.values.resize(std::size_t(f.nx) * f.ny * f.nz);
-    fdmsurf::detail::gaussian_filter_planes(density.data(), f.nx, f.ny, f.nz, plan.pitch, taps, 0,
-                                            f.nz, f.values.data(), scratch);
-    for (int a = 0; a < 3; ++a) f.params.origin[a] = plan.info.origin[a];
-    f.params.spacing = plan.info.spacing;
-    f.params.iso = plan.iso;
-    f.params.z_end = f.nz - 1;
-    return f;
-}
+using Field = fdmsurf::test::TestField;
+using fdmsurf::test::structure_field;
 
 Field noise(std::uint32_t nx, std::uint32_t ny, std::uint32_t nz, std::uint32_t seed) {
-    Field f;
-    f.nx = nx;
-    f.ny = ny;
-    f.nz = nz;
-    f.params.spacing = 0.5f;
-    f.params.iso = 0.5f;
-    f.params.z_end = nz - 1;
-    std::uint32_t state = seed;
-    f.values.resize(std::size_t(nx) * ny * nz);
-    for (float& v : f.values) {
-        state = state * 1664525u + 1013904223u;
-        v = float(state >> 8) / float(1u << 24);
-    }
-    return f;
+    return fdmsurf::test::noise_field(nx, ny, nz, seed);
 }
 
 // The parts of the slab pipeline: part j the cells of planes starts[j] .. starts[j + 1].

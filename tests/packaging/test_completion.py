@@ -86,7 +86,7 @@ def expected_values(option, command=()):
 
 @pytest.mark.parametrize("option", [
     "--surface", "--method", "--filter", "--format", "--models", "--color", "--properties",
-    "--simplifier", "--host-filter", "--host-mc", "--host-atoms", "--host-ses",
+    "--simplifier", "--host-filter", "--host-density", "--host-mc", "--host-atoms", "--host-ses",
     "--output-format", "--stats", "--relative", "--view", "--views", "--background"])
 def test_option_values_are_the_programs(option):
     offered = set(complete("fdmsurf", option, ""))

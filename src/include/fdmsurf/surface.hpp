@@ -105,6 +105,7 @@ struct GridInfo {
     std::array<std::uint32_t, 3> dims{};  // points along x, y, z
     std::uint32_t slabs = 1;              // > 1 when processed in overlapping parts
     bool host_filter = false;             // the Gaussian filter ran on the host
+    bool host_density = false;            // the density was computed on the host
     bool host_marching_cubes = false;     // marching cubes ran on the host
     bool host_ses_distance = false;       // the exact SES field was computed on the host
     float cutoff = 0.0f;                  // filter cut-off used (1/Å), 0 for vdw, sas and edt
@@ -170,10 +171,17 @@ struct EngineOptions {
     // runs on the host (the ideal filter always goes through VkFFT). On the host: a separable
     // convolution in space, the same low-pass. On a CPU device the FFTs share the host's cores
     // with everything else, and three passes of a kernel of 2 ceil(6 sigma) + 1 taps (21 at the
-    // defaults) cost a fraction of them (docs/performance.md). Auto keeps VkFFT where sigma is
-    // below 1.5 grid points (spacings above 0.54 Å at the default cut-off), where the sampled
-    // kernel's aliases would make it a slightly different low-pass; Host uses it there too.
+    // defaults) cost a fraction of them (docs/performance.md). Below 1.5 grid points of sigma
+    // (spacings above 0.54 Å at the default cut-off) the sampled kernel's aliases make it a
+    // slightly different low-pass (up to exp(-pi^2 sigma^2 / 2) of the mask at the Nyquist
+    // frequency: 0.04 at 1 Å), as close to the analytical SES (docs/accuracy.md).
     GaussianFilterPlace gaussian_filter = GaussianFilterPlace::Auto;
+    // The density of fdm, vdw and sas surfaces, where the rest of the field's stages run on the
+    // host (the Gaussian filter of a filtered surface, and marching cubes): the shader's
+    // candidate rule and power expression on all threads, box by box, skipping the boxes no
+    // atom reaches; the same values but for the exponential's rounding. On a CPU device it
+    // costs a fraction of the compute pass (docs/performance.md).
+    StagePlace density = StagePlace::Auto;
     // Marching cubes (not for make_device_surface's mesh, left on the device). On the host it
     // walks rows of inside bits packed 64 to a word on all threads and reads the slabs' planes
     // where they already are (no upload, no read-back, no unpacking); a grid in one binding
