@@ -81,6 +81,7 @@ void EngineImpl::find_field_sources(const Atoms& atoms, const SurfaceOptions& op
         src.host_values.reset(new float[plan.field_floats()]);
         if (plan.pitch > d[0]) std::fill_n(src.host_values.get(), plan.field_floats(), 0.0f);
         src.ses->evaluate(plan, 0, d[2], src.host_values.get(), plan.pitch);
+        src.ses->release_scratch();
         add_times(result.times, {{"ses-host", now_ms() - t_ses, false}});
         report("ses-host");
     }

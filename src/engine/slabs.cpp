@@ -329,7 +329,10 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
             std::copy(slab_core.begin(), slab_core.end(), full.begin() + zc0 * plane_floats);
         // The slab buffer is released before marching cubes on the last cores allocates its
         // buffers (the earlier parts run beside it).
-        if (k + 1 == slab.slabs) fields.field = Buffer();
+        if (k + 1 == slab.slabs) {
+            fields.field = Buffer();
+            if (host_ses) ses->release_scratch();  // the field's, kept from slab to slab
+        }
         if (k > 0) {
             marcher.march(slab_core);
             marcher.below.assign(marcher.pending.end() - plane_floats, marcher.pending.end());

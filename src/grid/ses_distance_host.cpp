@@ -81,15 +81,18 @@ struct EvalGrid {
     }
 };
 
-// Scratch per task, taken from a pool for one evaluate call and given back at the task's end:
-// kept from chunk to chunk (fresh pages for each would cost more than the work on them), freed
-// when the call returns.
-struct Scratch {
+}  // namespace
+
+// Scratch per task, taken from the object's pool and given back at the task's end: kept from
+// chunk to chunk and from call to call (a slab's evaluate is one call; fresh pages for each
+// would cost more than the work on them: 1.1 GB of them on the 2.4 M-atom shell at 1 Å, 15
+// slabs), freed by release_scratch or with the object.
+struct SesHostField::Scratch {
     std::vector<float> lb, arc_best;
     std::vector<std::uint32_t> deepest, tie;  // tie: 32 bits, as deepest (one vector width)
     std::vector<std::uint64_t> waiting_bits;
 };
-struct ScratchPool {
+struct SesHostField::ScratchPool {
     std::mutex mutex;
     std::vector<std::unique_ptr<Scratch>> free;
     struct Lease {
@@ -110,8 +113,6 @@ struct ScratchPool {
         }
     };
 };
-
-}  // namespace
 
 // An exposed arc with what its distance needs precomputed (double precision): the angle test
 // by cross products against the ends' in-plane directions, the distance off the arc to the
@@ -304,7 +305,10 @@ std::vector<std::uint32_t> sorted_indices(std::size_t count, unsigned threads, L
 }  // namespace
 
 SesHostField::SesHostField(const SesFeatures& f, double d_max, unsigned threads)
-    : f_(f), threads_(thread_count(threads)), reach_(d_max) {
+    : f_(f),
+      threads_(thread_count(threads)),
+      reach_(d_max),
+      scratch_(std::make_unique<ScratchPool>()) {
     const std::size_t n = f.sphere_count(), n_arcs = f.arcs.size();
     const float* s = f.spheres.data();
     const std::size_t bins = f.bin_count();
@@ -740,9 +744,8 @@ void SesHostField::evaluate(const GridPlan& plan, std::uint32_t z_begin, std::ui
                         std::to_string(dims[0]) + " points");
     const EvalGrid grid(plan, z_begin, out, pitch);
     const std::uint32_t chunks = (z_end - z_begin + kChunkPlanes - 1) / kChunkPlanes;
-    ScratchPool pool;
     parallel_chunks(chunks, threads_, [&](std::size_t chunk) {
-        const ScratchPool::Lease lease(pool);
+        const ScratchPool::Lease lease(*scratch_);
         const std::uint32_t za = z_begin + std::uint32_t(chunk) * kChunkPlanes;
         const std::uint32_t zb = std::min(za + kChunkPlanes, z_end);
         const Slab slab(*this, grid, za, zb, *lease.scratch);
@@ -750,6 +753,11 @@ void SesHostField::evaluate(const GridPlan& plan, std::uint32_t z_begin, std::ui
         if (slab.deepest_faces() == 0) return;
         slab.arcs();
     });
+}
+
+void SesHostField::release_scratch() const {
+    const std::lock_guard<std::mutex> lock(scratch_->mutex);
+    scratch_->free.clear();
 }
 
 std::vector<float> SesHostField::field(const GridPlan& plan) const {

@@ -45,6 +45,9 @@ public:
     void evaluate(const GridPlan& plan, std::uint32_t z_begin, std::uint32_t z_end, float* out,
                   std::size_t pitch) const;
 
+    // Frees the scratch that evaluate keeps from call to call (its planes' depths and arcs).
+    void release_scratch() const;
+
     // The whole grid in plan.pitch floats per row (ses_field_cpu's layout; the padding is 0).
     std::vector<float> field(const GridPlan& plan) const;
 
@@ -70,6 +73,8 @@ private:
         float lo[3], hi[3];
     };
     struct Slab;  // one task of evaluate: a few planes and their scratch (ses_distance_host.cpp)
+    struct Scratch;
+    struct ScratchPool;
     static void arc_row(const Arc& arc, const float* xs, float y, float z, int xa, int xb,
                         float* best);
     const SesFeatures& f_;
@@ -85,6 +90,7 @@ private:
     double reach_ = 0.0;                                       // the constructor's d_max
     std::vector<std::uint32_t> bin_arc_start_;                 // arcs within reach_ of a bin:
     std::unique_ptr<std::uint32_t[]> bin_arcs_;                // [start[b], start[b + 1])
+    std::unique_ptr<ScratchPool> scratch_;                     // evaluate's, kept between calls
 };
 
 }  // namespace fdmsurf::detail

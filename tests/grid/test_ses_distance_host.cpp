@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "fdmsurf/compare.hpp"
@@ -131,6 +132,28 @@ TEST(SesDistanceHost, PlaneRangesAndThreadCountsGiveTheSameValues) {
         }
     EXPECT_EQ(differ, 0u);
     EXPECT_EQ(padding, 0u);  // rows are written within nx
+}
+
+// evaluate keeps its scratch from call to call (one slab per call in the engine): larger and
+// smaller plane ranges in turn, and after release_scratch, give a fresh object's values.
+TEST(SesDistanceHost, KeptScratchGivesTheSameValuesFromCallToCall) {
+    const Atoms atoms = fdmsurf::read_structure(data_path("1crn.xyzr")).atoms;
+    const SurfaceOptions options{.method = SesMethod::Edt, .spacing = 0.6f};
+    const GridPlan plan = plan_grid(atoms, options);
+    const auto features = build_ses_features(atoms, options.probe);
+    const std::vector<float> fresh = SesHostField(features, 10.0, 2).field(plan);
+    const SesHostField field(features, 10.0, 2);
+    const auto& d = plan.info.dims;
+    const std::size_t plane = std::size_t(d[1]) * plan.pitch;
+    for (const auto& [z0, z1] : {std::pair<std::uint32_t, std::uint32_t>{0, d[2]}, {7, 9},
+                                {3, d[2] - 2}, {0, 1}}) {
+        std::vector<float> part(std::size_t(z1 - z0) * plane, 0.0f);
+        field.evaluate(plan, z0, z1, part.data(), plan.pitch);
+        EXPECT_TRUE(std::equal(part.begin(), part.end(), fresh.begin() + z0 * plane))
+            << "planes " << z0 << " to " << z1;
+    }
+    field.release_scratch();
+    EXPECT_EQ(field.field(plan), fresh);
 }
 
 TEST(SesDistanceHost, RejectsBadRanges) {
