@@ -315,6 +315,13 @@ SesHostField::SesHostField(const SesFeatures& f, double d_max, unsigned threads)
     if (f.neighbour_start.size() != n + 1)
         throw Error(ErrorCode::InvalidArgument, "host SES field: features without neighbour lists");
     constexpr std::size_t kChunk = 4096;  // balls or arcs per task
+    // As the features' binning has it: more than the rounding of a centre's bin and of the bins'
+    // bounds.
+    for (int a = 0; a < 3; ++a) {
+        const double far = std::max(std::abs(double(f.origin[a])),
+                                    std::abs(double(f.origin[a]) + double(f.bin_size) * f.dims[a]));
+        bin_margin_ = std::max(bin_margin_, 1e-3 + 1e-6 * far);
+    }
 
     spheres_by_z_ = sorted_indices(n, threads_, [&](std::uint32_t a, std::uint32_t b) {
         return s[4 * a + 2] != s[4 * b + 2] ? s[4 * a + 2] < s[4 * b + 2] : a < b;
@@ -436,12 +443,26 @@ double SesHostField::distance(const double p[3], double d_max, double* gradient)
     }
     // The balls holding p, as the reference's depth loop (which also sees farther balls, whose
     // depth is negative: the same deepest, the same ties, where one ball holds p).
+    // Only the bins whose box (widened by bin_margin_) lies within r_max of p can hold a ball
+    // holding p: a bit more than half of the 27 in range.
     double lb = -std::numeric_limits<double>::infinity();
     std::uint32_t deepest = 0;
     bool tie = false;
-    for (int z = lo[2]; z <= hi[2]; ++z)
-        for (int y = lo[1]; y <= hi[1]; ++y)
+    const double r_max = double(f_.r_max) * (1.0 + 1e-6), r2 = r_max * r_max;
+    auto gap2 = [&](int a, int cell) {
+        const double lo_edge = double(f_.origin[a]) + double(f_.bin_size) * cell - bin_margin_;
+        const double hi_edge = lo_edge + double(f_.bin_size) + 2.0 * bin_margin_;
+        const double g = std::max({0.0, lo_edge - p[a], p[a] - hi_edge});
+        return g * g;
+    };
+    for (int z = lo[2]; z <= hi[2]; ++z) {
+        const double gz = gap2(2, z);
+        if (gz > r2) continue;
+        for (int y = lo[1]; y <= hi[1]; ++y) {
+            const double gyz = gz + gap2(1, y);
+            if (gyz > r2) continue;
             for (int x = lo[0]; x <= hi[0]; ++x) {
+                if (gyz + gap2(0, x) > r2) continue;
                 const std::size_t b = (std::size_t(z) * f_.dims[1] + y) * f_.dims[0] + x;
                 for (std::uint32_t i = f_.sphere_start[b]; i < f_.sphere_start[b + 1]; ++i) {
                     const double dx = p[0] - s[4 * i], dy = p[1] - s[4 * i + 1],
@@ -455,6 +476,8 @@ double SesHostField::distance(const double p[3], double d_max, double* gradient)
                     if (v > lb) lb = v, deepest = i;
                 }
             }
+        }
+    }
     if (!(lb > 0.0) || tie) return ses_distance(f_, p, d_max, gradient, false);
     if (lb >= d_max) {
         set_gradient(0, 0, 0);

@@ -88,6 +88,7 @@ private:
     std::vector<float> arc_lo_z_;                              // ascending
     float arc_extent_z_ = 0.0f;                                // the largest hi z - lo z
     double reach_ = 0.0;                                       // the constructor's d_max
+    double bin_margin_ = 0.0;  // Å: a centre lies within this of its bin's box
     std::vector<std::uint32_t> bin_arc_start_;                 // arcs within reach_ of a bin:
     std::unique_ptr<std::uint32_t[]> bin_arcs_;                // [start[b], start[b + 1])
     std::unique_ptr<ScratchPool> scratch_;                     // evaluate's, kept between calls
