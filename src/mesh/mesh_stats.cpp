@@ -621,23 +621,35 @@ void keep_pieces(Mesh& mesh, MeshAnalysis& a, const std::vector<char>& drop, boo
         held[k].resize(3 * (hold - begin));
         std::size_t t = chunk_start[k];
         Index last = no_piece;
-        Sums* sums = nullptr;  // the run of `last`, the chunk's last one
+        // The sums of the run of `last` (the chunk's last one), held in locals and stored when
+        // the run ends: added through memory, each sum waited on its store.
+        double area = 0.0, volume = 0.0;
+        Index triangles = 0;
+        const auto store = [&runs, &renumber, k](Index piece, double ar, double vol, Index n) {
+            if (piece == no_piece) return;
+            Sums& run = piece_sum(runs[k], renumber[piece]);
+            run.area += ar, run.volume += vol, run.triangles += n;
+        };
         for (std::size_t o = begin; o < end; ++t) {
             const Index tri[3] = {idx[3 * t], idx[3 * t + 1], idx[3 * t + 2]};
             const Index piece = of_vertex[tri[0]];
             if (drop[piece]) continue;
             if (update) {
-                if (piece != last) last = piece, sums = &piece_sum(runs[k], renumber[piece]);
+                if (piece != last) {
+                    store(last, area, volume, triangles);
+                    last = piece, area = 0.0, volume = 0.0, triangles = 0;
+                }
                 const auto p0 = position(mesh, tri[0]), p1 = position(mesh, tri[1]),
                            p2 = position(mesh, tri[2]);
-                sums->volume += triangle_volume(p0, p1, p2);
-                if (a.topology) sums->area += triangle_area(p0, p1, p2);
-                ++sums->triangles;
+                volume += triangle_volume(p0, p1, p2);
+                if (a.topology) area += triangle_area(p0, p1, p2);
+                ++triangles;
             }
             Index* to = o < hold ? &held[k][3 * (o - begin)] : &idx[3 * o];
             for (int j = 0; j < 3; ++j) to[j] = remap[tri[j]];
             ++o;
         }
+        if (update) store(last, area, volume, triangles);
     });
     parallel_chunks(chunk_start.size(), threads, [&](std::size_t k) {
         std::copy(held[k].begin(), held[k].end(), idx + 3 * k * kTriangleChunk);
