@@ -601,27 +601,32 @@ void keep_pieces(Mesh& mesh, MeshAnalysis& a, const std::vector<char>& drop, boo
         const std::uint64_t below = bits & ((std::uint64_t{1} << (v % 64)) - 1);
         return Index(kept_before[v / 64] + Index(std::popcount(below)));
     };
-    // Every per-vertex array moved in place on all threads, chunk by chunk; a chunk's first new
-    // places that lie before its own old vertices (those of the chunks before it, maybe not yet
-    // read) wait in a buffer until every chunk is done. With `update` the kept vertices' pieces
-    // follow, renumbered.
+    // Every per-vertex array moved in place, in one run of chunks a thread; a run's first new
+    // places that lie before its own old vertices (those of the runs before it, maybe not yet
+    // read: as many as the vertices dropped before it, few) wait in a buffer until every run is
+    // done. (Chunk by chunk, once more vertices than a chunk's were dropped, nearly every one
+    // waited: a second copy of the arrays.) With `update` the kept vertices' pieces follow,
+    // renumbered.
+    const std::size_t vertex_runs = std::min<std::size_t>(threads, vertex_chunks);
     const auto compact = [&](auto* data, std::size_t stride, auto&& value) {
         using T = std::remove_pointer_t<decltype(data)>;
-        std::vector<std::vector<T>> held(vertex_chunks);
-        parallel_chunks(vertex_chunks, threads, [&](std::size_t k) {
-            const std::size_t begin = k * kVertexChunk, end = std::min(nv, begin + kVertexChunk);
-            std::size_t o = first_kept[k];
-            held[k].resize(stride * (std::min(first_kept[k + 1], begin) - o));
+        std::vector<std::vector<T>> held(vertex_runs);
+        parallel_chunks(vertex_runs, threads, [&](std::size_t r) {
+            const std::size_t k0 = r * vertex_chunks / vertex_runs,
+                              k1 = (r + 1) * vertex_chunks / vertex_runs;
+            const std::size_t begin = k0 * kVertexChunk, end = std::min(nv, k1 * kVertexChunk);
+            std::size_t o = first_kept[k0];
+            held[r].resize(stride * (std::min(first_kept[k1], begin) - o));
             for (std::size_t v = begin; v < end; ++v) {
                 if (!is_kept(v)) continue;
-                T* to = o < begin ? &held[k][stride * (o - first_kept[k])] : data + stride * o;
+                T* to = o < begin ? &held[r][stride * (o - first_kept[k0])] : data + stride * o;
                 for (std::size_t j = 0; j < stride; ++j) to[j] = value(data[stride * v + j]);
                 ++o;
             }
         });
-        parallel_chunks(vertex_chunks, threads, [&](std::size_t k) {
-            std::copy(held[k].begin(), held[k].end(), data + stride * first_kept[k]);
-        });
+        for (std::size_t r = 0; r < vertex_runs; ++r)
+            std::copy(held[r].begin(), held[r].end(),
+                      data + stride * first_kept[r * vertex_chunks / vertex_runs]);
     };
     const auto same = [](auto x) { return x; };
     if (update) {
@@ -663,59 +668,67 @@ void keep_pieces(Mesh& mesh, MeshAnalysis& a, const std::vector<char>& drop, boo
         in += run.triangles;
     }
     const std::size_t nt = out;
-    // Each new chunk on a thread: its triangles moved, in place, and (`update`) its sums taken
-    // as analyse_mesh takes them. Chunk k writes [k C, (k + 1) C) from old triangles at or after
-    // the place of each; only its first places that lie before its own old triangles may hold
-    // old triangles of the chunks before it, not yet read: those wait in a buffer until every
-    // chunk is done.
+    // The new chunks in one run a thread, each chunk's triangles moved in place and (`update`)
+    // its sums taken as analyse_mesh takes them. Chunk k writes [k C, (k + 1) C) from old
+    // triangles at or after the place of each; only a run's first places that lie before its
+    // own old triangles may hold old triangles of the runs before it, not yet read (as many as
+    // the triangles dropped before it): those wait in a buffer until every run is done.
     struct Sums {
         double area = 0.0;
         double volume = 0.0;
         Index triangles = 0;
     };
     Index* idx = mesh.indices.data();
-    std::vector<PieceRuns<Sums>> runs(chunk_start.size());
-    std::vector<std::vector<Index>> held(chunk_start.size());
-    parallel_chunks(chunk_start.size(), threads, [&](std::size_t k) {
-        const std::size_t begin = k * kTriangleChunk, end = std::min(nt, begin + kTriangleChunk);
-        const std::size_t hold = std::min(end, chunk_start[k]);
-        held[k].resize(3 * (hold - begin));
-        std::size_t t = chunk_start[k];
-        Index last = no_piece;
-        // The sums of the run of `last` (the chunk's last one), held in locals and stored when
-        // the run ends: added through memory, each sum waited on its store.
-        double area = 0.0, volume = 0.0;
-        Index triangles = 0;
-        const auto store = [&runs, k](Index piece, double ar, double vol, Index n) {
-            if (piece == no_piece) return;
-            Sums& run = piece_sum(runs[k], piece);
-            run.area += ar, run.volume += vol, run.triangles += n;
-        };
-        for (std::size_t o = begin; o < end; ++t) {
-            if (!is_kept(idx[3 * t])) continue;
-            const Index tri[3] = {remap(idx[3 * t]), remap(idx[3 * t + 1]), remap(idx[3 * t + 2])};
-            if (update) {
-                // (The positions and pieces moved already: read at the new numbers.)
-                const Index piece = a.pieces.of_vertex[tri[0]];
-                if (piece != last) {
-                    store(last, area, volume, triangles);
-                    last = piece, area = 0.0, volume = 0.0, triangles = 0;
+    const std::size_t chunks = chunk_start.size();
+    const std::size_t triangle_runs = std::min<std::size_t>(threads, chunks);
+    std::vector<PieceRuns<Sums>> runs(chunks);
+    std::vector<std::vector<Index>> held(triangle_runs);
+    parallel_chunks(triangle_runs, threads, [&](std::size_t r) {
+        const std::size_t k0 = r * chunks / triangle_runs, k1 = (r + 1) * chunks / triangle_runs;
+        const std::size_t first = k0 * kTriangleChunk;
+        const std::size_t hold = std::min(std::min(nt, k1 * kTriangleChunk), chunk_start[k0]);
+        held[r].resize(3 * (hold - first));
+        for (std::size_t k = k0; k < k1; ++k) {
+            const std::size_t begin = k * kTriangleChunk;
+            const std::size_t end = std::min(nt, begin + kTriangleChunk);
+            std::size_t t = chunk_start[k];
+            Index last = no_piece;
+            // The sums of the run of `last` (the chunk's last one), held in locals and stored
+            // when the run ends: added through memory, each sum waited on its store.
+            double area = 0.0, volume = 0.0;
+            Index triangles = 0;
+            const auto store = [&runs, k](Index piece, double ar, double vol, Index n) {
+                if (piece == no_piece) return;
+                Sums& run = piece_sum(runs[k], piece);
+                run.area += ar, run.volume += vol, run.triangles += n;
+            };
+            for (std::size_t o = begin; o < end; ++t) {
+                if (!is_kept(idx[3 * t])) continue;
+                const Index tri[3] = {remap(idx[3 * t]), remap(idx[3 * t + 1]),
+                                      remap(idx[3 * t + 2])};
+                if (update) {
+                    // (The positions and pieces moved already: read at the new numbers.)
+                    const Index piece = a.pieces.of_vertex[tri[0]];
+                    if (piece != last) {
+                        store(last, area, volume, triangles);
+                        last = piece, area = 0.0, volume = 0.0, triangles = 0;
+                    }
+                    const auto p0 = position(mesh, tri[0]), p1 = position(mesh, tri[1]),
+                               p2 = position(mesh, tri[2]);
+                    volume += triangle_volume(p0, p1, p2);
+                    if (a.topology) area += triangle_area(p0, p1, p2);
+                    ++triangles;
                 }
-                const auto p0 = position(mesh, tri[0]), p1 = position(mesh, tri[1]),
-                           p2 = position(mesh, tri[2]);
-                volume += triangle_volume(p0, p1, p2);
-                if (a.topology) area += triangle_area(p0, p1, p2);
-                ++triangles;
+                Index* to = o < hold ? &held[r][3 * (o - first)] : &idx[3 * o];
+                for (int j = 0; j < 3; ++j) to[j] = tri[j];
+                ++o;
             }
-            Index* to = o < hold ? &held[k][3 * (o - begin)] : &idx[3 * o];
-            for (int j = 0; j < 3; ++j) to[j] = tri[j];
-            ++o;
+            if (update) store(last, area, volume, triangles);
         }
-        if (update) store(last, area, volume, triangles);
     });
-    parallel_chunks(chunk_start.size(), threads, [&](std::size_t k) {
-        std::copy(held[k].begin(), held[k].end(), idx + 3 * k * kTriangleChunk);
-    });
+    for (std::size_t r = 0; r < triangle_runs; ++r)
+        std::copy(held[r].begin(), held[r].end(),
+                  idx + 3 * (r * chunks / triangle_runs) * kTriangleChunk);
     mesh.indices.resize(3 * nt);
     trace("keep pieces: triangles moved");
     if (!update) return;
