@@ -186,26 +186,249 @@ struct NearAtoms {
 
 }  // namespace
 
-AtomsByX::AtomsByX(const Atoms& atoms) : order(atoms.size()), x(atoms.size()), xyzr(atoms.size()) {
-    // (x, index) pairs sorted: ties by index, and no reads of the atoms in the comparisons.
-    std::vector<std::pair<float, std::uint32_t>> keyed(atoms.size());
-    parallel_chunks(chunk_count(atoms.size(), kVertexChunk), thread_count(), [&](std::size_t k) {
-        for (std::size_t i = k * kVertexChunk; i < std::min(atoms.size(), (k + 1) * kVertexChunk);
-             ++i)
-            keyed[i] = {atoms.xyz[3 * i], static_cast<std::uint32_t>(i)};
-    });
-    std::sort(keyed.begin(), keyed.end());
-    for (std::size_t k = 0; k < keyed.size(); ++k) {
-        const std::size_t i = keyed[k].second;
-        order[k] = keyed[k].second;
-        x[k] = keyed[k].first;
-        xyzr[k] = {atoms.xyz[3 * i], atoms.xyz[3 * i + 1], atoms.xyz[3 * i + 2], atoms.radius[i]};
-        r_max = std::max(r_max, atoms.radius[i]);
-    }
+AtomCells::AtomCells(const Atoms& atoms) {
+    for (float r : atoms.radius) r_max = std::max(r_max, r);
+    // Cells of about 8 Å: a void's box with its margin (~3.4 Å with the probe) overlaps a few.
+    cells = make_cell_list(atoms.xyz, 8.0);
 }
 
+namespace {
+
+// The samples of one axis of the search grid, as the plain loop makes them: lo + step / 2, then
+// step added, while below hi.
+std::vector<double> axis_samples(double lo, double hi, double step) {
+    std::vector<double> s;
+    for (double x = lo + 0.5 * step; x < hi; x += step) s.push_back(x);
+    return s;
+}
+
+// The grid's samples in tiles of kTile³ samples, and the near atoms that can give the
+// clearance somewhere in a box (a block of tiles: their samples and half a step around them):
+// an atom whose distance to the box, less its radius, exceeds the least over the atoms of their
+// farthest distance to the box less radius (or the cap) is never the nearest there. The min
+// over the box's atoms is then the min over all, to the bit (a margin of 1e-6 Å, far above
+// rounding, keeps the doubtful ones), and that least farthest distance bounds every clearance
+// in the box. Blocks are halved, from the whole grid down to tiles, each sorting out its
+// parent's atoms, and only where the search needs them.
+class SampleTiles {
+public:
+    static constexpr std::size_t kTile = 2;
+
+    SampleTiles(const std::vector<std::array<double, 4>>& atoms,
+                const std::array<std::vector<double>, 3>& axes, double step, double cap)
+        : atoms_(atoms), axes_(axes), step_(step), cap_(cap) {
+        for (int a = 0; a < 3; ++a) dims_[a] = (axes[a].size() + kTile - 1) / kTile;
+        tiles_.resize(dims_[0] * dims_[1] * dims_[2]);
+        all_.resize(atoms.size());
+        for (std::size_t n = 0; n < atoms.size(); ++n) all_[n] = std::uint32_t(n);
+    }
+
+    // The grid's first `want` samples inside (inside(p)) by clearance, best first, those of equal
+    // clearance in the plain loop's order: what that loop keeps, found best first. Blocks are
+    // taken in the order of their bounds (halved, or their samples measured), and a sample once
+    // no block left can hold one as good: only the samples that can be among the best are
+    // measured, and only those taken are tested for inside. Returns true, at once, when a sample
+    // inside reaches the cap.
+    template <class Inside>
+    bool best_inside(const Inside& inside, std::size_t want,
+                     std::vector<std::pair<double, P3>>& best) {
+        const std::size_t nx = axes_[0].size(), ny = axes_[1].size(), nz = axes_[2].size();
+        // Measured samples, a heap with the best (largest clearance, then first in the plain
+        // loop's order) on top; blocks, a heap with the largest bound on top.
+        struct Sample {
+            double c;
+            std::size_t at;  // (k ny + j) nx + i
+        };
+        const auto worse = [](const Sample& a, const Sample& b) {
+            return a.c < b.c || (a.c == b.c && a.at > b.at);
+        };
+        const auto lower = [](const Box& a, const Box& b) { return a.upper < b.upper; };
+        std::vector<Sample> samples;
+        std::vector<Box> boxes;
+        boxes.push_back(box({0, 0, 0}, {dims_[0], dims_[1], dims_[2]}, all_.data(), all_.size()));
+        while (best.size() < want) {
+            // A sample is taken when it beats every bound of the blocks left (by the margin).
+            if (!samples.empty() &&
+                (boxes.empty() || samples.front().c > boxes.front().upper + 1e-6)) {
+                std::pop_heap(samples.begin(), samples.end(), worse);
+                const Sample s = samples.back();
+                samples.pop_back();
+                const P3 p = point(s.at);
+                if (!inside(p)) continue;
+                if (s.c >= cap_) return true;
+                best.push_back({s.c, p});
+                continue;
+            }
+            if (boxes.empty()) break;
+            std::pop_heap(boxes.begin(), boxes.end(), lower);
+            const Box b = boxes.back();
+            boxes.pop_back();
+            if (b.to[0] - b.from[0] == 1 && b.to[1] - b.from[1] == 1 && b.to[2] - b.from[2] == 1) {
+                // A tile: kept for the pattern search, its samples measured.
+                Tile& tl = tiles_[tile_index(b.from[0], b.from[1], b.from[2])];
+                tl.filled = true;
+                tl.box = b;
+                for (std::size_t k = b.from[2] * kTile; k < std::min(nz, b.to[2] * kTile); ++k)
+                    for (std::size_t j = b.from[1] * kTile; j < std::min(ny, b.to[1] * kTile); ++j)
+                        for (std::size_t i = b.from[0] * kTile; i < std::min(nx, b.to[0] * kTile);
+                             ++i) {
+                            const std::size_t at = (k * ny + j) * nx + i;
+                            samples.push_back({in_box(point(at), b), at});
+                            std::push_heap(samples.begin(), samples.end(), worse);
+                        }
+                continue;
+            }
+            // Halved along every axis longer than a tile.
+            std::size_t mid[3];
+            for (int a = 0; a < 3; ++a) mid[a] = (b.from[a] + b.to[a] + 1) / 2;
+            for (int z = 0; z < 2; ++z)
+                for (int y = 0; y < 2; ++y)
+                    for (int x = 0; x < 2; ++x) {
+                        const int half[3] = {x, y, z};
+                        std::array<std::size_t, 3> from, to;
+                        bool empty = false;
+                        for (int a = 0; a < 3; ++a) {
+                            from[a] = half[a] ? mid[a] : b.from[a];
+                            to[a] = half[a] ? b.to[a] : mid[a];
+                            empty = empty || from[a] >= to[a];
+                        }
+                        if (empty) continue;
+                        boxes.push_back(box(from, to, pool_.data() + b.first, b.count));
+                        std::push_heap(boxes.begin(), boxes.end(), lower);
+                    }
+        }
+        return false;
+    }
+
+    // Sorts out the near atoms that can give the clearance within h of p (the pattern search's
+    // next points): of p's tile when the ball lies in it, else of all.
+    void around(const P3& p, double h) {
+        const double reach = h * (1.0 + 1e-9) + 1e-9;
+        const std::uint32_t* from = all_.data();
+        std::size_t count = all_.size();
+        std::size_t t[3];
+        bool in_grid = true;
+        for (int a = 0; a < 3; ++a) {
+            const double f = std::floor((p[a] - (axes_[a][0] - 0.5 * step_)) / (kTile * step_));
+            in_grid = in_grid && f >= 0.0 && f < double(dims_[a]);
+            t[a] = in_grid ? std::size_t(f) : 0;
+        }
+        if (in_grid) {
+            Tile& tl = tiles_[tile_index(t[0], t[1], t[2])];
+            if (!tl.filled) {
+                tl.filled = true;
+                tl.box = box({t[0], t[1], t[2]}, {t[0] + 1, t[1] + 1, t[2] + 1}, all_.data(),
+                             all_.size());
+            }
+            bool in_tile = true;
+            for (int a = 0; a < 3; ++a)
+                in_tile = in_tile && p[a] - reach >= tl.box.lo[a] && p[a] + reach <= tl.box.hi[a];
+            if (in_tile) from = pool_.data() + tl.box.first, count = tl.box.count;
+        }
+        // Each atom's distance from p less radius, within reach of it either way.
+        ball_.clear();
+        dist_.resize(count);
+        double upper = cap_;
+        for (std::size_t n = 0; n < count; ++n) {
+            const auto& c = atoms_[from[n]];
+            const double dx = p[0] - c[0], dy = p[1] - c[1], dz = p[2] - c[2];
+            dist_[n] = std::sqrt(dx * dx + dy * dy + dz * dz) - c[3];
+            upper = std::min(upper, dist_[n] + reach);
+        }
+        for (std::size_t n = 0; n < count; ++n)
+            if (dist_[n] - reach <= upper + 1e-6) ball_.push_back(from[n]);
+    }
+
+    // min(cap, min over the atoms of |q - c| - r) for q within h of the last around(p, h).
+    double near(const P3& q) const { return over(q, ball_.data(), ball_.size()); }
+
+private:
+    struct Box {
+        std::array<std::size_t, 3> from, to;  // tiles
+        P3 lo, hi;
+        double upper;
+        std::uint32_t first, count;  // its atoms, in pool_
+    };
+    struct Tile {
+        bool filled = false;
+        Box box;
+    };
+
+    std::size_t tile_index(std::size_t i, std::size_t j, std::size_t k) const {
+        return (k * dims_[1] + j) * dims_[0] + i;
+    }
+
+    P3 point(std::size_t at) const {
+        const std::size_t nx = axes_[0].size(), ny = axes_[1].size();
+        return {axes_[0][at % nx], axes_[1][at / nx % ny], axes_[2][at / (nx * ny)]};
+    }
+
+    // Exactly NearAtoms::clearance's min, over the atoms listed.
+    double over(const P3& p, const std::uint32_t* list, std::size_t count) const {
+        double best = cap_;
+        for (std::size_t s = 0; s < count; ++s) {
+            const auto& a = atoms_[list[s]];
+            const double dx = p[0] - a[0], dy = p[1] - a[1], dz = p[2] - a[2];
+            const double reach = best + a[3] + 1e-6;
+            if (reach > 1e-6 && dx * dx + dy * dy + dz * dz > reach * reach) continue;
+            best = std::min(best, std::hypot(dx, dy, dz) - a[3]);
+        }
+        return best;
+    }
+    double in_box(const P3& p, const Box& b) const { return over(p, pool_.data() + b.first, b.count); }
+
+    // The block of tiles [from, to) with the atoms of `parent` that can give its clearance.
+    Box box(const std::array<std::size_t, 3>& from, const std::array<std::size_t, 3>& to,
+            const std::uint32_t* parent, std::size_t count) {
+        Box b{from, to, {}, {}, cap_, 0, 0};
+        for (int a = 0; a < 3; ++a) {
+            const std::vector<double>& s = axes_[a];
+            b.lo[a] = s[from[a] * kTile] - 0.5 * step_;
+            b.hi[a] = s[std::min(s.size(), to[a] * kTile) - 1] + 0.5 * step_;
+        }
+        // Each atom's nearest and farthest distance to the box, squared: the bound is the least
+        // farthest distance less radius (a root taken only where it may be less), and an atom
+        // is kept when its nearest distance less radius is within the bound and margin.
+        near2_.resize(count);
+        for (std::size_t n = 0; n < count; ++n) {
+            const auto& c = atoms_[parent[n]];
+            double near2 = 0.0, far2 = 0.0;
+            for (int a = 0; a < 3; ++a) {
+                const double out = std::max({b.lo[a] - c[a], c[a] - b.hi[a], 0.0});
+                const double across = std::max(c[a] - b.lo[a], b.hi[a] - c[a]);
+                near2 += out * out;
+                far2 += across * across;
+            }
+            near2_[n] = near2;
+            const double reach = b.upper + c[3];
+            if (reach > 0.0 && far2 < reach * reach)
+                b.upper = std::min(b.upper, std::sqrt(far2) - c[3]);
+        }
+        // (The parent's list may move as the pool grows: its entries are read first.)
+        kept_.clear();
+        for (std::size_t n = 0; n < count; ++n) {
+            const double reach = b.upper + atoms_[parent[n]][3] + 1e-6;
+            if (reach >= 0.0 && near2_[n] <= reach * reach) kept_.push_back(parent[n]);
+        }
+        b.first = std::uint32_t(pool_.size());
+        b.count = std::uint32_t(kept_.size());
+        pool_.insert(pool_.end(), kept_.begin(), kept_.end());
+        return b;
+    }
+
+    const std::vector<std::array<double, 4>>& atoms_;
+    const std::array<std::vector<double>, 3>& axes_;
+    double step_, cap_;
+    std::size_t dims_[3];
+    std::vector<Tile> tiles_;
+    std::vector<std::uint32_t> all_, pool_, kept_, ball_;
+    std::vector<double> near2_, dist_;
+};
+
+}  // namespace
+
 double cavity_clearance(const std::vector<std::array<P3, 3>>& tris, const Atoms& atoms, double step,
-                        double cap, const AtomsByX* by_x) {
+                        double cap, const AtomCells* index) {
     P3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
     for (const auto& t : tris)
         for (const auto& v : t)
@@ -218,8 +441,8 @@ double cavity_clearance(const std::vector<std::array<P3, 3>>& tris, const Atoms&
     // box's diagonal of it, or, with a cap, within cap + the largest radius (an atom farther from
     // every point of the box cannot bring the clearance under the cap).
     float r_max = 0.0f;
-    if (by_x) {
-        r_max = by_x->r_max;
+    if (index) {
+        r_max = index->r_max;
     } else {
         for (float r : atoms.radius) r_max = std::max(r_max, r);
     }
@@ -227,55 +450,68 @@ double cavity_clearance(const std::vector<std::array<P3, 3>>& tris, const Atoms&
     const double margin = std::isfinite(cap) ? cap + r_max + 1e-3 : diagonal + 2.0 * r_max;
     NearAtoms near_atoms;
     std::vector<std::array<double, 4>>& near = near_atoms.atoms;
-    auto consider = [&](float cx, float cy, float cz, float r) {
-        const P3 ci{cx, cy, cz};
+    auto consider = [&](std::size_t i) {
+        const P3 ci{atoms.xyz[3 * i], atoms.xyz[3 * i + 1], atoms.xyz[3 * i + 2]};
         bool close = true;
         for (int a = 0; a < 3; ++a)
             close = close && ci[a] > lo[a] - margin && ci[a] < hi[a] + margin;
-        if (close) near.push_back({ci[0], ci[1], ci[2], double(r)});
+        if (close) near.push_back({ci[0], ci[1], ci[2], double(atoms.radius[i])});
     };
-    if (by_x) {
-        // Only the atoms of the box's x range, read in x order from the index's own copy (the
-        // min below does not depend on their order).
-        const auto first = std::upper_bound(by_x->x.begin(), by_x->x.end(), lo[0] - margin);
-        const auto last = std::lower_bound(first, by_x->x.end(), hi[0] + margin);
-        for (auto k = std::size_t(first - by_x->x.begin()); k < std::size_t(last - by_x->x.begin());
-             ++k) {
-            const auto& a = by_x->xyzr[k];
-            consider(a[0], a[1], a[2], a[3]);
-        }
+    if (index) {
+        // Only the atoms of the cells the box with its margin overlaps (the min below does not
+        // depend on their order).
+        const CellList& cells = index->cells;
+        std::int64_t from[3], to[3];
+        for (int a = 0; a < 3; ++a)
+            from[a] = cells.axis(lo[a] - margin, a), to[a] = cells.axis(hi[a] + margin, a);
+        for (std::int64_t z = from[2]; z <= to[2]; ++z)
+            for (std::int64_t y = from[1]; y <= to[1]; ++y) {
+                const std::uint32_t first = cells.start[std::size_t(cells.index(from[0], y, z))];
+                const std::uint32_t end = cells.start[std::size_t(cells.index(to[0], y, z)) + 1];
+                for (std::uint32_t s = first; s < end; ++s) consider(cells.items[s]);
+            }
     } else {
-        for (std::size_t i = 0; i < atoms.size(); ++i)
-            consider(atoms.xyz[3 * i], atoms.xyz[3 * i + 1], atoms.xyz[3 * i + 2], atoms.radius[i]);
+        for (std::size_t i = 0; i < atoms.size(); ++i) consider(i);
     }
-    // With `by_x`, the near atoms in cells and the triangles binned across the ray when they
-    // are many (a ray test against each triangle is the dear part of a large void's search);
-    // without, the plain search, the reference of the tests.
+    // With the index, the triangles binned across the ray when they are many (a ray test
+    // against each triangle is the dear part of a large void's search), and the near atoms
+    // sorted into the grid's tiles; without, the plain search, the reference of the tests.
     std::optional<RayBins> bins;
-    if (by_x) {
+    if (index) {
         near_atoms.index(cap, r_max);
         if (tris.size() > 256) bins.emplace(tris);
     }
-    auto clearance = [&](const P3& p) { return near_atoms.clearance(p, cap); };
+    const std::array<std::vector<double>, 3> axes{axis_samples(lo[0], hi[0], step),
+                                                  axis_samples(lo[1], hi[1], step),
+                                                  axis_samples(lo[2], hi[2], step)};
+    std::optional<SampleTiles> tiles;
+    if (index && !axes[0].empty() && !axes[1].empty() && !axes[2].empty())
+        tiles.emplace(near, axes, step, cap);
+    const auto all = [&](const P3& p) { return near_atoms.clearance(p, cap); };
     auto inside = [&](const P3& p) { return bins ? bins->inside(p) : inside_piece(p, tris); };
     // Samples on a grid inside the piece (ending at the first that reaches the cap), keeping
     // the best four inside; the inside test (a ray against every triangle) is the dear part, so
-    // it is asked only of samples that would enter the four. Then a pattern search from those.
+    // it is asked only of samples that would enter the four, and with the tiles a sample whose
+    // tile's bound cannot enter them is not even measured. Then a pattern search from those.
     constexpr std::size_t kSeeds = 4;
     std::vector<std::pair<double, P3>> samples;  // best first
-    for (double z = lo[2] + 0.5 * step; z < hi[2]; z += step)
-        for (double y = lo[1] + 0.5 * step; y < hi[1]; y += step)
-            for (double x = lo[0] + 0.5 * step; x < hi[0]; x += step) {
-                const P3 p{x, y, z};
-                const double c = clearance(p);
-                if (samples.size() == kSeeds && c <= samples.back().first) continue;
-                if (!inside(p)) continue;
-                if (c >= cap) return cap;
-                auto at = std::find_if(samples.begin(), samples.end(),
-                                       [&](const auto& e) { return c > e.first; });
-                samples.insert(at, {c, p});
-                if (samples.size() > kSeeds) samples.pop_back();
-            }
+    if (tiles) {
+        if (tiles->best_inside(inside, kSeeds, samples)) return cap;
+    } else {
+        for (double z = lo[2] + 0.5 * step; z < hi[2]; z += step)
+            for (double y = lo[1] + 0.5 * step; y < hi[1]; y += step)
+                for (double x = lo[0] + 0.5 * step; x < hi[0]; x += step) {
+                    const P3 p{x, y, z};
+                    const double c = all(p);
+                    if (samples.size() == kSeeds && c <= samples.back().first) continue;
+                    if (!inside(p)) continue;
+                    if (c >= cap) return cap;
+                    auto at = std::find_if(samples.begin(), samples.end(),
+                                           [&](const auto& e) { return c > e.first; });
+                    samples.insert(at, {c, p});
+                    if (samples.size() > kSeeds) samples.pop_back();
+                }
+    }
     if (samples.empty()) return -std::numeric_limits<double>::infinity();
     const std::size_t keep = samples.size();
     double best = samples.front().first;
@@ -283,8 +519,11 @@ double cavity_clearance(const std::vector<std::array<P3, 3>>& tris, const Atoms&
         auto [value, p] = samples[k];
         // All 26 directions of a cube's neighbours: at a point where several atoms are equally
         // near (a kink of the min), only a diagonal move raises all their distances at once.
+        // With the tiles, the atoms that can be nearest within h of p are sorted out again
+        // whenever p moves or h halves.
         for (double h = 0.5 * step; h > 1e-3 && value < cap; h *= 0.5) {
             bool moved = true;
+            if (tiles) tiles->around(p, h);
             while (moved && value < cap) {
                 moved = false;
                 for (int dz = -1; dz <= 1; ++dz)
@@ -294,8 +533,11 @@ double cavity_clearance(const std::vector<std::array<P3, 3>>& tris, const Atoms&
                             const double len = std::sqrt(double(dx * dx + dy * dy + dz * dz));
                             const P3 q{p[0] + h * dx / len, p[1] + h * dy / len,
                                        p[2] + h * dz / len};
-                            const double c = clearance(q);
-                            if (c > value && inside(q)) value = c, p = q, moved = true;
+                            const double c = tiles ? tiles->near(q) : all(q);
+                            if (c > value && inside(q)) {
+                                value = c, p = q, moved = true;
+                                if (tiles) tiles->around(p, h);
+                            }
                         }
             }
         }
@@ -371,14 +613,14 @@ std::size_t remove_cavities_without_probe(Mesh& mesh, const Atoms& atoms, double
     // A void that holds a probe ball encloses at least the ball's volume; below half of it
     // (room for the approximate surface's own error) no search is needed.
     const double half_ball = 0.5 * 4.0 / 3.0 * 3.14159265358979 * probe * probe * probe;
-    std::optional<AtomsByX> by_x;  // built at the first void that needs a search
+    std::optional<AtomCells> index;  // built at the first void that needs a search
     std::once_flag built;
     return remove_cavities_if(
         mesh,
         [&](const MeshPiece& c) {
             if (-c.volume < half_ball) return true;
-            std::call_once(built, [&] { by_x.emplace(atoms); });
-            return cavity_clearance(c.triangles, atoms, step, probe, &*by_x) < probe;
+            std::call_once(built, [&] { index.emplace(atoms); });
+            return cavity_clearance(c.triangles, atoms, step, probe, &*index) < probe;
         },
         true, analysis);
 }

@@ -9,6 +9,7 @@
 #include <limits>
 #include <vector>
 
+#include "base/cell_list.hpp"
 #include "fdmsurf/mesh.hpp"
 #include "fdmsurf/structure.hpp"
 #include "mesh/mesh_stats_detail.hpp"
@@ -65,6 +66,15 @@ private:
     std::vector<std::uint32_t> start_, items_;
 };
 
+// The atoms in cubic cells of about 8 Å, built once for all voids: the atoms near a void are
+// those of the few cells its box overlaps, not a scan of all of them (a million atoms times
+// thousands of voids).
+struct AtomCells {
+    explicit AtomCells(const Atoms& atoms);
+    CellList cells;       // over the atoms' centres
+    float r_max = 0.0f;   // the largest radius
+};
+
 // The largest clearance min_i (|p - c_i| - r_i) from the atoms' van der Waals spheres over the
 // points p enclosed by the cavity's triangles: the radius of the largest ball that fits in the
 // void (-infinity when no sample point, `step` Å apart, lies inside; infinity without atoms
@@ -72,22 +82,15 @@ private:
 // search to 1e-3 Å from the best four. With a finite `cap` the answer is min(clearance, cap),
 // found sooner: only atoms that can bring it under the cap are visited, and the search ends
 // at the first point that reaches it.
-// The atoms' indices sorted by x: the atoms near a box are then found in O(log n) plus those in
-// the box's x range, not by a scan of all of them (a million atoms times a thousand voids).
-struct AtomsByX {
-    explicit AtomsByX(const Atoms& atoms);
-    std::vector<std::uint32_t> order;  // atom indices, x ascending
-    std::vector<double> x;             // their x coordinates, ascending
-    std::vector<std::array<float, 4>> xyzr;  // their centres and radii, in the same order
-    float r_max = 0.0f;                // the largest radius
-};
-
-// `by_x`, when given, must be of `atoms`, and the search then also puts the atoms near the void
-// in cells and bins the triangles (RayBins); the answer is the same with or without it.
+// `index`, when given, must be of `atoms`: the near atoms are then found from its cells, the
+// samples are taken best first from tiles of the grid that bound their clearance (only those
+// that can be among the best four are measured, only those taken are tested for inside), the
+// pattern search reads only the atoms near its point, and large voids' triangles are binned
+// (RayBins). The answer is the same, to the bit, with or without it.
 double cavity_clearance(const std::vector<std::array<std::array<double, 3>, 3>>& triangles,
                         const Atoms& atoms, double step = 0.3,
                         double cap = std::numeric_limits<double>::infinity(),
-                        const AtomsByX* by_x = nullptr);
+                        const AtomCells* index = nullptr);
 
 // Removes the cavities in which no ball of radius `probe` fits between the atoms: voids that
 // are not part of the SES, whatever their volume (the FDM method's default). Voids of less than

@@ -14,6 +14,7 @@
 #include "mesh/cavities.hpp"
 #include "mesh/mesh_pieces.hpp"
 #include "mesh/mesh_shapes.hpp"
+#include "support/gpu_fixture.hpp"
 #include "support/test_data.hpp"
 
 namespace {
@@ -89,9 +90,10 @@ TEST(Cavities, ClearanceIsTheLargestBallBetweenTheAtoms) {
     EXPECT_GE(c, 3.85);
 }
 
-TEST(Cavities, AtomsSortedByXGiveTheSameClearanceFromFewerAtoms) {
-    // The index only narrows which atoms are visited: the answers are identical, with and
-    // without a cap, also with many far atoms on both sides along x (which it skips).
+TEST(Cavities, AtomCellsGiveTheSameClearanceFromFewerAtoms) {
+    // The index only narrows which atoms are visited and which samples are measured: the
+    // answers are identical, with and without a cap, also with many far atoms on both sides
+    // along x (which it skips).
     const auto cavity = void_of_radius_2();
     Atoms atoms = six_atoms_on_the_axes();
     for (int k = 0; k < 2000; ++k) {
@@ -99,15 +101,15 @@ TEST(Cavities, AtomsSortedByXGiveTheSameClearanceFromFewerAtoms) {
         atoms.xyz.insert(atoms.xyz.end(), {x, 0.3f * float(k % 7), -0.2f * float(k % 5)});
         atoms.radius.push_back(1.5f);
     }
-    const fdmsurf::detail::AtomsByX by_x(atoms);
-    ASSERT_EQ(by_x.order.size(), atoms.size());
-    EXPECT_TRUE(std::is_sorted(by_x.x.begin(), by_x.x.end()));
+    const fdmsurf::detail::AtomCells index(atoms);
+    ASSERT_EQ(index.cells.items.size(), atoms.size());
+    EXPECT_EQ(index.r_max, 1.5f);
     for (double cap : {std::numeric_limits<double>::infinity(), 1.5, 3.0}) {
         const double plain = fdmsurf::detail::cavity_clearance(cavity, atoms, 0.3, cap);
-        const double indexed = fdmsurf::detail::cavity_clearance(cavity, atoms, 0.3, cap, &by_x);
+        const double indexed = fdmsurf::detail::cavity_clearance(cavity, atoms, 0.3, cap, &index);
         EXPECT_EQ(plain, indexed) << "cap " << cap;
     }
-    EXPECT_NEAR(fdmsurf::detail::cavity_clearance(cavity, atoms, 0.3, 3.0, &by_x), 2.0, 0.005);
+    EXPECT_NEAR(fdmsurf::detail::cavity_clearance(cavity, atoms, 0.3, 3.0, &index), 2.0, 0.005);
 }
 
 // The triangles of each piece of crambin's FDM surface (tests/data), as the search sees them.
@@ -168,7 +170,7 @@ TEST(Cavities, IndexedClearanceMatchesThePlainSearchOnCrambin) {
     // The atoms' cells and the triangles' bins change only how fast the search runs: on every
     // piece of crambin's surface, with and without a cap, the same clearance to the last bit.
     const Atoms atoms = fdmsurf::read_structure(fdmsurf::test::data_path("1crn.xyzr")).atoms;
-    const fdmsurf::detail::AtomsByX by_x(atoms);
+    const fdmsurf::detail::AtomCells index(atoms);
     // (The outer piece with a coarser step and one cap: the plain search is slow there.)
     for (const auto& tris : crambin_pieces()) {
         const bool outer = tris.size() > 5000;
@@ -177,10 +179,44 @@ TEST(Cavities, IndexedClearanceMatchesThePlainSearchOnCrambin) {
             const double step = outer ? 1.0 : 0.3;
             const double plain = fdmsurf::detail::cavity_clearance(tris, atoms, step, cap);
             const double indexed =
-                fdmsurf::detail::cavity_clearance(tris, atoms, step, cap, &by_x);
+                fdmsurf::detail::cavity_clearance(tris, atoms, step, cap, &index);
             EXPECT_EQ(plain, indexed) << "cap " << cap << ", " << tris.size() << " triangles";
         }
     }
+}
+
+// The cavities of haemoglobin's FDM surface at 0.5 Å with every void kept, as the removal
+// sees them (the candidates of remove_cavities_if).
+class CavitySearch : public GpuTest {};
+
+TEST_F(CavitySearch, IndexedClearanceMatchesThePlainSearchOnHaemoglobinVoids) {
+    // The tiles' best-first order, their bounds and the pattern search's nearby atoms only
+    // change how fast the search runs: on each of 4HHB's voids, with the probe as cap, with a
+    // larger one and without, the same clearance to the last bit (so the same verdicts).
+    const Atoms atoms = fdmsurf::read_structure(fdmsurf::test::data_path("4hhb.pdb.gz")).atoms;
+    Mesh mesh = engine()
+                    .make_surface(atoms, fdmsurf::SurfaceOptions{.spacing = 0.5f,
+                                                                 .min_cavity_volume = 0.0f})
+                    .mesh;
+    std::vector<std::vector<std::array<std::array<double, 3>, 3>>> voids;
+    fdmsurf::detail::remove_cavities_if(mesh, [&](const MeshPiece& c) {
+        voids.push_back(c.triangles);
+        return false;
+    });
+    ASSERT_GT(voids.size(), 20u);
+    const fdmsurf::detail::AtomCells index(atoms);
+    std::size_t fits = 0;
+    for (const auto& tris : voids) {
+        for (double cap : {1.4, 3.0, std::numeric_limits<double>::infinity()}) {
+            const double plain = fdmsurf::detail::cavity_clearance(tris, atoms, 0.3, cap);
+            const double indexed = fdmsurf::detail::cavity_clearance(tris, atoms, 0.3, cap, &index);
+            EXPECT_EQ(plain, indexed) << "cap " << cap << ", " << tris.size() << " triangles";
+            fits += cap == 1.4 && plain >= 1.4;
+        }
+    }
+    // Both verdicts occur.
+    EXPECT_GT(fits, 0u);
+    EXPECT_LT(fits, voids.size());
 }
 
 TEST(Cavities, VoidsWithoutRoomForTheProbeAreRemoved) {
