@@ -117,6 +117,9 @@ struct EngineImpl {
     // Bytes of field that one piece may take (preflight.cpp): the device's field_budget, or for
     // the exact SES computed and marched on the host, the host's budget.
     double one_piece_limit(const GridPlan& plan, bool on_device) const;
+    // Bytes of field one piece (or slab) may take where the host alone computes and marches it:
+    // 1 GiB, an eighth of the memory at most, and EngineOptions::max_buffer_range where set.
+    double host_field_budget() const;
     // The bins or features of the one-piece field, and the exact SES field where the host
     // computes it (its stage times and progress into `result`; t0: the run's start).
     void find_field_sources(const Atoms& atoms, const SurfaceOptions& options,

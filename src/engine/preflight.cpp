@@ -56,13 +56,12 @@ double EngineImpl::one_piece_limit(const GridPlan& plan, bool on_device) const {
     // to a few cores of planes.
     const bool host_field_only = plan.exact_ses && !on_device && on_host(ses_distance_place) &&
                                  on_host(marching_cubes_place);
-    const double host_memory = physical_memory();
-    const double limit =
-        host_field_only
-            ? std::min({double(kHostFieldBudget), host_memory / 8.0,
-                        buffer_range_cap ? double(buffer_range_cap) : double(kHostFieldBudget)})
-            : double(field_budget());
-    return limit;
+    return host_field_only ? host_field_budget() : double(field_budget());
+}
+
+double EngineImpl::host_field_budget() const {
+    return std::min({double(kHostFieldBudget), physical_memory() / 8.0,
+                     buffer_range_cap ? double(buffer_range_cap) : double(kHostFieldBudget)});
 }
 
 }  // namespace fdmsurf::detail

@@ -262,7 +262,23 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
     in.host_memory = physical_memory();
     in.spacing = options.spacing;
     in.atoms = &atoms;
-    const SlabPlan slab = plan_slabs(in);
+    // Slabs sized for the device's bindings; where the host alone computes and marches the
+    // field (the density and filter, or the exact SES, and marching cubes on the host), a grid
+    // too wide for those bindings is sized for the host's budget instead (no device buffer
+    // holds a slab then).
+    const bool host_only = on_host(marching_cubes_place) &&
+                           (plan.exact_ses ? on_host(ses_distance_place)
+                                           : density_on_host(options, plan));
+    SlabPlan slab;
+    try {
+        slab = plan_slabs(in);
+    } catch (const Error& error) {
+        if (!host_only || error.code() != ErrorCode::DeviceLimit ||
+            double(in.limit) >= host_field_budget())
+            throw;
+        in.limit = static_cast<std::uint64_t>(host_field_budget());
+        slab = plan_slabs(in);
+    }
     result.grid.slabs = slab.slabs;
 
     // Density and filter, slab by slab. Each slab's core planes come back to the host, and

@@ -424,6 +424,41 @@ TEST_F(Surface, MisplacedAtomIsNamedInsteadOfAnEnormousGrid) {
     }
 }
 
+// Four atoms at the corners of a 520 Å square: 1,100 x 1,100 points a plane at 0.5 Å, wider
+// than the slabs one 128 MiB binding holds (an FFT's overlap of 2 x 10 planes and 8 core
+// planes). Where the host computes and marches the whole field (a CPU device's default) no
+// binding holds a slab: the slabs are sized for the host's budget, and the four balls come out.
+TEST_F(Surface, SlabsTooWideForTheDevicesBindingsRunOnTheHost) {
+    Atoms atoms;
+    for (const float x : {0.0f, 520.0f})
+        for (const float y : {0.0f, 520.0f}) {
+            atoms.xyz.insert(atoms.xyz.end(), {x, y, 0.0f});
+            atoms.radius.push_back(1.7f);
+            atoms.element.push_back("C");
+        }
+    const SurfaceOptions options{.spacing = 0.5f};
+    const auto plan = fdmsurf::detail::plan_grid(atoms, options);
+    const double plane = double(plan.pitch) * plan.info.dims[1] * sizeof(float);
+    Engine e(EngineOptions{.validation = true});
+    const double binding = double(e.device().max_storage_buffer_range);
+    if (binding >= 28.0 * plane) GTEST_SKIP() << "this device's bindings hold the slabs";
+    try {
+        Engine off(EngineOptions{.density = fdmsurf::StagePlace::Device});
+        off.make_surface(atoms, options);
+        ADD_FAILURE() << "the device's density ran in slabs wider than its bindings";
+    } catch (const Error& error) {
+        EXPECT_EQ(error.code(), ErrorCode::DeviceLimit) << error.what();
+    }
+    if (e.device().type != "CPU") GTEST_SKIP() << "the density stays on this device";
+    const SurfaceResult r = e.make_surface(atoms, options);
+    EXPECT_TRUE(r.grid.host_density);
+    EXPECT_GT(r.grid.slabs, 1u);
+    const MeshStats s = fdmsurf::compute_stats(r.mesh);
+    EXPECT_EQ(s.pieces, 4u);
+    EXPECT_TRUE(s.is_closed_manifold());
+    EXPECT_TRUE(e.take_validation_messages().empty());
+}
+
 TEST_F(Surface, GridBeyondMaxStorageBufferRangeIsProcessedInSlabs) {
     const Atoms atoms = fdmsurf::read_structure(data_path("1crn.pdb")).atoms;
     const SurfaceOptions options{.spacing = 0.5f};
