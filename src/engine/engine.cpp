@@ -40,7 +40,7 @@ SurfaceResult EngineImpl::run(const Atoms& atoms, const SurfaceOptions& options,
     trace("engine: grid planned");
     result.warnings = preflight_warnings(atoms, options, plan);
     const double field_bytes = double(plan.field_floats()) * sizeof(float);
-    if (field_bytes > one_piece_limit(plan, on_device != nullptr)) {
+    if (field_bytes > one_piece_limit(options, plan, on_device != nullptr)) {
         result = run_in_slabs(atoms, options, plan, std::move(result));
         if (on_device) *on_device = upload_mesh(result.mesh);
         return result;

@@ -116,7 +116,12 @@ struct EngineImpl {
     std::uint64_t field_budget() const;
     // Bytes of field that one piece may take (preflight.cpp): the device's field_budget, or for
     // the exact SES computed and marched on the host, the host's budget.
-    double one_piece_limit(const GridPlan& plan, bool on_device) const;
+    double one_piece_limit(const SurfaceOptions& options, const GridPlan& plan,
+                           bool on_device) const;
+    // Whether the host alone computes and marches the field of `plan` (the exact SES's field,
+    // or the density and its filter, and marching cubes on the host): no device binding holds
+    // it then.
+    bool field_only_on_host(const SurfaceOptions& options, const GridPlan& plan) const;
     // Bytes of field one piece (or slab) may take where the host alone computes and marches it:
     // 1 GiB, an eighth of the memory at most, and EngineOptions::max_buffer_range where set.
     double host_field_budget() const;

@@ -21,14 +21,14 @@ SurfaceResult EngineImpl::run_on_host(const Atoms& atoms, const SurfaceOptions& 
     const auto& d = plan.info.dims;
     StagingArena arena;
     Buffer field;
-    if (!src.host_ses && !density_on_host(options, plan)) {
+    const bool host_density = density_on_host(options, plan);
+    if (!src.host_ses && !host_density) {
         field = Buffer(context, static_cast<VkDeviceSize>(plan.field_floats() * sizeof(float)),
                        MemoryUse::Device, "field");
         trace("engine: field allocated");
     }
     const McParams mc = whole_grid_mc(plan);
     const bool host_gaussian = gaussian_on_host(options, plan);
-    const bool host_density = density_on_host(options, plan);
     std::vector<float> values;
     const float* data = src.host_values.get();
     if (host_density) {

@@ -49,14 +49,19 @@ std::vector<std::string> preflight_warnings(const Atoms& atoms, const SurfaceOpt
     return warnings;
 }
 
-double EngineImpl::one_piece_limit(const GridPlan& plan, bool on_device) const {
+double EngineImpl::one_piece_limit(const SurfaceOptions& options, const GridPlan& plan,
+                                   bool on_device) const {
     // The exact SES computed and marched on the host never enters a device binding: one piece
     // while the field fits the host's budget (kHostFieldBudget, an eighth of the memory at most,
     // and EngineOptions::max_buffer_range where set), slabs beyond, which bound the host's memory
     // to a few cores of planes.
-    const bool host_field_only = plan.exact_ses && !on_device && on_host(ses_distance_place) &&
-                                 on_host(marching_cubes_place);
+    const bool host_field_only = plan.exact_ses && !on_device && field_only_on_host(options, plan);
     return host_field_only ? host_field_budget() : double(field_budget());
+}
+
+bool EngineImpl::field_only_on_host(const SurfaceOptions& options, const GridPlan& plan) const {
+    return on_host(marching_cubes_place) &&
+           (plan.exact_ses ? on_host(ses_distance_place) : density_on_host(options, plan));
 }
 
 double EngineImpl::host_field_budget() const {

@@ -266,9 +266,7 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
     // field (the density and filter, or the exact SES, and marching cubes on the host), a grid
     // too wide for those bindings is sized for the host's budget instead (no device buffer
     // holds a slab then).
-    const bool host_only = on_host(marching_cubes_place) &&
-                           (plan.exact_ses ? on_host(ses_distance_place)
-                                           : density_on_host(options, plan));
+    const bool host_only = field_only_on_host(options, plan);
     SlabPlan slab;
     try {
         slab = plan_slabs(in);
