@@ -241,6 +241,19 @@ bool short_connection_record(std::string_view line) {
            ((line.size() >= 72 && line.size() < 80) || line.find('\0') != std::string_view::npos);
 }
 
+// gemmi 0.5.7 keeps the first 120 characters of a line and skips the rest up to the newline,
+// but its skipping stops at a byte >= 0x80 (its getc returns a signed char): it then reads what
+// follows that byte as a line of its own, a record this pass never sees (found by fuzz_pdb: a
+// LINK record of 73 columns hidden so, a third heap-buffer overflow). Such a line is cut at 120
+// characters, which is all of it that gemmi means to read.
+constexpr std::size_t kGemmiLineLength = 120;
+bool gemmi_splits(std::string_view line) {
+    if (line.size() <= kGemmiLineLength) return false;
+    const std::string_view tail = line.substr(kGemmiLineLength);
+    return std::any_of(tail.begin(), tail.end(),
+                       [](char c) { return static_cast<unsigned char>(c) >= 0x80; });
+}
+
 // The model records as gemmi takes them: true when a MODEL number repeats or a MODEL follows a
 // model with atoms and no ENDMDL, two things gemmi refuses.
 bool models_need_order(std::string_view text) {
@@ -336,6 +349,8 @@ std::string prepare_pdb_text(std::string_view text, const std::string& name,
     std::string_view line;
     while (lines.next(line)) {
         std::string fixed;
+        const bool cut = !ended && gemmi_splits(line);
+        if (cut) line = line.substr(0, kGemmiLineLength);
         if (ended) {
             // gemmi stops at END; what follows is passed on as it is.
         } else if (is_end_record(line)) {
@@ -385,6 +400,7 @@ std::string prepare_pdb_text(std::string_view text, const std::string& name,
             std::replace(fixed.begin(), fixed.end(), '\0', ' ');
             if (fixed.size() < 80) fixed.append(80 - fixed.size(), ' ');
         }
+        if (fixed.empty() && cut) fixed = std::string(line);
         if (fixed.empty()) {
             if (copying) out.append(line).push_back('\n');
         } else {

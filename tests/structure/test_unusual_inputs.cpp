@@ -343,6 +343,34 @@ TEST(UnusualInputs, CrlfByteOrderMarkAndEmptyLines) {
     expect_same(fdmsurf_reading(c), gemmi_reading(cif, true));
 }
 
+// A line longer than 120 characters is read to column 120, whatever its tail holds. gemmi
+// alone would read the tail that follows a byte >= 0x80 as a line of its own (its skipping stops
+// there): an ATOM record hidden so would become an atom, a short LINK record an overflow.
+TEST(UnusualInputs, PdbLinesPastColumn120AreCutWhateverTheirTailHolds) {
+    const std::string original = read_text_file(data_path("1crn.pdb"));
+    std::vector<std::string> lines = lines_of(original);
+    const std::string hidden =
+        "ATOM      1  N   THR A 900      17.047  14.099   3.625  1.00 13.79           N";
+    const std::string link =
+        "LINK         O   THR A   1                NA    NA A 101     1555   1555 ";  // 73 columns
+    bool atom_hidden = false, link_hidden = false;
+    for (std::string& l : lines) {
+        if (!atom_hidden && l.rfind("REMARK   1", 0) == 0) {
+            l += std::string(130 - l.size(), ' ') + "\xE9" + hidden;
+            atom_hidden = true;
+        } else if (!link_hidden && l.rfind("REMARK   2", 0) == 0) {
+            l += std::string(125 - l.size(), '.') + "\xC3" + link;
+            link_hidden = true;
+        }
+    }
+    ASSERT_TRUE(atom_hidden && link_hidden);
+    const std::string text = joined(lines);
+    // gemmi alone finds the hidden atom: the case is real.
+    EXPECT_EQ(gemmi_reading(text, false).size(), gemmi_reading(original, false).size() + 1);
+    const Structure s = read_structure_from_memory(text, "long-lines.pdb", keep_everything());
+    expect_same(fdmsurf_reading(s), gemmi_reading(original, false));
+}
+
 // PQR lines are read from their end (x y z charge radius last, the chain column being optional),
 // so extra columns after the radius cannot be told apart from the atom's own: refused, naming
 // the line and the field; extra whitespace, a chain column or none are read alike.
