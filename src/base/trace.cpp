@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <mutex>
 
 namespace fdmsurf::detail {
@@ -19,6 +20,13 @@ bool trace_enabled() {
     return enabled;
 }
 
+// The process's CPU time (all threads), in ms: on a shared machine, the work apart from the wait.
+double cpu_ms() {
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return double(t.tv_sec) * 1e3 + double(t.tv_nsec) / 1e6;
+}
+
 }  // namespace
 
 bool trace_on() { return trace_enabled(); }
@@ -29,12 +37,16 @@ void trace(const char* what) {
     static std::mutex mutex;
     static const Clock::time_point first = Clock::now();
     static Clock::time_point last = first;
+    static double last_cpu = cpu_ms();
     std::lock_guard<std::mutex> lock(mutex);
     const Clock::time_point now = Clock::now();
-    std::fprintf(stderr, "fdmsurf: trace: %9.1f ms (+%7.1f) %s\n",
+    const double cpu = cpu_ms();
+    std::fprintf(stderr, "fdmsurf: trace: %9.1f ms (+%7.1f, CPU +%7.1f) %s\n",
                  std::chrono::duration<double, std::milli>(now - first).count(),
-                 std::chrono::duration<double, std::milli>(now - last).count(), what);
+                 std::chrono::duration<double, std::milli>(now - last).count(), cpu - last_cpu,
+                 what);
     last = now;
+    last_cpu = cpu;
 }
 
 }  // namespace fdmsurf::detail

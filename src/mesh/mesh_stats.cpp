@@ -7,12 +7,16 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <memory>
 #include <numeric>
 #include <vector>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
+#endif
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
 #endif
 
 #include "base/parallel.hpp"
@@ -545,6 +549,353 @@ MeshAnalysis analyse_mesh(const Mesh& mesh, bool topology, const char* who,
     return a;
 }
 
+namespace {
+
+// The vertices a removal keeps (unreferenced ones too), one bit each, with the kept ones before
+// each 64-bit word: a vertex's new number is the kept ones before it. Two bits a vertex in all
+// (an array of new numbers took four bytes a vertex of fresh memory).
+struct KeptVertices {
+    std::vector<std::uint64_t> bits;
+    std::vector<Index> before;            // kept vertices before each word
+    std::vector<std::size_t> first_kept;  // kept vertices before each vertex chunk; all at the end
+
+    bool kept(std::size_t v) const { return (bits[v / 64] >> (v % 64) & 1) != 0; }
+    // (A word of kept vertices only, the common case, needs no count: the baseline x86-64 the
+    // library is built for has no popcnt instruction.)
+    Index remap(Index v) const {
+        const std::uint64_t word = bits[v / 64];
+        if (word == ~std::uint64_t{0}) return Index(before[v / 64] + v % 64);
+        const std::uint64_t below = word & ((std::uint64_t{1} << (v % 64)) - 1);
+        return Index(before[v / 64] + Index(std::popcount(below)));
+    }
+};
+
+KeptVertices kept_vertices(const MeshAnalysis& a, const std::vector<char>& drop, std::size_t nv,
+                           unsigned threads) {
+    // Whether each piece is kept, at piece + 1 (kNoPiece + 1 = 0: unreferenced, kept).
+    std::vector<std::uint8_t> keep(a.pieces.count + 1, 1);
+    for (std::size_t q = 0; q < a.pieces.count; ++q) keep[q + 1] = drop[q] ? 0 : 1;
+    const Index* of_vertex = a.pieces.of_vertex.data();
+    const std::size_t chunks = chunk_count(nv, kVertexChunk);
+    KeptVertices kept;
+    kept.bits.resize((nv + 63) / 64);
+    kept.before.resize(kept.bits.size());
+    kept.first_kept.assign(chunks + 1, 0);
+    parallel_chunks(chunks, threads, [&](std::size_t k) {
+        std::size_t count = 0;
+        const std::size_t end = std::min(nv, (k + 1) * kVertexChunk);
+        for (std::size_t w = k * kVertexChunk / 64; w < (end + 63) / 64; ++w) {
+            std::uint64_t word = 0;
+            for (std::size_t v = 64 * w; v < std::min(end, 64 * w + 64); ++v)
+                word |= std::uint64_t{keep[Index(of_vertex[v] + 1)]} << (v % 64);
+            kept.bits[w] = word;
+            kept.before[w] = Index(count);
+            count += std::size_t(std::popcount(word));
+        }
+        kept.first_kept[k + 1] = count;
+    });
+    for (std::size_t k = 0; k < chunks; ++k) kept.first_kept[k + 1] += kept.first_kept[k];
+    parallel_chunks(chunks, threads, [&](std::size_t k) {
+        const std::size_t end = std::min(nv, (k + 1) * kVertexChunk);
+        for (std::size_t w = k * kVertexChunk / 64; w < (end + 63) / 64; ++w)
+            kept.before[w] += Index(kept.first_kept[k]);
+    });
+    return kept;
+}
+
+// Calls run(first, count) for each maximal run of kept vertices in [begin, end), in order.
+template <class Run>
+void for_kept_runs(const KeptVertices& kept, std::size_t begin, std::size_t end, Run&& run) {
+    std::size_t open = end;  // the first vertex of the run being extended, or end: none
+    for (std::size_t w = begin / 64; 64 * w < end; ++w) {
+        std::uint64_t word = kept.bits[w];
+        if (64 * w < begin) word &= ~std::uint64_t{0} << (begin % 64);
+        if (end - 64 * w < 64) word &= (std::uint64_t{1} << (end % 64)) - 1;
+        if (word == ~std::uint64_t{0}) {
+            if (open == end) open = 64 * w;
+            continue;
+        }
+        // Each change between kept and dropped within the word.
+        std::size_t at = 0;
+        while (at < 64) {
+            const std::uint64_t rest = (open == end ? word : ~word) >> at;
+            if (rest == 0) break;
+            at += std::size_t(std::countr_zero(rest));
+            if (open == end) {
+                open = 64 * w + at;
+            } else {
+                run(open, 64 * w + at - open);
+                open = end;
+            }
+        }
+    }
+    if (open != end) run(open, end - open);
+}
+
+// Every per-vertex array moved in place, in one run of vertex chunks a thread, run of kept
+// vertices by run; with `renumber` (the kept pieces' new numbers) the vertices' pieces follow.
+// A thread's first new places that lie before its own old vertices (those of the threads
+// before it, maybe not yet read: as many as the vertices dropped before it, few) wait in a
+// buffer until every thread is done.
+void move_vertices(Mesh& mesh, std::vector<Index>* of_vertex, const std::vector<Index>& renumber,
+                   const KeptVertices& kept, unsigned threads) {
+    const std::size_t nv = mesh.vertex_count();
+    const std::size_t chunks = chunk_count(nv, kVertexChunk);
+    const std::size_t parts = std::min<std::size_t>(threads, chunks);
+    const bool normals = !mesh.normals.empty();
+    float* positions = mesh.positions.data();
+    float* normal = mesh.normals.data();
+    Index* piece = of_vertex ? of_vertex->data() : nullptr;
+    struct Held {
+        std::vector<float> positions, normals;
+        std::vector<Index> pieces;
+    };
+    std::vector<Held> held(parts);
+    const auto part_start = [&](std::size_t r) { return r * chunks / parts; };
+    parallel_chunks(parts, threads, [&](std::size_t r) {
+        const std::size_t k0 = part_start(r), k1 = part_start(r + 1);
+        const std::size_t begin = k0 * kVertexChunk, end = std::min(nv, k1 * kVertexChunk);
+        const std::size_t first = kept.first_kept[k0];
+        const std::size_t hold = std::min(kept.first_kept[k1], begin);
+        Held& h = held[r];
+        h.positions.resize(3 * (std::max(hold, first) - first));
+        if (normals) h.normals.resize(h.positions.size());
+        if (piece) h.pieces.resize(std::max(hold, first) - first);
+        std::size_t o = first;
+        // count vertices from `from` to new places from o on, those before `hold` held.
+        const auto place = [&](std::size_t from, std::size_t count, std::size_t to, bool in_held) {
+            const std::size_t at = in_held ? to - first : to;
+            float* p = in_held ? h.positions.data() : positions;
+            std::memmove(p + 3 * at, positions + 3 * from, 12 * count);
+            if (normals)
+                std::memmove((in_held ? h.normals.data() : normal) + 3 * at, normal + 3 * from,
+                             12 * count);
+            if (piece) {
+                Index* q = in_held ? h.pieces.data() : piece;
+                for (std::size_t i = 0; i < count; ++i) {
+                    const Index old = piece[from + i];
+                    q[at + i] = old == no_piece ? no_piece : renumber[old];
+                }
+            }
+        };
+        for_kept_runs(kept, begin, end, [&](std::size_t from, std::size_t count) {
+            const std::size_t held_count = o < hold ? std::min(count, hold - o) : 0;
+            if (held_count > 0) place(from, held_count, o, true);
+            if (count > held_count)
+                place(from + held_count, count - held_count, o + held_count, false);
+            o += count;
+        });
+    });
+    for (std::size_t r = 0; r < parts; ++r) {
+        const std::size_t first = kept.first_kept[part_start(r)];
+        std::copy(held[r].positions.begin(), held[r].positions.end(), positions + 3 * first);
+        std::copy(held[r].normals.begin(), held[r].normals.end(), normal + 3 * first);
+        if (piece) std::copy(held[r].pieces.begin(), held[r].pieces.end(), piece + first);
+    }
+}
+
+// The kept triangles' sums in one chunk, run by run, as analyse_mesh takes them.
+struct Sums {
+    double area = 0.0;
+    double volume = 0.0;
+    Index triangles = 0;
+};
+
+// Where a new chunk of triangles starts among the old ones: the old triangle, its run and its
+// place in the run (a run is of one piece, so wholly kept or wholly dropped).
+struct ChunkStart {
+    std::size_t triangle;
+    std::size_t run;
+    Index offset;
+};
+
+std::vector<ChunkStart> new_chunks(const MeshAnalysis& a, const std::vector<char>& drop,
+                                   std::size_t& kept_triangles) {
+    std::vector<ChunkStart> starts;
+    std::size_t in = 0, out = 0;
+    for (std::size_t r = 0; r < a.runs.size(); ++r) {
+        const TriangleRun& run = a.runs[r];
+        if (!drop[run.piece]) {
+            for (std::size_t b = starts.size() * kTriangleChunk; b < out + run.triangles;
+                 b += kTriangleChunk)
+                starts.push_back({in + (b - out), r, Index(b - out)});
+            out += run.triangles;
+        }
+        in += run.triangles;
+    }
+    kept_triangles = out;
+    return starts;
+}
+
+// The corners of up to kBatch triangles, coordinate by coordinate (row 3 k + a: corner k, axis
+// a), and their signed volumes and areas: computed for a batch at once, four at a time where
+// the CPU has AVX2, then added one by one in order.
+constexpr std::size_t kBatch = 64;
+struct TriangleBatch {
+    alignas(32) float corners[9][kBatch] = {};
+    alignas(32) double volume[kBatch] = {};
+    alignas(32) double area[kBatch] = {};
+};
+
+// triangle_volume and (with `area`) triangle_area of the batch's first n triangles.
+void batch_sums_plain(TriangleBatch& b, std::size_t n, bool area) {
+    for (std::size_t i = 0; i < n; ++i) {
+        std::array<double, 3> p[3];
+        for (int k = 0; k < 3; ++k)
+            for (int x = 0; x < 3; ++x) p[k][x] = b.corners[3 * k + x][i];
+        b.volume[i] = triangle_volume(p[0], p[1], p[2]);
+        if (area) b.area[i] = triangle_area(p[0], p[1], p[2]);
+    }
+}
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+// The same on four triangles at a time: the same operations in the same order, each lane
+// rounded as the plain code rounds (no fused multiply-add: the target is AVX2 alone), so the
+// same bits. Lanes past n compute on stale corners and are not read.
+__attribute__((target("avx2"))) void batch_sums_avx2(TriangleBatch& b, std::size_t n, bool area) {
+#define FDMSURF_CORNER(row) _mm256_cvtps_pd(_mm_load_ps(&b.corners[row][i]))
+    const __m256d six = _mm256_set1_pd(6.0), half = _mm256_set1_pd(0.5);
+    for (std::size_t i = 0; i < n; i += 4) {
+        const __m256d ax = FDMSURF_CORNER(0), ay = FDMSURF_CORNER(1), az = FDMSURF_CORNER(2);
+        const __m256d bx = FDMSURF_CORNER(3), by = FDMSURF_CORNER(4), bz = FDMSURF_CORNER(5);
+        const __m256d dx = FDMSURF_CORNER(6), dy = FDMSURF_CORNER(7), dz = FDMSURF_CORNER(8);
+        const __m256d t0 =
+            _mm256_mul_pd(ax, _mm256_sub_pd(_mm256_mul_pd(by, dz), _mm256_mul_pd(bz, dy)));
+        const __m256d t1 =
+            _mm256_mul_pd(ay, _mm256_sub_pd(_mm256_mul_pd(bz, dx), _mm256_mul_pd(bx, dz)));
+        const __m256d t2 =
+            _mm256_mul_pd(az, _mm256_sub_pd(_mm256_mul_pd(bx, dy), _mm256_mul_pd(by, dx)));
+        _mm256_store_pd(&b.volume[i], _mm256_div_pd(_mm256_add_pd(_mm256_add_pd(t0, t1), t2), six));
+        if (!area) continue;
+        const __m256d ux = _mm256_sub_pd(bx, ax), uy = _mm256_sub_pd(by, ay),
+                      uz = _mm256_sub_pd(bz, az);
+        const __m256d wx = _mm256_sub_pd(dx, ax), wy = _mm256_sub_pd(dy, ay),
+                      wz = _mm256_sub_pd(dz, az);
+        const __m256d c0 = _mm256_sub_pd(_mm256_mul_pd(uy, wz), _mm256_mul_pd(uz, wy));
+        const __m256d c1 = _mm256_sub_pd(_mm256_mul_pd(uz, wx), _mm256_mul_pd(ux, wz));
+        const __m256d c2 = _mm256_sub_pd(_mm256_mul_pd(ux, wy), _mm256_mul_pd(uy, wx));
+        const __m256d squares = _mm256_add_pd(
+            _mm256_add_pd(_mm256_mul_pd(c0, c0), _mm256_mul_pd(c1, c1)), _mm256_mul_pd(c2, c2));
+        _mm256_store_pd(&b.area[i], _mm256_mul_pd(half, _mm256_sqrt_pd(squares)));
+    }
+#undef FDMSURF_CORNER
+}
+#endif
+
+void batch_sums(TriangleBatch& b, std::size_t n, bool area) {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+    static const bool avx2 = __builtin_cpu_supports("avx2");
+    if (avx2) return batch_sums_avx2(b, n, area);
+#endif
+    batch_sums_plain(b, n, area);
+}
+
+// One new chunk of triangles, [begin, end), filled from the old triangles from `start` on
+// (dropped runs skipped whole) and written through `place` (its own slots, or held ones); with
+// `positions` (the vertices' old positions, not yet moved) its runs' sums taken as analyse_mesh
+// takes them, area too with `area`.
+template <class Place>
+void move_chunk(const Index* idx, const MeshAnalysis& a, const std::vector<char>& drop,
+                const std::vector<Index>& renumber, const KeptVertices& kept,
+                const float* positions, bool area, ChunkStart start, std::size_t begin,
+                std::size_t end, Place&& place, PieceRuns<Sums>& runs) {
+    std::size_t t = start.triangle, run = start.run;
+    Index offset = start.offset;
+    Index last = no_piece;
+    // The sums of the run of `last` (the chunk's last one), in locals, stored when it ends.
+    double area_sum = 0.0, volume = 0.0;
+    Index triangles = 0;
+    TriangleBatch batch;
+    for (std::size_t o = begin; o < end;) {
+        const TriangleRun& old = a.runs[run];
+        if (drop[old.piece]) {
+            t += old.triangles - offset;
+            ++run, offset = 0;
+            continue;
+        }
+        const std::size_t count = std::min<std::size_t>(old.triangles - offset, end - o);
+        const Index piece = renumber[old.piece];
+        if (piece != last) {
+            if (last != no_piece) {
+                Sums& s = piece_sum(runs, last);
+                s.area += area_sum, s.volume += volume, s.triangles += triangles;
+            }
+            last = piece, area_sum = 0.0, volume = 0.0, triangles = 0;
+        }
+        for (std::size_t first = 0; first < count; first += kBatch) {
+            const std::size_t n = std::min(kBatch, count - first);
+            for (std::size_t i = 0; i < n; ++i) {
+                const Index* from = &idx[3 * (t + first + i)];
+                if (positions)
+                    for (int k = 0; k < 3; ++k) {
+                        const float* p = positions + 3 * std::size_t{from[k]};
+                        for (int x = 0; x < 3; ++x) batch.corners[3 * k + x][i] = p[x];
+                    }
+                Index* to = place(o + first + i);
+                const Index tri[3] = {kept.remap(from[0]), kept.remap(from[1]),
+                                      kept.remap(from[2])};
+                for (int j = 0; j < 3; ++j) to[j] = tri[j];
+            }
+            if (!positions) continue;
+            batch_sums(batch, n, area);
+            for (std::size_t i = 0; i < n; ++i) volume += batch.volume[i];
+            if (area)
+                for (std::size_t i = 0; i < n; ++i) area_sum += batch.area[i];
+        }
+        t += count, o += count;
+        triangles += Index(count);
+        offset += Index(count);
+        if (offset == old.triangles) ++run, offset = 0;
+    }
+    if (last != no_piece) {
+        Sums& s = piece_sum(runs, last);
+        s.area += area_sum, s.volume += volume, s.triangles += triangles;
+    }
+}
+
+// The kept triangles moved in place, their vertices renumbered, in one run of new chunks a
+// thread (move_chunk), with their runs' sums (`positions`: the vertices' old positions, not yet
+// moved). Chunk k writes [k C, (k + 1) C) from old triangles at or after each place; only a
+// thread's first places that lie before its own old triangles may hold old triangles of the
+// threads before it, not yet read (as many as the triangles dropped before it): those wait in
+// a buffer until every thread is done.
+std::vector<PieceRuns<Sums>> move_triangles(Mesh& mesh, const MeshAnalysis& a,
+                                            const std::vector<char>& drop,
+                                            const std::vector<Index>& renumber,
+                                            const KeptVertices& kept, const float* positions,
+                                            bool area, unsigned threads) {
+    std::size_t nt = 0;
+    const std::vector<ChunkStart> starts = new_chunks(a, drop, nt);
+    Index* idx = mesh.indices.data();
+    const std::size_t chunks = starts.size();
+    const std::size_t parts = std::min<std::size_t>(threads, chunks);
+    std::vector<PieceRuns<Sums>> runs(chunks);
+    std::vector<std::vector<Index>> held(parts);
+    const auto part_start = [&](std::size_t r) { return r * chunks / parts; };
+    parallel_chunks(parts, threads, [&](std::size_t r) {
+        const std::size_t k0 = part_start(r), k1 = part_start(r + 1);
+        const std::size_t first = k0 * kTriangleChunk;
+        const std::size_t hold = std::min(std::min(nt, k1 * kTriangleChunk), starts[k0].triangle);
+        held[r].resize(3 * (std::max(hold, first) - first));
+        Index* buffer = held[r].data();
+        for (std::size_t k = k0; k < k1; ++k) {
+            const std::size_t begin = k * kTriangleChunk;
+            const std::size_t end = std::min(nt, begin + kTriangleChunk);
+            const auto place = [&](std::size_t o) {
+                return o < hold ? buffer + 3 * (o - first) : idx + 3 * o;
+            };
+            move_chunk(idx, a, drop, renumber, kept, positions, area, starts[k], begin, end, place,
+                       runs[k]);
+        }
+    });
+    for (std::size_t r = 0; r < parts; ++r)
+        std::copy(held[r].begin(), held[r].end(), idx + 3 * part_start(r) * kTriangleChunk);
+    mesh.indices.resize(3 * nt);
+    return runs;
+}
+
+}  // namespace
+
 void keep_pieces(Mesh& mesh, MeshAnalysis& a, const std::vector<char>& drop, bool update) {
     const std::size_t count = a.pieces.count;
     // The kept pieces' new numbers and statistics (their sums taken again below).
@@ -559,178 +910,31 @@ void keep_pieces(Mesh& mesh, MeshAnalysis& a, const std::vector<char>& drop, boo
     }
     if (stats.size() == count) return;
     const unsigned threads = thread_count();
-    const std::vector<Index>& of_vertex = a.pieces.of_vertex;
-    const auto dropped = [&](Index v) { return of_vertex[v] != no_piece && drop[of_vertex[v]]; };
-
-    // The kept vertices (unreferenced ones too) as one bit each, with the kept ones before each
-    // 64-bit word: a vertex's new number is the kept ones before it. Two bits a vertex in all,
-    // where an array of new numbers, of kept vertices and of their pieces took twelve bytes a
-    // vertex of fresh memory (page faults: 0.26 GB on the shell).
     const std::size_t nv = mesh.vertex_count();
-    const std::size_t vertex_chunks = chunk_count(nv, kVertexChunk);
-    const std::size_t words = (nv + 63) / 64;
-    std::vector<std::uint64_t> kept_bits(words);
-    std::vector<Index> kept_before(words);
-    std::vector<std::size_t> first_kept(vertex_chunks + 1, 0);
-    parallel_chunks(vertex_chunks, threads, [&](std::size_t k) {
-        std::size_t kept = 0;
-        const std::size_t end = std::min(nv, (k + 1) * kVertexChunk);
-        for (std::size_t w = k * kVertexChunk / 64; w < (end + 63) / 64; ++w) {
-            std::uint64_t bits = 0;
-            for (std::size_t v = 64 * w; v < std::min(end, 64 * w + 64); ++v)
-                bits |= std::uint64_t(dropped(Index(v)) ? 0 : 1) << (v % 64);
-            kept_bits[w] = bits;
-            kept_before[w] = Index(kept);
-            kept += std::size_t(std::popcount(bits));
-        }
-        first_kept[k + 1] = kept;
-    });
-    for (std::size_t k = 0; k < vertex_chunks; ++k) first_kept[k + 1] += first_kept[k];
-    const std::size_t kept_vertices = first_kept[vertex_chunks];
-    parallel_chunks(vertex_chunks, threads, [&](std::size_t k) {
-        const std::size_t end = std::min(nv, (k + 1) * kVertexChunk);
-        for (std::size_t w = k * kVertexChunk / 64; w < (end + 63) / 64; ++w)
-            kept_before[w] += Index(first_kept[k]);
-    });
-    const auto is_kept = [&](std::size_t v) { return (kept_bits[v / 64] >> (v % 64) & 1) != 0; };
-    // (A word of kept vertices only, the common case, needs no count: the baseline x86-64 the
-    // library is built for has no popcnt instruction.)
-    const auto remap = [&](Index v) {
-        const std::uint64_t bits = kept_bits[v / 64];
-        if (bits == ~std::uint64_t{0}) return Index(kept_before[v / 64] + v % 64);
-        const std::uint64_t below = bits & ((std::uint64_t{1} << (v % 64)) - 1);
-        return Index(kept_before[v / 64] + Index(std::popcount(below)));
-    };
-    // Every per-vertex array moved in place, in one run of chunks a thread; a run's first new
-    // places that lie before its own old vertices (those of the runs before it, maybe not yet
-    // read: as many as the vertices dropped before it, few) wait in a buffer until every run is
-    // done. (Chunk by chunk, once more vertices than a chunk's were dropped, nearly every one
-    // waited: a second copy of the arrays.) With `update` the kept vertices' pieces follow,
-    // renumbered.
-    const std::size_t vertex_runs = std::min<std::size_t>(threads, vertex_chunks);
-    const auto compact = [&](auto* data, std::size_t stride, auto&& value) {
-        using T = std::remove_pointer_t<decltype(data)>;
-        std::vector<std::vector<T>> held(vertex_runs);
-        parallel_chunks(vertex_runs, threads, [&](std::size_t r) {
-            const std::size_t k0 = r * vertex_chunks / vertex_runs,
-                              k1 = (r + 1) * vertex_chunks / vertex_runs;
-            const std::size_t begin = k0 * kVertexChunk, end = std::min(nv, k1 * kVertexChunk);
-            std::size_t o = first_kept[k0];
-            held[r].resize(stride * (std::min(first_kept[k1], begin) - o));
-            for (std::size_t v = begin; v < end; ++v) {
-                if (!is_kept(v)) continue;
-                T* to = o < begin ? &held[r][stride * (o - first_kept[k0])] : data + stride * o;
-                for (std::size_t j = 0; j < stride; ++j) to[j] = value(data[stride * v + j]);
-                ++o;
-            }
-        });
-        for (std::size_t r = 0; r < vertex_runs; ++r)
-            std::copy(held[r].begin(), held[r].end(),
-                      data + stride * first_kept[r * vertex_chunks / vertex_runs]);
-    };
-    const auto same = [](auto x) { return x; };
-    if (update) {
-        compact(a.pieces.of_vertex.data(), 1,
-                [&](Index piece) { return piece == no_piece ? no_piece : renumber[piece]; });
-        a.pieces.of_vertex.resize(kept_vertices);
-    }
-    compact(mesh.positions.data(), 3, same);
-    mesh.positions.resize(3 * kept_vertices);
-    if (!mesh.normals.empty()) {
-        compact(mesh.normals.data(), 3, same);
-        mesh.normals.resize(3 * kept_vertices);
-    }
+    const KeptVertices kept = kept_vertices(a, drop, nv, threads);
+    const std::size_t kept_count = kept.first_kept.back();
+    // The triangles first, while the positions they read for the sums are where they were.
+    const std::vector<PieceRuns<Sums>> runs =
+        move_triangles(mesh, a, drop, renumber, kept, update ? mesh.positions.data() : nullptr,
+                       a.topology, threads);
+    trace("keep pieces: triangles moved");
+    move_vertices(mesh, update ? &a.pieces.of_vertex : nullptr, renumber, kept, threads);
+    mesh.positions.resize(3 * kept_count);
+    if (!mesh.normals.empty()) mesh.normals.resize(3 * kept_count);
+    if (update) a.pieces.of_vertex.resize(kept_count);
     if (!mesh.atoms.empty() || !mesh.colors.empty() || !mesh.scalars.empty()) {
         // (Not met by the engine, which adds them after the removal.)
-        std::vector<Index> kept(kept_vertices);
+        std::vector<Index> list(kept_count);
         for (std::size_t v = 0, i = 0; v < nv; ++v)
-            if (is_kept(v)) kept[i++] = Index(v);
+            if (kept.kept(v)) list[i++] = Index(v);
         Mesh rest;
         rest.atoms = std::move(mesh.atoms), rest.colors = std::move(mesh.colors);
         rest.scalars = std::move(mesh.scalars);
-        keep_vertices(rest, kept);
+        keep_vertices(rest, list);
         mesh.atoms = std::move(rest.atoms), mesh.colors = std::move(rest.colors);
         mesh.scalars = std::move(rest.scalars);
     }
     trace("keep pieces: vertices moved");
-
-    // Where each chunk of the new triangles starts among the old ones, from the runs (a run is
-    // of one piece, so wholly kept or wholly dropped).
-    std::vector<std::size_t> chunk_start;
-    std::size_t in = 0, out = 0;
-    for (const TriangleRun& run : a.runs) {
-        if (!drop[run.piece]) {
-            for (std::size_t b = chunk_start.size() * kTriangleChunk; b < out + run.triangles;
-                 b += kTriangleChunk)
-                chunk_start.push_back(in + (b - out));
-            out += run.triangles;
-        }
-        in += run.triangles;
-    }
-    const std::size_t nt = out;
-    // The new chunks in one run a thread, each chunk's triangles moved in place and (`update`)
-    // its sums taken as analyse_mesh takes them. Chunk k writes [k C, (k + 1) C) from old
-    // triangles at or after the place of each; only a run's first places that lie before its
-    // own old triangles may hold old triangles of the runs before it, not yet read (as many as
-    // the triangles dropped before it): those wait in a buffer until every run is done.
-    struct Sums {
-        double area = 0.0;
-        double volume = 0.0;
-        Index triangles = 0;
-    };
-    Index* idx = mesh.indices.data();
-    const std::size_t chunks = chunk_start.size();
-    const std::size_t triangle_runs = std::min<std::size_t>(threads, chunks);
-    std::vector<PieceRuns<Sums>> runs(chunks);
-    std::vector<std::vector<Index>> held(triangle_runs);
-    parallel_chunks(triangle_runs, threads, [&](std::size_t r) {
-        const std::size_t k0 = r * chunks / triangle_runs, k1 = (r + 1) * chunks / triangle_runs;
-        const std::size_t first = k0 * kTriangleChunk;
-        const std::size_t hold = std::min(std::min(nt, k1 * kTriangleChunk), chunk_start[k0]);
-        held[r].resize(3 * (hold - first));
-        for (std::size_t k = k0; k < k1; ++k) {
-            const std::size_t begin = k * kTriangleChunk;
-            const std::size_t end = std::min(nt, begin + kTriangleChunk);
-            std::size_t t = chunk_start[k];
-            Index last = no_piece;
-            // The sums of the run of `last` (the chunk's last one), held in locals and stored
-            // when the run ends: added through memory, each sum waited on its store.
-            double area = 0.0, volume = 0.0;
-            Index triangles = 0;
-            const auto store = [&runs, k](Index piece, double ar, double vol, Index n) {
-                if (piece == no_piece) return;
-                Sums& run = piece_sum(runs[k], piece);
-                run.area += ar, run.volume += vol, run.triangles += n;
-            };
-            for (std::size_t o = begin; o < end; ++t) {
-                if (!is_kept(idx[3 * t])) continue;
-                const Index tri[3] = {remap(idx[3 * t]), remap(idx[3 * t + 1]),
-                                      remap(idx[3 * t + 2])};
-                if (update) {
-                    // (The positions and pieces moved already: read at the new numbers.)
-                    const Index piece = a.pieces.of_vertex[tri[0]];
-                    if (piece != last) {
-                        store(last, area, volume, triangles);
-                        last = piece, area = 0.0, volume = 0.0, triangles = 0;
-                    }
-                    const auto p0 = position(mesh, tri[0]), p1 = position(mesh, tri[1]),
-                               p2 = position(mesh, tri[2]);
-                    volume += triangle_volume(p0, p1, p2);
-                    if (a.topology) area += triangle_area(p0, p1, p2);
-                    ++triangles;
-                }
-                Index* to = o < hold ? &held[r][3 * (o - first)] : &idx[3 * o];
-                for (int j = 0; j < 3; ++j) to[j] = tri[j];
-                ++o;
-            }
-            if (update) store(last, area, volume, triangles);
-        }
-    });
-    for (std::size_t r = 0; r < triangle_runs; ++r)
-        std::copy(held[r].begin(), held[r].end(),
-                  idx + 3 * (r * chunks / triangle_runs) * kTriangleChunk);
-    mesh.indices.resize(3 * nt);
-    trace("keep pieces: triangles moved");
     if (!update) return;
     a.runs.clear();
     for (const PieceRuns<Sums>& of_chunk : runs)
@@ -742,6 +946,26 @@ void keep_pieces(Mesh& mesh, MeshAnalysis& a, const std::vector<char>& drop, boo
     for (MeshStats& s : stats) end_sums(s);
     a.pieces.count = stats.size();
     a.stats = std::move(stats);
+}
+
+void keep_pieces_plain(Mesh& mesh, MeshAnalysis& a, const std::vector<char>& drop, bool update) {
+    const auto dropped = [&](Index v) {
+        const Index piece = a.pieces.of_vertex[v];
+        return piece != no_piece && drop[piece];
+    };
+    std::vector<Index> kept, new_number(mesh.vertex_count(), no_piece);
+    for (Index v = 0; v < mesh.vertex_count(); ++v) {
+        if (dropped(v)) continue;
+        new_number[v] = Index(kept.size());
+        kept.push_back(v);
+    }
+    std::vector<Index> indices;
+    for (std::size_t t = 0; t < mesh.triangle_count(); ++t)
+        if (!dropped(mesh.indices[3 * t]))
+            for (int k = 0; k < 3; ++k) indices.push_back(new_number[mesh.indices[3 * t + k]]);
+    keep_vertices(mesh, kept);
+    mesh.indices = std::move(indices);
+    if (update) a = analyse_mesh(mesh, a.topology, "keep_pieces_plain");
 }
 
 MeshStats total_stats(const MeshAnalysis& analysis, const Mesh& mesh) {

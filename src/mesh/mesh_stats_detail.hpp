@@ -45,6 +45,10 @@ MeshAnalysis analyse_mesh(const Mesh& mesh, bool topology, const char* who, unsi
 // analyse_mesh would sum them, in the pass that moves the triangles; without, it no longer
 // describes the mesh. The per-vertex arrays must have their sizes (validate_attributes).
 void keep_pieces(Mesh& mesh, MeshAnalysis& analysis, const std::vector<char>& drop, bool update);
+// The same, plainly: the kept vertices and triangles copied one by one, and (`update`) the
+// analysis found again on the mesh after. The reference of keep_pieces' tests.
+void keep_pieces_plain(Mesh& mesh, MeshAnalysis& analysis, const std::vector<char>& drop,
+                       bool update);
 
 // The statistics of the whole mesh from its analysis (with topology): compute_stats, bit for bit.
 MeshStats total_stats(const MeshAnalysis& analysis, const Mesh& mesh);

@@ -9,13 +9,17 @@
 #include <limits>
 #include <numeric>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "fdmsurf/mesh.hpp"
+#include "fdmsurf/structure.hpp"
+#include "fdmsurf/surface.hpp"
 #include "mesh/cavities.hpp"
 #include "mesh/mesh_pieces.hpp"
 #include "mesh/mesh_shapes.hpp"
 #include "mesh/mesh_stats_detail.hpp"
+#include "support/gpu_fixture.hpp"
 #include "support/mesh_checks.hpp"
 #include "support/test_data.hpp"
 
@@ -152,6 +156,82 @@ TEST(MeshAnalysis, StatisticsOfThePiecesKeptEqualThoseOfTheMeshAfter) {
             }
         }
     }
+}
+
+// keep_pieces against its plain reference on `mesh`, for topology and volumes alone: the same
+// vertices, normals and triangles after, and the same analysis (pieces, statistics to the bit,
+// runs) as the plain copy's analysis found again; without the update, the same mesh.
+void ExpectKeptAsPlainly(const Mesh& mesh, const std::vector<char>& drop, const char* what) {
+    for (bool topology : {false, true}) {
+        SCOPED_TRACE(std::string(what) + (topology ? ", with topology" : ", volumes only"));
+        const detail::MeshAnalysis before = detail::analyse_mesh(mesh, topology, "test");
+        ASSERT_EQ(drop.size(), before.pieces.count);
+        Mesh fast = mesh, plain = mesh, alone = mesh;
+        detail::MeshAnalysis a = before, b = before, c = before;
+        detail::keep_pieces(fast, a, drop, true);
+        detail::keep_pieces_plain(plain, b, drop, true);
+        detail::keep_pieces(alone, c, drop, false);
+        EXPECT_EQ(fast.positions, plain.positions);
+        EXPECT_EQ(fast.normals, plain.normals);
+        EXPECT_EQ(fast.indices, plain.indices);
+        EXPECT_EQ(alone.positions, plain.positions);
+        EXPECT_EQ(alone.normals, plain.normals);
+        EXPECT_EQ(alone.indices, plain.indices);
+        EXPECT_EQ(a.pieces.count, b.pieces.count);
+        EXPECT_EQ(a.pieces.of_vertex, b.pieces.of_vertex);
+        ASSERT_EQ(a.stats.size(), b.stats.size());
+        for (std::size_t q = 0; q < a.stats.size(); ++q) ExpectSameStats(a.stats[q], b.stats[q]);
+        ASSERT_EQ(a.runs.size(), b.runs.size());
+        for (std::size_t r = 0; r < a.runs.size(); ++r) {
+            EXPECT_EQ(a.runs[r].piece, b.runs[r].piece);
+            EXPECT_EQ(a.runs[r].triangles, b.runs[r].triangles);
+        }
+    }
+}
+
+// Drop sets over a real surface's pieces: its cavities (negative volume), every other piece,
+// the largest alone, all but the largest, and the first cavity alone.
+void ExpectKeptAsPlainlyOn(const Mesh& mesh) {
+    const detail::MeshAnalysis a = detail::analyse_mesh(mesh, false, "test");
+    const std::size_t n = a.pieces.count;
+    ASSERT_GE(n, 2u);
+    std::size_t largest = 0, first_cavity = n;
+    for (std::size_t q = 0; q < n; ++q) {
+        if (a.stats[q].triangles > a.stats[largest].triangles) largest = q;
+        if (a.stats[q].volume < 0.0 && first_cavity == n) first_cavity = q;
+    }
+    ASSERT_LT(first_cavity, n);
+    std::vector<char> cavities(n), alternate(n), only_largest(n, 0), but_largest(n, 1), one(n, 0);
+    for (std::size_t q = 0; q < n; ++q) {
+        cavities[q] = a.stats[q].volume < 0.0;
+        alternate[q] = q % 2;
+    }
+    only_largest[largest] = 1;
+    but_largest[largest] = 0;
+    one[first_cavity] = 1;
+    ExpectKeptAsPlainly(mesh, cavities, "the cavities");
+    ExpectKeptAsPlainly(mesh, alternate, "every other piece");
+    ExpectKeptAsPlainly(mesh, only_largest, "the largest piece");
+    ExpectKeptAsPlainly(mesh, but_largest, "all but the largest piece");
+    ExpectKeptAsPlainly(mesh, one, "one cavity");
+}
+
+TEST(MeshAnalysis, PiecesKeptAsThePlainCopyOnCrambinAndInterleavedPieces) {
+    ExpectKeptAsPlainlyOn(read_mesh(test::data_path("1crn-fdm-0.5.ply")));
+    ExpectKeptAsPlainlyOn(interleaved_pieces());
+}
+
+// Haemoglobin's FDM surface at 0.3 Å with every void kept: many chunks, voids among them.
+class PiecesKept : public GpuTest {};
+
+TEST_F(PiecesKept, AsThePlainCopyOnHaemoglobin) {
+    const Atoms atoms = read_structure(test::data_path("4hhb.pdb.gz")).atoms;
+    const Mesh mesh =
+        engine()
+            .make_surface(atoms, SurfaceOptions{.spacing = 0.3f, .min_cavity_volume = 0.0f})
+            .mesh;
+    ASSERT_GT(mesh.triangle_count(), 10 * detail::kTriangleChunk);
+    ExpectKeptAsPlainlyOn(mesh);
 }
 
 TEST(MeshAnalysis, PiecesAreThoseOfTheUnionFindInAnyVertexOrder) {
