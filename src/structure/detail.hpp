@@ -160,5 +160,14 @@ std::vector<Structure> read_pdb_or_mmcif(std::string_view text, const std::strin
 Structure read_pqr(std::string_view text, const std::string& name);
 Structure read_xyzr(std::string_view text, const std::string& name);
 Structure read_xyzrn(std::string_view text, const std::string& name);
+// The two ways those take: one pass on one thread (small texts; the reference), and pieces of
+// about `piece` bytes of whole lines on all threads, each written in place, with the same atoms,
+// warnings and first error (the tests cut small texts into many pieces).
+Structure read_pqr_plain(std::string_view text, const std::string& name);
+Structure read_xyzr_plain(std::string_view text, const std::string& name);
+Structure read_xyzrn_plain(std::string_view text, const std::string& name);
+Structure read_pqr_pieces(std::string_view text, const std::string& name, std::size_t piece);
+Structure read_xyzr_pieces(std::string_view text, const std::string& name, std::size_t piece);
+Structure read_xyzrn_pieces(std::string_view text, const std::string& name, std::size_t piece);
 
 }  // namespace fdmsurf::detail
