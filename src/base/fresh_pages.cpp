@@ -20,6 +20,9 @@ void populate_pages(const std::vector<FreshRange>& ranges) {
 #endif
     // Whole pages only (madvise's ranges start at one), in chunks of 4 MiB: two huge pages.
     constexpr std::uintptr_t kPage = 4096, kChunk = std::uintptr_t{4} << 20;
+    std::size_t total = 0;
+    for (const FreshRange& r : ranges) total += r.bytes;
+    if (total < kChunk) return;  // a few pages: their faults cost less than the calls
     std::vector<FreshRange> chunks;
     for (const FreshRange& r : ranges) {
         const auto begin = reinterpret_cast<std::uintptr_t>(r.data);

@@ -160,8 +160,8 @@ std::vector<Structure> read_pdb_or_mmcif(std::string_view text, const std::strin
 Structure read_pqr(std::string_view text, const std::string& name);
 Structure read_xyzr(std::string_view text, const std::string& name);
 Structure read_xyzrn(std::string_view text, const std::string& name);
-// The two ways those take: one pass on one thread (small texts; the reference), and pieces of
-// about `piece` bytes of whole lines on all threads, each written in place, with the same atoms,
+// Those read pieces of about 1 MiB of whole lines on all threads, each written in place
+// (read_*_pieces); read_*_plain, one pass on one thread, is their reference, with the same atoms,
 // warnings and first error (the tests cut small texts into many pieces).
 Structure read_pqr_plain(std::string_view text, const std::string& name);
 Structure read_xyzr_plain(std::string_view text, const std::string& name);

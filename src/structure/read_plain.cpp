@@ -46,7 +46,8 @@ void sphere(std::initializer_list<std::string_view> xyzr, const std::string& nam
         fail_format(name + ": radius " + std::string(f[3]) + " is not > 0" + at_line(line));
 }
 
-// The pieces' size for the threads.
+// The pieces' size for the threads: a text below it is read on one thread (the counts first, so
+// that the arrays are allocated once).
 constexpr std::size_t kPiece = std::size_t{1} << 20;
 
 // A text cut into pieces of about `piece` bytes of whole lines, to be read on all threads (every
@@ -578,9 +579,6 @@ void read_pqr_part(std::string_view text, std::size_t first_line, const std::str
     }
 }
 
-// Below this size a text is read on one thread, in one pass.
-constexpr std::size_t kOneThread = std::size_t{2} << 20;
-
 }  // namespace
 
 // --- PQR: ATOM/HETATM serial name resName [chainID] resSeq x y z charge radius. The chain is
@@ -669,8 +667,7 @@ Structure read_pqr_pieces(std::string_view text, const std::string& name, std::s
 }
 
 Structure read_pqr(std::string_view text, const std::string& name) {
-    return text.size() < kOneThread ? read_pqr_plain(text, name)
-                                    : read_pqr_pieces(text, name, kPiece);
+    return read_pqr_pieces(text, name, kPiece);
 }
 
 // --- XYZR (MSMS): "x y z r" and optionally more fields, which are ignored. ---
@@ -723,8 +720,7 @@ Structure read_xyzr_pieces(std::string_view text, const std::string& name, std::
 }
 
 Structure read_xyzr(std::string_view text, const std::string& name) {
-    return text.size() < kOneThread ? read_xyzr_plain(text, name)
-                                    : read_xyzr_pieces(text, name, kPiece);
+    return read_xyzr_pieces(text, name, kPiece);
 }
 
 // --- XYZRN (MSMS's pdb_to_xyzrn): "x y z r n name"; with five or more fields the last is the
@@ -786,8 +782,7 @@ Structure read_xyzrn_pieces(std::string_view text, const std::string& name, std:
 }
 
 Structure read_xyzrn(std::string_view text, const std::string& name) {
-    return text.size() < kOneThread ? read_xyzrn_plain(text, name)
-                                    : read_xyzrn_pieces(text, name, kPiece);
+    return read_xyzrn_pieces(text, name, kPiece);
 }
 
 }  // namespace fdmsurf::detail

@@ -186,7 +186,7 @@ TEST(ReadPlain, PiecesReadShellTextAsOneThread) {
     }
 }
 
-// The readers' entry points take the pieces above 2 MiB: the same as the one-thread pass.
+// The readers' entry points, in pieces of 1 MiB: the same as the one-thread pass.
 TEST(ReadPlain, LargeTextsReadOnAllThreadsAsOneThread) {
     for (const Format* format : {&kPqr, &kXyzr, &kXyzrn}) {
         const std::string text = shell_text(format->name, 90000, 11);
