@@ -1,5 +1,6 @@
 // PQR, XYZR and XYZRN readers: whitespace-separated lines that carry their own radii.
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <charconv>
 #include <exception>
@@ -130,8 +131,21 @@ std::string pqr_element(std::string_view atom_name, std::string_view residue_nam
         std::string ion = known_element(atom_name);
         if (!ion.empty()) return ion;
     }
-    std::string element = known_element(atom_name.substr(0, 1));
-    return element.empty() ? "X" : element;
+    // The first letter's element, looked up once for each byte.
+    static const std::array<std::string, 256> kLetter = [] {
+        std::array<std::string, 256> letter;
+        for (int c = 0; c < 256; ++c) {
+            const char byte = static_cast<char>(c);
+            const std::string element = known_element(std::string_view(&byte, 1));
+            letter[std::size_t(c)] = element.empty() ? "X" : element;
+        }
+        return letter;
+    }();
+    if (atom_name.empty()) {
+        std::string element = known_element(atom_name);
+        return element.empty() ? "X" : element;
+    }
+    return kLetter[static_cast<unsigned char>(atom_name[0])];
 }
 
 // A whole field as an int, or false.
@@ -339,13 +353,12 @@ AtomMeta xyzrn_atom(std::string_view atom_name, std::int32_t serial, std::string
     return m;
 }
 
-// A PQR line (line `number` of the file): false for one that is no ATOM/HETATM record; else its
-// metadata into `m` (as constructed), its centre and radius, its fields in `f` (PDB's fixed
-// columns where white space does not give them; `in_columns` says so).
-bool pqr_record(std::string_view line, std::size_t number, const std::string& name,
+// A PQR record (line `number` of the file; is_pqr_atom_record): its metadata into `m` (as
+// constructed), its centre and radius, its fields in `f` (PDB's fixed columns where white space
+// does not give them; `in_columns` says so).
+void pqr_record(std::string_view line, std::size_t number, const std::string& name,
                 std::vector<std::string_view>& f, AtomMeta& m, float xyz[3], double& r,
                 bool& in_columns) {
-    if (!is_pqr_atom_record(line)) return false;
     split_fields(line, f);
     // x y z charge radius as plain decimals (base/decimal.hpp): read once, here, with the values
     // that numbers(), number_field() and sphere() would give.
@@ -378,7 +391,6 @@ bool pqr_record(std::string_view line, std::size_t number, const std::string& na
         for (int i = 0; i < 3; ++i) xyz[i] = static_cast<float>(v[i]);
     else
         sphere({f[n - 5], f[n - 4], f[n - 3], f[n - 1]}, name, number, xyz, r);
-    return true;
 }
 
 // The warning for a PQR's records read in fixed columns.
@@ -551,27 +563,32 @@ void read_pqr_part(std::string_view text, std::size_t first_line, const std::str
         std::string_view line;
         std::vector<std::string_view> f;
         while (lines.next(line)) {
+            if (!is_pqr_atom_record(line)) continue;
             const std::size_t number = first_line + lines.number();
-            AtomMeta m;
-            Unsized atom;
+            // The record's own slot (one per record), as constructed: read into it in place.
+            const std::size_t at = slot + part.atoms;
+            AtomMeta& m = atoms.meta[at];
+            float xyz[3];
             double r = 0.0;
             bool in_columns = false;
-            if (!pqr_record(line, number, name, f, m, atom.xyz, r, in_columns)) continue;
+            pqr_record(line, number, name, f, m, xyz, r, in_columns);
             if (in_columns && part.in_columns++ == 0) part.first_in_columns = number;
             if (r > 0.0) {
-                const std::size_t at = slot + part.atoms++;
-                std::copy(atom.xyz, atom.xyz + 3, atoms.xyz + 3 * at);
+                ++part.atoms;
+                std::copy(xyz, xyz + 3, atoms.xyz + 3 * at);
                 atoms.radius[at] = static_cast<float>(r);
                 atoms.element[at] = pqr_element(f[2], f[3]);
-                atoms.meta[at] = std::move(m);
                 part.unsized.clear();
             } else {
                 if (part.zero++ == 0) part.first_zero = number;
                 if (part.atoms == 0) {
+                    Unsized atom;
+                    std::copy(xyz, xyz + 3, atom.xyz);
                     atom.meta = std::move(m);
                     atom.element = pqr_element(f[2], f[3]);
                     part.unsized.push_back(std::move(atom));
                 }
+                m = AtomMeta();  // the slot is the next record's
             }
         }
     } catch (...) {
@@ -595,11 +612,12 @@ Structure read_pqr_plain(std::string_view text, const std::string& name) {
     std::string_view line;
     std::vector<std::string_view> f;
     while (lines.next(line)) {
+        if (!is_pqr_atom_record(line)) continue;
         AtomMeta m;
         Unsized atom;
         double r = 0.0;
         bool columns = false;
-        if (!pqr_record(line, lines.number(), name, f, m, atom.xyz, r, columns)) continue;
+        pqr_record(line, lines.number(), name, f, m, atom.xyz, r, columns);
         if (columns && in_columns++ == 0) first_in_columns = lines.number();
         if (r > 0.0) {
             s.atoms.xyz.insert(s.atoms.xyz.end(), atom.xyz, atom.xyz + 3);
