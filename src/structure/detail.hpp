@@ -73,6 +73,8 @@ private:
 std::vector<std::string_view> split_fields(std::string_view line);
 // The same into `fields` (cleared first), whose storage is reused from line to line.
 void split_fields(std::string_view line, std::vector<std::string_view>& fields);
+// The same a byte at a time: split_fields' reference, and its route for long or non-ASCII lines.
+void split_fields_plain(std::string_view line, std::vector<std::string_view>& fields);
 std::string_view trim(std::string_view s);
 // std::isspace of the byte (split_fields' and trim's white space), without its call for ASCII:
 // the C locale's six, which glibc's locales keep for bytes below 0x80; others as the locale says.
