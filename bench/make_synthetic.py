@@ -24,6 +24,7 @@ Two kinds (deterministic for a given --seed):
   build/fdmsurf /tmp/synthetic-1m.xyzr -o /tmp/synthetic-1m.ply --spacing 1.0 --stats json
   python3 bench/make_synthetic.py --kind shell -o /tmp/shell.xyzr
   python3 bench/make_synthetic.py --kind shell --format pqr -o /tmp/shell.pqr
+  python3 bench/make_synthetic.py --kind shell --format xyzrn -o /tmp/shell.xyzrn
 
 Plain Python 3, no packages.
 """
@@ -125,9 +126,10 @@ def main():
     parser.add_argument("--density", type=float, default=0.05, help="atoms per cubic angstrom")
     parser.add_argument("--pitch", type=float, default=None, help="globule spacing, A")
     parser.add_argument("--seed", type=int, default=1)
-    parser.add_argument("--format", choices=["xyzr", "pqr"], default="xyzr",
+    parser.add_argument("--format", choices=["xyzr", "pqr", "xyzrn"], default="xyzr",
                         help="pqr: the same atoms as pdb2pqr's ATOM records (a chain per "
-                        "26 x 10,000 residues of 10 atoms, charge 0), for the PQR reader")
+                        "26 x 10,000 residues of 10 atoms, charge 0), for the PQR reader; "
+                        "xyzrn: the same atoms with MSMS-style names (chain_residue_x_ALA_atom)")
     parser.add_argument("-o", "--output", required=True)
     args = parser.parse_args()
 
@@ -152,9 +154,12 @@ def main():
         lines = []
         for p in points:
             r = p[3] if len(p) > 3 else rng.choices(RADII, SHARES)[0]
-            if args.format == "pqr":
-                element = {1.55: "N", 1.52: "O", 1.80: "S"}.get(round(r, 2), "C")
-                chain = chr(ord("A") + (n // 100000) % 26)
+            element = {1.55: "N", 1.52: "O", 1.80: "S"}.get(round(r, 2), "C")
+            chain = chr(ord("A") + (n // 100000) % 26)
+            if args.format == "xyzrn":
+                lines.append(f"{p[0]:.3f} {p[1]:.3f} {p[2]:.3f} {r:.2f} 1 "
+                             f"{chain}_{n // 10 % 10000}_x_ALA_{element}\n")
+            elif args.format == "pqr":
                 lines.append(f"ATOM  {n + 1:>7} {element:<4} ALA {chain}{n // 10 % 10000:>5}    "
                              f"{p[0]:8.3f} {p[1]:8.3f} {p[2]:8.3f} {0.0:7.4f} {r:6.4f}\n")
             else:

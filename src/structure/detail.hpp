@@ -73,6 +73,8 @@ private:
 std::vector<std::string_view> split_fields(std::string_view line);
 // The same into `fields` (cleared first), whose storage is reused from line to line.
 void split_fields(std::string_view line, std::vector<std::string_view>& fields);
+// The same a byte at a time: split_fields' reference, and its route for long or non-ASCII lines.
+void split_fields_plain(std::string_view line, std::vector<std::string_view>& fields);
 std::string_view trim(std::string_view s);
 // std::isspace of the byte (split_fields' and trim's white space), without its call for ASCII:
 // the C locale's six, which glibc's locales keep for bytes below 0x80; others as the locale says.
@@ -160,5 +162,14 @@ std::vector<Structure> read_pdb_or_mmcif(std::string_view text, const std::strin
 Structure read_pqr(std::string_view text, const std::string& name);
 Structure read_xyzr(std::string_view text, const std::string& name);
 Structure read_xyzrn(std::string_view text, const std::string& name);
+// Those read pieces of about 1 MiB of whole lines on all threads, each written in place
+// (read_*_pieces); read_*_plain, one pass on one thread, is their reference, with the same atoms,
+// warnings and first error (the tests cut small texts into many pieces).
+Structure read_pqr_plain(std::string_view text, const std::string& name);
+Structure read_xyzr_plain(std::string_view text, const std::string& name);
+Structure read_xyzrn_plain(std::string_view text, const std::string& name);
+Structure read_pqr_pieces(std::string_view text, const std::string& name, std::size_t piece);
+Structure read_xyzr_pieces(std::string_view text, const std::string& name, std::size_t piece);
+Structure read_xyzrn_pieces(std::string_view text, const std::string& name, std::size_t piece);
 
 }  // namespace fdmsurf::detail

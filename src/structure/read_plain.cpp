@@ -1,16 +1,22 @@
 // PQR, XYZR and XYZRN readers: whitespace-separated lines that carry their own radii.
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <charconv>
 #include <exception>
+#include <functional>
 #include <initializer_list>
 #include <cmath>
 #include <cstdio>
 #include <cstdint>
+#include <iterator>
 #include <limits>
 
 #include "base/decimal.hpp"
+#include "base/fresh_pages.hpp"
 #include "base/parallel.hpp"
+#include "base/pipeline.hpp"
+#include "base/trace.hpp"
 #include "structure/detail.hpp"
 
 namespace fdmsurf::detail {
@@ -41,33 +47,16 @@ void sphere(std::initializer_list<std::string_view> xyzr, const std::string& nam
         fail_format(name + ": radius " + std::string(f[3]) + " is not > 0" + at_line(line));
 }
 
-// Appends the atom's x y z and radius, or returns false for radius 0: pdb2pqr gives some
-// hydrogens radius 0, and such an atom has no volume, so it is left out (with a warning)
-// rather than refused.
-bool add_atom(std::vector<float>& xyz_out, std::vector<float>& radius_out,
-              std::initializer_list<std::string_view> xyzr, const std::string& name,
-              std::size_t line) {
-    float xyz[3];
-    double r = 0.0;
-    sphere(xyzr, name, line, xyz, r);
-    if (r == 0.0) return false;
-    xyz_out.insert(xyz_out.end(), xyz, xyz + 3);
-    radius_out.push_back(static_cast<float>(r));
-    return true;
-}
+// The pieces' size for the threads: a text below it is read on one thread (the counts first, so
+// that the arrays are allocated once).
+constexpr std::size_t kPiece = std::size_t{1} << 20;
 
-bool add_atom(Atoms& atoms, std::initializer_list<std::string_view> xyzr,
-              const std::string& name, std::size_t line) {
-    return add_atom(atoms.xyz, atoms.radius, xyzr, name, line);
-}
-
-// A text cut into pieces of about 1 MiB of whole lines, to be read on all threads (every piece
-// but the last ends in a newline).
-std::vector<std::string_view> text_pieces(std::string_view text) {
-    constexpr std::size_t kPiece = std::size_t{1} << 20;
+// A text cut into pieces of about `piece` bytes of whole lines, to be read on all threads (every
+// piece but the last ends in a newline).
+std::vector<std::string_view> text_pieces(std::string_view text, std::size_t piece) {
     std::vector<std::string_view> pieces;
     for (std::size_t at = 0; at < text.size();) {
-        std::size_t end = std::min(text.size(), at + kPiece);
+        std::size_t end = std::min(text.size(), at + piece);
         if (end < text.size()) {
             const std::size_t nl = text.find('\n', end);
             end = nl == std::string_view::npos ? text.size() : nl + 1;
@@ -95,9 +84,9 @@ bool is_pqr_atom_record(std::string_view line) {
 
 // x, y, z and the radius of an XYZR line whose first four fields are plain decimals (see
 // base/decimal.hpp), separated by spaces or tabs, the radius not negative: the values that
-// sphere() reads from them. False for anything else (a comment, a blank line, a '+', bytes
+// sphere() reads from them; `rest`: where the fourth field ends. False for anything else (a comment, a blank line, a '+', bytes
 // outside printable ASCII, what is an error), which sphere() and its messages then take.
-bool xyzr_line_fast(std::string_view line, float xyz[3], double& r) {
+bool xyzr_line_fast(std::string_view line, float xyz[3], double& r, std::size_t* rest = nullptr) {
     const char* p = line.data();
     const char* const end = p + line.size();
     double v[4];
@@ -113,50 +102,12 @@ bool xyzr_line_fast(std::string_view line, float xyz[3], double& r) {
     if (v[3] < 0.0) return false;
     for (int i = 0; i < 3; ++i) xyz[i] = static_cast<float>(v[i]);
     r = v[3];
+    if (rest) *rest = std::size_t(p - line.data());
     return true;
 }
 
-// One piece of an XYZR text (whole lines), read on a thread of its own into the atoms' arrays
-// from `xyz` and `radius` on: its atom count, its radius-0 atoms, and the error that stopped it.
-struct XyzrPart {
-    std::size_t atoms = 0, zero = 0, first_zero = 0;
-    std::exception_ptr error;
-};
-
-// XYZR lines of `text`, the first of which is line `first_line` + 1 of the file; room for an
-// atom per line at `xyz` and `radius`.
-void read_xyzr_part(std::string_view text, std::size_t first_line, const std::string& name,
-                    float* xyz, float* radius, XyzrPart& part) {
-    try {
-        LineReader lines(text);
-        std::string_view line;
-        std::vector<std::string_view> f;
-        while (lines.next(line)) {
-            float p[3];
-            double r = 0.0;
-            if (!xyzr_line_fast(line, p, r)) {
-                std::string_view t = trim(line);
-                if (t.empty() || t[0] == '#') continue;
-                split_fields(t, f);
-                if (f.size() < 4)
-                    fail_format(name + ": too few fields for an XYZR atom" +
-                                at_line(first_line + lines.number()) + " (" +
-                                std::to_string(f.size()) + "; expected: x y z radius)");
-                sphere({f[0], f[1], f[2], f[3]}, name, first_line + lines.number(), p, r);
-            }
-            // Radius 0: left out (add_atom says why).
-            if (r == 0.0) {
-                if (part.zero++ == 0) part.first_zero = first_line + lines.number();
-                continue;
-            }
-            std::copy(p, p + 3, xyz + 3 * part.atoms);
-            radius[part.atoms++] = static_cast<float>(r);
-        }
-    } catch (...) {
-        part.error = std::current_exception();
-    }
-}
-
+// Radius-0 atoms are left out, with this warning, rather than refused: pdb2pqr gives some
+// hydrogens radius 0, and such an atom has no volume.
 void note_zero_radii(Structure& s, std::size_t zero, std::size_t first_line,
                      const std::string& name) {
     s.info.zero_radius_skipped = zero;
@@ -180,8 +131,21 @@ std::string pqr_element(std::string_view atom_name, std::string_view residue_nam
         std::string ion = known_element(atom_name);
         if (!ion.empty()) return ion;
     }
-    std::string element = known_element(atom_name.substr(0, 1));
-    return element.empty() ? "X" : element;
+    // The first letter's element, looked up once for each byte.
+    static const std::array<std::string, 256> kLetter = [] {
+        std::array<std::string, 256> letter;
+        for (int c = 0; c < 256; ++c) {
+            const char byte = static_cast<char>(c);
+            const std::string element = known_element(std::string_view(&byte, 1));
+            letter[std::size_t(c)] = element.empty() ? "X" : element;
+        }
+        return letter;
+    }();
+    if (atom_name.empty()) {
+        std::string element = known_element(atom_name);
+        return element.empty() ? "X" : element;
+    }
+    return kLetter[static_cast<unsigned char>(atom_name[0])];
 }
 
 // A whole field as an int, or false.
@@ -237,16 +201,17 @@ AtomMeta xyzrn_meta(std::string_view field, std::string& element) {
     m.name = m.xyzrn_name;
     m.in_residue = false;  // unless the name is MSMS's form
     element.clear();
-    std::vector<std::string_view> parts;
+    std::string_view parts[6];  // split at '_'; a seventh part: not MSMS's form
+    std::size_t count = 0;
     for (std::size_t start = 0;;) {
-        std::size_t end = field.find('_', start);
-        parts.push_back(field.substr(start, end == std::string_view::npos ? end : end - start));
+        const std::size_t end = field.find('_', start);
+        if (count == 6) return m;
+        parts[count++] = field.substr(start, end == std::string_view::npos ? end : end - start);
         if (end == std::string_view::npos) break;
         start = end + 1;
     }
     std::int32_t number = 0;
-    if ((parts.size() != 5 && parts.size() != 6) || !parse_int(parts[1], number) ||
-        parts[3].empty() || parts[4].empty())
+    if (count < 5 || !parse_int(parts[1], number) || parts[3].empty() || parts[4].empty())
         return m;
     m.in_residue = true;
     m.chain = std::string(parts[0]);
@@ -325,20 +290,274 @@ void radii_from_elements(Structure& s, std::vector<Unsized>& unsized, const std:
                  : std::string()) +
         "; a PQR's own radii are kept as soon as one atom has a radius above 0");
 }
+// --- One line of each format, for both ways of reading below ---
 
-// A PQR's pieces, each read on a thread of its own into the atoms' arrays from its first
-// atom's slot on: the counts and first lines of its radius-0 atoms and of its records read in
-// columns, its radius-0 atoms while it has no atom with a radius, and the error that stopped it.
-struct PqrPart {
-    std::size_t atoms = 0, zero = 0, first_zero = 0, in_columns = 0, first_in_columns = 0;
-    std::vector<Unsized> unsized;
+// x, y, z and the radius of an XYZR line (line `number` of the file), with `f` for its fields;
+// false for a comment or a blank line.
+bool xyzr_line(std::string_view line, std::size_t number, const std::string& name,
+               std::vector<std::string_view>& f, float xyz[3], double& r) {
+    if (xyzr_line_fast(line, xyz, r)) return true;
+    const std::string_view t = trim(line);
+    if (t.empty() || t[0] == '#') return false;
+    split_fields(t, f);
+    if (f.size() < 4)
+        fail_format(name + ": too few fields for an XYZR atom" + at_line(number) + " (" +
+                    std::to_string(f.size()) + "; expected: x y z radius)");
+    sphere({f[0], f[1], f[2], f[3]}, name, number, xyz, r);
+    return true;
+}
+
+// Whether `line` is one of XYZRN's sphere lines (neither blank nor a comment): the lines that
+// MSMS numbers.
+bool is_xyzrn_sphere(std::string_view line) {
+    const std::string_view t = trim(line);
+    return !t.empty() && t[0] != '#';
+}
+
+// The last field of the rest of an XYZRN line after its four numbers, as split_fields would
+// give it ("" for none), into `field`; false where the rest is not plain ASCII (split_fields'
+// white space there is the locale's), which the general route then takes.
+bool xyzrn_name_fast(std::string_view rest, std::string_view& field) {
+    for (char c : rest)
+        if (!(c == ' ' || c == '\t' || (c > ' ' && c < 0x7f))) return false;
+    std::size_t end = rest.size();
+    while (end > 0 && (rest[end - 1] == ' ' || rest[end - 1] == '\t')) --end;
+    std::size_t start = end;
+    while (start > 0 && rest[start - 1] != ' ' && rest[start - 1] != '\t') --start;
+    field = rest.substr(start, end - start);
+    return true;
+}
+
+// x, y, z and the radius of an XYZRN line and its name field (the last of five or more; ""
+// for four), with `f` for its fields; false for a comment or a blank line.
+bool xyzrn_line(std::string_view line, std::size_t number, const std::string& name,
+                std::vector<std::string_view>& f, float xyz[3], double& r,
+                std::string_view& atom_name) {
+    std::size_t rest = 0;
+    if (xyzr_line_fast(line, xyz, r, &rest) && xyzrn_name_fast(line.substr(rest), atom_name))
+        return true;
+    if (!is_xyzrn_sphere(line)) return false;
+    split_fields(trim(line), f);
+    if (f.size() < 4)
+        fail_format(name + ": too few fields for an XYZRN atom" + at_line(number) + " (" +
+                    std::to_string(f.size()) + "; expected: x y z radius n name)");
+    sphere({f[0], f[1], f[2], f[3]}, name, number, xyz, r);
+    atom_name = f.size() >= 5 ? f.back() : std::string_view();
+    return true;
+}
+
+// An XYZRN atom's metadata and element from its name field; `serial`: its sphere line's number.
+AtomMeta xyzrn_atom(std::string_view atom_name, std::int32_t serial, std::string& element) {
+    AtomMeta m = xyzrn_meta(atom_name, element);
+    m.serial = serial;
+    return m;
+}
+
+// A PQR record (line `number` of the file; is_pqr_atom_record): its metadata into `m` (as
+// constructed), its centre and radius, its fields in `f` (PDB's fixed columns where white space
+// does not give them; `in_columns` says so).
+void pqr_record(std::string_view line, std::size_t number, const std::string& name,
+                std::vector<std::string_view>& f, AtomMeta& m, float xyz[3], double& r,
+                bool& in_columns) {
+    split_fields(line, f);
+    // x y z charge radius as plain decimals (base/decimal.hpp): read once, here, with the values
+    // that numbers(), number_field() and sphere() would give.
+    double v[5] = {};
+    bool fast = f.size() >= 10;
+    for (std::size_t i = 0; fast && i < 5; ++i) fast = parse_decimal_fast(f[f.size() - 5 + i], v[i]);
+    fast = fast && v[4] >= 0.0;
+    in_columns = false;
+    if (!fast && (f.size() < 10 || !numbers(f, f.size() - 5))) {
+        std::vector<std::string_view> columns = pqr_columns(line);
+        if (!columns.empty()) {
+            f = std::move(columns);
+            in_columns = true;
+        }
+    }
+    if (f.size() < 10)
+        fail_format(name + ": too few fields for a PQR atom" + at_line(number) + " (" +
+                    std::to_string(f.size()) +
+                    "; expected: record serial name resName [chain] resSeq x y z charge radius)");
+    const std::size_t n = f.size();
+    m.charge = static_cast<float>(fast ? v[3] : number_field(f[n - 2], "charge", name, number));
+    m.has_charge = true;
+    if (!parse_int(f[1], m.serial)) m.serial = 0;  // serials are informative only
+    m.name = std::string(f[2]);
+    m.residue_name = std::string(f[3]);
+    m.hetero = iequals(f[0], "HETATM");
+    pqr_residue(f, m, name, number);
+    r = v[4];
+    if (fast)
+        for (int i = 0; i < 3; ++i) xyz[i] = static_cast<float>(v[i]);
+    else
+        sphere({f[n - 5], f[n - 4], f[n - 3], f[n - 1]}, name, number, xyz, r);
+}
+
+// The warning for a PQR's records read in fixed columns.
+void note_columns(Structure& s, std::size_t in_columns, std::size_t first_line,
+                  const std::string& name) {
+    if (in_columns)
+        s.info.warnings.push_back(name + ": " + std::to_string(in_columns) +
+                                  " record(s) read in PDB's fixed columns (fields run together "
+                                  "or missing; the first at line " +
+                                  std::to_string(first_line) + ")");
+}
+
+// --- Pieces on all threads: a text cut at line ends, each piece written in place ---
+
+// What reading one piece leaves for the whole: its atoms (written from its first slot on), its
+// radius-0 atoms and the first line of them, and the error that stopped it.
+struct Part {
+    std::size_t atoms = 0, zero = 0, first_zero = 0;
     std::exception_ptr error;
 };
 
-// The ATOM/HETATM records of `text` (whole lines, the first of which is line `first_line` + 1
-// of the file) into `atoms` from atom `slot` on, which has room for each of them.
+// The atoms' arrays as pieces write them while the arrays grow (see grow_atoms).
+struct AtomSlots {
+    float* xyz;
+    float* radius;
+    std::string* element;
+    AtomMeta* meta;
+};
+
+// Room for `n` atoms in the arrays (`with_meta`: the metadata too), reserved, not yet filled,
+// its pages provided on all threads.
+AtomSlots reserve_atoms(Atoms& a, std::size_t n, bool with_meta) {
+    a.xyz.reserve(3 * n);
+    a.radius.reserve(n);
+    a.element.reserve(n);
+    if (with_meta) a.meta.reserve(n);
+    populate_pages({{a.xyz.data(), 3 * n * sizeof(float)},
+                    {a.radius.data(), n * sizeof(float)},
+                    {a.element.data(), n * sizeof(std::string)},
+                    {a.meta.data(), with_meta ? n * sizeof(AtomMeta) : 0}});
+    trace("read: room for the atoms");
+    return {a.xyz.data(), a.radius.data(), a.element.data(), a.meta.data()};
+}
+
+// The arrays grown to `n` atoms, within their room: std::vector constructs its elements on one
+// thread, so that thread grows them piece by piece while the others read the pieces already
+// grown (parallel_prepared).
+void grow_atoms(Atoms& a, std::size_t n, bool with_meta) {
+    a.xyz.resize(3 * n);
+    a.radius.resize(n);
+    a.element.resize(n);
+    if (with_meta) a.meta.resize(n);
+}
+
+// Reads the pieces (`read(k)`) on all threads, each as soon as the arrays have grown to the
+// slots before the next piece (`first_slot[k + 1]`).
+void read_pieces(Atoms& a, const std::vector<std::size_t>& first_slot, bool with_meta,
+                 const std::function<void(std::size_t)>& read) {
+    parallel_prepared(
+        first_slot.size() - 1, thread_count(),
+        [&](std::size_t k) { grow_atoms(a, first_slot[k + 1], with_meta); }, read);
+    trace("read: pieces read");
+}
+
+// The pieces' atoms one after another, the gaps that comments, radius-0 atoms and other lines
+// left closed (moved towards the front), the arrays cut to them; the first error in file order
+// rethrown. `zero` and `first_zero`: the radius-0 atoms of the whole.
+template <class P>
+void join_parts(Atoms& a, const std::vector<std::size_t>& first_slot, const std::vector<P>& parts,
+                std::size_t& zero, std::size_t& first_zero) {
+    std::size_t atoms = 0;
+    zero = first_zero = 0;
+    for (std::size_t k = 0; k < parts.size(); ++k) {
+        const Part& part = parts[k];
+        if (part.error) std::rethrow_exception(part.error);
+        if (atoms != first_slot[k]) {
+            const auto from = std::ptrdiff_t(first_slot[k]), to = std::ptrdiff_t(atoms);
+            const auto n = std::ptrdiff_t(part.atoms);
+            std::copy(a.xyz.begin() + 3 * from, a.xyz.begin() + 3 * (from + n),
+                      a.xyz.begin() + 3 * to);
+            std::copy(a.radius.begin() + from, a.radius.begin() + from + n, a.radius.begin() + to);
+            if (!a.meta.empty()) {  // XYZR's elements are all empty
+                std::move(a.meta.begin() + from, a.meta.begin() + from + n, a.meta.begin() + to);
+                std::move(a.element.begin() + from, a.element.begin() + from + n,
+                          a.element.begin() + to);
+            }
+        }
+        atoms += part.atoms;
+        if (part.zero > 0 && zero == 0) first_zero = part.first_zero;
+        zero += part.zero;
+    }
+    a.xyz.resize(3 * atoms);
+    a.radius.resize(atoms);
+    a.element.resize(atoms);
+    if (!a.meta.empty()) a.meta.resize(atoms);
+}
+
+// XYZR lines of `text`, the first of which is line `first_line` + 1 of the file, into the atoms'
+// arrays from slot `slot` on (room for an atom per line).
+void read_xyzr_part(std::string_view text, std::size_t first_line, const std::string& name,
+                    const AtomSlots& atoms, std::size_t slot, Part& part) {
+    try {
+        float* const xyz = atoms.xyz + 3 * slot;
+        float* const radius = atoms.radius + slot;
+        LineReader lines(text);
+        std::string_view line;
+        std::vector<std::string_view> f;
+        float p[3];
+        double r = 0.0;
+        while (lines.next(line)) {
+            const std::size_t number = first_line + lines.number();
+            if (!xyzr_line(line, number, name, f, p, r)) continue;
+            // Radius 0: left out (note_zero_radii says why).
+            if (r == 0.0) {
+                if (part.zero++ == 0) part.first_zero = number;
+                continue;
+            }
+            std::copy(p, p + 3, xyz + 3 * part.atoms);
+            radius[part.atoms++] = static_cast<float>(r);
+        }
+    } catch (...) {
+        part.error = std::current_exception();
+    }
+}
+
+// XYZRN lines of `text` as read_xyzr_part; `first_sphere`: the sphere lines before it.
+void read_xyzrn_part(std::string_view text, std::size_t first_line, std::size_t first_sphere,
+                     const std::string& name, const AtomSlots& atoms, std::size_t slot,
+                     Part& part) {
+    try {
+        LineReader lines(text);
+        std::string_view line;
+        std::vector<std::string_view> f;
+        std::size_t sphere = first_sphere;
+        float p[3];
+        double r = 0.0;
+        std::string_view atom_name;
+        while (lines.next(line)) {
+            const std::size_t number = first_line + lines.number();
+            if (!xyzrn_line(line, number, name, f, p, r, atom_name)) continue;
+            ++sphere;
+            if (r == 0.0) {
+                if (part.zero++ == 0) part.first_zero = number;
+                continue;
+            }
+            const std::size_t at = slot + part.atoms++;
+            std::copy(p, p + 3, atoms.xyz + 3 * at);
+            atoms.radius[at] = static_cast<float>(r);
+            const auto serial = std::int32_t(
+                std::min<std::size_t>(sphere, std::numeric_limits<std::int32_t>::max()));
+            atoms.meta[at] = xyzrn_atom(atom_name, serial, atoms.element[at]);
+        }
+    } catch (...) {
+        part.error = std::current_exception();
+    }
+}
+
+// A PQR piece's part: besides Part's, the count and first line of its records read in columns,
+// and its radius-0 atoms while it has no atom with a radius.
+struct PqrPart : Part {
+    std::size_t in_columns = 0, first_in_columns = 0;
+    std::vector<Unsized> unsized;
+};
+
+// The ATOM/HETATM records of `text` as read_xyzr_part (room for each record).
 void read_pqr_part(std::string_view text, std::size_t first_line, const std::string& name,
-                   Atoms& atoms, std::size_t slot, PqrPart& part) {
+                   const AtomSlots& atoms, std::size_t slot, PqrPart& part) {
     try {
         LineReader lines(text);
         std::string_view line;
@@ -346,56 +565,30 @@ void read_pqr_part(std::string_view text, std::size_t first_line, const std::str
         while (lines.next(line)) {
             if (!is_pqr_atom_record(line)) continue;
             const std::size_t number = first_line + lines.number();
-            split_fields(line, f);
-            // x y z charge radius as plain decimals (base/decimal.hpp): read once, here, with
-            // the values that numbers(), number_field() and sphere() would give.
-            double v[5] = {};
-            bool fast = f.size() >= 10;
-            for (std::size_t i = 0; fast && i < 5; ++i)
-                fast = parse_decimal_fast(f[f.size() - 5 + i], v[i]);
-            fast = fast && v[4] >= 0.0;
-            if (!fast && (f.size() < 10 || !numbers(f, f.size() - 5))) {
-                std::vector<std::string_view> columns = pqr_columns(line);
-                if (!columns.empty()) {
-                    f = std::move(columns);
-                    if (part.in_columns++ == 0) part.first_in_columns = number;
-                }
-            }
-            if (f.size() < 10)
-                fail_format(name + ": too few fields for a PQR atom" + at_line(number) + " (" +
-                            std::to_string(f.size()) +
-                            "; expected: record serial name resName [chain] resSeq x y z charge "
-                            "radius)");
-            std::size_t n = f.size();
-            AtomMeta m;
-            m.charge = static_cast<float>(fast ? v[3]
-                                               : number_field(f[n - 2], "charge", name, number));
-            m.has_charge = true;
-            if (!parse_int(f[1], m.serial)) m.serial = 0;  // serials are informative only
-            m.name = std::string(f[2]);
-            m.residue_name = std::string(f[3]);
-            m.hetero = iequals(f[0], "HETATM");
-            pqr_residue(f, m, name, number);
-            Unsized atom;
-            double r = v[4];
-            if (fast)
-                for (int i = 0; i < 3; ++i) atom.xyz[i] = static_cast<float>(v[i]);
-            else
-                sphere({f[n - 5], f[n - 4], f[n - 3], f[n - 1]}, name, number, atom.xyz, r);
+            // The record's own slot (one per record), as constructed: read into it in place.
+            const std::size_t at = slot + part.atoms;
+            AtomMeta& m = atoms.meta[at];
+            float xyz[3];
+            double r = 0.0;
+            bool in_columns = false;
+            pqr_record(line, number, name, f, m, xyz, r, in_columns);
+            if (in_columns && part.in_columns++ == 0) part.first_in_columns = number;
             if (r > 0.0) {
-                const std::size_t at = slot + part.atoms++;
-                std::copy(atom.xyz, atom.xyz + 3, atoms.xyz.begin() + std::ptrdiff_t(3 * at));
+                ++part.atoms;
+                std::copy(xyz, xyz + 3, atoms.xyz + 3 * at);
                 atoms.radius[at] = static_cast<float>(r);
                 atoms.element[at] = pqr_element(f[2], f[3]);
-                atoms.meta[at] = std::move(m);
                 part.unsized.clear();
             } else {
                 if (part.zero++ == 0) part.first_zero = number;
                 if (part.atoms == 0) {
+                    Unsized atom;
+                    std::copy(xyz, xyz + 3, atom.xyz);
                     atom.meta = std::move(m);
                     atom.element = pqr_element(f[2], f[3]);
                     part.unsized.push_back(std::move(atom));
                 }
+                m = AtomMeta();  // the slot is the next record's
             }
         }
     } catch (...) {
@@ -405,18 +598,58 @@ void read_pqr_part(std::string_view text, std::size_t first_line, const std::str
 
 }  // namespace
 
-// PQR: ATOM/HETATM serial name resName [chainID] resSeq x y z charge radius. The chain is
+// --- PQR: ATOM/HETATM serial name resName [chainID] resSeq x y z charge radius. The chain is
 // optional and fields are not in fixed columns, so x y z and radius are counted from the end;
-// where white space does not give the fields, PDB's fixed columns are tried. Pieces of about
-// 1 MiB on all threads, each written in place from its first record's slot (its records
-// counted first), the gaps that radius-0 atoms leave closed after: the same atoms, warnings
-// and first error as one pass from the top.
-Structure read_pqr(std::string_view text, const std::string& name) {
-    const std::vector<std::string_view> pieces = text_pieces(text);
+// where white space does not give the fields, PDB's fixed columns are tried. Radius-0 atoms are
+// left out (pdb2pqr gives some hydrogens radius 0), unless no atom has a radius: then the
+// elements' radii are used. ---
+
+Structure read_pqr_plain(std::string_view text, const std::string& name) {
+    Structure s;
+    std::size_t zero = 0, first_zero = 0, in_columns = 0, first_in_columns = 0;
+    std::vector<Unsized> unsized;  // while no atom has a radius
+    LineReader lines(text);
+    std::string_view line;
+    std::vector<std::string_view> f;
+    while (lines.next(line)) {
+        if (!is_pqr_atom_record(line)) continue;
+        AtomMeta m;
+        Unsized atom;
+        double r = 0.0;
+        bool columns = false;
+        pqr_record(line, lines.number(), name, f, m, atom.xyz, r, columns);
+        if (columns && in_columns++ == 0) first_in_columns = lines.number();
+        if (r > 0.0) {
+            s.atoms.xyz.insert(s.atoms.xyz.end(), atom.xyz, atom.xyz + 3);
+            s.atoms.radius.push_back(static_cast<float>(r));
+            s.atoms.element.push_back(pqr_element(f[2], f[3]));
+            s.atoms.meta.push_back(std::move(m));
+            unsized.clear();
+        } else {
+            if (zero++ == 0) first_zero = lines.number();
+            if (s.atoms.empty()) {
+                atom.meta = std::move(m);
+                atom.element = pqr_element(f[2], f[3]);
+                unsized.push_back(std::move(atom));
+            }
+        }
+    }
+    note_columns(s, in_columns, first_in_columns, name);
+    if (s.atoms.empty() && zero > 0) {
+        radii_from_elements(s, unsized, name);
+        zero = first_zero = 0;
+    }
+    note_zero_radii(s, zero, first_zero, name);
+    return finish(std::move(s), StructureFormat::Pqr, name, "ATOM/HETATM");
+}
+
+// Each piece's records counted first, so that each writes its atoms (metadata too) in place.
+Structure read_pqr_pieces(std::string_view text, const std::string& name, std::size_t piece) {
+    const std::vector<std::string_view> pieces = text_pieces(text, piece);
     const std::size_t count = pieces.size();
     // The records and the lines before each piece.
     std::vector<std::size_t> first_slot(count + 1, 0), first_line(count + 1, 0);
-    parallel_chunks(count, thread_count(), [&](std::size_t k) {
+    parallel_chunks(pieces.size(), thread_count(), [&](std::size_t k) {
         LineReader lines(pieces[k]);
         std::string_view line;
         while (lines.next(line)) first_slot[k + 1] += is_pqr_atom_record(line);
@@ -424,47 +657,20 @@ Structure read_pqr(std::string_view text, const std::string& name) {
     });
     running_sums(first_slot);
     running_sums(first_line);
+    trace("read: pieces counted");
     Structure s;
-    const std::size_t slots = first_slot.back();
-    s.atoms.xyz.resize(3 * slots);
-    s.atoms.radius.resize(slots);
-    s.atoms.element.resize(slots);
-    s.atoms.meta.resize(slots);
+    const AtomSlots slots = reserve_atoms(s.atoms, first_slot.back(), true);
     std::vector<PqrPart> parts(count);
-    parallel_chunks(count, thread_count(), [&](std::size_t k) {
-        read_pqr_part(pieces[k], first_line[k], name, s.atoms, first_slot[k],
-                      parts[k]);
+    read_pieces(s.atoms, first_slot, true, [&](std::size_t k) {
+        read_pqr_part(pieces[k], first_line[k], name, slots, first_slot[k], parts[k]);
     });
-    std::size_t atoms = 0, zero = 0, first_zero = 0, in_columns = 0, first_in_columns = 0;
-    for (std::size_t k = 0; k < count; ++k) {
-        PqrPart& part = parts[k];
-        if (part.error) std::rethrow_exception(part.error);
-        if (atoms != first_slot[k]) {  // close the gap before this piece (moves towards the front)
-            Atoms& a = s.atoms;
-            const auto from = std::ptrdiff_t(first_slot[k]), to = std::ptrdiff_t(atoms);
-            const auto n = std::ptrdiff_t(part.atoms);
-            std::copy(a.xyz.begin() + 3 * from, a.xyz.begin() + 3 * (from + n),
-                      a.xyz.begin() + 3 * to);
-            std::copy(a.radius.begin() + from, a.radius.begin() + from + n, a.radius.begin() + to);
-            std::move(a.element.begin() + from, a.element.begin() + from + n,
-                      a.element.begin() + to);
-            std::move(a.meta.begin() + from, a.meta.begin() + from + n, a.meta.begin() + to);
-        }
-        atoms += part.atoms;
-        if (part.zero > 0 && zero == 0) first_zero = part.first_zero;
-        zero += part.zero;
+    std::size_t zero = 0, first_zero = 0, in_columns = 0, first_in_columns = 0;
+    join_parts(s.atoms, first_slot, parts, zero, first_zero);
+    for (const PqrPart& part : parts) {
         if (part.in_columns > 0 && in_columns == 0) first_in_columns = part.first_in_columns;
         in_columns += part.in_columns;
     }
-    s.atoms.xyz.resize(3 * atoms);
-    s.atoms.radius.resize(atoms);
-    s.atoms.element.resize(atoms);
-    s.atoms.meta.resize(atoms);
-    if (in_columns)
-        s.info.warnings.push_back(name + ": " + std::to_string(in_columns) +
-                                  " record(s) read in PDB's fixed columns (fields run together "
-                                  "or missing; the first at line " +
-                                  std::to_string(first_in_columns) + ")");
+    note_columns(s, in_columns, first_in_columns, name);
     if (s.atoms.empty() && zero > 0) {
         // No atom has a radius: every piece kept all its radius-0 atoms.
         std::vector<Unsized> unsized;
@@ -478,77 +684,123 @@ Structure read_pqr(std::string_view text, const std::string& name) {
     return finish(std::move(s), StructureFormat::Pqr, name, "ATOM/HETATM");
 }
 
-// XYZR (MSMS): "x y z r" and optionally more fields, which are ignored. Pieces of about 1 MiB
-// (whole lines) on all threads, each written in place at its first line's slot of the atoms'
-// arrays (an atom per line at most), the gaps that comments and radius-0 lines leave closed
-// after: the same atoms, and the same first error, as one pass from the top.
-Structure read_xyzr(std::string_view text, const std::string& name) {
-    const std::vector<std::string_view> pieces = text_pieces(text);
+Structure read_pqr(std::string_view text, const std::string& name) {
+    return read_pqr_pieces(text, name, kPiece);
+}
+
+// --- XYZR (MSMS): "x y z r" and optionally more fields, which are ignored. ---
+
+Structure read_xyzr_plain(std::string_view text, const std::string& name) {
+    Structure s;
+    std::size_t zero = 0, first_zero = 0;
+    LineReader lines(text);
+    std::string_view line;
+    std::vector<std::string_view> f;
+    float xyz[3];
+    double r = 0.0;
+    while (lines.next(line)) {
+        if (!xyzr_line(line, lines.number(), name, f, xyz, r)) continue;
+        if (r == 0.0) {  // left out (note_zero_radii says why)
+            if (zero++ == 0) first_zero = lines.number();
+            continue;
+        }
+        s.atoms.xyz.insert(s.atoms.xyz.end(), xyz, xyz + 3);
+        s.atoms.radius.push_back(static_cast<float>(r));
+    }
+    s.atoms.element.resize(s.atoms.size());  // XYZR has no element; kept parallel to radius
+    note_zero_radii(s, zero, first_zero, name);
+    return finish(std::move(s), StructureFormat::Xyzr, name, "'x y z r'");
+}
+
+// Each piece written at its first line's slot (an atom per line at most).
+Structure read_xyzr_pieces(std::string_view text, const std::string& name, std::size_t piece) {
+    const std::vector<std::string_view> pieces = text_pieces(text, piece);
     // The lines before each piece.
     std::vector<std::size_t> first_line(pieces.size() + 1, 0);
     parallel_chunks(pieces.size(), thread_count(), [&](std::size_t k) {
         first_line[k + 1] = std::size_t(std::count(pieces[k].begin(), pieces[k].end(), '\n'));
     });
     running_sums(first_line);
-    Structure s;
+    trace("read: pieces counted");
     // A slot per line; the last line may have no newline.
-    const std::size_t slots = first_line.back() + 1;
-    s.atoms.xyz.resize(3 * slots);
-    s.atoms.radius.resize(slots);
-    std::vector<XyzrPart> parts(pieces.size());
-    parallel_chunks(pieces.size(), thread_count(), [&](std::size_t k) {
-        read_xyzr_part(pieces[k], first_line[k], name, s.atoms.xyz.data() + 3 * first_line[k],
-                       s.atoms.radius.data() + first_line[k], parts[k]);
+    std::vector<std::size_t> first_slot = first_line;
+    first_slot.back() += 1;
+    Structure s;
+    const AtomSlots slots = reserve_atoms(s.atoms, first_slot.back(), false);
+    std::vector<Part> parts(pieces.size());
+    read_pieces(s.atoms, first_slot, false, [&](std::size_t k) {
+        read_xyzr_part(pieces[k], first_line[k], name, slots, first_slot[k], parts[k]);
     });
-    std::size_t zero = 0, first_zero = 0, atoms = 0;
-    for (std::size_t k = 0; k < parts.size(); ++k) {
-        const XyzrPart& part = parts[k];
-        if (part.error) std::rethrow_exception(part.error);
-        if (atoms != first_line[k]) {  // close the gap before this piece (moves towards the front)
-            const float* xyz = s.atoms.xyz.data() + 3 * first_line[k];
-            const float* radius = s.atoms.radius.data() + first_line[k];
-            std::copy(xyz, xyz + 3 * part.atoms, s.atoms.xyz.data() + 3 * atoms);
-            std::copy(radius, radius + part.atoms, s.atoms.radius.data() + atoms);
-        }
-        atoms += part.atoms;
-        if (part.zero > 0 && zero == 0) first_zero = part.first_zero;
-        zero += part.zero;
-    }
-    s.atoms.xyz.resize(3 * atoms);
-    s.atoms.radius.resize(atoms);
-    s.atoms.element.resize(atoms);  // XYZR has no element; kept parallel to radius
+    std::size_t zero = 0, first_zero = 0;
+    join_parts(s.atoms, first_slot, parts, zero, first_zero);
     note_zero_radii(s, zero, first_zero, name);
     return finish(std::move(s), StructureFormat::Xyzr, name, "'x y z r'");
 }
 
-// XYZRN (MSMS's pdb_to_xyzrn): "x y z r n name"; with five or more fields the last is the
-// name, so "x y z r name" reads too, and plain "x y z r" lines give an empty name.
-Structure read_xyzrn(std::string_view text, const std::string& name) {
+Structure read_xyzr(std::string_view text, const std::string& name) {
+    return read_xyzr_pieces(text, name, kPiece);
+}
+
+// --- XYZRN (MSMS's pdb_to_xyzrn): "x y z r n name"; with five or more fields the last is the
+// name, so "x y z r name" reads too, and plain "x y z r" lines give an empty name. ---
+
+Structure read_xyzrn_plain(std::string_view text, const std::string& name) {
     Structure s;
     std::size_t zero = 0, first_zero = 0;
     std::int32_t sphere = 0;  // the serial: the sphere's number in the file, as MSMS's
     LineReader lines(text);
     std::string_view line;
+    std::vector<std::string_view> f;
+    float xyz[3];
+    double r = 0.0;
+    std::string_view atom_name;
     while (lines.next(line)) {
-        std::string_view t = trim(line);
-        if (t.empty() || t[0] == '#') continue;
-        std::vector<std::string_view> f = split_fields(t);
+        if (!xyzrn_line(line, lines.number(), name, f, xyz, r, atom_name)) continue;
         if (sphere < std::numeric_limits<std::int32_t>::max()) ++sphere;
-        if (f.size() < 4)
-            fail_format(name + ": too few fields for an XYZRN atom" + at_line(lines.number()) +
-                        " (" + std::to_string(f.size()) + "; expected: x y z radius n name)");
-        if (add_atom(s.atoms, {f[0], f[1], f[2], f[3]}, name, lines.number())) {
-            std::string element;
-            s.atoms.meta.push_back(
-                xyzrn_meta(f.size() >= 5 ? f.back() : std::string_view(), element));
-            s.atoms.meta.back().serial = sphere;
-            s.atoms.element.push_back(std::move(element));
-        } else {
+        if (r == 0.0) {  // left out (note_zero_radii says why)
             if (zero++ == 0) first_zero = lines.number();
+            continue;
         }
+        s.atoms.xyz.insert(s.atoms.xyz.end(), xyz, xyz + 3);
+        s.atoms.radius.push_back(static_cast<float>(r));
+        std::string element;
+        s.atoms.meta.push_back(xyzrn_atom(atom_name, sphere, element));
+        s.atoms.element.push_back(std::move(element));
     }
     note_zero_radii(s, zero, first_zero, name);
     return finish(std::move(s), StructureFormat::Xyzrn, name, "'x y z r n name'");
+}
+
+// Each piece's sphere lines counted first (they number the atoms and give their slots).
+Structure read_xyzrn_pieces(std::string_view text, const std::string& name, std::size_t piece) {
+    const std::vector<std::string_view> pieces = text_pieces(text, piece);
+    const std::size_t count = pieces.size();
+    // The sphere lines and the lines before each piece.
+    std::vector<std::size_t> first_slot(count + 1, 0), first_line(count + 1, 0);
+    parallel_chunks(pieces.size(), thread_count(), [&](std::size_t k) {
+        LineReader lines(pieces[k]);
+        std::string_view line;
+        while (lines.next(line)) first_slot[k + 1] += is_xyzrn_sphere(line);
+        first_line[k + 1] = lines.number();
+    });
+    running_sums(first_slot);
+    running_sums(first_line);
+    trace("read: pieces counted");
+    Structure s;
+    const AtomSlots slots = reserve_atoms(s.atoms, first_slot.back(), true);
+    std::vector<Part> parts(count);
+    read_pieces(s.atoms, first_slot, true, [&](std::size_t k) {
+        read_xyzrn_part(pieces[k], first_line[k], first_slot[k], name, slots, first_slot[k],
+                        parts[k]);
+    });
+    std::size_t zero = 0, first_zero = 0;
+    join_parts(s.atoms, first_slot, parts, zero, first_zero);
+    note_zero_radii(s, zero, first_zero, name);
+    return finish(std::move(s), StructureFormat::Xyzrn, name, "'x y z r n name'");
+}
+
+Structure read_xyzrn(std::string_view text, const std::string& name) {
+    return read_xyzrn_pieces(text, name, kPiece);
 }
 
 }  // namespace fdmsurf::detail
