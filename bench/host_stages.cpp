@@ -15,6 +15,11 @@
 // circles, exposed arcs; the CLI's ses-features stage less the host's index of them), without a
 // surface. --only exact-areas: the exact per-atom SASA of STRUCTURE (atom_exact_areas at the
 // probe, sphere patches: what Engine.trajectory computes per frame), without a surface.
+// --only ses-field: the exact SES field of STRUCTURE on the host (--method edt's ses-host stage:
+// SesHostField::evaluate over the whole grid), without a surface. --only ses-snap: the exact SES
+// snap (--method edt's snap stage) of the vertices of --mesh, a surface written with --no-snap.
+// Both print a hash of their output (the field, the snapped positions and normals) and the CPU
+// seconds beside the wall time, which a loaded machine spreads.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -28,6 +33,7 @@
 #include <vector>
 
 #include "base/trace.hpp"
+#include "engine/surface_fields.hpp"
 #include "fdmsurf/error.hpp"
 #include "fdmsurf/fdmsurf.hpp"
 #include "grid/ses_features.hpp"
@@ -55,6 +61,52 @@ double cpu_ms() {
     timespec t{};
     clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
     return double(t.tv_sec) * 1e3 + double(t.tv_nsec) / 1e6;
+}
+
+// FNV-1a over the bytes of a float array: the same output of two builds.
+std::uint64_t hash_floats(const std::vector<float>& v) {
+    std::uint64_t h = 1469598103934665603ull;
+    const auto* b = reinterpret_cast<const unsigned char*>(v.data());
+    for (std::size_t i = 0; i < v.size() * sizeof(float); ++i) h = (h ^ b[i]) * 1099511628211ull;
+    return h;
+}
+
+// The exact SES's host stages alone: the field over the whole grid, or the snap of `mesh`.
+int ses_stage(const Structure& structure, SurfaceOptions options, const std::string& only,
+              const Mesh& mesh, int reps) {
+    options.method = SesMethod::Edt;
+    const detail::GridPlan plan = detail::plan_grid(structure.atoms, options);
+    const detail::SesFeatures f = detail::build_ses_features(structure.atoms, options.probe);
+    const detail::SesHostField ses(f, plan.ses_d_max);
+    std::vector<double> wall, cpu;
+    std::uint64_t hash = 0;
+    for (int r = 0; r < reps; ++r) {
+        Mesh copy = only == "ses-snap" ? mesh : Mesh{};
+        const auto t0 = std::chrono::steady_clock::now();
+        const std::clock_t c0 = std::clock();
+        if (only == "ses-field") {
+            const std::vector<float> field = ses.field(plan);
+            hash = hash_floats(field);
+        } else {
+            const detail::SesDistanceField field(ses, plan.iso, plan.ses_d_max);
+            detail::project_onto_field(copy, 0, field,
+                                       detail::ses_snap_options(plan.info.spacing));
+            hash = hash_floats(copy.positions) ^ (hash_floats(copy.normals) << 1);
+        }
+        cpu.push_back(double(std::clock() - c0) / CLOCKS_PER_SEC * 1e3);
+        wall.push_back(std::chrono::duration<double, std::milli>(
+                           std::chrono::steady_clock::now() - t0).count());
+    }
+    std::sort(wall.begin(), wall.end());
+    std::sort(cpu.begin(), cpu.end());
+    std::printf("%s: %zu atoms, %zu vertices, grid %ux%ux%u, %u threads\n\n", only.c_str(),
+                structure.atoms.size(), mesh.vertex_count(), plan.info.dims[0],
+                plan.info.dims[1], plan.info.dims[2], std::thread::hardware_concurrency());
+    std::printf("| host stage | median ms (%d runs) | median CPU ms | hash |\n|---|---|---|---|\n",
+                reps);
+    std::printf("| %s | %.1f | %.1f | %016llx |\n", only.c_str(), wall[wall.size() / 2],
+                cpu[cpu.size() / 2], static_cast<unsigned long long>(hash));
+    return 0;
 }
 
 }  // namespace
@@ -118,6 +170,14 @@ int main(int argc, char** argv) try {
         std::printf("circles %zu (buried %zu), arcs %zu, neighbours %zu, bins %zu\n", f.circles,
                     f.buried_circles, f.arcs.size(), f.neighbours.size(), f.bin_count());
         return 0;
+    }
+    if (only == "ses-field") return ses_stage(structure, options, only, Mesh{}, reps);
+    if (only == "ses-snap") {
+        if (mesh_file.empty()) {
+            std::fprintf(stderr, "--only ses-snap needs --mesh (a surface written with --no-snap)\n");
+            return 2;
+        }
+        return ses_stage(structure, options, only, read_mesh(mesh_file), reps);
     }
     Mesh mesh;
     std::string device = "none (--mesh)";

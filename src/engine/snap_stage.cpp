@@ -33,16 +33,7 @@ void EngineImpl::snap(SurfaceResult& result, const Atoms& atoms, const SurfaceOp
     if (plan.exact_ses) {
         const SesDistanceField field(*ses, plan.iso, plan.ses_d_max);
         const std::size_t nv = result.mesh.vertex_count();
-        ProjectOptions po = project_options_for_spacing(plan.info.spacing);
-        // Marching cubes put every vertex within a small part of a spacing of the surface; a
-        // longer move would be onto another sheet of the level set (near a cusp).
-        po.max_distance = 0.5 * plan.info.spacing;
-        // The last Newton step is taken unchecked once the first-order distance is under h/50:
-        // its error is about d²/(2 r) (curvature radii from 1.4 Å, the probe), under 4e-5 Å at
-        // 0.5 Å, against h/1000 after one more evaluation; the normal comes from the gradient
-        // there: one evaluation of the distance for most vertices instead of three.
-        po.tolerance = plan.info.spacing / 50.0;
-        po.set_normals = true;
+        const ProjectOptions po = ses_snap_options(plan.info.spacing);
         const ProjectStats p = project_onto_field(result.mesh, 0, field, po);
         result.times.push_back({"snap", now_ms() - t0, false});
         if (p.failed() > 0 && double(p.failed()) > 1e-3 * double(nv)) {

@@ -29,4 +29,19 @@ private:
     double iso_, d_max_;
 };
 
+// The snap stage's projection onto the exact SES at grid spacing h (snap_stage.cpp).
+inline ProjectOptions ses_snap_options(double h) {
+    ProjectOptions po = project_options_for_spacing(h);
+    // Marching cubes put every vertex within a small part of a spacing of the surface; a longer
+    // move would be onto another sheet of the level set (near a cusp).
+    po.max_distance = 0.5 * h;
+    // The last Newton step is taken unchecked once the first-order distance is under h/50: its
+    // error is about d²/(2 r) (curvature radii from 1.4 Å, the probe), under 4e-5 Å at 0.5 Å,
+    // against h/1000 after one more evaluation; the normal comes from the gradient there: one
+    // evaluation of the distance for most vertices instead of three.
+    po.tolerance = h / 50.0;
+    po.set_normals = true;
+    return po;
+}
+
 }  // namespace fdmsurf::detail

@@ -507,17 +507,33 @@ double SesHostField::distance(const double p[3], double d_max, double* gradient)
     }
     // The arcs of p's bin.
     const std::size_t b = (std::size_t(bin[2]) * f_.dims[1] + bin[1]) * f_.dims[0] + bin[0];
+    // In blocks: first, without a branch, the arcs whose ball comes within d_max of p (the
+    // others fail the test below whatever the bound, which only falls), then these alone, in
+    // order, against the bound so far: the same arcs reach Arc::distance as one loop would.
     double best = d_max;
     const Arc* best_arc = nullptr;
-    for (std::uint32_t n = bin_arc_start_[b]; n < bin_arc_start_[b + 1]; ++n) {
-        const std::uint32_t k = bin_arcs_[n];
-        const double* ball = arc_ball_[k].data();
-        const double vx = p[0] - ball[0], vy = p[1] - ball[1], vz = p[2] - ball[2];
-        const double r = ball[3] + best;
-        if (vx * vx + vy * vy + vz * vz >= r * r) continue;
-        const Arc& arc = arcs_[k];
-        const double d = arc.distance(p, best);
-        if (d < best) best = d, best_arc = &arc;
+    constexpr std::uint32_t kBlock = 64;
+    std::uint32_t near[kBlock];
+    double near_d2[kBlock];
+    for (std::uint32_t n0 = bin_arc_start_[b]; n0 < bin_arc_start_[b + 1]; n0 += kBlock) {
+        const std::uint32_t n1 = std::min(n0 + kBlock, bin_arc_start_[b + 1]);
+        std::uint32_t count = 0;
+        for (std::uint32_t n = n0; n < n1; ++n) {
+            const double* ball = arc_ball_[bin_arcs_[n]].data();
+            const double vx = p[0] - ball[0], vy = p[1] - ball[1], vz = p[2] - ball[2];
+            const double d2 = vx * vx + vy * vy + vz * vz, r = ball[3] + d_max;
+            near[count] = n;
+            near_d2[count] = d2;
+            count += d2 < r * r;
+        }
+        for (std::uint32_t j = 0; j < count; ++j) {
+            const std::uint32_t k = bin_arcs_[near[j]];
+            const double r = arc_ball_[k][3] + best;
+            if (near_d2[j] >= r * r) continue;
+            const Arc& arc = arcs_[k];
+            const double d = arc.distance(p, best);
+            if (d < best) best = d, best_arc = &arc;
+        }
     }
     if (best_arc == nullptr) {
         set_gradient(0, 0, 0);
@@ -727,18 +743,22 @@ struct SesHostField::Slab {
                         std::max(x0, first_at_or_above(arc.ball[0] - half, xs[0], h, nx));
                     const int xb = std::min(x1, last_at_or_below(arc.ball[0] + half, xs[0], h, nx));
                     if (xa > xb) continue;
-                    // Nothing waits in this row range: nothing to do.
+                    // The row kernel on the span of the waiting points in the row range alone
+                    // (the others' values are not read): about 30% fewer points on 1AON at
+                    // 1 Å; none waiting, nothing to do.
                     const std::uint64_t* bits = bits_of(z, y);
-                    std::uint64_t any = 0;
+                    int wa = -1, wb = -1;
                     for (int word = xa >> 6; word <= xb >> 6; ++word) {
                         std::uint64_t w = bits[word];
                         if (word == xa >> 6) w &= ~std::uint64_t(0) << (xa & 63);
                         if (word == xb >> 6 && (xb & 63) != 63)
                             w &= (std::uint64_t(1) << ((xb & 63) + 1)) - 1;
-                        any |= w;
+                        if (w == 0) continue;
+                        if (wa < 0) wa = word * 64 + std::countr_zero(w);
+                        wb = word * 64 + 63 - std::countl_zero(w);
                     }
-                    if (any == 0) continue;
-                    arc_row(arc, xs.data(), ys[y], zs[z], xa, xb, &arc_best[at(z, y)]);
+                    if (wa < 0) continue;
+                    arc_row(arc, xs.data(), ys[y], zs[z], wa, wb, &arc_best[at(z, y)]);
                 }
             }
         }
