@@ -269,6 +269,7 @@ struct Candidates {
 struct Layer {
     std::vector<std::uint32_t> key, tmp, sorted, count, ids;
     std::vector<float> vx, vy, vz, near;
+    std::vector<std::uint32_t> pick;  // the candidates kept, before their atoms are gathered
     Candidates group, cell;
     std::vector<std::uint32_t> best_atom;
     Scan scan;
@@ -318,15 +319,20 @@ void find_candidates(const AtomTable& t, const float blo[3], const float bhi[3],
         }
         reach = float(need) * 1.05f;  // a wider scan only lowers the bound: one more suffices
     }
-    Candidates& c = w.group;
-    c.reserve(s.count);
+    // The slots kept (each written, kept when near: no branch), then their atoms gathered.
     const float below = keep_below(limit, t.r2_max);
+    w.pick.resize(s.count);
     std::size_t kept = 0;
-    for (std::size_t j = 0; j < s.count; ++j) {  // written always, kept when near (no branch)
-        const std::uint32_t k = s.slot[j];
-        c.x[kept] = t.x[k], c.y[kept] = t.y[k], c.z[kept] = t.z[k], c.r2[kept] = t.r2[k];
-        c.index[kept] = t.index[k];
+    for (std::size_t j = 0; j < s.count; ++j) {
+        w.pick[kept] = s.slot[j];
         kept += !(s.near[j] > below);
+    }
+    Candidates& c = w.group;
+    c.reserve(kept);
+    for (std::size_t q = 0; q < kept; ++q) {
+        const std::uint32_t k = w.pick[q];
+        c.x[q] = t.x[k], c.y[q] = t.y[k], c.z[q] = t.z[k], c.r2[q] = t.r2[k];
+        c.index[q] = t.index[k];
     }
     c.count = kept;
 }
@@ -342,13 +348,18 @@ void filter_candidates(const Candidates& from, double r2_max, const float blo[3]
     const float below = std::isfinite(bound)
                             ? keep_below(candidate_limit(bound, r2_max, blo, bhi), r2_max)
                             : std::numeric_limits<float>::infinity();
-    Candidates& c = w.cell;
-    c.reserve(from.count);
+    w.pick.resize(from.count);
     std::size_t kept = 0;
     for (std::size_t j = 0; j < from.count; ++j) {
-        c.x[kept] = from.x[j], c.y[kept] = from.y[j], c.z[kept] = from.z[j];
-        c.r2[kept] = from.r2[j], c.index[kept] = from.index[j];
+        w.pick[kept] = std::uint32_t(j);
         kept += !(w.near[j] > below);
+    }
+    Candidates& c = w.cell;
+    c.reserve(kept);
+    for (std::size_t q = 0; q < kept; ++q) {
+        const std::uint32_t j = w.pick[q];
+        c.x[q] = from.x[j], c.y[q] = from.y[j], c.z[q] = from.z[j];
+        c.r2[q] = from.r2[j], c.index[q] = from.index[j];
     }
     c.count = kept;
 }
