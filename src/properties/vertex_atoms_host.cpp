@@ -1,7 +1,8 @@
 // The vertex atoms on the host (vertex_atoms_host.hpp). The vertices go in layers of cells a few
-// Å wide; a cell's vertices share one list of candidate atoms (every atom that can be the least
-// in power somewhere in the vertices' box), found by one scan of the atoms' cells around the box,
-// and each candidate is tried against all the cell's vertices, eight lanes at a time. Compiled
+// Å wide, the cells in groups; a group gets one list of candidate atoms (every atom that can be
+// the least in power somewhere in its vertices' box) from one scan of the atoms' cells around the
+// box, each cell narrows it to its own box, and each candidate is tried against all the cell's
+// vertices, eight lanes at a time. Compiled
 // with -ffp-contract=off (CMakeLists.txt): the power is the shader's expression, each product
 // and sum rounded apart.
 #include "properties/vertex_atoms_host.hpp"
