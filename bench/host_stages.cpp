@@ -20,8 +20,11 @@
 // snap (--method edt's snap stage) of the vertices of --mesh, a surface written with --no-snap.
 // Both print a hash of their output (the field, the snapped positions and normals) and the CPU
 // seconds beside the wall time, which a loaded machine spreads.
+// --only vertex-atoms: each vertex's atom on the host (the CLI's vertex-atoms stage on a CPU
+// device) for the mesh, --radius-add A for a sas mesh (the probe).
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -40,6 +43,7 @@
 #include "mesh/cavities.hpp"
 #include "mesh/mesh_attributes.hpp"
 #include "mesh/mesh_stats_detail.hpp"
+#include "properties/vertex_atoms_host.hpp"
 
 using namespace fdmsurf;
 
@@ -123,13 +127,15 @@ int main(int argc, char** argv) try {
     int reps = 5;
     std::string out = std::filesystem::temp_directory_path().string();
     std::string mesh_file;
-    std::string only;  // --only stats|cavities|fused|write|ses-features|exact-areas: that alone
+    std::string only;  // --only STAGE (above): that alone
+    float radius_add = 0.0f;
     for (int i = 2; i + 1 < argc; i += 2) {
         if (!std::strcmp(argv[i], "--spacing")) options.spacing = std::strtof(argv[i + 1], nullptr);
         else if (!std::strcmp(argv[i], "--reps")) reps = std::max(1, std::atoi(argv[i + 1]));
         else if (!std::strcmp(argv[i], "--out")) out = argv[i + 1];
         else if (!std::strcmp(argv[i], "--mesh")) mesh_file = argv[i + 1];
         else if (!std::strcmp(argv[i], "--only")) only = argv[i + 1];
+        else if (!std::strcmp(argv[i], "--radius-add")) radius_add = std::strtof(argv[i + 1], nullptr);
         else {
             std::fprintf(stderr, "unknown option %s\n", argv[i]);
             return 2;
@@ -280,6 +286,20 @@ int main(int argc, char** argv) try {
         const std::string path = out + "/fdmsurf-bench-host.ply";
         std::printf("| write PLY | %.1f |\n", median_ms(reps, [&] { write_mesh(mesh, path); }));
         std::filesystem::remove(path);
+    }
+    if (wanted("vertex-atoms")) {
+        std::vector<std::uint32_t> atom(mesh.vertex_count());
+        const std::clock_t c0 = std::clock();
+        const double ms = median_ms(reps, [&] {
+            detail::host_vertex_atoms(structure.atoms, mesh.positions.data(), atom.size(),
+                                      radius_add, atom.data(), 1);
+        });
+        // CPU time of both threads: steadier than the wall's on a shared machine.
+        std::printf("| vertex atoms | %.1f (CPU %.1f ms a run) |\n", ms,
+                    1e3 * double(std::clock() - c0) / CLOCKS_PER_SEC / reps);
+        std::uint64_t sum = 0;
+        for (std::size_t v = 0; v < atom.size(); ++v) sum = sum * 1000003u + atom[v];
+        std::printf("vertex atoms' hash %016llx\n", (unsigned long long)sum);
     }
     std::printf("\narea %.3f, volume %.3f, pieces %zu, closed manifold %d\n", stats.area, stats.volume,
                 stats.pieces, int(stats.is_closed_manifold()));

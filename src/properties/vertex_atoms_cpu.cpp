@@ -37,6 +37,32 @@ std::vector<std::uint32_t> vertex_atoms_cpu(const Mesh& mesh, const Atoms& atoms
     return out;
 }
 
+std::vector<std::uint32_t> vertex_atoms_float_cpu(const float* positions, std::size_t n,
+                                                  const Atoms& atoms, float radius_add) {
+    std::vector<float> r2(atoms.size());
+    for (std::size_t i = 0; i < atoms.size(); ++i) {
+        const float r = atoms.radius[i] + radius_add;
+        r2[i] = r * r;
+    }
+    std::vector<std::uint32_t> out(n);
+    for (std::size_t v = 0; v < n; ++v) {
+        const float* p = positions + 3 * v;
+        float best = 3.0e38f;
+        std::uint32_t best_atom = 0xffffffffu;
+        for (std::size_t i = 0; i < atoms.size(); ++i) {
+            const float d0 = p[0] - atoms.xyz[3 * i], d1 = p[1] - atoms.xyz[3 * i + 1],
+                        d2 = p[2] - atoms.xyz[3 * i + 2];
+            const float pw = (d0 * d0 + d1 * d1 + d2 * d2) - r2[i];
+            if (pw < best) {  // strict: ties keep the lower index
+                best = pw;
+                best_atom = static_cast<std::uint32_t>(i);
+            }
+        }
+        out[v] = best_atom;
+    }
+    return out;
+}
+
 std::vector<double> coulombic_cpu(const Mesh& mesh, const Atoms& atoms,
                                   const std::vector<float>& charges, float offset) {
     std::vector<double> out(mesh.vertex_count());

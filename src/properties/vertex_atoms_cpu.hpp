@@ -15,6 +15,13 @@ namespace fdmsurf::detail {
 std::vector<std::uint32_t> vertex_atoms_cpu(const Mesh& mesh, const Atoms& atoms,
                                             float radius_add);
 
+// Per vertex of the n at `positions`: argmin_i of the float power ((p - c_i)² summed x, y, z) -
+// (r_i + radius_add)², vertex_atoms.comp's expression, ties to the lower index; 0xffffffff where
+// no power is below 3e38 (a vertex that is not finite). Atoms x vertices: the plain reference of
+// the host's search (host_vertex_atoms), for tests only.
+std::vector<std::uint32_t> vertex_atoms_float_cpu(const float* positions, std::size_t n,
+                                                  const Atoms& atoms, float radius_add);
+
 // The power distance of vertex v to atom i (double), for reporting near-ties.
 double power_distance(const Mesh& mesh, std::size_t v, const Atoms& atoms, std::size_t i,
                       float radius_add);

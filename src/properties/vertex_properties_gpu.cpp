@@ -2,6 +2,7 @@
 // chunks that fit one storage-buffer binding.
 #include "properties/vertex_properties_gpu.hpp"
 #include "base/trace.hpp"
+#include "properties/vertex_atoms_host.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -210,260 +211,6 @@ Buffer upload_vector(Context& ctx, Commands& cmds, StagingArena& arena, const st
 
 }  // namespace
 
-// The atom of least power distance to p over `cells` (ties: the lower index) and its slot in
-// the binned atoms, by the search of vertex_atoms.comp, step for step and in the same float
-// arithmetic; atom 0xffffffff (slot 0) for none.
-struct Nearest {
-    std::uint32_t atom = 0xffffffffu, slot = 0;
-};
-
-Nearest nearest(const AtomCells& cells, const float p[3]) {
-    const CellGrid& g = cells.grid;
-    const int dims[3] = {int(g.dims[0]), int(g.dims[1]), int(g.dims[2])};
-    int home[3];
-    for (int a = 0; a < 3; ++a)
-        home[a] = std::clamp(int(std::floor((p[a] - g.origin[a]) / g.size)), 0, dims[a] - 1);
-    float best = 3.0e38f;
-    std::uint32_t best_atom = 0xffffffffu, best_slot = 0;
-    auto scan = [&](int x, int y, int z) {
-        const std::size_t b = (std::size_t(z) * g.dims[1] + std::size_t(y)) * g.dims[0] + x;
-        for (std::uint32_t k = cells.start[b]; k < cells.start[b + 1]; ++k) {
-            const float* a = &cells.atoms[4 * std::size_t(k)];
-            const float d0 = p[0] - a[0], d1 = p[1] - a[1], d2 = p[2] - a[2];
-            const float pw = (d0 * d0 + d1 * d1 + d2 * d2) - a[3];
-            const std::uint32_t idx = cells.index[k];
-            if (pw < best || (pw == best && idx < best_atom)) best = pw, best_atom = idx, best_slot = k;
-        }
-    };
-    // A first candidate from rings of cells around home, then every cell within reach of a
-    // better atom that rings did not cover, skipped when too far for its largest atom.
-    const int max_shell = std::max({dims[0], dims[1], dims[2]});
-    int scanned = -1;
-    for (int s = 0; s <= max_shell && best_atom == 0xffffffffu; ++s) {
-        scanned = s;
-        for (int z = -s; z <= s; ++z)
-            for (int y = -s; y <= s; ++y) {
-                const bool face = std::abs(z) == s || std::abs(y) == s;
-                const int step = face ? 1 : std::max(2 * s, 1);
-                for (int x = -s; x <= s; x += step) {
-                    const int c[3] = {home[0] + x, home[1] + y, home[2] + z};
-                    if (c[0] < 0 || c[1] < 0 || c[2] < 0 || c[0] >= dims[0] || c[1] >= dims[1] ||
-                        c[2] >= dims[2])
-                        continue;
-                    scan(c[0], c[1], c[2]);
-                }
-            }
-    }
-    const float reach = std::sqrt(std::max(best + cells.r2_max, 0.0f));
-    int lo[3], hi[3];
-    for (int a = 0; a < 3; ++a) {
-        lo[a] = std::clamp(int(std::floor((p[a] - reach - g.origin[a]) / g.size)), 0, dims[a] - 1);
-        hi[a] = std::clamp(int(std::floor((p[a] + reach - g.origin[a]) / g.size)), 0, dims[a] - 1);
-    }
-    for (int z = lo[2]; z <= hi[2]; ++z)
-        for (int y = lo[1]; y <= hi[1]; ++y)
-            for (int x = lo[0]; x <= hi[0]; ++x) {
-                if (std::max({std::abs(x - home[0]), std::abs(y - home[1]), std::abs(z - home[2])}) <=
-                    scanned)
-                    continue;
-                const int c[3] = {x, y, z};
-                float gap2 = 0.0f;
-                for (int a = 0; a < 3; ++a) {
-                    const float cell_lo = g.origin[a] + float(c[a]) * g.size;
-                    const float gap =
-                        std::max(std::max(cell_lo - p[a], p[a] - (cell_lo + g.size)), 0.0f);
-                    gap2 += gap * gap;
-                }
-                const std::size_t b = (std::size_t(z) * g.dims[1] + std::size_t(y)) * g.dims[0] + x;
-                if (gap2 - cells.cell_r2[b] > best) continue;
-                scan(x, y, z);
-            }
-    return {best_atom, best_slot};
-}
-
-std::uint32_t nearest_atom(const AtomCells& cells, const float p[3]) {
-    return nearest(cells, p).atom;
-}
-
-// Each vertex's nearest_atom, found for cells of nearby vertices together: a cell's vertices
-// (kVertexCell Å cubes, in cell order) share one list of candidate atoms, every atom that could
-// be the least in power for some point of the vertices' box, and each candidate is tried against
-// all the cell's vertices in a loop the compiler vectorises. The power is the same float
-// expression and the tie rule the same (the lower index), so the atoms are nearest_atom's.
-void host_vertex_atoms(const AtomCells& cells, const float* positions, std::size_t n,
-                       std::uint32_t* out, std::size_t stride) {
-    // 3 Å cells: on 1AON (ses, 0.5 Å) 2 Å ones took 1.2 times as long, 4 Å ones 1.03.
-    constexpr float kVertexCell = 3.0f;
-    auto finite = [&](std::size_t v) {
-        return std::isfinite(positions[3 * v]) && std::isfinite(positions[3 * v + 1]) &&
-               std::isfinite(positions[3 * v + 2]);
-    };
-    // The vertex cells over the atom cells' box (which holds every vertex).
-    const CellGrid& g = cells.grid;
-    float lo[3], hi[3];
-    for (int a = 0; a < 3; ++a) {
-        lo[a] = g.origin[a];
-        hi[a] = g.origin[a] + float(g.dims[a]) * g.size;
-    }
-    const CellGrid vg = make_grid(lo, hi, kVertexCell);
-    const std::size_t vcells = vg.count();
-    // Cell by cell (x fastest); a vertex that is not a number (or infinite) goes through
-    // nearest_atom alone.
-    constexpr std::size_t kBlock = 1 << 16;
-    const std::size_t blocks = (n + kBlock - 1) / kBlock;
-    std::vector<std::uint32_t> cell_of(n), start(vcells + 2, 0);
-    parallel_chunks(blocks, thread_count(0), [&](std::size_t k) {
-        for (std::size_t v = k * kBlock; v < std::min(n, (k + 1) * kBlock); ++v) {
-            if (finite(v)) {
-                cell_of[v] = vg.cell_of(positions + 3 * v);
-                continue;
-            }
-            cell_of[v] = std::uint32_t(vcells);
-            out[v * stride] = nearest_atom(cells, positions + 3 * v);
-        }
-    });
-    for (std::size_t v = 0; v < n; ++v) ++start[cell_of[v] + 1];
-    for (std::size_t c = 0; c <= vcells; ++c) start[c + 1] += start[c];
-    std::vector<std::uint32_t> order(n);
-    {
-        std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-        for (std::size_t v = 0; v < n; ++v) order[fill[cell_of[v]]++] = std::uint32_t(v);
-    }
-    trace("vertex atoms: vertices sorted into cells");
-    std::vector<std::uint32_t> used;
-    for (std::size_t c = 0; c < vcells; ++c)
-        if (start[c + 1] > start[c]) used.push_back(std::uint32_t(c));
-
-    const int dims[3] = {int(g.dims[0]), int(g.dims[1]), int(g.dims[2])};
-    constexpr std::size_t kCellsPerTask = 64;
-    parallel_chunks((used.size() + kCellsPerTask - 1) / kCellsPerTask, thread_count(0),
-                    [&](std::size_t task) {
-        std::vector<float> vx, vy, vz, best;
-        std::vector<std::uint32_t> best_atom;
-        std::vector<float> cx, cy, cz, cr2;
-        std::vector<std::uint32_t> cidx;
-        const std::size_t last = std::min(used.size(), (task + 1) * kCellsPerTask);
-        for (std::size_t u = task * kCellsPerTask; u < last; ++u) {
-            const std::uint32_t first = start[used[u]], end = start[used[u] + 1];
-            const std::size_t m = end - first;
-            vx.resize(m), vy.resize(m), vz.resize(m);
-            float blo[3], bhi[3];
-            for (int a = 0; a < 3; ++a) {
-                blo[a] = std::numeric_limits<float>::max();
-                bhi[a] = -blo[a];
-            }
-            for (std::size_t j = 0; j < m; ++j) {
-                const float* p = positions + 3 * std::size_t(order[first + j]);
-                vx[j] = p[0], vy[j] = p[1], vz[j] = p[2];
-                extend_box(p, 1, 3, blo, bhi);
-            }
-            // An upper bound on every vertex's least power: the power of the box centre's atom
-            // at the box's farthest corner.
-            const float centre[3] = {0.5f * (blo[0] + bhi[0]), 0.5f * (blo[1] + bhi[1]),
-                                     0.5f * (blo[2] + bhi[2])};
-            const Nearest seed = nearest(cells, centre);
-            if (seed.atom == 0xffffffffu) {
-                for (std::size_t j = 0; j < m; ++j) {
-                    const std::size_t v = order[first + j];
-                    out[v * stride] = nearest_atom(cells, positions + 3 * v);
-                }
-                continue;
-            }
-            auto far2 = [&](const float* a) {
-                double d2 = 0.0;
-                for (int k = 0; k < 3; ++k) {
-                    const double d = std::max(std::abs(double(a[k]) - double(blo[k])),
-                                              std::abs(double(a[k]) - double(bhi[k])));
-                    d2 += d * d;
-                }
-                return d2;
-            };
-            auto near2 = [&](const float* a) {
-                double d2 = 0.0;
-                for (int k = 0; k < 3; ++k) {
-                    const double d = std::max({double(blo[k]) - double(a[k]),
-                                               double(a[k]) - double(bhi[k]), 0.0});
-                    d2 += d * d;
-                }
-                return d2;
-            };
-            const double bound = far2(&cells.atoms[4 * std::size_t(seed.slot)]) -
-                                 double(cells.atoms[4 * std::size_t(seed.slot) + 3]);
-            // Float rounding of the powers, with room to spare (also far from the origin, where
-            // a difference of coordinates rounds to ulp(coordinate)).
-            double coord = 0.0;
-            for (int k = 0; k < 3; ++k)
-                coord = std::max({coord, std::abs(double(blo[k])), std::abs(double(bhi[k]))});
-            const double slack =
-                1e-4 * (1.0 + std::abs(bound) + 2.0 * double(cells.r2_max)) +
-                1e-6 * coord * (1.0 + std::sqrt(std::max(bound + double(cells.r2_max), 0.0)));
-            const double limit = bound + slack;
-            const double reach = std::sqrt(std::max(limit + double(cells.r2_max), 0.0)) + 0.01;
-            int clo[3], chi[3];
-            for (int a = 0; a < 3; ++a) {
-                clo[a] = std::clamp(int(std::floor((double(blo[a]) - reach - g.origin[a]) / g.size)),
-                                    0, dims[a] - 1);
-                chi[a] = std::clamp(int(std::floor((double(bhi[a]) + reach - g.origin[a]) / g.size)),
-                                    0, dims[a] - 1);
-            }
-            // Every atom of a cell within reach is written and kept only when near enough
-            // (no branch on it: on 1AON about one in seven is kept, a branch mispredicted often).
-            std::size_t kept = 0;
-            for (int z = clo[2]; z <= chi[2]; ++z)
-                for (int y = clo[1]; y <= chi[1]; ++y)
-                    for (int x = clo[0]; x <= chi[0]; ++x) {
-                        const std::size_t b =
-                            (std::size_t(z) * g.dims[1] + std::size_t(y)) * g.dims[0] + x;
-                        const std::uint32_t k0 = cells.start[b], k1 = cells.start[b + 1];
-                        if (k0 == k1) continue;
-                        const int c[3] = {x, y, z};
-                        double gap2 = 0.0;  // box to cell, the cell grown by 0.01 Å
-                        for (int a = 0; a < 3; ++a) {
-                            const double cell_lo = double(g.origin[a]) + double(c[a]) * g.size - 0.01;
-                            const double cell_hi = cell_lo + g.size + 0.02;
-                            const double gap = std::max({cell_lo - double(bhi[a]),
-                                                         double(blo[a]) - cell_hi, 0.0});
-                            gap2 += gap * gap;
-                        }
-                        if (gap2 - double(cells.cell_r2[b]) > limit) continue;
-                        if (cidx.size() < kept + (k1 - k0)) {
-                            const std::size_t size = 2 * (kept + (k1 - k0));
-                            cx.resize(size), cy.resize(size), cz.resize(size), cr2.resize(size);
-                            cidx.resize(size);
-                        }
-                        for (std::uint32_t k = k0; k < k1; ++k) {
-                            const float* a = &cells.atoms[4 * std::size_t(k)];
-                            cx[kept] = a[0], cy[kept] = a[1], cz[kept] = a[2], cr2[kept] = a[3];
-                            cidx[kept] = cells.index[k];
-                            kept += near2(a) - double(a[3]) <= limit;
-                        }
-                    }
-            // Whole vector widths: the last vertex repeated (its results are not read).
-            const std::size_t padded = (m + 7) & ~std::size_t(7);
-            vx.resize(padded, vx[m - 1]), vy.resize(padded, vy[m - 1]), vz.resize(padded, vz[m - 1]);
-            best.assign(padded, 3.0e38f);
-            best_atom.assign(padded, 0xffffffffu);
-            float* bp = best.data();
-            std::uint32_t* ba = best_atom.data();
-            const float *px = vx.data(), *py = vy.data(), *pz = vz.data();
-            for (std::size_t k = 0; k < kept; ++k) {
-                const float ax = cx[k], ay = cy[k], az = cz[k], ar2 = cr2[k];
-                const std::uint32_t idx = cidx[k];
-                for (std::size_t j = 0; j < padded; ++j) {
-                    const float d0 = px[j] - ax, d1 = py[j] - ay, d2 = pz[j] - az;
-                    const float pw = (d0 * d0 + d1 * d1 + d2 * d2) - ar2;
-                    const bool take = (pw < bp[j]) | ((pw == bp[j]) & (idx < ba[j]));
-                    bp[j] = take ? pw : bp[j];
-                    ba[j] = take ? idx : ba[j];
-                }
-            }
-            for (std::size_t j = 0; j < m; ++j) out[std::size_t(order[first + j]) * stride] = ba[j];
-        }
-    });
-    trace("vertex atoms: searched");
-}
-
-
 VertexPropertiesPass::VertexPropertiesPass(Context& ctx)
     : ctx_(ctx), sort_vertices_(ctx.info().type == "CPU"), on_host_(ctx.info().type == "CPU") {
     ShaderCode a = shader_code(Shader::VertexAtoms);
@@ -483,20 +230,8 @@ std::vector<std::uint32_t> VertexPropertiesPass::vertex_atoms(
     const std::uint32_t stride = 1 + per_atom;
     std::vector<std::uint32_t> out(nv * stride);
     if (nv == 0 || atoms.empty()) return out;
-    const AtomCells cells = bin_for_vertices(atoms, mesh, radius_add);
-    // Vertices in cell order: neighbours in a dispatch then search the same cells, so the
-    // lanes of a SIMD group run alike (on 1AON the pass took 0.6 of the time of mesh order).
-    // (set_sort_vertices: on CPU devices only; `order` stays empty for mesh order.)
-    std::vector<std::uint32_t> order;
-    std::vector<float> sorted;
-    if (sort_vertices_ && !on_host_) {
-        order = sort_into_cells(cells.grid, mesh.positions.data(), nv, 3).order;
-        sorted = gather(mesh.positions.data(), order, 3);
-    }
-    const float* positions = order.empty() ? mesh.positions.data() : sorted.data();
-    trace("vertex atoms: atoms binned, vertices sorted");
     if (on_host_) {
-        host_vertex_atoms(cells, mesh.positions.data(), nv, out.data(), stride);
+        host_vertex_atoms(atoms, mesh.positions.data(), nv, radius_add, out.data(), stride);
         trace("vertex atoms: attributes");
         if (per_atom == 0) return out;
         for (std::size_t v = 0; v < nv; ++v) {
@@ -508,6 +243,18 @@ std::vector<std::uint32_t> VertexPropertiesPass::vertex_atoms(
         }
         return out;
     }
+    const AtomCells cells = bin_for_vertices(atoms, mesh, radius_add);
+    // Vertices in cell order: neighbours in a dispatch then search the same cells, so the
+    // lanes of a SIMD group run alike (on 1AON the pass took 0.6 of the time of mesh order).
+    // (set_sort_vertices: on CPU devices only; `order` stays empty for mesh order.)
+    std::vector<std::uint32_t> order;
+    std::vector<float> sorted;
+    if (sort_vertices_) {
+        order = sort_into_cells(cells.grid, mesh.positions.data(), nv, 3).order;
+        sorted = gather(mesh.positions.data(), order, 3);
+    }
+    const float* positions = order.empty() ? mesh.positions.data() : sorted.data();
+    trace("vertex atoms: atoms binned, vertices sorted");
     check_fits(ctx_, cells.atoms.size() * sizeof(float), "binned atoms");
     check_fits(ctx_, attributes.size() * sizeof(std::uint32_t), "atom attributes");
     const std::size_t chunk = chunk_vertices(ctx_, stride * sizeof(std::uint32_t) + 12);

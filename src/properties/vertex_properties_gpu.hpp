@@ -61,13 +61,13 @@ public:
     // the default is on for CPU devices only. The result is the same either way (tested).
     void set_sort_vertices(bool sort) { sort_vertices_ = sort; }
 
-    // Whether vertex_atoms finds the atoms in C++ on the host's threads instead of the device:
-    // per 3 Å cell of vertices, one list of candidate atoms tried against all its vertices, in
-    // the shader's float arithmetic and tie rule (the same atoms but where the device's
-    // rounding decides a near-tie). A CPU device runs the pass on the same cores, where the
-    // host's loop costs less (1AON: docs/performance.md); the default is on for CPU devices
-    // (the engine sets it from EngineOptions::vertex_atoms). Nothing is then submitted (no
-    // "vertex-atoms" device stage), and set_sort_vertices does not apply.
+    // Whether vertex_atoms finds the atoms in C++ on the host's threads instead of the device
+    // (host_vertex_atoms: vertex cells in groups sharing candidate lists, in the shader's float
+    // arithmetic and tie rule; the same atoms but where the device's rounding decides a
+    // near-tie). A CPU device runs the pass on the same cores, where the host's loop costs less
+    // (docs/performance.md); the default is on for CPU devices (the engine sets it from
+    // EngineOptions::vertex_atoms). Nothing is then submitted (no "vertex-atoms" device stage),
+    // and set_sort_vertices does not apply.
     void set_on_host(bool on_host) { on_host_ = on_host; }
     bool on_host() const { return on_host_; }
 
