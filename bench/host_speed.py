@@ -17,10 +17,12 @@ bench/host_speed.py --baseline OLD --spacing 1 --reps 1 /tmp/shell.xyzr (about 1
 run on two cores). Standard library only.
 """
 import argparse
+import atexit
 import filecmp
 import json
 import os
 import platform
+import shutil
 import statistics
 import subprocess
 import sys
@@ -126,6 +128,8 @@ def main():
     if args.baseline:
         exes = {"A": os.path.abspath(args.baseline), **exes}
     tmp = tempfile.mkdtemp(prefix="host_speed.")
+    # The meshes (2.2 GB a pair on the shell) and caches go with the run.
+    atexit.register(shutil.rmtree, tmp, ignore_errors=True)
     for var in ("MESA_SHADER_CACHE_DIR", "FDMSURF_CACHE_DIR"):
         os.environ.setdefault(var, os.path.join(tmp, "cache", var.lower()))
     os.makedirs(os.path.join(tmp, "cache"), exist_ok=True)
