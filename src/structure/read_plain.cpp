@@ -72,6 +72,27 @@ void running_sums(std::vector<std::size_t>& v) {
     for (std::size_t k = 1; k < v.size(); ++k) v[k] += v[k - 1];
 }
 
+// The records `is_record` takes in each piece and the lines before it, both as the counts before
+// each piece (entry k) with the totals last: where each piece's atoms and line numbers start.
+struct PieceStarts {
+    std::vector<std::size_t> slot, line;
+};
+template <class IsRecord>
+PieceStarts count_records(const std::vector<std::string_view>& pieces, IsRecord is_record) {
+    PieceStarts starts{std::vector<std::size_t>(pieces.size() + 1, 0),
+                       std::vector<std::size_t>(pieces.size() + 1, 0)};
+    parallel_chunks(pieces.size(), thread_count(), [&](std::size_t k) {
+        LineReader lines(pieces[k]);
+        std::string_view line;
+        while (lines.next(line)) starts.slot[k + 1] += is_record(line);
+        starts.line[k + 1] = lines.number();  // the newlines: the piece ends in one (or is last)
+    });
+    running_sums(starts.slot);
+    running_sums(starts.line);
+    trace("read: pieces counted");
+    return starts;
+}
+
 // Whether the first field of `line` (as split_fields gives it) is ATOM or HETATM in any case.
 bool is_pqr_atom_record(std::string_view line) {
     std::size_t i = 0;
@@ -647,17 +668,9 @@ Structure read_pqr_plain(std::string_view text, const std::string& name) {
 Structure read_pqr_pieces(std::string_view text, const std::string& name, std::size_t piece) {
     const std::vector<std::string_view> pieces = text_pieces(text, piece);
     const std::size_t count = pieces.size();
-    // The records and the lines before each piece.
-    std::vector<std::size_t> first_slot(count + 1, 0), first_line(count + 1, 0);
-    parallel_chunks(pieces.size(), thread_count(), [&](std::size_t k) {
-        LineReader lines(pieces[k]);
-        std::string_view line;
-        while (lines.next(line)) first_slot[k + 1] += is_pqr_atom_record(line);
-        first_line[k + 1] = lines.number();  // the newlines: the piece ends in one (or is last)
-    });
-    running_sums(first_slot);
-    running_sums(first_line);
-    trace("read: pieces counted");
+    const PieceStarts starts = count_records(pieces, is_pqr_atom_record);
+    const std::vector<std::size_t>& first_slot = starts.slot;
+    const std::vector<std::size_t>& first_line = starts.line;
     Structure s;
     const AtomSlots slots = reserve_atoms(s.atoms, first_slot.back(), true);
     std::vector<PqrPart> parts(count);
@@ -775,17 +788,9 @@ Structure read_xyzrn_plain(std::string_view text, const std::string& name) {
 Structure read_xyzrn_pieces(std::string_view text, const std::string& name, std::size_t piece) {
     const std::vector<std::string_view> pieces = text_pieces(text, piece);
     const std::size_t count = pieces.size();
-    // The sphere lines and the lines before each piece.
-    std::vector<std::size_t> first_slot(count + 1, 0), first_line(count + 1, 0);
-    parallel_chunks(pieces.size(), thread_count(), [&](std::size_t k) {
-        LineReader lines(pieces[k]);
-        std::string_view line;
-        while (lines.next(line)) first_slot[k + 1] += is_xyzrn_sphere(line);
-        first_line[k + 1] = lines.number();
-    });
-    running_sums(first_slot);
-    running_sums(first_line);
-    trace("read: pieces counted");
+    const PieceStarts starts = count_records(pieces, is_xyzrn_sphere);
+    const std::vector<std::size_t>& first_slot = starts.slot;
+    const std::vector<std::size_t>& first_line = starts.line;
     Structure s;
     const AtomSlots slots = reserve_atoms(s.atoms, first_slot.back(), true);
     std::vector<Part> parts(count);
