@@ -283,7 +283,7 @@ bool split_ascii_fields(std::string_view line, std::vector<std::string_view>& fi
     if (line.size() >= kBytes) return false;
     alignas(16) char padded[kBytes];
     std::memset(padded, ' ', kBytes);  // past the line: white space, which ends its last field
-    std::memcpy(padded, line.data(), line.size());
+    if (!line.empty()) std::memcpy(padded, line.data(), line.size());  // data() may be null
     std::uint64_t space[2] = {0, 0};
     unsigned high = 0;
     for (std::size_t b = 0; b < kBytes / 16; ++b) {
