@@ -553,7 +553,7 @@ ProjectOptions project_options_for_spacing(double spacing) {
     return o;
 }
 
-ProjectStats project_onto_field(Mesh& mesh, std::size_t first, const SurfaceField& field,
+ProjectStats project_onto_field(Mesh& mesh, std::size_t first, const SurfaceField& base_field,
                                 const ProjectOptions& options) {
     // Vertices are independent: chunks of them on all threads, each chunk with its own counts.
     constexpr std::size_t kChunk = 512;
@@ -562,6 +562,9 @@ ProjectStats project_onto_field(Mesh& mesh, std::size_t first, const SurfaceFiel
     std::vector<ProjectStats> per_chunk(chunks);
     const bool along = options.along_normals && mesh.normals.size() == 3 * nv;
     parallel_chunks(chunks, thread_count(), [&](std::size_t c) {
+        // The chunk's vertices lie close together: a view keeping its last features serves them.
+        const std::unique_ptr<SurfaceField> local = base_field.local();
+        const SurfaceField& field = local ? *local : base_field;
         ProjectStats& stats = per_chunk[c];
         const std::size_t end = std::min(nv, first + (c + 1) * kChunk);
         Vec3 g{};

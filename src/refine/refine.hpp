@@ -10,6 +10,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -77,6 +78,9 @@ public:
     virtual double iso() const = 0;
     // +1 when the field grows outwards (a distance), -1 when it grows inwards (a density).
     virtual double outward() const = 0;
+    // A view for one thread's run of nearby points that may keep what it found from sample to
+    // sample, with the same values; null: sample this field itself.
+    virtual std::unique_ptr<SurfaceField> local() const { return nullptr; }
 };
 
 // How a GridField interpolates between grid points.
