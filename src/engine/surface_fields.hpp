@@ -25,6 +25,13 @@ public:
     double iso() const override { return iso_; }
     double outward() const override { return -1.0; }
     std::unique_ptr<SurfaceField> local() const override;
+    // The features' bins: the balls and arcs the cursor keeps are those of one bin's points.
+    bool visit_cells(Vec3& origin, double& cell) const override {
+        const SesFeatures& f = ses_.features();
+        origin = {f.origin[0], f.origin[1], f.origin[2]};
+        cell = f.bin_size;
+        return true;
+    }
 
 private:
     const SesHostField& ses_;
