@@ -643,13 +643,18 @@ double SesHostField::Cursor::distance(const double p[3], double d_max, double* g
         double q[3] = {c[0] + R, c[1], c[2]};
         if (len > 1e-6)
             for (int a = 0; a < 3; ++a) q[a] = c[a] + (R / len) * v[a];
-        bool buried = false;
-        for (std::uint32_t n = f.neighbour_start[deepest];
-             n < f.neighbour_start[deepest + 1] && !buried; ++n) {
-            const std::uint32_t k = f.neighbours[n];
+        auto inside = [&](std::uint32_t k) {
             const double wx = q[0] - s[4 * k], wy = q[1] - s[4 * k + 1], wz = q[2] - s[4 * k + 2];
             const double Rk = s[4 * k + 3];
-            buried = wx * wx + wy * wy + wz * wz < Rk * Rk;
+            return wx * wx + wy * wy + wz * wz < Rk * Rk;
+        };
+        // The neighbour that buried this ball's face last, first: one of its neighbours, so
+        // the answer is the loop's.
+        bool buried = deepest == burier_of_ && inside(burier_);
+        for (std::uint32_t n = f.neighbour_start[deepest];
+             n < f.neighbour_start[deepest + 1] && !buried; ++n) {
+            buried = inside(f.neighbours[n]);
+            if (buried) burier_of_ = deepest, burier_ = f.neighbours[n];
         }
         if (!buried) {
             gradient_from(q);

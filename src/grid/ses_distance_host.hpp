@@ -79,6 +79,8 @@ public:
         std::size_t arc_bin_ = std::size_t(-1);  // the bin of the arcs kept
         std::vector<double> arc_x_, arc_y_, arc_z_, arc_r_;  // their balls, in the bin's order
         std::vector<std::uint32_t> arc_index_;
+        // burier_, one of ball burier_of_'s neighbours, held the last face of it tried.
+        std::uint32_t burier_of_ = std::uint32_t(-1), burier_ = 0;
     };
 
     // The field's row kernel for arc `arc` (an index into features().arcs): best[x] = min(best[x],
