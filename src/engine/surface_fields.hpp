@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cmath>
+#include <memory>
 
 #include "grid/ses_distance_host.hpp"
 #include "refine/refine.hpp"
@@ -23,11 +24,42 @@ public:
     }
     double iso() const override { return iso_; }
     double outward() const override { return -1.0; }
+    std::unique_ptr<SurfaceField> local() const override;
+    // The features' bins: the balls and arcs the cursor keeps are those of one bin's points.
+    bool visit_cells(Vec3& origin, double& cell) const override {
+        const SesFeatures& f = ses_.features();
+        origin = {f.origin[0], f.origin[1], f.origin[2]};
+        cell = f.bin_size;
+        return true;
+    }
 
 private:
     const SesHostField& ses_;
     double iso_, d_max_;
 };
+
+// SesDistanceField through a SesHostField::Cursor: the same values, for one thread.
+class SesDistanceCursorField final : public SurfaceField {
+public:
+    SesDistanceCursorField(const SesHostField& ses, double iso, double d_max)
+        : cursor_(ses), iso_(iso), d_max_(d_max) {}
+    bool sample(const Vec3& p, double& value, Vec3& gradient) const override {
+        double g[3];
+        value = cursor_.distance(p.data(), d_max_, g);
+        gradient = {g[0], g[1], g[2]};
+        return std::abs(value) < d_max_ && (g[0] != 0.0 || g[1] != 0.0 || g[2] != 0.0);
+    }
+    double iso() const override { return iso_; }
+    double outward() const override { return -1.0; }
+
+private:
+    mutable SesHostField::Cursor cursor_;  // what it keeps changes nothing seen from outside
+    double iso_, d_max_;
+};
+
+inline std::unique_ptr<SurfaceField> SesDistanceField::local() const {
+    return std::make_unique<SesDistanceCursorField>(ses_, iso_, d_max_);
+}
 
 // The snap stage's projection onto the exact SES at grid spacing h (snap_stage.cpp).
 inline ProjectOptions ses_snap_options(double h) {

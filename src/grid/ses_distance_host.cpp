@@ -547,6 +547,157 @@ double SesHostField::distance(const double p[3], double d_max, double* gradient)
     return best;
 }
 
+// The balls of the bins [lo, hi], bin by bin in z, y, x order (the gap test of distance() is
+// left out: a ball of a bin it skips does not hold the point).
+void SesHostField::Cursor::gather_balls(const int lo[3], const int hi[3]) {
+    const SesFeatures& f = field_.f_;
+    const float* s = f.spheres.data();
+    ball_x_.clear(), ball_y_.clear(), ball_z_.clear(), ball_r_.clear(), ball_index_.clear();
+    for (int z = lo[2]; z <= hi[2]; ++z)
+        for (int y = lo[1]; y <= hi[1]; ++y)
+            for (int x = lo[0]; x <= hi[0]; ++x) {
+                const std::size_t b = (std::size_t(z) * f.dims[1] + y) * f.dims[0] + x;
+                for (std::uint32_t i = f.sphere_start[b]; i < f.sphere_start[b + 1]; ++i) {
+                    ball_x_.push_back(s[4 * i]), ball_y_.push_back(s[4 * i + 1]);
+                    ball_z_.push_back(s[4 * i + 2]), ball_r_.push_back(s[4 * i + 3]);
+                    ball_index_.push_back(i);
+                }
+            }
+    for (int a = 0; a < 3; ++a) lo_[a] = lo[a], hi_[a] = hi[a];
+}
+
+// The arcs of bin `bin`'s list, in its order, their balls side by side.
+void SesHostField::Cursor::gather_arcs(std::size_t bin) {
+    arc_x_.clear(), arc_y_.clear(), arc_z_.clear(), arc_r_.clear(), arc_index_.clear();
+    for (std::uint32_t n = field_.bin_arc_start_[bin]; n < field_.bin_arc_start_[bin + 1]; ++n) {
+        const std::uint32_t k = field_.bin_arcs_[n];
+        const std::array<double, 4>& ball = field_.arc_ball_[k];
+        arc_x_.push_back(ball[0]), arc_y_.push_back(ball[1]), arc_z_.push_back(ball[2]);
+        arc_r_.push_back(ball[3]), arc_index_.push_back(k);
+    }
+    arc_bin_ = bin;
+}
+
+// SesHostField::distance's steps on the kept copies: the balls holding p in the same order of
+// bins (the deepest is the first of the greatest depth, the tie whether two share it), the same
+// face test and the same arcs in the same order.
+double SesHostField::Cursor::distance(const double p[3], double d_max, double* gradient) {
+    const SesHostField& h = field_;
+    const SesFeatures& f = h.f_;
+    auto set_gradient = [&](double x, double y, double z) {
+        if (gradient) gradient[0] = x, gradient[1] = y, gradient[2] = z;
+    };
+    auto gradient_from = [&](const double q[3]) {
+        const double w[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
+        const double l = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+        if (l > 0.0)
+            set_gradient(w[0] / l, w[1] / l, w[2] / l);
+        else
+            set_gradient(0, 0, 0);
+    };
+    if (!(d_max <= h.reach_)) return ses_distance(f, p, d_max, gradient, false);
+    const float* s = f.spheres.data();
+    int lo[3], hi[3], bin[3];
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = bin_cell(f, a, p[a] - f.r_max);
+        hi[a] = bin_cell(f, a, p[a] + f.r_max);
+        bin[a] = bin_cell(f, a, p[a]);
+    }
+    if (lo[0] != lo_[0] || lo[1] != lo_[1] || lo[2] != lo_[2] || hi[0] != hi_[0] ||
+        hi[1] != hi_[1] || hi[2] != hi_[2])
+        gather_balls(lo, hi);
+    // In blocks: the balls holding p first, without a branch, then their depths in order.
+    double lb = -std::numeric_limits<double>::infinity();
+    std::uint32_t deepest = 0;
+    bool tie = false;
+    constexpr std::size_t kBlock = 64;
+    std::uint32_t holding[kBlock];
+    double holding_d2[kBlock];
+    const std::size_t balls = ball_index_.size();
+    for (std::size_t j0 = 0; j0 < balls; j0 += kBlock) {
+        const std::size_t j1 = std::min(j0 + kBlock, balls);
+        std::uint32_t count = 0;
+        for (std::size_t j = j0; j < j1; ++j) {
+            const double dx = p[0] - ball_x_[j], dy = p[1] - ball_y_[j], dz = p[2] - ball_z_[j];
+            const double R = ball_r_[j], d2 = dx * dx + dy * dy + dz * dz;
+            holding[count] = std::uint32_t(j);
+            holding_d2[count] = d2;
+            count += d2 < R * R;
+        }
+        for (std::uint32_t c = 0; c < count; ++c) {
+            const double v = ball_r_[holding[c]] - std::sqrt(holding_d2[c]);
+            tie = v == lb || (tie && v < lb);
+            if (v > lb) lb = v, deepest = ball_index_[holding[c]];
+        }
+    }
+    if (!(lb > 0.0) || tie) return ses_distance(f, p, d_max, gradient, false);
+    if (lb >= d_max) {
+        set_gradient(0, 0, 0);
+        return d_max;
+    }
+    {
+        const double c[3] = {s[4 * deepest], s[4 * deepest + 1], s[4 * deepest + 2]};
+        const double R = s[4 * deepest + 3];
+        const double v[3] = {p[0] - c[0], p[1] - c[1], p[2] - c[2]};
+        const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        double q[3] = {c[0] + R, c[1], c[2]};
+        if (len > 1e-6)
+            for (int a = 0; a < 3; ++a) q[a] = c[a] + (R / len) * v[a];
+        auto inside = [&](std::uint32_t k) {
+            const double wx = q[0] - s[4 * k], wy = q[1] - s[4 * k + 1], wz = q[2] - s[4 * k + 2];
+            const double Rk = s[4 * k + 3];
+            return wx * wx + wy * wy + wz * wz < Rk * Rk;
+        };
+        // The neighbour that buried this ball's face last, first: one of its neighbours, so
+        // the answer is the loop's.
+        bool buried = deepest == burier_of_ && inside(burier_);
+        for (std::uint32_t n = f.neighbour_start[deepest];
+             n < f.neighbour_start[deepest + 1] && !buried; ++n) {
+            buried = inside(f.neighbours[n]);
+            if (buried) burier_of_ = deepest, burier_ = f.neighbours[n];
+        }
+        if (!buried) {
+            gradient_from(q);
+            return lb;
+        }
+    }
+    const std::size_t b = (std::size_t(bin[2]) * f.dims[1] + bin[1]) * f.dims[0] + bin[0];
+    if (b != arc_bin_) gather_arcs(b);
+    double best = d_max;
+    const Arc* best_arc = nullptr;
+    std::uint32_t near[kBlock];
+    double near_d2[kBlock];
+    const std::size_t arcs = arc_index_.size();
+    for (std::size_t n0 = 0; n0 < arcs; n0 += kBlock) {
+        const std::size_t n1 = std::min(n0 + kBlock, arcs);
+        std::uint32_t count = 0;
+        for (std::size_t n = n0; n < n1; ++n) {
+            const double vx = p[0] - arc_x_[n], vy = p[1] - arc_y_[n], vz = p[2] - arc_z_[n];
+            const double d2 = vx * vx + vy * vy + vz * vz, r = arc_r_[n] + d_max;
+            near[count] = std::uint32_t(n);
+            near_d2[count] = d2;
+            count += d2 < r * r;
+        }
+        for (std::uint32_t j = 0; j < count; ++j) {
+            const double r = arc_r_[near[j]] + best;
+            if (near_d2[j] >= r * r) continue;
+            const Arc& arc = h.arcs_[arc_index_[near[j]]];
+            const double d = arc.distance(p, best);
+            if (d < best) best = d, best_arc = &arc;
+        }
+    }
+    if (best_arc == nullptr) {
+        set_gradient(0, 0, 0);
+        return best;
+    }
+    if (gradient) {
+        double q[3];
+        best_arc->nearest(p, q);
+        gradient_from(q);
+    }
+    return best;
+}
+
 // One task of evaluate: planes [za, zb) of the call's planes, on the call's grid, with the
 // task's scratch, in the three steps of ses_distance_host.hpp: depths, deepest_faces (the count
 // of points left waiting for the arcs), arcs.

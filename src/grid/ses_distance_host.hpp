@@ -60,6 +60,29 @@ public:
 
     const SesFeatures& features() const { return f_; }
 
+    // distance() for one thread's run of nearby points (the snap's vertices and their Newton
+    // steps): keeps the balls of the last block of bins and the arcs of the last bin, copied
+    // side by side, while the points stay in them. The same value and gradient as distance(),
+    // bit for bit (tests/grid/test_ses_distance_host.cpp).
+    class Cursor {
+    public:
+        explicit Cursor(const SesHostField& field) : field_(field) {}
+        double distance(const double p[3], double d_max, double* gradient = nullptr);
+
+    private:
+        void gather_balls(const int lo[3], const int hi[3]);
+        void gather_arcs(std::size_t bin);
+        const SesHostField& field_;
+        int lo_[3] = {-1, -1, -1}, hi_[3] = {-1, -1, -1};  // the block of the balls kept
+        std::vector<double> ball_x_, ball_y_, ball_z_, ball_r_;  // its balls, bin by bin
+        std::vector<std::uint32_t> ball_index_;
+        std::size_t arc_bin_ = std::size_t(-1);  // the bin of the arcs kept
+        std::vector<double> arc_x_, arc_y_, arc_z_, arc_r_;  // their balls, in the bin's order
+        std::vector<std::uint32_t> arc_index_;
+        // burier_, one of ball burier_of_'s neighbours, held the last face of it tried.
+        std::uint32_t burier_of_ = std::uint32_t(-1), burier_ = 0;
+    };
+
     // The field's row kernel for arc `arc` (an index into features().arcs): best[x] = min(best[x],
     // the float distance from (xs[x], y, z) to the arc) for x in [xa, xb]. For tests.
     void arc_row_distances(std::size_t arc, const float* xs, float y, float z, int xa, int xb,

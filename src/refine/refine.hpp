@@ -10,6 +10,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -77,6 +78,15 @@ public:
     virtual double iso() const = 0;
     // +1 when the field grows outwards (a distance), -1 when it grows inwards (a density).
     virtual double outward() const = 0;
+    // A view for one thread's run of nearby points that may keep what it found from sample to
+    // sample, with the same values; null: sample this field itself.
+    virtual std::unique_ptr<SurfaceField> local() const { return nullptr; }
+    // The cells (edge `cell` from `origin`, Å) whose points such a view serves from what it
+    // kept: the projection visits its vertices cell by cell. False: no such cells.
+    virtual bool visit_cells(Vec3& origin, double& cell) const {
+        (void)origin, (void)cell;
+        return false;
+    }
 };
 
 // How a GridField interpolates between grid points.

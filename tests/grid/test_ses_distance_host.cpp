@@ -251,6 +251,63 @@ TEST(SesDistanceHost, PointDistanceAndGradientMatchTheReference) {
     }
 }
 
+// SesHostField::Cursor (the snap's view, which keeps its last bins' balls and arcs) against
+// distance(), bit for bit in value and gradient: walks of short steps around random atoms of
+// hemoglobin and crambin (the cursor keeps its copies) and jumps between atoms (it gathers
+// new ones), from outside the balls to below the clamp, at the snap's d_max and beyond the
+// constructor's (the reference's path).
+TEST(SesDistanceHost, CursorGivesTheSameValuesAsThePointDistance) {
+    for (const char* name : {"4hhb.xyzr", "1crn.xyzr"}) {
+        const Atoms atoms = fdmsurf::read_structure(data_path(name)).atoms;
+        const float probe = 1.4f;
+        const auto features = build_ses_features(atoms, probe);
+        const double reach = probe + 1.0;
+        const SesHostField field(features, reach);
+        SesHostField::Cursor cursor(field);
+        std::mt19937 rng(1709);
+        std::uniform_int_distribution<std::size_t> pick(0, atoms.size() - 1);
+        std::normal_distribution<double> offset(0.0, 1.0);
+        std::uniform_real_distribution<double> depth(-1.0, 2.3);
+        std::size_t band = 0, arcs = 0, outside = 0;
+        for (int walk = 0; walk < 2000; ++walk) {
+            const std::size_t i = pick(rng);
+            double dir[3] = {offset(rng), offset(rng), offset(rng)};
+            const double len = std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+            const double r = atoms.radius[i] + probe * depth(rng);
+            double p[3];
+            for (int k = 0; k < 3; ++k) p[k] = atoms.xyz[3 * i + k] + r * dir[k] / len;
+            const double d_max = walk % 10 == 9 ? reach + 0.5 : walk % 2 ? reach : probe + 0.3;
+            for (int step = 0; step < 12; ++step) {
+                double g_ref[3] = {7, 7, 7}, g[3] = {9, 9, 9};
+                const double ref = field.distance(p, d_max, g_ref);
+                const double kept = cursor.distance(p, d_max, g);
+                ASSERT_EQ(kept, ref) << name << " point " << p[0] << " " << p[1] << " " << p[2];
+                for (int k = 0; k < 3; ++k) ASSERT_EQ(g[k], g_ref[k]) << name << " gradient";
+                EXPECT_EQ(cursor.distance(p, d_max), ref);  // without a gradient
+                outside += ref <= 0.0;
+                if (ref > 0.0 && ref < d_max && ++band % 8 == 0) {
+                    // Nearest to an arc (past the faces): d above the deepest ball's depth.
+                    double lb = -1e9;
+                    for (std::size_t k = 0; k < atoms.size(); ++k) {
+                        const float* c = &atoms.xyz[3 * k];
+                        lb = std::max(lb, atoms.radius[k] + probe -
+                                              std::sqrt((p[0] - c[0]) * (p[0] - c[0]) +
+                                                        (p[1] - c[1]) * (p[1] - c[1]) +
+                                                        (p[2] - c[2]) * (p[2] - c[2])));
+                    }
+                    arcs += ref > lb + 1e-6;
+                }
+                for (int k = 0; k < 3; ++k) p[k] += 0.3 * offset(rng);
+            }
+        }
+        std::printf("  %s: %zu in the band (%zu of an eighth nearest to an arc), %zu outside\n",
+                    name, band, arcs, outside);
+        EXPECT_GT(band, 5000u);
+        EXPECT_GT(arcs, 100u);
+        EXPECT_GT(outside, 500u);
+    }
+}
+
 // A pair of balls meets in one whole exposed circle, stored with the length float(2 pi), a hair
 // above 2 pi: every direction is on it (arc_distance). Points exactly where the ends' test of a
 // longer-than-half arc would put them off it (half a turn from the start, a hair to the side):
