@@ -460,8 +460,8 @@ void host_vertex_atoms(const Atoms& atoms, const float* positions, std::size_t n
     // The box of the finite vertices; the others have no atom.
     std::vector<float> boxes(6 * threads);
     parallel_chunks(threads, threads, [&](std::size_t k) {
-        float* lo = &boxes[6 * k];
-        float* hi = lo + 3;
+        // In locals (through `boxes`, each vertex's steps waited on the last one's stores).
+        float lo[3], hi[3];
         for (int a = 0; a < 3; ++a) lo[a] = std::numeric_limits<float>::max(), hi[a] = -lo[a];
         for (std::size_t v = n * k / threads; v < n * (k + 1) / threads; ++v) {
             const float* p = positions + 3 * v;
@@ -471,6 +471,7 @@ void host_vertex_atoms(const Atoms& atoms, const float* positions, std::size_t n
             }
             for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
         }
+        for (int a = 0; a < 3; ++a) boxes[6 * k + a] = lo[a], boxes[6 * k + 3 + a] = hi[a];
     });
     float lo[3], hi[3];
     for (int a = 0; a < 3; ++a) {
