@@ -564,6 +564,7 @@ std::size_t remove_pieces_if(Mesh& mesh, const std::function<bool(double)>& cand
         if (!candidate(analysis->stats[q].volume)) continue;
         candidate_of[q] = static_cast<std::uint32_t>(pieces.size());
         pieces.push_back(MeshPiece{analysis->stats[q].volume, {}});
+        pieces.back().triangles.reserve(analysis->stats[q].triangles);
     }
     if (pieces.empty()) return 0;
     const float* p = mesh.positions.data();

@@ -554,18 +554,22 @@ namespace {
 // The vertices a removal keeps (unreferenced ones too), one bit each, with the kept ones before
 // each 64-bit word: a vertex's new number is the kept ones before it. Two bits a vertex in all
 // (an array of new numbers took four bytes a vertex of fresh memory).
+// A word of kept vertices only, the common case, has `full` = `before` (one read, no count: the
+// baseline x86-64 the library is built for has no popcnt instruction); others kNotFull (never
+// a full word's: its 64 new numbers from there on would pass 2^32 - 1).
+constexpr Index kNotFull = ~Index{0};
+
 struct KeptVertices {
     std::vector<std::uint64_t> bits;
     std::vector<Index> before;            // kept vertices before each word
+    std::vector<Index> full;              // before, or kNotFull where the word drops any
     std::vector<std::size_t> first_kept;  // kept vertices before each vertex chunk; all at the end
 
     bool kept(std::size_t v) const { return (bits[v / 64] >> (v % 64) & 1) != 0; }
-    // (A word of kept vertices only, the common case, needs no count: the baseline x86-64 the
-    // library is built for has no popcnt instruction.)
     Index remap(Index v) const {
-        const std::uint64_t word = bits[v / 64];
-        if (word == ~std::uint64_t{0}) return Index(before[v / 64] + v % 64);
-        const std::uint64_t below = word & ((std::uint64_t{1} << (v % 64)) - 1);
+        const Index base = full[v / 64];
+        if (base != kNotFull) return base + v % 64;
+        const std::uint64_t below = bits[v / 64] & ((std::uint64_t{1} << (v % 64)) - 1);
         return Index(before[v / 64] + Index(std::popcount(below)));
     }
 };
@@ -580,6 +584,7 @@ KeptVertices kept_vertices(const MeshAnalysis& a, const std::vector<char>& drop,
     KeptVertices kept;
     kept.bits.resize((nv + 63) / 64);
     kept.before.resize(kept.bits.size());
+    kept.full.resize(kept.bits.size());
     kept.first_kept.assign(chunks + 1, 0);
     parallel_chunks(chunks, threads, [&](std::size_t k) {
         std::size_t count = 0;
@@ -597,8 +602,10 @@ KeptVertices kept_vertices(const MeshAnalysis& a, const std::vector<char>& drop,
     for (std::size_t k = 0; k < chunks; ++k) kept.first_kept[k + 1] += kept.first_kept[k];
     parallel_chunks(chunks, threads, [&](std::size_t k) {
         const std::size_t end = std::min(nv, (k + 1) * kVertexChunk);
-        for (std::size_t w = k * kVertexChunk / 64; w < (end + 63) / 64; ++w)
+        for (std::size_t w = k * kVertexChunk / 64; w < (end + 63) / 64; ++w) {
             kept.before[w] += Index(kept.first_kept[k]);
+            kept.full[w] = kept.bits[w] == ~std::uint64_t{0} ? kept.before[w] : kNotFull;
+        }
     });
     return kept;
 }
@@ -666,10 +673,13 @@ void move_vertices(Mesh& mesh, std::vector<Index>* of_vertex, const std::vector<
         const auto place = [&](std::size_t from, std::size_t count, std::size_t to, bool in_held) {
             const std::size_t at = in_held ? to - first : to;
             float* p = in_held ? h.positions.data() : positions;
-            std::memmove(p + 3 * at, positions + 3 * from, 12 * count);
-            if (normals)
-                std::memmove((in_held ? h.normals.data() : normal) + 3 * at, normal + 3 * from,
-                             12 * count);
+            // (Those before the first dropped vertex stay where they are.)
+            if (in_held || at != from) {
+                std::memmove(p + 3 * at, positions + 3 * from, 12 * count);
+                if (normals)
+                    std::memmove((in_held ? h.normals.data() : normal) + 3 * at,
+                                 normal + 3 * from, 12 * count);
+            }
             if (piece) {
                 Index* q = in_held ? h.pieces.data() : piece;
                 for (std::size_t i = 0; i < count; ++i) {
@@ -737,22 +747,36 @@ struct TriangleBatch {
     alignas(32) double area[kBatch] = {};
 };
 
-// triangle_volume and (with `area`) triangle_area of the batch's first n triangles.
-void batch_sums_plain(TriangleBatch& b, std::size_t n, bool area) {
+bool has_avx2() {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+    static const bool avx2 = __builtin_cpu_supports("avx2");
+    return avx2;
+#else
+    return false;
+#endif
+}
+
+// triangle_volume and (with `area`) triangle_area of the batch's first n triangles, added to
+// `volume` and `area_sum` triangle after triangle.
+void batch_sums_plain(TriangleBatch& b, std::size_t n, bool area, double& volume,
+                      double& area_sum) {
     for (std::size_t i = 0; i < n; ++i) {
         std::array<double, 3> p[3];
         for (int k = 0; k < 3; ++k)
             for (int x = 0; x < 3; ++x) p[k][x] = b.corners[3 * k + x][i];
-        b.volume[i] = triangle_volume(p[0], p[1], p[2]);
-        if (area) b.area[i] = triangle_area(p[0], p[1], p[2]);
+        volume += triangle_volume(p[0], p[1], p[2]);
+        if (area) area_sum += triangle_area(p[0], p[1], p[2]);
     }
 }
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 // The same on four triangles at a time: the same operations in the same order, each lane
 // rounded as the plain code rounds (no fused multiply-add: the target is AVX2 alone), so the
-// same bits. Lanes past n compute on stale corners and are not read.
-__attribute__((target("avx2"))) void batch_sums_avx2(TriangleBatch& b, std::size_t n, bool area) {
+// same bits, added in the same order (each four's additions wait on nothing but the last ones,
+// so they go on while the next four are computed). Lanes past n compute on stale corners and
+// are not read.
+__attribute__((target("avx2"))) void batch_sums_avx2(TriangleBatch& b, std::size_t n, bool area,
+                                                     double& volume, double& area_sum) {
 #define FDMSURF_CORNER(row) _mm256_cvtps_pd(_mm_load_ps(&b.corners[row][i]))
     const __m256d six = _mm256_set1_pd(6.0), half = _mm256_set1_pd(0.5);
     for (std::size_t i = 0; i < n; i += 4) {
@@ -766,6 +790,8 @@ __attribute__((target("avx2"))) void batch_sums_avx2(TriangleBatch& b, std::size
         const __m256d t2 =
             _mm256_mul_pd(az, _mm256_sub_pd(_mm256_mul_pd(bx, dy), _mm256_mul_pd(by, dx)));
         _mm256_store_pd(&b.volume[i], _mm256_div_pd(_mm256_add_pd(_mm256_add_pd(t0, t1), t2), six));
+        const std::size_t lanes = std::min<std::size_t>(4, n - i);
+        for (std::size_t l = 0; l < lanes; ++l) volume += b.volume[i + l];
         if (!area) continue;
         const __m256d ux = _mm256_sub_pd(bx, ax), uy = _mm256_sub_pd(by, ay),
                       uz = _mm256_sub_pd(bz, az);
@@ -777,28 +803,100 @@ __attribute__((target("avx2"))) void batch_sums_avx2(TriangleBatch& b, std::size
         const __m256d squares = _mm256_add_pd(
             _mm256_add_pd(_mm256_mul_pd(c0, c0), _mm256_mul_pd(c1, c1)), _mm256_mul_pd(c2, c2));
         _mm256_store_pd(&b.area[i], _mm256_mul_pd(half, _mm256_sqrt_pd(squares)));
+        for (std::size_t l = 0; l < lanes; ++l) area_sum += b.area[i + l];
     }
 #undef FDMSURF_CORNER
 }
 #endif
 
-void batch_sums(TriangleBatch& b, std::size_t n, bool area) {
+void batch_sums(TriangleBatch& b, std::size_t n, bool area, double& volume, double& area_sum) {
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-    static const bool avx2 = __builtin_cpu_supports("avx2");
-    if (avx2) return batch_sums_avx2(b, n, area);
+    if (has_avx2()) return batch_sums_avx2(b, n, area, volume, area_sum);
 #endif
-    batch_sums_plain(b, n, area);
+    batch_sums_plain(b, n, area, volume, area_sum);
 }
 
+// The new numbers of the n (kept) vertices `from` into `to`, which may lie at or before `from`
+// (each read before its place is written).
+void remap_plain(const Index* from, std::size_t n, const KeptVertices& kept, Index* to) {
+    for (std::size_t i = 0; i < n; ++i) to[i] = kept.remap(from[i]);
+}
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+// Where no vertex between the least and the largest is dropped (most batches: the vertices of
+// nearby triangles are near), every new number is the old less the same count; otherwise
+// eight at a time: their words' `full` gathered, and eight in full words (the common case)
+// renumbered without a branch each.
+__attribute__((target("avx2"))) void remap_avx2(const Index* from, std::size_t n,
+                                                const KeptVertices& kept, Index* to) {
+    if (n == 0) return;
+    __m256i least = _mm256_set1_epi32(-1), largest = _mm256_setzero_si256();
+    std::size_t i = 0;
+    for (; i + 8 <= n; i += 8) {
+        const __m256i v = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(from + i));
+        least = _mm256_min_epu32(least, v), largest = _mm256_max_epu32(largest, v);
+    }
+    alignas(32) Index lanes[16];
+    _mm256_store_si256(reinterpret_cast<__m256i*>(lanes), least);
+    _mm256_store_si256(reinterpret_cast<__m256i*>(lanes + 8), largest);
+    Index lo = from[0], hi = from[0];
+    for (int l = 0; l < 8; ++l) lo = std::min(lo, lanes[l]), hi = std::max(hi, lanes[8 + l]);
+    for (std::size_t j = i; j < n; ++j) lo = std::min(lo, from[j]), hi = std::max(hi, from[j]);
+    const Index dropped = lo - kept.remap(lo);
+    if (hi - kept.remap(hi) == dropped) {
+        const __m256i less = _mm256_set1_epi32(int(dropped));
+        for (i = 0; i + 8 <= n; i += 8) {
+            const __m256i v = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(from + i));
+            _mm256_storeu_si256(reinterpret_cast<__m256i*>(to + i), _mm256_sub_epi32(v, less));
+        }
+        for (; i < n; ++i) to[i] = from[i] - dropped;
+        return;
+    }
+    const int* full = reinterpret_cast<const int*>(kept.full.data());
+    const __m256i low = _mm256_set1_epi32(63), not_full = _mm256_set1_epi32(-1);
+    for (i = 0; i + 8 <= n; i += 8) {
+        const __m256i v = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(from + i));
+        const __m256i base = _mm256_i32gather_epi32(full, _mm256_srli_epi32(v, 6), 4);
+        const __m256i odd = _mm256_cmpeq_epi32(base, not_full);
+        if (!_mm256_testz_si256(odd, odd)) {
+            remap_plain(from + i, 8, kept, to + i);
+            continue;
+        }
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(to + i),
+                            _mm256_add_epi32(base, _mm256_and_si256(v, low)));
+    }
+    remap_plain(from + i, n - i, kept, to + i);
+}
+#endif
+
+void remap(const Index* from, std::size_t n, const KeptVertices& kept, Index* to) {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+    if (has_avx2()) return remap_avx2(from, n, kept, to);
+#endif
+    remap_plain(from, n, kept, to);
+}
+
+// Where new triangles go: their own slots, or (those before `hold`) a thread's buffer, whose
+// first triangle is new triangle `first`.
+struct TrianglePlaces {
+    Index* idx;
+    Index* buffer;
+    std::size_t first, hold;
+    Index* at(std::size_t o) const { return o < hold ? buffer + 3 * (o - first) : idx + 3 * o; }
+    // How many of n triangles from o on go to one run of places.
+    std::size_t together(std::size_t o, std::size_t n) const {
+        return o < hold ? std::min(n, hold - o) : n;
+    }
+};
+
 // One new chunk of triangles, [begin, end), filled from the old triangles from `start` on
-// (dropped runs skipped whole) and written through `place` (its own slots, or held ones); with
-// `positions` (the vertices' old positions, not yet moved) its runs' sums taken as analyse_mesh
-// takes them, area too with `area`.
-template <class Place>
+// (dropped runs skipped whole) and written to `places`; with `positions` (the vertices' old
+// positions, not yet moved) its runs' sums taken as analyse_mesh takes them, area too with
+// `area`. A batch at a time: its corners read, then its vertices renumbered in place.
 void move_chunk(const Index* idx, const MeshAnalysis& a, const std::vector<char>& drop,
                 const std::vector<Index>& renumber, const KeptVertices& kept,
                 const float* positions, bool area, ChunkStart start, std::size_t begin,
-                std::size_t end, Place&& place, PieceRuns<Sums>& runs) {
+                std::size_t end, const TrianglePlaces& places, PieceRuns<Sums>& runs) {
     std::size_t t = start.triangle, run = start.run;
     Index offset = start.offset;
     Index last = no_piece;
@@ -822,25 +920,20 @@ void move_chunk(const Index* idx, const MeshAnalysis& a, const std::vector<char>
             }
             last = piece, area_sum = 0.0, volume = 0.0, triangles = 0;
         }
-        for (std::size_t first = 0; first < count; first += kBatch) {
-            const std::size_t n = std::min(kBatch, count - first);
-            for (std::size_t i = 0; i < n; ++i) {
-                const Index* from = &idx[3 * (t + first + i)];
-                if (positions)
+        for (std::size_t first = 0; first < count;) {
+            const std::size_t n = places.together(o + first, std::min(kBatch, count - first));
+            const Index* from = idx + 3 * (t + first);
+            if (positions) {
+                for (std::size_t i = 0; i < n; ++i)
                     for (int k = 0; k < 3; ++k) {
-                        const float* p = positions + 3 * std::size_t{from[k]};
+                        const float* p = positions + 3 * std::size_t{from[3 * i + k]};
                         for (int x = 0; x < 3; ++x) batch.corners[3 * k + x][i] = p[x];
                     }
-                Index* to = place(o + first + i);
-                const Index tri[3] = {kept.remap(from[0]), kept.remap(from[1]),
-                                      kept.remap(from[2])};
-                for (int j = 0; j < 3; ++j) to[j] = tri[j];
+                batch_sums(batch, n, area, volume, area_sum);
             }
-            if (!positions) continue;
-            batch_sums(batch, n, area);
-            for (std::size_t i = 0; i < n; ++i) volume += batch.volume[i];
-            if (area)
-                for (std::size_t i = 0; i < n; ++i) area_sum += batch.area[i];
+            // After the corners were read: the new numbers may be written over the old ones.
+            remap(from, 3 * n, kept, places.at(o + first));
+            first += n;
         }
         t += count, o += count;
         triangles += Index(count);
@@ -878,14 +971,12 @@ std::vector<PieceRuns<Sums>> move_triangles(Mesh& mesh, const MeshAnalysis& a,
         const std::size_t hold = std::min(std::min(nt, k1 * kTriangleChunk), starts[k0].triangle);
         held[r].resize(3 * (std::max(hold, first) - first));
         Index* buffer = held[r].data();
+        const TrianglePlaces places{idx, buffer, first, hold};
         for (std::size_t k = k0; k < k1; ++k) {
             const std::size_t begin = k * kTriangleChunk;
             const std::size_t end = std::min(nt, begin + kTriangleChunk);
-            const auto place = [&](std::size_t o) {
-                return o < hold ? buffer + 3 * (o - first) : idx + 3 * o;
-            };
-            move_chunk(idx, a, drop, renumber, kept, positions, area, starts[k], begin, end, place,
-                       runs[k]);
+            move_chunk(idx, a, drop, renumber, kept, positions, area, starts[k], begin, end,
+                       places, runs[k]);
         }
     });
     for (std::size_t r = 0; r < parts; ++r)

@@ -12,8 +12,10 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <vector>
 
+#include "base/fresh_pages.hpp"
 #include "base/parallel.hpp"
 #include "base/trace.hpp"
 
@@ -377,8 +379,10 @@ void sort_layer(const Grid& g, const float* positions, const std::uint32_t* ids,
         const std::uint32_t b = kGroupBits, mask = (1u << b) - 1;
         w.key[j] = (y >> b) << 17 | (x >> b) << (2 * b) | (y & mask) << b | (x & mask);
     }
-    // Two counting passes, the low 17 bits then the rest (stable).
-    const std::size_t low = std::size_t(1) << 17;
+    // Two counting passes, the low 17 bits then the rest (stable); the low ones only as far as
+    // the grid's x reaches (a table of 2^17 counts a layer cost as much as its vertices).
+    const std::size_t low = ((std::size_t(g.dims[0] - 1) >> kGroupBits) << (2 * kGroupBits)) +
+                            (std::size_t(1) << (2 * kGroupBits));
     const std::size_t high = (std::size_t(g.dims[1]) >> kGroupBits) + 1;
     w.count.assign(low + 1, 0);
     for (std::size_t j = 0; j < m; ++j) ++w.count[(w.key[j] & 0x1ffff) + 1];
@@ -401,13 +405,15 @@ void sort_layer(const Grid& g, const float* positions, const std::uint32_t* ids,
     for (std::size_t t = m; t < m + 8; ++t) w.vx[t] = w.vy[t] = w.vz[t] = 0.0f;
 }
 
-// The box of vertices [first, end) of the layer.
+// The box of vertices [first, end) of the layer. (In locals: stored through blo and bhi at each
+// vertex, every step waited on the last one's store.)
 void vertex_box(const Layer& w, std::size_t first, std::size_t end, float blo[3], float bhi[3]) {
     const float* v[3] = {w.vx.data(), w.vy.data(), w.vz.data()};
     for (int a = 0; a < 3; ++a) {
-        blo[a] = bhi[a] = v[a][first];
-        for (std::size_t j = first + 1; j < end; ++j)
-            blo[a] = std::min(blo[a], v[a][j]), bhi[a] = std::max(bhi[a], v[a][j]);
+        const float* c = v[a];
+        float lo = c[first], hi = c[first];
+        for (std::size_t j = first + 1; j < end; ++j) lo = std::min(lo, c[j]), hi = std::max(hi, c[j]);
+        blo[a] = lo, bhi[a] = hi;
     }
 }
 
@@ -454,8 +460,8 @@ void host_vertex_atoms(const Atoms& atoms, const float* positions, std::size_t n
     // The box of the finite vertices; the others have no atom.
     std::vector<float> boxes(6 * threads);
     parallel_chunks(threads, threads, [&](std::size_t k) {
-        float* lo = &boxes[6 * k];
-        float* hi = lo + 3;
+        // In locals (through `boxes`, each vertex's steps waited on the last one's stores).
+        float lo[3], hi[3];
         for (int a = 0; a < 3; ++a) lo[a] = std::numeric_limits<float>::max(), hi[a] = -lo[a];
         for (std::size_t v = n * k / threads; v < n * (k + 1) / threads; ++v) {
             const float* p = positions + 3 * v;
@@ -465,6 +471,7 @@ void host_vertex_atoms(const Atoms& atoms, const float* positions, std::size_t n
             }
             for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
         }
+        for (int a = 0; a < 3; ++a) boxes[6 * k + a] = lo[a], boxes[6 * k + 3 + a] = hi[a];
     });
     float lo[3], hi[3];
     for (int a = 0; a < 3; ++a) {
@@ -503,7 +510,9 @@ void host_vertex_atoms(const Atoms& atoms, const float* positions, std::size_t n
         }
     }
     layer_start[layers] = next;
-    std::vector<std::uint32_t> order(next);
+    // Every slot is written below: not zeroed first, its pages provided on all threads.
+    const std::unique_ptr<std::uint32_t[]> order(new std::uint32_t[next]);
+    populate_pages({{order.get(), sizeof(std::uint32_t) * next}});
     parallel_chunks(threads, threads, [&](std::size_t k) {
         std::uint32_t* c = &counts[k * (layers + 1)];
         for (auto [v, e] = range(k); v < e; ++v)
