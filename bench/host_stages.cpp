@@ -13,7 +13,9 @@
 // it), each run on the mesh and analysis restored in place, so that no run pays fresh pages.
 // --only ses-features: the exact SES's features of STRUCTURE (build_ses_features: neighbours,
 // circles, exposed arcs; the CLI's ses-features stage less the host's index of them), without a
-// surface. --only exact-areas: the exact per-atom SASA of STRUCTURE (atom_exact_areas at the
+// surface, with a hash of them; --only ses-features-plain: the same by its plain reference
+// (build_ses_features_plain: every circle cut by every neighbour), for an A/B in one binary.
+// --only exact-areas: the exact per-atom SASA of STRUCTURE (atom_exact_areas at the
 // probe, sphere patches: what Engine.trajectory computes per frame), without a surface.
 // --only ses-field: the exact SES field of STRUCTURE on the host (--method edt's ses-host stage:
 // SesHostField::evaluate over the whole grid), without a surface. --only ses-snap: the exact SES
@@ -72,6 +74,28 @@ std::uint64_t hash_floats(const std::vector<float>& v) {
     std::uint64_t h = 1469598103934665603ull;
     const auto* b = reinterpret_cast<const unsigned char*>(v.data());
     for (std::size_t i = 0; i < v.size() * sizeof(float); ++i) h = (h ^ b[i]) * 1099511628211ull;
+    return h;
+}
+
+// FNV-1a over the bytes of the exact SES's features: the arcs and their bins' starts, the
+// spheres and their bins' starts, the neighbour rows, the counts and the largest radii.
+std::uint64_t features_hash(const detail::SesFeatures& f) {
+    std::uint64_t h = 1469598103934665603ull;
+    auto bytes = [&](const void* data, std::size_t size) {
+        const auto* b = static_cast<const unsigned char*>(data);
+        for (std::size_t i = 0; i < size; ++i) h = (h ^ b[i]) * 1099511628211ull;
+    };
+    auto array = [&](const auto& v) { bytes(v.data(), v.size() * sizeof(v[0])); };
+    array(f.arcs);
+    array(f.arc_start);
+    array(f.spheres);
+    array(f.sphere_start);
+    array(f.neighbour_start);
+    array(f.neighbours);
+    const std::uint64_t counts[2] = {f.circles, f.buried_circles};
+    const float radii[2] = {f.r_max, f.rho_max};
+    bytes(counts, sizeof counts);
+    bytes(radii, sizeof radii);
     return h;
 }
 
@@ -164,17 +188,24 @@ int main(int argc, char** argv) try {
                     ms * 1e6 / double(structure.atoms.size()));
         return 0;
     }
-    if (only == "ses-features") {
+    if (only == "ses-features" || only == "ses-features-plain") {
+        const bool plain = only == "ses-features-plain";
         detail::SesFeatures f;
-        const double ms = median_ms(
-            reps, [&] { f = detail::build_ses_features(structure.atoms, options.probe); });
+        const double cpu0 = cpu_ms();
+        const double ms = median_ms(reps, [&] {
+            f = plain ? detail::build_ses_features_plain(structure.atoms, options.probe)
+                      : detail::build_ses_features(structure.atoms, options.probe);
+        });
+        const double cpu = (cpu_ms() - cpu0) / reps;
         std::printf("%s: %zu atoms, %u threads\n\n", argv[1], structure.atoms.size(),
                     std::thread::hardware_concurrency());
-        std::printf("| host stage | median ms (%d runs) | ns per atom |\n|---|---|---|\n", reps);
-        std::printf("| ses features | %.1f | %.0f |\n\n", ms,
+        std::printf("| host stage | median ms (%d runs) | mean CPU ms | ns per atom |\n"
+                    "|---|---|---|---|\n", reps);
+        std::printf("| %s | %.1f | %.0f | %.0f |\n\n", only.c_str(), ms, cpu,
                     ms * 1e6 / double(structure.atoms.size()));
         std::printf("circles %zu (buried %zu), arcs %zu, neighbours %zu, bins %zu\n", f.circles,
                     f.buried_circles, f.arcs.size(), f.neighbours.size(), f.bin_count());
+        std::printf("features' hash %016llx\n", static_cast<unsigned long long>(features_hash(f)));
         return 0;
     }
     if (only == "ses-field") return ses_stage(structure, options, only, Mesh{}, reps);

@@ -22,7 +22,7 @@
 #include <vector>
 
 #include "areas/areas_detail.hpp"
-#include "areas/power_cell.hpp"
+#include "base/power_cell.hpp"
 #include "base/cell_list.hpp"
 #include "base/parallel.hpp"
 #include "base/vec3.hpp"
@@ -394,16 +394,7 @@ struct Workspace {
 double cell_exposed_solid_angle(const std::vector<Cap>& caps, Workspace& w) {
     w.planes.resize(caps.size());
     for (std::size_t c = 0; c < caps.size(); ++c) w.planes[c] = {caps[c].u, caps[c].h};
-    // Largest caps first, roughly, so that the cell shrinks soonest: sixteen bins of h (a
-    // counting sort) do as well as a full sort, for less.
-    constexpr int kBins = 16;
-    std::array<std::uint32_t, kBins + 1> first{};
-    auto bin_of = [](double h) { return std::clamp(int((h + 1.0) * (0.5 * kBins)), 0, kBins - 1); };
-    for (const Cap& c : caps) ++first[std::size_t(bin_of(c.h)) + 1];
-    for (int b = 0; b < kBins; ++b) first[std::size_t(b) + 1] += first[std::size_t(b)];
-    w.order.resize(caps.size());
-    for (std::size_t c = 0; c < caps.size(); ++c)
-        w.order[first[std::size_t(bin_of(caps[c].h))]++] = std::uint32_t(c);
+    order_largest_first(w.planes, w.order);
     switch (w.cell.filter(w.planes, w.order, w.keep)) {
     case CellVerdict::Buried:
         return 0.0;

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "base/parallel.hpp"
+#include "base/power_cell.hpp"
 #include "base/trace.hpp"
 #include "base/vec3.hpp"
 #include "fdmsurf/error.hpp"
@@ -567,11 +568,88 @@ struct FeatureBuilder {
         float rho_max = 0.0f;
     };
 
-    // The circles of the pairs i < j of chunk `chunk`'s atoms i, cut by the other neighbours of
-    // i: their exposed arcs into `out`.
-    void arcs_of_chunk(std::size_t chunk, ChunkArcs& out) const {
+    // Where balls i and j meet: their centres' distance d, the circle's distance a from c_i and
+    // squared radius rho2; false when one is inside the other (or they touch).
+    struct Meeting {
+        Vec3 dij;
+        double d, a, rho2;
+    };
+    static bool meet(const Ball& bi, const Ball& bj, Meeting& w) {
+        w.dij = sub(bj.c, bi.c);
+        w.d = std::sqrt(dot(w.dij, w.dij));
+        if (w.d <= std::abs(bi.R - bj.R) || w.d == 0.0) return false;  // one ball inside the other
+        w.a = (w.d * w.d + bi.R * bi.R - bj.R * bj.R) / (2.0 * w.d);
+        w.rho2 = bi.R * bi.R - w.a * w.a;
+        return w.rho2 > 0.0;
+    }
+    static Circle circle_of(const Ball& bi, const Meeting& w) {
+        const Vec3 u = scale(w.dij, 1.0 / w.d);
+        const Vec3 e1 = perpendicular(u);
+        return {add(bi.c, scale(u, w.a)), e1, cross(u, e1), std::sqrt(w.rho2), w.rho2};
+    }
+
+    // A thread's scratch space for the arcs of its atoms.
+    struct ArcScratch {
         std::vector<Interval> buried, cuts, gaps, parts;
-        Row row;
+        Row row, kept;                          // ball i's neighbours; the cell's kept ones
+        std::vector<std::uint32_t> kept_entry;  // per row entry, its place in `kept` (or none)
+        PowerCell cell;
+        std::vector<CellPlane> planes;
+        std::vector<std::uint32_t> plane_entry;  // per plane, its row entry
+        std::vector<std::uint32_t> order, keep;
+    };
+    static constexpr std::uint32_t kNotKept = ~std::uint32_t(0);
+    // A neighbour whose cap is within this (in h, the unit frame) of the whole sphere or of
+    // none of it (a ball inside the other, or all but) is left to the plain cut.
+    static constexpr double kCapEdge = 1e-9;
+
+    // Ball i's power cell among its row (power_cell.hpp): Buried when no point of its sphere is
+    // outside every other ball, so no circle of i has an exposed point; Filtered when only the
+    // balls of `kept_entry` can shape the exposed part: an exposed point of circle (i, j) is on
+    // j's plane and inside the others', so j is one of them, and the others bury on the sphere
+    // only what those do. Unknown (the plain cut) for a twin centre, a cap all but whole or
+    // empty, or rounding the cell gives up on.
+    CellVerdict cell_of(const Ball& bi, const std::uint32_t* nb, ArcScratch& w) const {
+        const Row& row = w.row;
+        w.planes.clear();
+        w.plane_entry.clear();
+        w.kept_entry.assign(row.size, kNotKept);
+        for (std::size_t p = 0; p < row.size; ++p) {
+            const Ball& bk = balls[nb[p]];
+            const Vec3 e = sub(bk.c, bi.c);
+            const double d2 = dot(e, e);
+            if (d2 == 0.0) return CellVerdict::Unknown;
+            const double d = std::sqrt(d2);
+            const double h = (d2 + bi.R * bi.R - bk.R * bk.R) / (2.0 * d * bi.R);
+            if (h < -1.0 - kCapEdge) return CellVerdict::Buried;  // inside ball k
+            if (h > 1.0 + kCapEdge) continue;                      // ball k inside this one
+            if (std::abs(h) >= 1.0 - kCapEdge) return CellVerdict::Unknown;
+            w.planes.push_back({scale(e, 1.0 / d), h});
+            w.plane_entry.push_back(std::uint32_t(p));
+        }
+        if (w.planes.empty()) return CellVerdict::Unknown;  // nothing cuts the circles
+        order_largest_first(w.planes, w.order);
+        const CellVerdict verdict = w.cell.filter(w.planes, w.order, w.keep);
+        if (verdict != CellVerdict::Filtered) return verdict;
+        // The kept balls as a row of their own, in row order.
+        Row& kept = w.kept;
+        kept.resize(w.keep.size());
+        for (std::size_t k = 0; k < w.keep.size(); ++k) {
+            const std::uint32_t p = w.plane_entry[w.keep[k]];
+            w.kept_entry[p] = std::uint32_t(k);
+            kept.x[k] = row.x[p], kept.y[k] = row.y[p], kept.z[k] = row.z[p];
+            kept.R2[k] = row.R2[p];
+            kept.atom[k] = row.atom[p];
+        }
+        return verdict;
+    }
+
+    // The circles of the pairs i < j of chunk `chunk`'s atoms i, cut by the other neighbours of
+    // i (for an atom with `cell_from` neighbours j > i or more, only by those its power cell
+    // keeps): their exposed arcs into `out`.
+    void arcs_of_chunk(std::size_t chunk, std::size_t cell_from, ChunkArcs& out) const {
+        ArcScratch w;
+        Row& row = w.row;
         for (std::size_t i = chunk * kChunk; i < std::min(n, (chunk + 1) * kChunk); ++i) {
             const std::size_t s = sphere_of[i];
             const std::uint32_t* nb = f.neighbours.data() + f.neighbour_start[s];
@@ -583,29 +661,31 @@ struct FeatureBuilder {
                 row.atom[p] = order[nb[p]];
             }
             const Ball& bi = balls[s];
+            std::size_t later = 0;
+            for (std::size_t q = 0; q < row.size; ++q) later += row.atom[q] > i;
+            const bool cell = later >= cell_from;
+            const CellVerdict verdict = cell ? cell_of(bi, nb, w) : CellVerdict::Unknown;
+            const bool plain = verdict == CellVerdict::Unknown;
             std::size_t last_burier = std::numeric_limits<std::size_t>::max();
             for (std::size_t q = 0; q < row.size; ++q) {
                 if (row.atom[q] <= i) continue;
-                const Ball& bj = balls[nb[q]];
-                const Vec3 dij = sub(bj.c, bi.c);
-                const double d = std::sqrt(dot(dij, dij));
-                if (d <= std::abs(bi.R - bj.R) || d == 0.0) continue;  // one ball inside the other
-                const Vec3 u = scale(dij, 1.0 / d);
-                const double a = (d * d + bi.R * bi.R - bj.R * bj.R) / (2.0 * d);
-                const double rho2 = bi.R * bi.R - a * a;
-                if (rho2 <= 0.0) continue;
-                const double rho = std::sqrt(rho2);
-                const Vec3 m = add(bi.c, scale(u, a));
-                const Vec3 e1 = perpendicular(u);
-                const Vec3 e2 = cross(u, e1);
-                const Circle circle{m, e1, e2, rho, rho2};
+                Meeting meeting;
+                if (!meet(bi, balls[nb[q]], meeting)) continue;
                 ++out.circles;
-                if (buried_whole(circle, q, last_burier, row, buried))
-                    parts.clear();
-                else
-                    exposed_parts(buried, cuts, gaps, parts);
-                if (parts.empty()) ++out.buried_circles;
-                add_arcs(circle, parts, out.arcs);
+                // A circle the cell leaves no exposed point is counted, not cut.
+                const std::uint32_t k = plain ? std::uint32_t(q) : w.kept_entry[q];
+                if (k == kNotKept) {
+                    ++out.buried_circles;
+                    continue;
+                }
+                const Circle circle = circle_of(bi, meeting);
+                if (buried_whole(circle, k, last_burier, plain ? row : w.kept, w.buried)) {
+                    w.parts.clear();
+                } else {
+                    exposed_parts(w.buried, w.cuts, w.gaps, w.parts);
+                }
+                if (w.parts.empty()) ++out.buried_circles;
+                add_arcs(circle, w.parts, out.arcs);
             }
         }
     }
@@ -615,11 +695,11 @@ struct FeatureBuilder {
     // segment between two centres: in range), in atom order within a bin (the result does not
     // depend on the thread count): each part of the bins, with about as many arcs as the
     // others, filled on its own thread.
-    void cut_circles() {
+    void cut_circles(std::size_t cell_from) {
         std::vector<ChunkArcs> chunks(chunk_count);
         parallel_chunks(chunk_count, threads, [&](std::size_t chunk) {
             ChunkArcs& out = chunks[chunk];
-            arcs_of_chunk(chunk, out);
+            arcs_of_chunk(chunk, cell_from, out);
             out.bins.resize(out.arcs.size());
             for (std::size_t k = 0; k < out.arcs.size(); ++k) {
                 const SesArc& arc = out.arcs[k];
@@ -695,7 +775,9 @@ double arc_distance(const SesArc& arc, const double p[3], double* nearest, doubl
     return std::sqrt(height * height + rr * rr + 4.0 * r * arc.rho * s * s);
 }
 
-SesFeatures build_ses_features(const Atoms& atoms, float probe) {
+namespace {
+
+SesFeatures build_features(const Atoms& atoms, float probe, std::size_t cell_from) {
     if (atoms.empty()) throw Error(ErrorCode::EmptySelection, "no atoms to build a surface from");
     if (atoms.xyz.size() != 3 * atoms.size())
         throw Error(ErrorCode::InvalidArgument, "atoms: xyz must hold 3 floats per radius");
@@ -706,13 +788,23 @@ SesFeatures build_ses_features(const Atoms& atoms, float probe) {
     b.read_balls();
     b.bin_spheres();
     Atoms unique;
-    if (b.without_duplicates(unique)) return build_ses_features(unique, probe);
+    if (b.without_duplicates(unique)) return build_features(unique, probe, cell_from);
     trace("ses features: balls binned");
     b.find_neighbours();
     trace("ses features: neighbours");
-    b.cut_circles();
+    b.cut_circles(cell_from);
     trace("ses features: arcs");
     return std::move(b.f);
+}
+
+}  // namespace
+
+SesFeatures build_ses_features(const Atoms& atoms, float probe, std::size_t cell_from) {
+    return build_features(atoms, probe, cell_from);
+}
+
+SesFeatures build_ses_features_plain(const Atoms& atoms, float probe) {
+    return build_features(atoms, probe, std::numeric_limits<std::size_t>::max());
 }
 
 }  // namespace fdmsurf::detail

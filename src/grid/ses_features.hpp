@@ -56,7 +56,18 @@ struct SesFeatures {
 
 // Exposed arcs of the balls of radius r_i + probe (probe > 0) and the binned spheres.
 // Throws Error(InvalidArgument) for an empty set, a radius <= 0 or a non-finite value.
-SesFeatures build_ses_features(const Atoms& atoms, float probe);
+// The circles (i, j), j > i, of an atom with `cell_from` such neighbours or more are cut only by
+// the balls its power cell keeps (base/power_cell.hpp), and none when the cell finds its sphere
+// buried; those of an atom with fewer by all its other neighbours. The default is about where
+// the cell (some 30 clips) costs what it saves (1AON, 30 November 2026); 0 builds every cell.
+constexpr std::size_t kSesCellFrom = 18;
+SesFeatures build_ses_features(const Atoms& atoms, float probe,
+                               std::size_t cell_from = kSesCellFrom);
+
+// The same features with every circle of ball i cut by all of i's other neighbours: the plain
+// reference of build_ses_features (the same features, bit for bit;
+// tests/grid/test_ses_features_cell.cpp).
+SesFeatures build_ses_features_plain(const Atoms& atoms, float probe);
 
 // The distance from p to the exposed arc `a` (double precision; the shader mirrors it), and,
 // with `nearest` not null, the arc's point at that distance. When the arc is certainly not

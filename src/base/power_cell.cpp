@@ -1,6 +1,7 @@
 // PowerCell: a ball's power cell clipped plane by plane, and the caps and edges it keeps.
-#include "areas/power_cell.hpp"
+#include "base/power_cell.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -48,6 +49,17 @@ Sides signed_distances(const double* __restrict x, const double* __restrict y,
 bool beyond_ball(double x, double y, double z) { return !(x * x + y * y + z * z < 1.0 - kReach); }
 
 }  // namespace
+
+void order_largest_first(const std::vector<CellPlane>& planes, std::vector<std::uint32_t>& order) {
+    constexpr int kBins = 16;
+    std::array<std::uint32_t, kBins + 1> first{};
+    auto bin_of = [](double h) { return std::clamp(int((h + 1.0) * (0.5 * kBins)), 0, kBins - 1); };
+    for (const CellPlane& p : planes) ++first[std::size_t(bin_of(p.h)) + 1];
+    for (int b = 0; b < kBins; ++b) first[std::size_t(b) + 1] += first[std::size_t(b)];
+    order.resize(planes.size());
+    for (std::size_t p = 0; p < planes.size(); ++p)
+        order[first[std::size_t(bin_of(planes[p].h))]++] = std::uint32_t(p);
+}
 
 void PowerCell::reset() {
     x_.clear();

@@ -1,5 +1,5 @@
-// The power cell of one ball among its neighbours, cut to what the exact areas need: which
-// neighbours' caps can shape the exposed part of the ball's sphere.
+// The power cell of one ball among its neighbours, cut to what the exact areas and the exact
+// SES's arcs need: which neighbours' caps can shape the exposed part of the ball's sphere.
 //
 // In the unit frame of ball i, neighbour j buries the cap {n : n·u_j > h_j} of the sphere; the
 // plane n·u_j = h_j is the two balls' radical plane. The points that no neighbour buries are
@@ -41,6 +41,10 @@ enum class CellVerdict {
     Filtered,  // `keep` lists the planes that can shape the exposed part
     Unknown,   // rounding left no proper polyhedron: keep every plane
 };
+
+// The planes' indices, largest cap (least h) first, roughly, into `order`: so that the cell
+// shrinks soonest. Sixteen bins of h (a counting sort) do as well as a full sort, for less.
+void order_largest_first(const std::vector<CellPlane>& planes, std::vector<std::uint32_t>& order);
 
 // Scratch space of one thread, reused from ball to ball.
 class PowerCell {

@@ -1,4 +1,4 @@
-// The power cell's filter of caps (src/areas/power_cell.hpp), against sampling: on real atoms'
+// The power cell's filter of caps (src/base/power_cell.hpp), against sampling: on real atoms'
 // caps and on made-up ones with touching and repeated planes, no point of the sphere that the
 // kept caps leave exposed may be buried by a dropped cap, and a ball called buried may have no
 // exposed point.
@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "areas/power_cell.hpp"
+#include "base/power_cell.hpp"
 #include "base/vec3.hpp"
 #include "fdmsurf/fdmsurf.hpp"
 #include "support/test_data.hpp"
