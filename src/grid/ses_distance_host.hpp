@@ -109,6 +109,7 @@ private:
     std::unique_ptr<Box[]> arc_box_;                           // each arc's points' bounds
     std::vector<std::uint32_t> arcs_by_z_;                     // arc indices by arc_box_ lo z
     std::vector<float> arc_lo_z_;                              // ascending
+    std::vector<float> arc_hi_z_;  // arc_box_ hi z in the same order: evaluate skips without the box
     float arc_extent_z_ = 0.0f;                                // the largest hi z - lo z
     double reach_ = 0.0;                                       // the constructor's d_max
     double bin_margin_ = 0.0;  // Å: a centre lies within this of its bin's box
