@@ -316,6 +316,61 @@ void arc_row_kernel(const SesHostField::Arc& arc, const float* xs, float y, floa
 
 }  // namespace
 
+namespace {
+
+// The point-distance steps that SesHostField::distance and its Cursor share, with one
+// arithmetic (the cursor's values are distance()'s bit for bit).
+
+void set_gradient(double* gradient, double x, double y, double z) {
+    if (gradient) gradient[0] = x, gradient[1] = y, gradient[2] = z;
+}
+
+// The unit direction from the nearest point q to p (0 where they coincide).
+void gradient_from(const double p[3], const double q[3], double* gradient) {
+    const double w[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
+    const double l = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+    if (l > 0.0)
+        set_gradient(gradient, w[0] / l, w[1] / l, w[2] / l);
+    else
+        set_gradient(gradient, 0, 0, 0);
+}
+
+// The radial projection q of p onto sphere `ball` of `s` (x, y, z, R per sphere); a fixed
+// point of the sphere when p is at its centre.
+void face_point(const float* s, std::uint32_t ball, const double p[3], double q[3]) {
+    const double c[3] = {s[4 * ball], s[4 * ball + 1], s[4 * ball + 2]};
+    const double R = s[4 * ball + 3];
+    const double v[3] = {p[0] - c[0], p[1] - c[1], p[2] - c[2]};
+    const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    q[0] = c[0] + R, q[1] = c[1], q[2] = c[2];
+    if (len > 1e-6)
+        for (int a = 0; a < 3; ++a) q[a] = c[a] + (R / len) * v[a];
+}
+
+// Whether q lies inside sphere k of `s`.
+bool inside_sphere(const float* s, std::uint32_t k, const double q[3]) {
+    const double wx = q[0] - s[4 * k], wy = q[1] - s[4 * k + 1], wz = q[2] - s[4 * k + 2];
+    const double Rk = s[4 * k + 3];
+    return wx * wx + wy * wy + wz * wz < Rk * Rk;
+}
+
+// The end of the arcs' step: `best`, and the gradient from the nearest arc (none: 0).
+double arcs_result(const SesHostField::Arc* best_arc, double best, const double p[3],
+                   double* gradient) {
+    if (best_arc == nullptr) {
+        set_gradient(gradient, 0, 0, 0);
+        return best;
+    }
+    if (gradient) {
+        double q[3];
+        best_arc->nearest(p, q);
+        gradient_from(p, q, gradient);
+    }
+    return best;
+}
+
+}  // namespace
+
 void SesHostField::arc_row(const Arc& arc, const float* xs, float y, float z, int xa, int xb,
                            float* best) {
     arc_row_kernel(arc, xs, y, z, xa, xb, best);
@@ -476,18 +531,6 @@ SesHostField::SesHostField(const SesFeatures& f, double d_max, unsigned threads)
 }
 
 double SesHostField::distance(const double p[3], double d_max, double* gradient) const {
-    auto set_gradient = [&](double x, double y, double z) {
-        if (gradient) gradient[0] = x, gradient[1] = y, gradient[2] = z;
-    };
-    // The unit direction from the nearest point q to p (0 where they coincide).
-    auto gradient_from = [&](const double q[3]) {
-        const double w[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
-        const double l = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
-        if (l > 0.0)
-            set_gradient(w[0] / l, w[1] / l, w[2] / l);
-        else
-            set_gradient(0, 0, 0);
-    };
     if (!(d_max <= reach_)) return ses_distance(f_, p, d_max, gradient, false);
     const float* s = f_.spheres.data();
     int lo[3], hi[3], bin[3];
@@ -535,28 +578,19 @@ double SesHostField::distance(const double p[3], double d_max, double* gradient)
     }
     if (!(lb > 0.0) || tie) return ses_distance(f_, p, d_max, gradient, false);
     if (lb >= d_max) {
-        set_gradient(0, 0, 0);
+        set_gradient(gradient, 0, 0, 0);
         return d_max;
     }
     // The deepest face, against the deepest ball's neighbours.
     {
-        const double c[3] = {s[4 * deepest], s[4 * deepest + 1], s[4 * deepest + 2]};
-        const double R = s[4 * deepest + 3];
-        const double v[3] = {p[0] - c[0], p[1] - c[1], p[2] - c[2]};
-        const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-        double q[3] = {c[0] + R, c[1], c[2]};
-        if (len > 1e-6)
-            for (int a = 0; a < 3; ++a) q[a] = c[a] + (R / len) * v[a];
+        double q[3];
+        face_point(s, deepest, p, q);
         bool buried = false;
-        for (std::uint32_t n = f_.neighbour_start[deepest]; n < f_.neighbour_start[deepest + 1] && !buried;
-             ++n) {
-            const std::uint32_t k = f_.neighbours[n];
-            const double wx = q[0] - s[4 * k], wy = q[1] - s[4 * k + 1], wz = q[2] - s[4 * k + 2];
-            const double Rk = s[4 * k + 3];
-            buried = wx * wx + wy * wy + wz * wz < Rk * Rk;
-        }
+        for (std::uint32_t n = f_.neighbour_start[deepest];
+             n < f_.neighbour_start[deepest + 1] && !buried; ++n)
+            buried = inside_sphere(s, f_.neighbours[n], q);
         if (!buried) {
-            gradient_from(q);
+            gradient_from(p, q, gradient);
             return lb;
         }
     }
@@ -590,16 +624,7 @@ double SesHostField::distance(const double p[3], double d_max, double* gradient)
             if (d < best) best = d, best_arc = &arc;
         }
     }
-    if (best_arc == nullptr) {
-        set_gradient(0, 0, 0);
-        return best;
-    }
-    if (gradient) {
-        double q[3];
-        best_arc->nearest(p, q);
-        gradient_from(q);
-    }
-    return best;
+    return arcs_result(best_arc, best, p, gradient);
 }
 
 // The balls of the bins [lo, hi], bin by bin in z, y, x order (the gap test of distance() is
@@ -639,17 +664,6 @@ void SesHostField::Cursor::gather_arcs(std::size_t bin) {
 double SesHostField::Cursor::distance(const double p[3], double d_max, double* gradient) {
     const SesHostField& h = field_;
     const SesFeatures& f = h.f_;
-    auto set_gradient = [&](double x, double y, double z) {
-        if (gradient) gradient[0] = x, gradient[1] = y, gradient[2] = z;
-    };
-    auto gradient_from = [&](const double q[3]) {
-        const double w[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
-        const double l = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
-        if (l > 0.0)
-            set_gradient(w[0] / l, w[1] / l, w[2] / l);
-        else
-            set_gradient(0, 0, 0);
-    };
     if (!(d_max <= h.reach_)) return ses_distance(f, p, d_max, gradient, false);
     const float* s = f.spheres.data();
     int lo[3], hi[3], bin[3];
@@ -687,32 +701,22 @@ double SesHostField::Cursor::distance(const double p[3], double d_max, double* g
     }
     if (!(lb > 0.0) || tie) return ses_distance(f, p, d_max, gradient, false);
     if (lb >= d_max) {
-        set_gradient(0, 0, 0);
+        set_gradient(gradient, 0, 0, 0);
         return d_max;
     }
     {
-        const double c[3] = {s[4 * deepest], s[4 * deepest + 1], s[4 * deepest + 2]};
-        const double R = s[4 * deepest + 3];
-        const double v[3] = {p[0] - c[0], p[1] - c[1], p[2] - c[2]};
-        const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-        double q[3] = {c[0] + R, c[1], c[2]};
-        if (len > 1e-6)
-            for (int a = 0; a < 3; ++a) q[a] = c[a] + (R / len) * v[a];
-        auto inside = [&](std::uint32_t k) {
-            const double wx = q[0] - s[4 * k], wy = q[1] - s[4 * k + 1], wz = q[2] - s[4 * k + 2];
-            const double Rk = s[4 * k + 3];
-            return wx * wx + wy * wy + wz * wz < Rk * Rk;
-        };
+        double q[3];
+        face_point(s, deepest, p, q);
         // The neighbour that buried this ball's face last, first: one of its neighbours, so
         // the answer is the loop's.
-        bool buried = deepest == burier_of_ && inside(burier_);
+        bool buried = deepest == burier_of_ && inside_sphere(s, burier_, q);
         for (std::uint32_t n = f.neighbour_start[deepest];
              n < f.neighbour_start[deepest + 1] && !buried; ++n) {
-            buried = inside(f.neighbours[n]);
+            buried = inside_sphere(s, f.neighbours[n], q);
             if (buried) burier_of_ = deepest, burier_ = f.neighbours[n];
         }
         if (!buried) {
-            gradient_from(q);
+            gradient_from(p, q, gradient);
             return lb;
         }
     }
@@ -741,16 +745,7 @@ double SesHostField::Cursor::distance(const double p[3], double d_max, double* g
             if (d < best) best = d, best_arc = &arc;
         }
     }
-    if (best_arc == nullptr) {
-        set_gradient(0, 0, 0);
-        return best;
-    }
-    if (gradient) {
-        double q[3];
-        best_arc->nearest(p, q);
-        gradient_from(q);
-    }
-    return best;
+    return arcs_result(best_arc, best, p, gradient);
 }
 
 // One task of evaluate: planes [za, zb) of the call's planes, on the call's grid, with the
