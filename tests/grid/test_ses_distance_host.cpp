@@ -39,6 +39,20 @@ using fdmsurf_test::compare_ses_fields;
 using FieldDiff = fdmsurf_test::SesFieldDiff;
 constexpr double kTolerance = fdmsurf_test::kSesFieldTolerance;
 
+// The depth of p in its deepest inflated ball (r + probe - |p - c|, every atom tried): where no
+// face is the nearest feature, d lies above it.
+double deepest_depth(const Atoms& atoms, float probe, const double p[3]) {
+    double lb = -1e9;
+    for (std::size_t k = 0; k < atoms.size(); ++k) {
+        const float* c = &atoms.xyz[3 * k];
+        lb = std::max(lb, atoms.radius[k] + probe -
+                              std::sqrt((p[0] - c[0]) * (p[0] - c[0]) +
+                                        (p[1] - c[1]) * (p[1] - c[1]) +
+                                        (p[2] - c[2]) * (p[2] - c[2])));
+    }
+    return lb;
+}
+
 FieldDiff host_against_reference(const Atoms& atoms, float spacing, unsigned threads = 0) {
     const SurfaceOptions options{.method = SesMethod::Edt, .spacing = spacing};
     const GridPlan plan = plan_grid(atoms, options);
@@ -228,15 +242,7 @@ TEST(SesDistanceHost, PointDistanceAndGradientMatchTheReference) {
                     worst_gradient = std::max(worst_gradient, diff);
                 }
                 // Where no face is the nearest feature: d above the deepest ball's depth.
-                double lb = -1e9;
-                for (std::size_t k = 0; k < atoms.size(); ++k) {
-                    const float* c = &atoms.xyz[3 * k];
-                    lb = std::max(lb, atoms.radius[k] + probe -
-                                          std::sqrt((p[0] - c[0]) * (p[0] - c[0]) +
-                                                    (p[1] - c[1]) * (p[1] - c[1]) +
-                                                    (p[2] - c[2]) * (p[2] - c[2])));
-                }
-                arcs += ref > lb + 1e-6;
+                arcs += ref > deepest_depth(atoms, probe, p) + 1e-6;
             } else {
                 for (int k = 0; k < 3; ++k) ASSERT_EQ(g[k], g_ref[k]) << name << " outside the band";
             }
@@ -287,15 +293,7 @@ TEST(SesDistanceHost, CursorGivesTheSameValuesAsThePointDistance) {
                 outside += ref <= 0.0;
                 if (ref > 0.0 && ref < d_max && ++band % 8 == 0) {
                     // Nearest to an arc (past the faces): d above the deepest ball's depth.
-                    double lb = -1e9;
-                    for (std::size_t k = 0; k < atoms.size(); ++k) {
-                        const float* c = &atoms.xyz[3 * k];
-                        lb = std::max(lb, atoms.radius[k] + probe -
-                                              std::sqrt((p[0] - c[0]) * (p[0] - c[0]) +
-                                                        (p[1] - c[1]) * (p[1] - c[1]) +
-                                                        (p[2] - c[2]) * (p[2] - c[2])));
-                    }
-                    arcs += ref > lb + 1e-6;
+                    arcs += ref > deepest_depth(atoms, probe, p) + 1e-6;
                 }
                 for (int k = 0; k < 3; ++k) p[k] += 0.3 * offset(rng);
             }
