@@ -9,6 +9,16 @@
 
 namespace fdmsurf::detail {
 
+// A sample of the exact SES distance from `distance(p, d_max, g)` (SesHostField's or its
+// cursor's): defined where d is not clamped and its gradient is not 0.
+template <class Distance>
+bool sample_ses(Distance&& distance, const Vec3& p, double d_max, double& value, Vec3& gradient) {
+    double g[3];
+    value = distance(p.data(), d_max, g);
+    gradient = {g[0], g[1], g[2]};
+    return std::abs(value) < d_max && (g[0] != 0.0 || g[1] != 0.0 || g[2] != 0.0);
+}
+
 // The exact SES distance d (grid/ses_distance_cpu.hpp) as a field for the projection: it grows
 // inwards, the surface is d = probe; defined where it is not clamped.
 class SesDistanceField final : public SurfaceField {
@@ -16,11 +26,10 @@ public:
     SesDistanceField(const SesHostField& ses, double iso, double d_max)
         : ses_(ses), iso_(iso), d_max_(d_max) {}
     bool sample(const Vec3& p, double& value, Vec3& gradient) const override {
-        double g[3];
         // ses_distance(features, p, d_max, g, false) (ses_distance_cpu.hpp), faster.
-        value = ses_.distance(p.data(), d_max_, g);
-        gradient = {g[0], g[1], g[2]};
-        return std::abs(value) < d_max_ && (g[0] != 0.0 || g[1] != 0.0 || g[2] != 0.0);
+        return sample_ses(
+            [&](const double* q, double d, double* g) { return ses_.distance(q, d, g); }, p,
+            d_max_, value, gradient);
     }
     double iso() const override { return iso_; }
     double outward() const override { return -1.0; }
@@ -44,10 +53,9 @@ public:
     SesDistanceCursorField(const SesHostField& ses, double iso, double d_max)
         : cursor_(ses), iso_(iso), d_max_(d_max) {}
     bool sample(const Vec3& p, double& value, Vec3& gradient) const override {
-        double g[3];
-        value = cursor_.distance(p.data(), d_max_, g);
-        gradient = {g[0], g[1], g[2]};
-        return std::abs(value) < d_max_ && (g[0] != 0.0 || g[1] != 0.0 || g[2] != 0.0);
+        return sample_ses(
+            [&](const double* q, double d, double* g) { return cursor_.distance(q, d, g); }, p,
+            d_max_, value, gradient);
     }
     double iso() const override { return iso_; }
     double outward() const override { return -1.0; }
