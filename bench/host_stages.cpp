@@ -18,7 +18,9 @@
 // --only exact-areas: the exact per-atom SASA of STRUCTURE (atom_exact_areas at the
 // probe, sphere patches: what Engine.trajectory computes per frame), without a surface.
 // --only ses-field: the exact SES field of STRUCTURE on the host (--method edt's ses-host stage:
-// SesHostField::evaluate over the whole grid), without a surface. --only ses-snap: the exact SES
+// SesHostField::evaluate over the whole grid), without a surface. --only ses-index: the host's
+// index of the features alone (SesHostField's constructor: the arcs prepared, sorted and listed
+// per bin; part of the CLI's ses-features stage). --only ses-snap: the exact SES
 // snap (--method edt's snap stage) of the vertices of --mesh, a surface written with --no-snap.
 // Both print a hash of their output (the field, the snapped positions and normals) and the CPU
 // seconds beside the wall time, which a loaded machine spreads.
@@ -105,6 +107,26 @@ int ses_stage(const Structure& structure, SurfaceOptions options, const std::str
     options.method = SesMethod::Edt;
     const detail::GridPlan plan = detail::plan_grid(structure.atoms, options);
     const detail::SesFeatures f = detail::build_ses_features(structure.atoms, options.probe);
+    if (only == "ses-index") {
+        // The constructor alone, each run on its own object (its fresh pages included, as in
+        // the CLI's run).
+        std::vector<double> wall, cpu;
+        for (int r = 0; r < reps; ++r) {
+            const auto t0 = std::chrono::steady_clock::now();
+            const std::clock_t c0 = std::clock();
+            { const detail::SesHostField ses(f, plan.ses_d_max); }
+            cpu.push_back(double(std::clock() - c0) / CLOCKS_PER_SEC * 1e3);
+            wall.push_back(std::chrono::duration<double, std::milli>(
+                               std::chrono::steady_clock::now() - t0).count());
+        }
+        std::sort(wall.begin(), wall.end());
+        std::sort(cpu.begin(), cpu.end());
+        std::printf("ses-index: %zu atoms, %zu arcs, %u threads\n\n", structure.atoms.size(),
+                    f.arcs.size(), std::thread::hardware_concurrency());
+        std::printf("| host stage | median ms (%d runs) | median CPU ms |\n|---|---|---|\n", reps);
+        std::printf("| ses-index | %.1f | %.1f |\n", wall[wall.size() / 2], cpu[cpu.size() / 2]);
+        return 0;
+    }
     const detail::SesHostField ses(f, plan.ses_d_max);
     std::vector<double> wall, cpu;
     std::uint64_t hash = 0;
@@ -208,7 +230,8 @@ int main(int argc, char** argv) try {
         std::printf("features' hash %016llx\n", static_cast<unsigned long long>(features_hash(f)));
         return 0;
     }
-    if (only == "ses-field") return ses_stage(structure, options, only, Mesh{}, reps);
+    if (only == "ses-field" || only == "ses-index")
+        return ses_stage(structure, options, only, Mesh{}, reps);
     if (only == "ses-snap") {
         if (mesh_file.empty()) {
             std::fprintf(stderr, "--only ses-snap needs --mesh (a surface written with --no-snap)\n");

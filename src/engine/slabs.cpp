@@ -300,9 +300,10 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
     if (plan.exact_ses) {
         const double t0 = now_ms();
         features = build_ses_features(atoms, options.probe);
-        add_times(result.times, {{"ses-features", now_ms() - t0, false}});
+        // The host's index of them is part of the stage, as on one grid (engine.cpp).
         if (host_ses || snaps(options, plan) || options.refine > 0)
             ses = std::make_unique<SesHostField>(features, plan.ses_d_max);
+        add_times(result.times, {{"ses-features", now_ms() - t0, false}});
     }
     result.grid.host_ses_distance = host_ses;
     SlabMarcher marcher{*this, plan, result};

@@ -257,6 +257,52 @@ TEST(SesDistanceHost, PointDistanceAndGradientMatchTheReference) {
     }
 }
 
+// Points beyond the features' outer bins are looked up in the outer bin (clamped), whose arc
+// list must hold every arc within reach of them: the lists leave out an arc only where no point
+// of the bin comes within reach of its ball, and an outer bin's points reach on outwards.
+// Points within the balls of the atoms at crambin's and hemoglobin's edges, pushed outwards.
+TEST(SesDistanceHost, PointsBeyondTheOuterBinsFindTheirArcs) {
+    for (const char* name : {"1crn.xyzr", "4hhb.xyzr"}) {
+        const Atoms atoms = fdmsurf::read_structure(data_path(name)).atoms;
+        const float probe = 1.4f;
+        const auto features = build_ses_features(atoms, probe);
+        const double d_max = probe + 1.0;
+        const SesHostField field(features, d_max);
+        std::mt19937 rng(4242);
+        std::normal_distribution<double> offset(0.0, 1.0);
+        std::uniform_real_distribution<double> depth(0.05, 0.95);
+        std::size_t beyond = 0, arcs = 0;
+        for (std::size_t i = 0; i < atoms.size(); ++i) {
+            for (int n = 0; n < 200; ++n) {
+                double dir[3] = {offset(rng), offset(rng), offset(rng)};
+                const double len = std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+                const double R = atoms.radius[i] + probe;
+                double p[3];
+                bool outside = false;
+                for (int k = 0; k < 3; ++k) {
+                    p[k] = atoms.xyz[3 * i + k] + R * depth(rng) * dir[k] / len;
+                    const double lo = features.origin[k];
+                    const double hi = lo + double(features.bin_size) * features.dims[k];
+                    outside = outside || p[k] < lo || p[k] > hi;
+                }
+                if (!outside) continue;
+                ++beyond;
+                double g_ref[3], g[3];
+                const double ref = fdmsurf::detail::ses_distance(features, p, d_max, g_ref, false);
+                ASSERT_NEAR(field.distance(p, d_max, g), ref, 1e-6)
+                    << name << " point " << p[0] << " " << p[1] << " " << p[2];
+                SesHostField::Cursor cursor(field);
+                ASSERT_NEAR(cursor.distance(p, d_max, g), ref, 1e-6)
+                    << name << " point " << p[0] << " " << p[1] << " " << p[2];
+                arcs += ref > 0.0 && ref < d_max && ref > deepest_depth(atoms, probe, p) + 1e-6;
+            }
+        }
+        std::printf("  %s: %zu points beyond the outer bins, %zu nearest to an arc\n", name,
+                    beyond, arcs);
+        EXPECT_GT(arcs, 200u) << name;
+    }
+}
+
 // SesHostField::Cursor (the snap's view, which keeps its last bins' balls and arcs) against
 // distance(), bit for bit in value and gradient: walks of short steps around random atoms of
 // hemoglobin and crambin (the cursor keeps its copies) and jumps between atoms (it gathers
