@@ -26,6 +26,8 @@
 // seconds beside the wall time, which a loaded machine spreads.
 // --only vertex-atoms: each vertex's atom on the host (the CLI's vertex-atoms stage on a CPU
 // device) for the mesh, --radius-add A for a sas mesh (the probe).
+// --probe P: the probe radius of every stage (default 1.4 Å), e.g. to check the exact SES's
+// features at another probe.
 #include <algorithm>
 #include <chrono>
 #include <ctime>
@@ -165,7 +167,7 @@ int main(int argc, char** argv) try {
     if (argc < 2) {
         std::fprintf(stderr,
                      "usage: %s STRUCTURE [--spacing H] [--reps N] [--out DIR] [--mesh FILE] "
-                     "[--only STAGE]\n",
+                     "[--only STAGE] [--probe P]\n",
                      argv[0]);
         return 2;
     }
@@ -182,6 +184,7 @@ int main(int argc, char** argv) try {
         else if (!std::strcmp(argv[i], "--mesh")) mesh_file = argv[i + 1];
         else if (!std::strcmp(argv[i], "--only")) only = argv[i + 1];
         else if (!std::strcmp(argv[i], "--radius-add")) radius_add = std::strtof(argv[i + 1], nullptr);
+        else if (!std::strcmp(argv[i], "--probe")) options.probe = std::strtof(argv[i + 1], nullptr);
         else {
             std::fprintf(stderr, "unknown option %s\n", argv[i]);
             return 2;
