@@ -160,10 +160,14 @@ struct SesHostField::ScratchPool {
 // nearer end in space (the nearer in angle, as ses_features.cpp's arc_distance takes it: the
 // chord grows with the angle), so no atan2 and no sine per point.
 struct SesHostField::Arc {
-    double m[3], axis[3], e1[3], e2[3];
-    double rho;
+    // The circle (centre, in-plane basis, radius) as the features store it, in float: the double
+    // arithmetic below converts these exactly, so they serve both it and the field's row kernel
+    // (1.5 GB of arcs on the 2.43 M-atom shell at 1 Å before the double copies were dropped, on
+    // a VM where a fresh page costs more than the work on it).
+    double axis[3];
     double start_dir[2], end_dir[2];  // cos, sin of the ends' angles
     double start_point[3], end_point[3];
+    // What the field's arcs step reads (Slab::arcs fetches it ahead, from here on):
     bool longer_than_half;  // length > pi: the test is on the complement
     // The whole circle (length float(2 pi), just above 2 pi, or rounded to it): every direction
     // is on it, as arc_distance has it; the ends' test would cut a wedge of the rounding's width.
@@ -172,15 +176,18 @@ struct SesHostField::Arc {
     // as radius (the arc's middle is rho (1 - cos(L/2)) <= rho sin(L/2) from there); else the
     // circle's. Widened by 1e-9 Å relative for rounding.
     double ball[3], ball_radius;
-    // Float copies for the field's row kernel, positions relative to m (the shader's precision).
-    float fm[3], faxis[3], fe1[3], fe2[3], frho, fstart_dir[2], fend_dir[2], fstart[3], fend[3];
+    // The stored circle, and float copies for the field's row kernel, positions relative to fm
+    // (the shader's precision).
+    float fm[3], fe1[3], fe2[3], frho;
+    float faxis[3], fstart_dir[2], fend_dir[2], fstart[3], fend[3];
 
     Arc() = default;  // uninitialised: filled by assignment, on all threads
     explicit Arc(const SesArc& a) {
         const double end = double(a.start) + double(a.length);
         start_dir[0] = std::cos(double(a.start)), start_dir[1] = std::sin(double(a.start));
         end_dir[0] = std::cos(end), end_dir[1] = std::sin(end);
-        rho = a.rho;
+        const double rho = a.rho;
+        double m[3], e1[3], e2[3];
         for (int k = 0; k < 3; ++k) {
             m[k] = a.m[k], e1[k] = a.e1[k], e2[k] = a.e2[k];
             start_point[k] = m[k] + rho * (start_dir[0] * e1[k] + start_dir[1] * e2[k]);
@@ -220,6 +227,8 @@ struct SesHostField::Arc {
     // The arc's point nearest to p: on the circle towards p, or the nearer end (the start
     // for a point on the axis, as arc_distance).
     void nearest(const double p[3], double q[3]) const {
+        const double m[3] = {fm[0], fm[1], fm[2]}, rho = frho;
+        const double e1[3] = {fe1[0], fe1[1], fe1[2]}, e2[3] = {fe2[0], fe2[1], fe2[2]};
         const double v[3] = {p[0] - m[0], p[1] - m[1], p[2] - m[2]};
         const double a = v[0] * e1[0] + v[1] * e1[1] + v[2] * e1[2];
         const double b = v[0] * e2[0] + v[1] * e2[1] + v[2] * e2[2];
@@ -242,6 +251,8 @@ struct SesHostField::Arc {
 
     // The distance from p, or `bound` when the arc is certainly not nearer.
     double distance(const double p[3], double bound) const {
+        const double m[3] = {fm[0], fm[1], fm[2]}, rho = frho;
+        const double e1[3] = {fe1[0], fe1[1], fe1[2]}, e2[3] = {fe2[0], fe2[1], fe2[2]};
         const double v[3] = {p[0] - m[0], p[1] - m[1], p[2] - m[2]};
         const double height = v[0] * axis[0] + v[1] * axis[1] + v[2] * axis[2];
         if (std::abs(height) >= bound) return bound;
@@ -260,6 +271,8 @@ struct SesHostField::Arc {
         return std::sqrt(std::min(dist2(start_point), dist2(end_point)));
     }
 };
+
+static_assert(sizeof(SesHostField::Arc) <= 240, "an arc's bytes: every one is a fresh page's share");
 
 SesHostField::~SesHostField() = default;
 
