@@ -123,6 +123,55 @@ TEST(SesDistanceHost, RandomAtomsMatchTheReference) {
     }
 }
 
+// The arcs' step tries each arc on the rows of its ball alone, and in them on the points
+// waiting for the arcs alone, but on spans wider than the ball. Every arc's row kernel on every
+// row of the grid instead: where an arc decides a point, its value is the nearest arc's in
+// float, clamped as the field's (bit for bit), and nowhere is the field above that (a face's
+// depth, or a tie's reference, is at most any exposed arc's distance). Random balls shifted
+// against three spacings, so that the balls' edges fall anywhere between the grid's rows.
+TEST(SesDistanceHost, EveryArcOnEveryRowGivesTheSameField) {
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> pos(0.0f, 8.0f), rad(1.0f, 2.0f), shift(0.0f, 1.0f);
+    std::size_t decided = 0, above = 0;
+    for (int trial = 0; trial < 3; ++trial) {
+        const float offset[3] = {shift(rng), shift(rng), shift(rng)};
+        Atoms atoms;
+        for (int i = 0; i < 40; ++i) {
+            atoms.xyz.insert(atoms.xyz.end(),
+                             {pos(rng) + offset[0], pos(rng) + offset[1], pos(rng) + offset[2]});
+            atoms.radius.push_back(rad(rng));
+        }
+        for (float spacing : {0.31f, 0.5f, 0.83f}) {
+            const SurfaceOptions options{.method = SesMethod::Edt, .spacing = spacing};
+            const GridPlan plan = plan_grid(atoms, options);
+            const auto features = build_ses_features(atoms, options.probe);
+            const SesHostField field(features, plan.ses_d_max);
+            const std::vector<float> host = field.field(plan);
+            const auto& d = plan.info.dims;
+            const float h = plan.info.spacing;
+            std::vector<float> xs(d[0]), best(d[0]);
+            for (std::uint32_t x = 0; x < d[0]; ++x) xs[x] = plan.info.origin[0] + h * float(x);
+            for (std::uint32_t z = 0; z < d[2]; ++z)
+                for (std::uint32_t y = 0; y < d[1]; ++y) {
+                    std::fill(best.begin(), best.end(), plan.ses_d_max);
+                    for (std::size_t k = 0; k < features.arcs.size(); ++k)
+                        field.arc_row_distances(k, xs.data(), plan.info.origin[1] + h * float(y),
+                                                plan.info.origin[2] + h * float(z), 0,
+                                                int(d[0]) - 1, best.data());
+                    const float* row = &host[(std::size_t(z) * d[1] + y) * plan.pitch];
+                    for (std::uint32_t x = 0; x < d[0]; ++x) {
+                        const float arcs = std::max(best[x], plan.ses_d_min);
+                        decided += best[x] < plan.ses_d_max && row[x] == arcs;
+                        above += row[x] > arcs + 1e-5f;
+                    }
+                }
+        }
+    }
+    std::printf("  %zu points decided by an arc\n", decided);
+    EXPECT_EQ(above, 0u);
+    EXPECT_GT(decided, 10000u);
+}
+
 TEST(SesDistanceHost, PlaneRangesAndThreadCountsGiveTheSameValues) {
     const Atoms atoms = fdmsurf::read_structure(data_path("1crn.xyzr")).atoms;
     const SurfaceOptions options{.method = SesMethod::Edt, .spacing = 0.6f};
