@@ -86,6 +86,21 @@ void depth_row(const float* xs, float cx, float R, float dyz, std::uint32_t i, i
     }
 }
 
+// The cursor's first test of each kept ball or arc, a vector at a time: d2[j] = |p - c_j|² and
+// near[j] all ones where d2[j] < (r[j] + add)² (add 0 for the balls: r + 0 is r), for j in
+// [0, n); the same operations in the same order as one point's (no fused multiply-add).
+ROW_KERNEL_CLONES
+void near_row(const double* __restrict x, const double* __restrict y, const double* __restrict z,
+              const double* __restrict r, double add, double px, double py, double pz,
+              std::size_t n, double* __restrict d2, std::uint64_t* __restrict near) {
+    for (std::size_t j = 0; j < n; ++j) {
+        const double dx = px - x[j], dy = py - y[j], dz = pz - z[j];
+        const double d = dx * dx + dy * dy + dz * dz, reach = r[j] + add;
+        d2[j] = d;
+        near[j] = d < reach * reach ? ~std::uint64_t(0) : 0;
+    }
+}
+
 // What every task of one SesHostField::evaluate call shares: the grid's points as the shaders
 // compute them, the clamps, and where the planes go (row y of plane z at
 // out + ((z - z_begin) * ny + y) * pitch).
@@ -627,6 +642,20 @@ double SesHostField::distance(const double p[3], double d_max, double* gradient)
     return arcs_result(best_arc, best, p, gradient);
 }
 
+namespace {
+
+// The points x, along axis a, with bin_cell(f, a, x + shift) == cell certainly (whatever its
+// rounding): those more than `margin` inside the cell's bounds (a clamped end cell has no
+// bound on that side).
+void narrow_to_cell(const SesFeatures& f, int a, int cell, double shift, double margin,
+                    double& lo, double& hi) {
+    const double edge = double(f.origin[a]) + double(f.bin_size) * cell - shift;
+    if (cell > 0) lo = std::max(lo, edge + margin);
+    if (cell < int(f.dims[a]) - 1) hi = std::min(hi, edge + double(f.bin_size) - margin);
+}
+
+}  // namespace
+
 // The balls of the bins [lo, hi], bin by bin in z, y, x order (the gap test of distance() is
 // left out: a ball of a bin it skips does not hold the point).
 void SesHostField::Cursor::gather_balls(const int lo[3], const int hi[3]) {
@@ -666,32 +695,47 @@ double SesHostField::Cursor::distance(const double p[3], double d_max, double* g
     const SesFeatures& f = h.f_;
     if (!(d_max <= h.reach_)) return ses_distance(f, p, d_max, gradient, false);
     const float* s = f.spheres.data();
-    int lo[3], hi[3], bin[3];
-    for (int a = 0; a < 3; ++a) {
-        lo[a] = bin_cell(f, a, p[a] - f.r_max);
-        hi[a] = bin_cell(f, a, p[a] + f.r_max);
-        bin[a] = bin_cell(f, a, p[a]);
+    // The bins of the last point serve p when it lies well inside the points that have them
+    // (the next Newton step, the next vertex of the bin): no divisions.
+    const bool same_bins = p[0] > inner_lo_[0] && p[0] < inner_hi_[0] && p[1] > inner_lo_[1] &&
+                           p[1] < inner_hi_[1] && p[2] > inner_lo_[2] && p[2] < inner_hi_[2];
+    if (!same_bins) {
+        int lo[3], hi[3];
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = bin_cell(f, a, p[a] - f.r_max);
+            hi[a] = bin_cell(f, a, p[a] + f.r_max);
+            bin_[a] = bin_cell(f, a, p[a]);
+        }
+        if (lo[0] != lo_[0] || lo[1] != lo_[1] || lo[2] != lo_[2] || hi[0] != hi_[0] ||
+            hi[1] != hi_[1] || hi[2] != hi_[2])
+            gather_balls(lo, hi);
+        const double r_max = f.r_max, margin = h.bin_margin_;
+        for (int a = 0; a < 3; ++a) {
+            inner_lo_[a] = -std::numeric_limits<double>::infinity();
+            inner_hi_[a] = std::numeric_limits<double>::infinity();
+            narrow_to_cell(f, a, lo[a], -r_max, margin, inner_lo_[a], inner_hi_[a]);
+            narrow_to_cell(f, a, hi[a], r_max, margin, inner_lo_[a], inner_hi_[a]);
+            narrow_to_cell(f, a, bin_[a], 0.0, margin, inner_lo_[a], inner_hi_[a]);
+        }
     }
-    if (lo[0] != lo_[0] || lo[1] != lo_[1] || lo[2] != lo_[2] || hi[0] != hi_[0] ||
-        hi[1] != hi_[1] || hi[2] != hi_[2])
-        gather_balls(lo, hi);
     // In blocks: the balls holding p first, without a branch, then their depths in order.
     double lb = -std::numeric_limits<double>::infinity();
     std::uint32_t deepest = 0;
     bool tie = false;
     constexpr std::size_t kBlock = 64;
     std::uint32_t holding[kBlock];
-    double holding_d2[kBlock];
+    double holding_d2[kBlock], block_d2[kBlock];
+    std::uint64_t block_near[kBlock];
     const std::size_t balls = ball_index_.size();
     for (std::size_t j0 = 0; j0 < balls; j0 += kBlock) {
         const std::size_t j1 = std::min(j0 + kBlock, balls);
+        near_row(&ball_x_[j0], &ball_y_[j0], &ball_z_[j0], &ball_r_[j0], 0.0, p[0], p[1], p[2],
+                 j1 - j0, block_d2, block_near);
         std::uint32_t count = 0;
         for (std::size_t j = j0; j < j1; ++j) {
-            const double dx = p[0] - ball_x_[j], dy = p[1] - ball_y_[j], dz = p[2] - ball_z_[j];
-            const double R = ball_r_[j], d2 = dx * dx + dy * dy + dz * dz;
             holding[count] = std::uint32_t(j);
-            holding_d2[count] = d2;
-            count += d2 < R * R;
+            holding_d2[count] = block_d2[j - j0];
+            count += std::uint32_t(block_near[j - j0] & 1);
         }
         for (std::uint32_t c = 0; c < count; ++c) {
             const double v = ball_r_[holding[c]] - std::sqrt(holding_d2[c]);
@@ -720,7 +764,7 @@ double SesHostField::Cursor::distance(const double p[3], double d_max, double* g
             return lb;
         }
     }
-    const std::size_t b = (std::size_t(bin[2]) * f.dims[1] + bin[1]) * f.dims[0] + bin[0];
+    const std::size_t b = (std::size_t(bin_[2]) * f.dims[1] + bin_[1]) * f.dims[0] + bin_[0];
     if (b != arc_bin_) gather_arcs(b);
     double best = d_max;
     const Arc* best_arc = nullptr;
@@ -729,13 +773,13 @@ double SesHostField::Cursor::distance(const double p[3], double d_max, double* g
     const std::size_t arcs = arc_index_.size();
     for (std::size_t n0 = 0; n0 < arcs; n0 += kBlock) {
         const std::size_t n1 = std::min(n0 + kBlock, arcs);
+        near_row(&arc_x_[n0], &arc_y_[n0], &arc_z_[n0], &arc_r_[n0], d_max, p[0], p[1], p[2],
+                 n1 - n0, block_d2, block_near);
         std::uint32_t count = 0;
         for (std::size_t n = n0; n < n1; ++n) {
-            const double vx = p[0] - arc_x_[n], vy = p[1] - arc_y_[n], vz = p[2] - arc_z_[n];
-            const double d2 = vx * vx + vy * vy + vz * vz, r = arc_r_[n] + d_max;
             near[count] = std::uint32_t(n);
-            near_d2[count] = d2;
-            count += d2 < r * r;
+            near_d2[count] = block_d2[n - n0];
+            count += std::uint32_t(block_near[n - n0] & 1);
         }
         for (std::uint32_t j = 0; j < count; ++j) {
             const double r = arc_r_[near[j]] + best;

@@ -74,6 +74,10 @@ public:
         void gather_arcs(std::size_t bin);
         const SesHostField& field_;
         int lo_[3] = {-1, -1, -1}, hi_[3] = {-1, -1, -1};  // the block of the balls kept
+        int bin_[3] = {-1, -1, -1};                         // the last point's bin
+        // The points that certainly have the block and the bin of the last point (empty at
+        // first): the next takes them without bin_cell.
+        double inner_lo_[3] = {0, 0, 0}, inner_hi_[3] = {0, 0, 0};
         std::vector<double> ball_x_, ball_y_, ball_z_, ball_r_;  // its balls, bin by bin
         std::vector<std::uint32_t> ball_index_;
         std::size_t arc_bin_ = std::size_t(-1);  // the bin of the arcs kept

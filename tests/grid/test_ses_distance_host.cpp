@@ -306,6 +306,47 @@ TEST(SesDistanceHost, CursorGivesTheSameValuesAsThePointDistance) {
     }
 }
 
+// The cursor takes the last point's bins without bin_cell while a point stays more than the
+// bin margin inside them: points stepping across the bins' faces (where bin_cell's rounding
+// decides, and the block of bins p +- r_max changes with them), a hair to either side and
+// on them, against distance(), bit for bit.
+TEST(SesDistanceHost, CursorKeepsItsBinsOnlyWellInsideThem) {
+    const Atoms atoms = fdmsurf::read_structure(data_path("4hhb.xyzr")).atoms;
+    const float probe = 1.4f;
+    const auto features = build_ses_features(atoms, probe);
+    const double reach = probe + 1.0;
+    const SesHostField field(features, reach);
+    SesHostField::Cursor cursor(field);
+    std::mt19937 rng(36);
+    std::uniform_int_distribution<std::size_t> pick(0, atoms.size() - 1);
+    std::uniform_int_distribution<int> axis(0, 2);
+    const double offsets[] = {-2e-3, -1e-3, -1e-6, -1e-12, 0.0, 1e-12, 1e-6, 1e-3, 2e-3};
+    std::size_t band = 0;
+    for (int walk = 0; walk < 1500; ++walk) {
+        const std::size_t i = pick(rng);
+        double p[3] = {atoms.xyz[3 * i], atoms.xyz[3 * i + 1], atoms.xyz[3 * i + 2]};
+        // Onto the nearest face of the bins along one axis, then across it.
+        const int a = axis(rng);
+        const double cell =
+            std::round((p[a] - features.origin[a]) / double(features.bin_size));
+        p[a] = double(features.origin[a]) + double(features.bin_size) * cell;
+        p[(a + 1) % 3] += atoms.radius[i] + 0.5 * probe;  // near the surface
+        for (const double offset : offsets) {
+            double q[3] = {p[0], p[1], p[2]};
+            q[a] += offset;
+            for (const double d_max : {reach, probe + 0.3}) {
+                double g_ref[3] = {7, 7, 7}, g[3] = {9, 9, 9};
+                const double ref = field.distance(q, d_max, g_ref);
+                const double kept = cursor.distance(q, d_max, g);
+                ASSERT_EQ(kept, ref) << "point " << q[0] << " " << q[1] << " " << q[2];
+                for (int k = 0; k < 3; ++k) ASSERT_EQ(g[k], g_ref[k]) << "gradient";
+                band += ref > 0.0 && ref < d_max;
+            }
+        }
+    }
+    EXPECT_GT(band, 5000u);
+}
+
 // A pair of balls meets in one whole exposed circle, stored with the length float(2 pi), a hair
 // above 2 pi: every direction is on it (arc_distance). Points exactly where the ends' test of a
 // longer-than-half arc would put them off it (half a turn from the start, a hair to the side):
