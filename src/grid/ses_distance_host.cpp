@@ -273,6 +273,30 @@ struct SesHostField::Arc {
         };
         return std::sqrt(std::min(dist2(start_point), dist2(end_point)));
     }
+
+    // distance()'s values without a bound: the distance, |height| and |r - rho|. distance(p,
+    // b) is this distance for every b above all three, and b where b is at or below one of
+    // the last two.
+    struct Parts {
+        double distance, height, off_circle;
+    };
+    Parts distance_parts(const double p[3]) const {
+        const double v[3] = {p[0] - m[0], p[1] - m[1], p[2] - m[2]};
+        const double height = v[0] * axis[0] + v[1] * axis[1] + v[2] * axis[2];
+        const double a = v[0] * e1[0] + v[1] * e1[1] + v[2] * e1[2];
+        const double b = v[0] * e2[0] + v[1] * e2[1] + v[2] * e2[2];
+        const double r = std::sqrt(a * a + b * b);
+        if (on_arc(a, b)) {
+            const double rr = r - rho;
+            return {std::sqrt(height * height + rr * rr), std::abs(height), std::abs(r - rho)};
+        }
+        auto dist2 = [&](const double* q) {
+            const double dx = p[0] - q[0], dy = p[1] - q[1], dz = p[2] - q[2];
+            return dx * dx + dy * dy + dz * dz;
+        };
+        return {std::sqrt(std::min(dist2(start_point), dist2(end_point))), std::abs(height),
+                std::abs(r - rho)};
+    }
 };
 
 SesHostField::~SesHostField() = default;
@@ -684,7 +708,69 @@ void SesHostField::Cursor::gather_arcs(std::size_t bin) {
         arc_x_.push_back(ball[0]), arc_y_.push_back(ball[1]), arc_z_.push_back(ball[2]);
         arc_r_.push_back(ball[3]), arc_index_.push_back(k);
     }
+    near_.resize(arc_index_.size());
+    near_d2_.resize(arc_index_.size());
     arc_bin_ = bin;
+}
+
+// distance()'s arc step, which ends at the first arc of the least distance, with fewer arcs
+// measured. That loop tries each arc in order against the bound so far (d_max at first):
+// an arc whose height over its plane or distance off its circle is at or above the bound
+// stops early (Arc::distance), and its distance to an end may round a hair below these, so
+// the loop is followed exactly, not just its least. Here a first bound U comes from one arc:
+// the one the last point ended at (the next Newton step, the next vertex), else the near arc
+// of the nearest ball. An arc whose ball lies at U or beyond lies farther than U (the balls
+// are widened by 1e-9 relative, far above the rounding); the others are measured, their
+// least B at arc j, the first of it. The loop's bound never rises and an arc lowers it only
+// to its own distance, so on reaching j it is at least the least of d_max, the distances
+// measured before j, and (above) U: where that lies above j's three values and passes j's
+// ball test, the loop takes j, and no arc after it goes below B. Else settled_ is false and
+// the caller runs the loop. Returns j's arc and `distance` B (null with settled_ true: no
+// arc near).
+const SesHostField::Arc* SesHostField::Cursor::nearest_arc(const double p[3], double d_max,
+                                                           std::size_t count, double& distance) {
+    const SesHostField& h = field_;
+    settled_ = false;
+    if (count == 0) {
+        settled_ = true;
+        return nullptr;
+    }
+    std::size_t first = count;
+    for (std::size_t j = 0; j < count; ++j)
+        if (arc_index_[near_[j]] == last_arc_) {
+            first = j;
+            break;
+        }
+    if (first == count) {
+        double least = std::numeric_limits<double>::infinity();
+        for (std::size_t j = 0; j < count; ++j) {
+            const double key = std::sqrt(near_d2_[j]) - arc_r_[near_[j]];
+            if (key < least) least = key, first = j;
+        }
+        if (first == count) return nullptr;
+    }
+    const Arc::Parts first_parts = h.arcs_[arc_index_[near_[first]]].distance_parts(p);
+    const double bound = first_parts.distance;
+    if (!(bound < d_max)) return nullptr;
+    double least = std::numeric_limits<double>::infinity(), before = d_max, top = 0.0;
+    std::size_t at = count;
+    for (std::size_t j = 0; j < count; ++j) {
+        const double r = arc_r_[near_[j]] + bound;
+        if (j != first && !(near_d2_[j] < r * r)) continue;
+        const Arc::Parts parts =
+            j == first ? first_parts : h.arcs_[arc_index_[near_[j]]].distance_parts(p);
+        if (parts.distance < least) {
+            before = std::min(d_max, least);
+            least = parts.distance, at = j;
+            top = std::max({parts.distance, parts.height, parts.off_circle});
+        }
+    }
+    const double floor_bound = std::min(before, bound);
+    const double r = arc_r_[near_[at]] + floor_bound;
+    if (!(top < before && top <= bound && near_d2_[at] < r * r)) return nullptr;
+    settled_ = true;
+    distance = least;
+    return &h.arcs_[arc_index_[near_[at]]];
 }
 
 // SesHostField::distance's steps on the kept copies: the balls holding p in the same order of
@@ -766,29 +852,33 @@ double SesHostField::Cursor::distance(const double p[3], double d_max, double* g
     }
     const std::size_t b = (std::size_t(bin_[2]) * f.dims[1] + bin_[1]) * f.dims[0] + bin_[0];
     if (b != arc_bin_) gather_arcs(b);
-    double best = d_max;
-    const Arc* best_arc = nullptr;
-    std::uint32_t near[kBlock];
-    double near_d2[kBlock];
+    // The arcs whose balls come within d_max of p, in the kept order (the others never reach
+    // the bound test below, whatever the bound).
     const std::size_t arcs = arc_index_.size();
+    std::size_t count = 0;
     for (std::size_t n0 = 0; n0 < arcs; n0 += kBlock) {
         const std::size_t n1 = std::min(n0 + kBlock, arcs);
         near_row(&arc_x_[n0], &arc_y_[n0], &arc_z_[n0], &arc_r_[n0], d_max, p[0], p[1], p[2],
                  n1 - n0, block_d2, block_near);
-        std::uint32_t count = 0;
         for (std::size_t n = n0; n < n1; ++n) {
-            near[count] = std::uint32_t(n);
-            near_d2[count] = block_d2[n - n0];
-            count += std::uint32_t(block_near[n - n0] & 1);
+            near_[count] = std::uint32_t(n);
+            near_d2_[count] = block_d2[n - n0];
+            count += std::size_t(block_near[n - n0] & 1);
         }
-        for (std::uint32_t j = 0; j < count; ++j) {
-            const double r = arc_r_[near[j]] + best;
-            if (near_d2[j] >= r * r) continue;
-            const Arc& arc = h.arcs_[arc_index_[near[j]]];
+    }
+    double best = d_max;
+    const Arc* best_arc = nearest_arc(p, d_max, count, best);
+    if (best_arc == nullptr && !settled_) {
+        // distance()'s rule: each arc in order against the bound so far.
+        for (std::size_t j = 0; j < count; ++j) {
+            const double r = arc_r_[near_[j]] + best;
+            if (near_d2_[j] >= r * r) continue;
+            const Arc& arc = h.arcs_[arc_index_[near_[j]]];
             const double d = arc.distance(p, best);
             if (d < best) best = d, best_arc = &arc;
         }
     }
+    if (best_arc != nullptr) last_arc_ = std::uint32_t(best_arc - h.arcs_.get());
     return arcs_result(best_arc, best, p, gradient);
 }
 
