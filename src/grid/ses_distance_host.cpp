@@ -87,6 +87,21 @@ void depth_row(const float* xs, float cx, float R, float dyz, std::uint32_t i, i
     }
 }
 
+// The cursor's first test of each kept ball or arc, a vector at a time: d2[j] = |p - c_j|² and
+// near[j] all ones where d2[j] < (r[j] + add)² (add 0 for the balls: r + 0 is r), for j in
+// [0, n); the same operations in the same order as one point's (no fused multiply-add).
+ROW_KERNEL_CLONES
+void near_row(const double* __restrict x, const double* __restrict y, const double* __restrict z,
+              const double* __restrict r, double add, double px, double py, double pz,
+              std::size_t n, double* __restrict d2, std::uint64_t* __restrict near) {
+    for (std::size_t j = 0; j < n; ++j) {
+        const double dx = px - x[j], dy = py - y[j], dz = pz - z[j];
+        const double d = dx * dx + dy * dy + dz * dz, reach = r[j] + add;
+        d2[j] = d;
+        near[j] = d < reach * reach ? ~std::uint64_t(0) : 0;
+    }
+}
+
 // What every task of one SesHostField::evaluate call shares: the grid's points as the shaders
 // compute them, the clamps, and where the planes go (row y of plane z at
 // out + ((z - z_begin) * ny + y) * pitch).
@@ -269,6 +284,32 @@ struct SesHostField::Arc {
             return dx * dx + dy * dy + dz * dz;
         };
         return std::sqrt(std::min(dist2(start_point), dist2(end_point)));
+    }
+
+    // distance()'s values without a bound: the distance, |height| and |r - rho|. distance(p,
+    // b) is this distance for every b above all three, and b where b is at or below one of
+    // the last two.
+    struct Parts {
+        double distance, height, off_circle;
+    };
+    Parts distance_parts(const double p[3]) const {
+        const double m[3] = {fm[0], fm[1], fm[2]}, rho = frho;
+        const double e1[3] = {fe1[0], fe1[1], fe1[2]}, e2[3] = {fe2[0], fe2[1], fe2[2]};
+        const double v[3] = {p[0] - m[0], p[1] - m[1], p[2] - m[2]};
+        const double height = v[0] * axis[0] + v[1] * axis[1] + v[2] * axis[2];
+        const double a = v[0] * e1[0] + v[1] * e1[1] + v[2] * e1[2];
+        const double b = v[0] * e2[0] + v[1] * e2[1] + v[2] * e2[2];
+        const double r = std::sqrt(a * a + b * b);
+        if (on_arc(a, b)) {
+            const double rr = r - rho;
+            return {std::sqrt(height * height + rr * rr), std::abs(height), std::abs(r - rho)};
+        }
+        auto dist2 = [&](const double* q) {
+            const double dx = p[0] - q[0], dy = p[1] - q[1], dz = p[2] - q[2];
+            return dx * dx + dy * dy + dz * dz;
+        };
+        return {std::sqrt(std::min(dist2(start_point), dist2(end_point))), std::abs(height),
+                std::abs(r - rho)};
     }
 };
 
@@ -670,6 +711,20 @@ double SesHostField::distance(const double p[3], double d_max, double* gradient)
     return arcs_result(best_arc, best, p, gradient);
 }
 
+namespace {
+
+// The points x, along axis a, with bin_cell(f, a, x + shift) == cell certainly (whatever its
+// rounding): those more than `margin` inside the cell's bounds (a clamped end cell has no
+// bound on that side).
+void narrow_to_cell(const SesFeatures& f, int a, int cell, double shift, double margin,
+                    double& lo, double& hi) {
+    const double edge = double(f.origin[a]) + double(f.bin_size) * cell - shift;
+    if (cell > 0) lo = std::max(lo, edge + margin);
+    if (cell < int(f.dims[a]) - 1) hi = std::min(hi, edge + double(f.bin_size) - margin);
+}
+
+}  // namespace
+
 // The balls of the bins [lo, hi], bin by bin in z, y, x order (the gap test of distance() is
 // left out: a ball of a bin it skips does not hold the point).
 void SesHostField::Cursor::gather_balls(const int lo[3], const int hi[3]) {
@@ -698,7 +753,69 @@ void SesHostField::Cursor::gather_arcs(std::size_t bin) {
         arc_x_.push_back(ball[0]), arc_y_.push_back(ball[1]), arc_z_.push_back(ball[2]);
         arc_r_.push_back(ball[3]), arc_index_.push_back(k);
     }
+    near_.resize(arc_index_.size());
+    near_d2_.resize(arc_index_.size());
     arc_bin_ = bin;
+}
+
+// distance()'s arc step, which ends at the first arc of the least distance, with fewer arcs
+// measured. That loop tries each arc in order against the bound so far (d_max at first):
+// an arc whose height over its plane or distance off its circle is at or above the bound
+// stops early (Arc::distance), and its distance to an end may round a hair below these, so
+// the loop is followed exactly, not just its least. Here a first bound U comes from one arc:
+// the one the last point ended at (the next Newton step, the next vertex), else the near arc
+// of the nearest ball. An arc whose ball lies at U or beyond lies farther than U (the balls
+// are widened by 1e-9 relative, far above the rounding); the others are measured, their
+// least B at arc j, the first of it. The loop's bound never rises and an arc lowers it only
+// to its own distance, so on reaching j it is at least the least of d_max, the distances
+// measured before j, and (above) U: where that lies above j's three values and passes j's
+// ball test, the loop takes j, and no arc after it goes below B. Else settled_ is false and
+// the caller runs the loop. Returns j's arc and `distance` B (null with settled_ true: no
+// arc near).
+const SesHostField::Arc* SesHostField::Cursor::nearest_arc(const double p[3], double d_max,
+                                                           std::size_t count, double& distance) {
+    const SesHostField& h = field_;
+    settled_ = false;
+    if (count == 0) {
+        settled_ = true;
+        return nullptr;
+    }
+    std::size_t first = count;
+    for (std::size_t j = 0; j < count; ++j)
+        if (arc_index_[near_[j]] == last_arc_) {
+            first = j;
+            break;
+        }
+    if (first == count) {
+        double least = std::numeric_limits<double>::infinity();
+        for (std::size_t j = 0; j < count; ++j) {
+            const double key = std::sqrt(near_d2_[j]) - arc_r_[near_[j]];
+            if (key < least) least = key, first = j;
+        }
+        if (first == count) return nullptr;
+    }
+    const Arc::Parts first_parts = h.arcs_[arc_index_[near_[first]]].distance_parts(p);
+    const double bound = first_parts.distance;
+    if (!(bound < d_max)) return nullptr;
+    double least = std::numeric_limits<double>::infinity(), before = d_max, top = 0.0;
+    std::size_t at = count;
+    for (std::size_t j = 0; j < count; ++j) {
+        const double r = arc_r_[near_[j]] + bound;
+        if (j != first && !(near_d2_[j] < r * r)) continue;
+        const Arc::Parts parts =
+            j == first ? first_parts : h.arcs_[arc_index_[near_[j]]].distance_parts(p);
+        if (parts.distance < least) {
+            before = std::min(d_max, least);
+            least = parts.distance, at = j;
+            top = std::max({parts.distance, parts.height, parts.off_circle});
+        }
+    }
+    const double floor_bound = std::min(before, bound);
+    const double r = arc_r_[near_[at]] + floor_bound;
+    if (!(top < before && top <= bound && near_d2_[at] < r * r)) return nullptr;
+    settled_ = true;
+    distance = least;
+    return &h.arcs_[arc_index_[near_[at]]];
 }
 
 // SesHostField::distance's steps on the kept copies: the balls holding p in the same order of
@@ -709,32 +826,47 @@ double SesHostField::Cursor::distance(const double p[3], double d_max, double* g
     const SesFeatures& f = h.f_;
     if (!(d_max <= h.reach_)) return ses_distance(f, p, d_max, gradient, false);
     const float* s = f.spheres.data();
-    int lo[3], hi[3], bin[3];
-    for (int a = 0; a < 3; ++a) {
-        lo[a] = bin_cell(f, a, p[a] - f.r_max);
-        hi[a] = bin_cell(f, a, p[a] + f.r_max);
-        bin[a] = bin_cell(f, a, p[a]);
+    // The bins of the last point serve p when it lies well inside the points that have them
+    // (the next Newton step, the next vertex of the bin): no divisions.
+    const bool same_bins = p[0] > inner_lo_[0] && p[0] < inner_hi_[0] && p[1] > inner_lo_[1] &&
+                           p[1] < inner_hi_[1] && p[2] > inner_lo_[2] && p[2] < inner_hi_[2];
+    if (!same_bins) {
+        int lo[3], hi[3];
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = bin_cell(f, a, p[a] - f.r_max);
+            hi[a] = bin_cell(f, a, p[a] + f.r_max);
+            bin_[a] = bin_cell(f, a, p[a]);
+        }
+        if (lo[0] != lo_[0] || lo[1] != lo_[1] || lo[2] != lo_[2] || hi[0] != hi_[0] ||
+            hi[1] != hi_[1] || hi[2] != hi_[2])
+            gather_balls(lo, hi);
+        const double r_max = f.r_max, margin = h.bin_margin_;
+        for (int a = 0; a < 3; ++a) {
+            inner_lo_[a] = -std::numeric_limits<double>::infinity();
+            inner_hi_[a] = std::numeric_limits<double>::infinity();
+            narrow_to_cell(f, a, lo[a], -r_max, margin, inner_lo_[a], inner_hi_[a]);
+            narrow_to_cell(f, a, hi[a], r_max, margin, inner_lo_[a], inner_hi_[a]);
+            narrow_to_cell(f, a, bin_[a], 0.0, margin, inner_lo_[a], inner_hi_[a]);
+        }
     }
-    if (lo[0] != lo_[0] || lo[1] != lo_[1] || lo[2] != lo_[2] || hi[0] != hi_[0] ||
-        hi[1] != hi_[1] || hi[2] != hi_[2])
-        gather_balls(lo, hi);
     // In blocks: the balls holding p first, without a branch, then their depths in order.
     double lb = -std::numeric_limits<double>::infinity();
     std::uint32_t deepest = 0;
     bool tie = false;
     constexpr std::size_t kBlock = 64;
     std::uint32_t holding[kBlock];
-    double holding_d2[kBlock];
+    double holding_d2[kBlock], block_d2[kBlock];
+    std::uint64_t block_near[kBlock];
     const std::size_t balls = ball_index_.size();
     for (std::size_t j0 = 0; j0 < balls; j0 += kBlock) {
         const std::size_t j1 = std::min(j0 + kBlock, balls);
+        near_row(&ball_x_[j0], &ball_y_[j0], &ball_z_[j0], &ball_r_[j0], 0.0, p[0], p[1], p[2],
+                 j1 - j0, block_d2, block_near);
         std::uint32_t count = 0;
         for (std::size_t j = j0; j < j1; ++j) {
-            const double dx = p[0] - ball_x_[j], dy = p[1] - ball_y_[j], dz = p[2] - ball_z_[j];
-            const double R = ball_r_[j], d2 = dx * dx + dy * dy + dz * dz;
             holding[count] = std::uint32_t(j);
-            holding_d2[count] = d2;
-            count += d2 < R * R;
+            holding_d2[count] = block_d2[j - j0];
+            count += std::uint32_t(block_near[j - j0] & 1);
         }
         for (std::uint32_t c = 0; c < count; ++c) {
             const double v = ball_r_[holding[c]] - std::sqrt(holding_d2[c]);
@@ -763,31 +895,35 @@ double SesHostField::Cursor::distance(const double p[3], double d_max, double* g
             return lb;
         }
     }
-    const std::size_t b = (std::size_t(bin[2]) * f.dims[1] + bin[1]) * f.dims[0] + bin[0];
+    const std::size_t b = (std::size_t(bin_[2]) * f.dims[1] + bin_[1]) * f.dims[0] + bin_[0];
     if (b != arc_bin_) gather_arcs(b);
-    double best = d_max;
-    const Arc* best_arc = nullptr;
-    std::uint32_t near[kBlock];
-    double near_d2[kBlock];
+    // The arcs whose balls come within d_max of p, in the kept order (the others never reach
+    // the bound test below, whatever the bound).
     const std::size_t arcs = arc_index_.size();
+    std::size_t count = 0;
     for (std::size_t n0 = 0; n0 < arcs; n0 += kBlock) {
         const std::size_t n1 = std::min(n0 + kBlock, arcs);
-        std::uint32_t count = 0;
+        near_row(&arc_x_[n0], &arc_y_[n0], &arc_z_[n0], &arc_r_[n0], d_max, p[0], p[1], p[2],
+                 n1 - n0, block_d2, block_near);
         for (std::size_t n = n0; n < n1; ++n) {
-            const double vx = p[0] - arc_x_[n], vy = p[1] - arc_y_[n], vz = p[2] - arc_z_[n];
-            const double d2 = vx * vx + vy * vy + vz * vz, r = arc_r_[n] + d_max;
-            near[count] = std::uint32_t(n);
-            near_d2[count] = d2;
-            count += d2 < r * r;
+            near_[count] = std::uint32_t(n);
+            near_d2_[count] = block_d2[n - n0];
+            count += std::size_t(block_near[n - n0] & 1);
         }
-        for (std::uint32_t j = 0; j < count; ++j) {
-            const double r = arc_r_[near[j]] + best;
-            if (near_d2[j] >= r * r) continue;
-            const Arc& arc = h.arcs_[arc_index_[near[j]]];
+    }
+    double best = d_max;
+    const Arc* best_arc = nearest_arc(p, d_max, count, best);
+    if (best_arc == nullptr && !settled_) {
+        // distance()'s rule: each arc in order against the bound so far.
+        for (std::size_t j = 0; j < count; ++j) {
+            const double r = arc_r_[near_[j]] + best;
+            if (near_d2_[j] >= r * r) continue;
+            const Arc& arc = h.arcs_[arc_index_[near_[j]]];
             const double d = arc.distance(p, best);
             if (d < best) best = d, best_arc = &arc;
         }
     }
+    if (best_arc != nullptr) last_arc_ = std::uint32_t(best_arc - h.arcs_.get());
     return arcs_result(best_arc, best, p, gradient);
 }
 

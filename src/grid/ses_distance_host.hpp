@@ -60,6 +60,8 @@ public:
 
     const SesFeatures& features() const { return f_; }
 
+    struct Arc;  // an exposed arc, precomputed (ses_distance_host.cpp)
+
     // distance() for one thread's run of nearby points (the snap's vertices and their Newton
     // steps): keeps the balls of the last block of bins and the arcs of the last bin, copied
     // side by side, while the points stay in them. The same value and gradient as distance(),
@@ -72,13 +74,23 @@ public:
     private:
         void gather_balls(const int lo[3], const int hi[3]);
         void gather_arcs(std::size_t bin);
+        const Arc* nearest_arc(const double p[3], double d_max, std::size_t count,
+                               double& distance);
         const SesHostField& field_;
         int lo_[3] = {-1, -1, -1}, hi_[3] = {-1, -1, -1};  // the block of the balls kept
+        int bin_[3] = {-1, -1, -1};                         // the last point's bin
+        // The points that certainly have the block and the bin of the last point (empty at
+        // first): the next takes them without bin_cell.
+        double inner_lo_[3] = {0, 0, 0}, inner_hi_[3] = {0, 0, 0};
         std::vector<double> ball_x_, ball_y_, ball_z_, ball_r_;  // its balls, bin by bin
         std::vector<std::uint32_t> ball_index_;
         std::size_t arc_bin_ = std::size_t(-1);  // the bin of the arcs kept
         std::vector<double> arc_x_, arc_y_, arc_z_, arc_r_;  // their balls, in the bin's order
         std::vector<std::uint32_t> arc_index_;
+        std::vector<std::uint32_t> near_;  // the arcs near the point: their places in the above
+        std::vector<double> near_d2_;       // and the squared distances to their balls' centres
+        std::uint32_t last_arc_ = std::uint32_t(-1);  // the arc the last point ended nearest to
+        bool settled_ = false;  // nearest_arc's answer is distance()'s (null: none within d_max)
         // burier_, one of ball burier_of_'s neighbours, held the last face of it tried.
         std::uint32_t burier_of_ = std::uint32_t(-1), burier_ = 0;
     };
@@ -87,9 +99,6 @@ public:
     // the float distance from (xs[x], y, z) to the arc) for x in [xa, xb]. For tests.
     void arc_row_distances(std::size_t arc, const float* xs, float y, float z, int xa, int xb,
                            float* best) const;
-
-    struct Arc;  // an exposed arc, precomputed (ses_distance_host.cpp)
-
 
 private:
     struct Box {

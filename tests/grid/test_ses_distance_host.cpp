@@ -401,6 +401,98 @@ TEST(SesDistanceHost, CursorGivesTheSameValuesAsThePointDistance) {
     }
 }
 
+// The cursor takes the last point's bins without bin_cell while a point stays more than the
+// bin margin inside them: points stepping across the bins' faces (where bin_cell's rounding
+// decides, and the block of bins p +- r_max changes with them), a hair to either side and
+// on them, against distance(), bit for bit.
+TEST(SesDistanceHost, CursorKeepsItsBinsOnlyWellInsideThem) {
+    const Atoms atoms = fdmsurf::read_structure(data_path("4hhb.xyzr")).atoms;
+    const float probe = 1.4f;
+    const auto features = build_ses_features(atoms, probe);
+    const double reach = probe + 1.0;
+    const SesHostField field(features, reach);
+    SesHostField::Cursor cursor(field);
+    std::mt19937 rng(36);
+    std::uniform_int_distribution<std::size_t> pick(0, atoms.size() - 1);
+    std::uniform_int_distribution<int> axis(0, 2);
+    const double offsets[] = {-2e-3, -1e-3, -1e-6, -1e-12, 0.0, 1e-12, 1e-6, 1e-3, 2e-3};
+    std::size_t band = 0;
+    for (int walk = 0; walk < 1500; ++walk) {
+        const std::size_t i = pick(rng);
+        double p[3] = {atoms.xyz[3 * i], atoms.xyz[3 * i + 1], atoms.xyz[3 * i + 2]};
+        // Onto the nearest face of the bins along one axis, then across it.
+        const int a = axis(rng);
+        const double cell =
+            std::round((p[a] - features.origin[a]) / double(features.bin_size));
+        p[a] = double(features.origin[a]) + double(features.bin_size) * cell;
+        p[(a + 1) % 3] += atoms.radius[i] + 0.5 * probe;  // near the surface
+        for (const double offset : offsets) {
+            double q[3] = {p[0], p[1], p[2]};
+            q[a] += offset;
+            for (const double d_max : {reach, probe + 0.3}) {
+                double g_ref[3] = {7, 7, 7}, g[3] = {9, 9, 9};
+                const double ref = field.distance(q, d_max, g_ref);
+                const double kept = cursor.distance(q, d_max, g);
+                ASSERT_EQ(kept, ref) << "point " << q[0] << " " << q[1] << " " << q[2];
+                for (int k = 0; k < 3; ++k) ASSERT_EQ(g[k], g_ref[k]) << "gradient";
+                band += ref > 0.0 && ref < d_max;
+            }
+        }
+    }
+    EXPECT_GT(band, 5000u);
+}
+
+// The cursor's arc step measures the arcs from a first bound (the arc the last point ended
+// at, else the nearest ball's) and takes the least where distance()'s loop in order certainly
+// ends at it: points on the saddles (a probe's radius from a point of an arc), the same point
+// twice (the last arc first), midpoints of two arcs' points (two arcs about equally near)
+// and jumps between arcs (a first bound from the balls), against distance(), bit for bit.
+TEST(SesDistanceHost, CursorFindsTheArcDistanceTakes) {
+    for (const char* name : {"4hhb.xyzr", "1crn.xyzr"}) {
+        const Atoms atoms = fdmsurf::read_structure(data_path(name)).atoms;
+        const float probe = 1.4f;
+        const auto features = build_ses_features(atoms, probe);
+        ASSERT_FALSE(features.arcs.empty());
+        const double reach = probe + 1.0;
+        const SesHostField field(features, reach);
+        SesHostField::Cursor cursor(field);
+        std::mt19937 rng(2026);
+        std::uniform_int_distribution<std::size_t> pick(0, features.arcs.size() - 1);
+        std::uniform_real_distribution<double> unit(0.0, 1.0);
+        std::normal_distribution<double> offset(0.0, 1.0);
+        auto on_saddle = [&](std::size_t k, double p[3]) {
+            const fdmsurf::detail::SesArc& a = features.arcs[k];
+            const double t = a.start + a.length * unit(rng);
+            double dir[3] = {offset(rng), offset(rng), offset(rng)};
+            const double len = std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+            const double r = probe * (0.8 + 0.4 * unit(rng));
+            for (int c = 0; c < 3; ++c)
+                p[c] = a.m[c] + a.rho * (std::cos(t) * a.e1[c] + std::sin(t) * a.e2[c]) +
+                       r * dir[c] / len;
+        };
+        std::size_t nearest_arc = 0;
+        for (int round = 0; round < 3000; ++round) {
+            double p[3], q[3], mid[3];
+            on_saddle(pick(rng), p);
+            on_saddle(pick(rng), q);
+            for (int c = 0; c < 3; ++c) mid[c] = 0.5 * (p[c] + q[c]);
+            for (const double* x : {p, p, mid, q, q}) {
+                for (const double d_max : {reach, probe + 0.3}) {
+                    double g_ref[3] = {7, 7, 7}, g[3] = {9, 9, 9};
+                    const double ref = field.distance(x, d_max, g_ref);
+                    const double kept = cursor.distance(x, d_max, g);
+                    ASSERT_EQ(kept, ref) << name << " point " << x[0] << " " << x[1] << " " << x[2];
+                    for (int c = 0; c < 3; ++c) ASSERT_EQ(g[c], g_ref[c]) << name << " gradient";
+                    nearest_arc += ref > 0.0 && ref < d_max &&
+                                   ref > deepest_depth(atoms, probe, x) + 1e-6;
+                }
+            }
+        }
+        std::printf("  %s: %zu nearest to an arc\n", name, nearest_arc);
+        EXPECT_GT(nearest_arc, 3000u);
+    }
+}
+
 // A pair of balls meets in one whole exposed circle, stored with the length float(2 pi), a hair
 // above 2 pi: every direction is on it (arc_distance). Points exactly where the ends' test of a
 // longer-than-half arc would put them off it (half a turn from the start, a hair to the side):
