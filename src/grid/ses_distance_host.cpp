@@ -69,6 +69,18 @@ int bin_cell(const SesFeatures& f, int a, double x) {
         std::clamp(std::floor((x - f.origin[a]) / f.bin_size), 0.0, double(f.dims[a] - 1)));
 }
 
+// The squared gap along axis a from coordinate x to bin `cell`'s box widened by `margin` (0
+// within it). With `open_ends` an end bin's box reaches on outwards, as a lookup's clamp has the
+// points beyond the bins in it.
+double bin_gap2(const SesFeatures& f, int a, int cell, double x, double margin, bool open_ends) {
+    const double lo_edge = double(f.origin[a]) + double(f.bin_size) * cell - margin;
+    const double hi_edge = lo_edge + double(f.bin_size) + 2.0 * margin;
+    double g = 0.0;
+    if (x < lo_edge && (!open_ends || cell > 0)) g = lo_edge - x;
+    if (x > hi_edge && (!open_ends || cell + 1 < int(f.dims[a]))) g = x - hi_edge;
+    return g * g;
+}
+
 // Ball i (centre x cx, radius R) in points x0 .. x1 of a row dyz² from its centre: each point's
 // depth, kept where it is the deepest (l: the depth, deep: the ball, t: whether another ties).
 // Selects, not branches: the row vectorises.
@@ -549,12 +561,7 @@ SesHostField::SesHostField(const SesFeatures& f, double d_max, unsigned threads)
     };
     // The squared gap along axis a from the ball's centre c to bin `cell`'s widened box.
     auto gap2 = [&](int a, int cell, double c) {
-        const double lo_edge = double(f.origin[a]) + double(f.bin_size) * cell - bin_margin_;
-        const double hi_edge = lo_edge + double(f.bin_size) + 2.0 * bin_margin_;
-        double g = 0.0;
-        if (c < lo_edge && cell > 0) g = lo_edge - c;
-        if (c > hi_edge && cell + 1 < int(f.dims[a])) g = c - hi_edge;
-        return g * g;
+        return bin_gap2(f, a, cell, c, bin_margin_, true);
     };
     std::vector<int> part_plane(threads_ + 1, int(f.dims[2]));
     part_plane[0] = 0;
@@ -631,12 +638,7 @@ double SesHostField::distance(const double p[3], double d_max, double* gradient)
     std::uint32_t deepest = 0;
     bool tie = false;
     const double r_max = double(f_.r_max) * (1.0 + 1e-6), r2 = r_max * r_max;
-    auto gap2 = [&](int a, int cell) {
-        const double lo_edge = double(f_.origin[a]) + double(f_.bin_size) * cell - bin_margin_;
-        const double hi_edge = lo_edge + double(f_.bin_size) + 2.0 * bin_margin_;
-        const double g = std::max({0.0, lo_edge - p[a], p[a] - hi_edge});
-        return g * g;
-    };
+    auto gap2 = [&](int a, int cell) { return bin_gap2(f_, a, cell, p[a], bin_margin_, false); };
     for (int z = lo[2]; z <= hi[2]; ++z) {
         const double gz = gap2(2, z);
         if (gz > r2) continue;

@@ -39,6 +39,13 @@ using fdmsurf_test::compare_ses_fields;
 using FieldDiff = fdmsurf_test::SesFieldDiff;
 constexpr double kTolerance = fdmsurf_test::kSesFieldTolerance;
 
+// Three normal draws, in order, into dir, and their length: dir / length is a random direction.
+double random_direction(std::mt19937& rng, std::normal_distribution<double>& normal,
+                        double dir[3]) {
+    for (int k = 0; k < 3; ++k) dir[k] = normal(rng);
+    return std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+}
+
 // The depth of p in its deepest inflated ball (r + probe - |p - c|, every atom tried): where no
 // face is the nearest feature, d lies above it.
 double deepest_depth(const Atoms& atoms, float probe, const double p[3]) {
@@ -265,8 +272,8 @@ TEST(SesDistanceHost, PointDistanceAndGradientMatchTheReference) {
         double worst = 0.0, worst_gradient = 0.0;
         for (int n = 0; n < 20000; ++n) {
             const std::size_t i = pick(rng);
-            double dir[3] = {offset(rng), offset(rng), offset(rng)};
-            const double len = std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+            double dir[3];
+            const double len = random_direction(rng, offset, dir);
             const double r = atoms.radius[i] + probe * depth(rng);
             double p[3];
             for (int k = 0; k < 3; ++k) p[k] = atoms.xyz[3 * i + k] + r * dir[k] / len;
@@ -323,8 +330,8 @@ TEST(SesDistanceHost, PointsBeyondTheOuterBinsFindTheirArcs) {
         std::size_t beyond = 0, arcs = 0;
         for (std::size_t i = 0; i < atoms.size(); ++i) {
             for (int n = 0; n < 200; ++n) {
-                double dir[3] = {offset(rng), offset(rng), offset(rng)};
-                const double len = std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+                double dir[3];
+                const double len = random_direction(rng, offset, dir);
                 const double R = atoms.radius[i] + probe;
                 double p[3];
                 bool outside = false;
@@ -372,8 +379,8 @@ TEST(SesDistanceHost, CursorGivesTheSameValuesAsThePointDistance) {
         std::size_t band = 0, arcs = 0, outside = 0;
         for (int walk = 0; walk < 2000; ++walk) {
             const std::size_t i = pick(rng);
-            double dir[3] = {offset(rng), offset(rng), offset(rng)};
-            const double len = std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+            double dir[3];
+            const double len = random_direction(rng, offset, dir);
             const double r = atoms.radius[i] + probe * depth(rng);
             double p[3];
             for (int k = 0; k < 3; ++k) p[k] = atoms.xyz[3 * i + k] + r * dir[k] / len;
@@ -463,8 +470,8 @@ TEST(SesDistanceHost, CursorFindsTheArcDistanceTakes) {
         auto on_saddle = [&](std::size_t k, double p[3]) {
             const fdmsurf::detail::SesArc& a = features.arcs[k];
             const double t = a.start + a.length * unit(rng);
-            double dir[3] = {offset(rng), offset(rng), offset(rng)};
-            const double len = std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+            double dir[3];
+            const double len = random_direction(rng, offset, dir);
             const double r = probe * (0.8 + 0.4 * unit(rng));
             for (int c = 0; c < 3; ++c)
                 p[c] = a.m[c] + a.rho * (std::cos(t) * a.e1[c] + std::sin(t) * a.e2[c]) +
