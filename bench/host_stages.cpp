@@ -103,61 +103,65 @@ std::uint64_t features_hash(const detail::SesFeatures& f) {
     return h;
 }
 
-// The exact SES's host stages alone: the field over the whole grid, or the snap of `mesh`.
-int ses_stage(const Structure& structure, SurfaceOptions options, const std::string& only,
-              const Mesh& mesh, int reps) {
-    options.method = SesMethod::Edt;
-    const detail::GridPlan plan = detail::plan_grid(structure.atoms, options);
-    const detail::SesFeatures f = detail::build_ses_features(structure.atoms, options.probe);
-    if (only == "ses-index") {
-        // The constructor alone, each run on its own object (its fresh pages included, as in
-        // the CLI's run).
-        std::vector<double> wall, cpu;
-        for (int r = 0; r < reps; ++r) {
-            const auto t0 = std::chrono::steady_clock::now();
-            const std::clock_t c0 = std::clock();
-            { const detail::SesHostField ses(f, plan.ses_d_max); }
-            cpu.push_back(double(std::clock() - c0) / CLOCKS_PER_SEC * 1e3);
-            wall.push_back(std::chrono::duration<double, std::milli>(
-                               std::chrono::steady_clock::now() - t0).count());
-        }
-        std::sort(wall.begin(), wall.end());
-        std::sort(cpu.begin(), cpu.end());
-        std::printf("ses-index: %zu atoms, %zu arcs, %u threads\n\n", structure.atoms.size(),
-                    f.arcs.size(), std::thread::hardware_concurrency());
-        std::printf("| host stage | median ms (%d runs) | median CPU ms |\n|---|---|---|\n", reps);
-        std::printf("| ses-index | %.1f | %.1f |\n", wall[wall.size() / 2], cpu[cpu.size() / 2]);
-        return 0;
-    }
-    const detail::SesHostField ses(f, plan.ses_d_max);
+// The median wall and CPU milliseconds of `reps` runs of body, each after an untimed prepare.
+struct WallCpu {
+    double wall, cpu;
+};
+WallCpu median_wall_cpu(int reps, const std::function<void()>& prepare,
+                        const std::function<void()>& body) {
     std::vector<double> wall, cpu;
-    std::uint64_t hash = 0;
     for (int r = 0; r < reps; ++r) {
-        Mesh copy = only == "ses-snap" ? mesh : Mesh{};
+        prepare();
         const auto t0 = std::chrono::steady_clock::now();
         const std::clock_t c0 = std::clock();
-        if (only == "ses-field") {
-            const std::vector<float> field = ses.field(plan);
-            hash = hash_floats(field);
-        } else {
-            const detail::SesDistanceField field(ses, plan.iso, plan.ses_d_max);
-            detail::project_onto_field(copy, 0, field,
-                                       detail::ses_snap_options(plan.info.spacing));
-            hash = hash_floats(copy.positions) ^ (hash_floats(copy.normals) << 1);
-        }
+        body();
         cpu.push_back(double(std::clock() - c0) / CLOCKS_PER_SEC * 1e3);
         wall.push_back(std::chrono::duration<double, std::milli>(
                            std::chrono::steady_clock::now() - t0).count());
     }
     std::sort(wall.begin(), wall.end());
     std::sort(cpu.begin(), cpu.end());
-    std::printf("%s: %zu atoms, %zu vertices, grid %ux%ux%u, %u threads\n\n", only.c_str(),
-                structure.atoms.size(), mesh.vertex_count(), plan.info.dims[0],
-                plan.info.dims[1], plan.info.dims[2], std::thread::hardware_concurrency());
+    return {wall[wall.size() / 2], cpu[cpu.size() / 2]};
+}
+
+// The exact SES's host stages alone: the host's index of the features (each run on its own
+// object, its fresh pages included, as in the CLI's run), the field over the whole grid, or the
+// snap of `mesh`.
+int ses_stage(const Structure& structure, SurfaceOptions options, const std::string& only,
+              const Mesh& mesh, int reps) {
+    options.method = SesMethod::Edt;
+    const detail::GridPlan plan = detail::plan_grid(structure.atoms, options);
+    const detail::SesFeatures f = detail::build_ses_features(structure.atoms, options.probe);
+    std::printf("%s: %zu atoms, %zu arcs, %zu vertices, grid %ux%ux%u, %u threads\n\n",
+                only.c_str(), structure.atoms.size(), f.arcs.size(), mesh.vertex_count(),
+                plan.info.dims[0], plan.info.dims[1], plan.info.dims[2],
+                std::thread::hardware_concurrency());
     std::printf("| host stage | median ms (%d runs) | median CPU ms | hash |\n|---|---|---|---|\n",
                 reps);
-    std::printf("| %s | %.1f | %.1f | %016llx |\n", only.c_str(), wall[wall.size() / 2],
-                cpu[cpu.size() / 2], static_cast<unsigned long long>(hash));
+    if (only == "ses-index") {
+        const WallCpu t = median_wall_cpu(
+            reps, [] {}, [&] { const detail::SesHostField ses(f, plan.ses_d_max); });
+        std::printf("| %s | %.1f | %.1f | (none) |\n", only.c_str(), t.wall, t.cpu);
+        return 0;
+    }
+    const detail::SesHostField ses(f, plan.ses_d_max);
+    std::uint64_t hash = 0;
+    Mesh copy;
+    const WallCpu t = median_wall_cpu(
+        reps, [&] { copy = only == "ses-snap" ? mesh : Mesh{}; },
+        [&] {
+            if (only == "ses-field") {
+                const std::vector<float> field = ses.field(plan);
+                hash = hash_floats(field);
+            } else {
+                const detail::SesDistanceField field(ses, plan.iso, plan.ses_d_max);
+                detail::project_onto_field(copy, 0, field,
+                                           detail::ses_snap_options(plan.info.spacing));
+                hash = hash_floats(copy.positions) ^ (hash_floats(copy.normals) << 1);
+            }
+        });
+    std::printf("| %s | %.1f | %.1f | %016llx |\n", only.c_str(), t.wall, t.cpu,
+                static_cast<unsigned long long>(hash));
     return 0;
 }
 
