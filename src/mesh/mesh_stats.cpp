@@ -19,6 +19,7 @@
 #include <immintrin.h>
 #endif
 
+#include "base/fixed_sum.hpp"
 #include "base/parallel.hpp"
 #include "base/trace.hpp"
 #include "fdmsurf/mesh.hpp"
@@ -34,11 +35,6 @@ namespace {
 using Index = std::uint32_t;
 
 bool is_degenerate(const Index* t) { return (t[0] == t[1]) | (t[1] == t[2]) | (t[2] == t[0]); }
-
-std::array<double, 3> position(const Mesh& mesh, Index v) {
-    const float* p = &mesh.positions[3 * std::size_t{v}];
-    return {p[0], p[1], p[2]};
-}
 
 // The corners at each vertex of the triangles that are not degenerate, each as the corner's
 // next and previous vertex (the triangle runs v -> next -> prev), so that the edges around a
@@ -184,9 +180,11 @@ CornerPlan plan_corners(const Mesh& mesh, const char* who, unsigned threads) {
 using Pieces = VertexPieces;
 constexpr Index no_piece = kNoPiece;
 
-// One chunk's contribution to one piece (sum_by_piece adds them up in chunk order).
+// One chunk's contribution to one piece (sum_by_piece adds them up in chunk order): its
+// counts, and its area and volume as sums that any order of the triangles gives alike.
 struct Partial {
-    MeshStats stats;
+    MeshStats stats;  // the counts
+    FixedSum area, volume;
     long faces = 0;  // non-degenerate triangles
 };
 using Runs = PieceRuns<Partial>;
@@ -207,32 +205,112 @@ double triangle_area(const std::array<double, 3>& a, const std::array<double, 3>
     return 0.5 * std::sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
 }
 
+// The corners of up to kBatch triangles, coordinate by coordinate (row 3 k + a: corner k, axis
+// a), and their signed volumes and areas: computed for a batch at once, four at a time where
+// the CPU has AVX2, then added to the sums as a batch (FixedSum: in any order, the same sum).
+constexpr std::size_t kBatch = 64;
+struct TriangleBatch {
+    alignas(32) float corners[9][kBatch] = {};
+    alignas(32) double volume[kBatch] = {};
+    alignas(32) double area[kBatch] = {};
+};
+
+bool has_avx2() {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+    static const bool avx2 = __builtin_cpu_supports("avx2");
+    return avx2;
+#else
+    return false;
+#endif
+}
+
+// triangle_volume and (with `area`) triangle_area of the batch's first n triangles, into its
+// `volume` and `area`.
+void batch_terms_plain(TriangleBatch& b, std::size_t n, bool area) {
+    for (std::size_t i = 0; i < n; ++i) {
+        std::array<double, 3> p[3];
+        for (int k = 0; k < 3; ++k)
+            for (int x = 0; x < 3; ++x) p[k][x] = b.corners[3 * k + x][i];
+        b.volume[i] = triangle_volume(p[0], p[1], p[2]);
+        if (area) b.area[i] = triangle_area(p[0], p[1], p[2]);
+    }
+}
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+// The same on four triangles at a time: the same operations in the same order, each lane
+// rounded as the plain code rounds (no fused multiply-add: the target is AVX2 alone), so the
+// same bits. Lanes past n compute on stale corners and are not read.
+__attribute__((target("avx2"))) void batch_terms_avx2(TriangleBatch& b, std::size_t n,
+                                                      bool area) {
+#define FDMSURF_CORNER(row) _mm256_cvtps_pd(_mm_load_ps(&b.corners[row][i]))
+    const __m256d six = _mm256_set1_pd(6.0), half = _mm256_set1_pd(0.5);
+    for (std::size_t i = 0; i < n; i += 4) {
+        const __m256d ax = FDMSURF_CORNER(0), ay = FDMSURF_CORNER(1), az = FDMSURF_CORNER(2);
+        const __m256d bx = FDMSURF_CORNER(3), by = FDMSURF_CORNER(4), bz = FDMSURF_CORNER(5);
+        const __m256d dx = FDMSURF_CORNER(6), dy = FDMSURF_CORNER(7), dz = FDMSURF_CORNER(8);
+        const __m256d t0 =
+            _mm256_mul_pd(ax, _mm256_sub_pd(_mm256_mul_pd(by, dz), _mm256_mul_pd(bz, dy)));
+        const __m256d t1 =
+            _mm256_mul_pd(ay, _mm256_sub_pd(_mm256_mul_pd(bz, dx), _mm256_mul_pd(bx, dz)));
+        const __m256d t2 =
+            _mm256_mul_pd(az, _mm256_sub_pd(_mm256_mul_pd(bx, dy), _mm256_mul_pd(by, dx)));
+        _mm256_store_pd(&b.volume[i], _mm256_div_pd(_mm256_add_pd(_mm256_add_pd(t0, t1), t2), six));
+        if (!area) continue;
+        const __m256d ux = _mm256_sub_pd(bx, ax), uy = _mm256_sub_pd(by, ay),
+                      uz = _mm256_sub_pd(bz, az);
+        const __m256d wx = _mm256_sub_pd(dx, ax), wy = _mm256_sub_pd(dy, ay),
+                      wz = _mm256_sub_pd(dz, az);
+        const __m256d c0 = _mm256_sub_pd(_mm256_mul_pd(uy, wz), _mm256_mul_pd(uz, wy));
+        const __m256d c1 = _mm256_sub_pd(_mm256_mul_pd(uz, wx), _mm256_mul_pd(ux, wz));
+        const __m256d c2 = _mm256_sub_pd(_mm256_mul_pd(ux, wy), _mm256_mul_pd(uy, wx));
+        const __m256d squares = _mm256_add_pd(
+            _mm256_add_pd(_mm256_mul_pd(c0, c0), _mm256_mul_pd(c1, c1)), _mm256_mul_pd(c2, c2));
+        _mm256_store_pd(&b.area[i], _mm256_mul_pd(half, _mm256_sqrt_pd(squares)));
+    }
+#undef FDMSURF_CORNER
+}
+#endif
+
+void batch_terms(TriangleBatch& b, std::size_t n, bool area) {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+    if (has_avx2()) return batch_terms_avx2(b, n, area);
+#endif
+    batch_terms_plain(b, n, area);
+}
+
 // Signed volume and triangle counts of the triangles in chunk k, and (kStats, for the
 // statistics) their area and the degenerate ones; the cavity removal alone needs the volumes.
+// A run of one piece's triangles a batch at a time: corners gathered, terms computed together,
+// added to the run's sums.
 template <bool kStats>
 void triangle_chunk(const Mesh& mesh, const Pieces& pieces, std::size_t k, Runs& runs) {
-    const auto& idx = mesh.indices;
-    const std::size_t end = std::min(idx.size(), (k + 1) * 3 * kTriangleChunk);
-    Index piece = no_piece;
-    Partial* part = nullptr;  // the run of `piece`, the last one
-    for (std::size_t c = k * 3 * kTriangleChunk; c < end; c += 3) {
-        if (pieces.of_vertex[idx[c]] != piece) {
-            piece = pieces.of_vertex[idx[c]];
-            part = &piece_sum(runs, piece);
-        }
-        MeshStats& s = part->stats;
-        const auto a = position(mesh, idx[c]), b = position(mesh, idx[c + 1]),
-                   d = position(mesh, idx[c + 2]);
-        ++s.triangles;
-        s.volume += triangle_volume(a, b, d);
-        if constexpr (kStats) {
-            s.area += triangle_area(a, b, d);
-            if (is_degenerate(&idx[c])) {
-                ++s.degenerate_triangles;
-            } else {
-                ++part->faces;
+    const Index* idx = mesh.indices.data();
+    const float* positions = mesh.positions.data();
+    const std::size_t first = k * kTriangleChunk;
+    const std::size_t end = std::min(mesh.triangle_count(), first + kTriangleChunk);
+    TriangleBatch batch;
+    for (std::size_t t = first; t < end;) {
+        const Index piece = pieces.of_vertex[idx[3 * t]];
+        Partial& part = piece_sum(runs, piece);
+        std::size_t n = 0;
+        while (t + n < end && n < kBatch && pieces.of_vertex[idx[3 * (t + n)]] == piece) {
+            const Index* tri = idx + 3 * (t + n);
+            for (int c = 0; c < 3; ++c) {
+                const float* p = positions + 3 * std::size_t{tri[c]};
+                for (int x = 0; x < 3; ++x) batch.corners[3 * c + x][n] = p[x];
             }
+            if constexpr (kStats) {
+                const bool degenerate = is_degenerate(tri);
+                part.stats.degenerate_triangles += degenerate;
+                part.faces += !degenerate;
+            }
+            ++n;
         }
+        batch_terms(batch, n, kStats);
+        part.stats.triangles += n;
+        part.volume.add(batch.volume, n);
+        if constexpr (kStats) part.area.add(batch.area, n);
+        t += n;
     }
 }
 
@@ -414,13 +492,6 @@ void vertex_part(const Mesh& mesh, const CornerPlan& plan,
     }
 }
 
-// A piece's area and volume end on + 0.0, as when each piece's vertex runs (of area and volume
-// 0) were added after its triangle runs: a sum of -0 reads 0.
-void end_sums(MeshStats& s) {
-    s.area += 0.0;
-    s.volume += 0.0;
-}
-
 // The pieces from the corners (vertex_part on each part, then the labels that meet across parts
 // or through degenerate triangles united), numbered in the order of their smallest vertex; and
 // the odd vertices.
@@ -495,6 +566,7 @@ MeshAnalysis analyse_mesh(const Mesh& mesh, bool topology, const char* who,
     std::vector<MeshStats>& stats = a.stats;
     stats.resize(pieces.count);
     std::vector<long> face_count(pieces.count, 0);
+    std::vector<FixedSum> area(pieces.count), volume(pieces.count);
     // The triangles' sums, chunk after chunk (their runs kept).
     sum_by_piece<Partial>(
         chunk_count(mesh.triangle_count(), kTriangleChunk), threads,
@@ -508,8 +580,8 @@ MeshAnalysis analyse_mesh(const Mesh& mesh, bool topology, const char* who,
         [&](Index piece, const Partial& part) {
             MeshStats& s = stats[piece];
             s.triangles += part.stats.triangles;
-            s.area += part.stats.area;
-            s.volume += part.stats.volume;
+            area[piece] += part.area;
+            volume[piece] += part.volume;
             s.degenerate_triangles += part.stats.degenerate_triangles;
             face_count[piece] += part.faces;
             a.runs.push_back({piece, Index(part.stats.triangles)});
@@ -539,7 +611,8 @@ MeshAnalysis analyse_mesh(const Mesh& mesh, bool topology, const char* who,
     }
     for (std::size_t p = 0; p < stats.size(); ++p) {
         MeshStats& s = stats[p];
-        end_sums(s);
+        s.area = area[p].value();
+        s.volume = volume[p].value();
         s.pieces = 1;
         if (!topology) continue;
         s.closed_pieces = s.boundary_edges == 0 && s.nonmanifold_edges == 0 ? 1 : 0;
@@ -704,13 +777,6 @@ void move_vertices(Mesh& mesh, std::vector<Index>* of_vertex, const std::vector<
     }
 }
 
-// The kept triangles' sums in one chunk, run by run, as analyse_mesh takes them.
-struct Sums {
-    double area = 0.0;
-    double volume = 0.0;
-    Index triangles = 0;
-};
-
 // Where a new chunk of triangles starts among the old ones: the old triangle, its run and its
 // place in the run (a run is of one piece, so wholly kept or wholly dropped).
 struct ChunkStart {
@@ -737,83 +803,29 @@ std::vector<ChunkStart> new_chunks(const MeshAnalysis& a, const std::vector<char
     return starts;
 }
 
-// The corners of up to kBatch triangles, coordinate by coordinate (row 3 k + a: corner k, axis
-// a), and their signed volumes and areas: computed for a batch at once, four at a time where
-// the CPU has AVX2, then added one by one in order.
-constexpr std::size_t kBatch = 64;
-struct TriangleBatch {
-    alignas(32) float corners[9][kBatch] = {};
-    alignas(32) double volume[kBatch] = {};
-    alignas(32) double area[kBatch] = {};
-};
-
-bool has_avx2() {
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-    static const bool avx2 = __builtin_cpu_supports("avx2");
-    return avx2;
-#else
-    return false;
-#endif
-}
-
-// triangle_volume and (with `area`) triangle_area of the batch's first n triangles, added to
-// `volume` and `area_sum` triangle after triangle.
-void batch_sums_plain(TriangleBatch& b, std::size_t n, bool area, double& volume,
-                      double& area_sum) {
-    for (std::size_t i = 0; i < n; ++i) {
-        std::array<double, 3> p[3];
-        for (int k = 0; k < 3; ++k)
-            for (int x = 0; x < 3; ++x) p[k][x] = b.corners[3 * k + x][i];
-        volume += triangle_volume(p[0], p[1], p[2]);
-        if (area) area_sum += triangle_area(p[0], p[1], p[2]);
+// The runs of the kept triangles as analyse_mesh finds them on the mesh after (pieces
+// renumbered): runs of one piece made adjacent by a dropped one joined, and every run cut at the
+// new chunks' bounds.
+std::vector<TriangleRun> kept_runs(const MeshAnalysis& a, const std::vector<char>& drop,
+                                   const std::vector<Index>& renumber) {
+    std::vector<TriangleRun> runs;
+    std::size_t out = 0;       // kept triangles so far
+    std::size_t chunk_at = 0;  // the first run of the chunk `out` is in
+    for (const TriangleRun& run : a.runs) {
+        if (drop[run.piece]) continue;
+        const Index piece = renumber[run.piece];
+        for (std::size_t left = run.triangles; left > 0;) {
+            if (out % kTriangleChunk == 0) chunk_at = runs.size();
+            const std::size_t room = kTriangleChunk - out % kTriangleChunk;
+            const std::size_t n = std::min(left, room);
+            if (runs.size() > chunk_at && runs.back().piece == piece)
+                runs.back().triangles += Index(n);
+            else
+                runs.push_back({piece, Index(n)});
+            out += n, left -= n;
+        }
     }
-}
-
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-// The same on four triangles at a time: the same operations in the same order, each lane
-// rounded as the plain code rounds (no fused multiply-add: the target is AVX2 alone), so the
-// same bits, added in the same order (each four's additions wait on nothing but the last ones,
-// so they go on while the next four are computed). Lanes past n compute on stale corners and
-// are not read.
-__attribute__((target("avx2"))) void batch_sums_avx2(TriangleBatch& b, std::size_t n, bool area,
-                                                     double& volume, double& area_sum) {
-#define FDMSURF_CORNER(row) _mm256_cvtps_pd(_mm_load_ps(&b.corners[row][i]))
-    const __m256d six = _mm256_set1_pd(6.0), half = _mm256_set1_pd(0.5);
-    for (std::size_t i = 0; i < n; i += 4) {
-        const __m256d ax = FDMSURF_CORNER(0), ay = FDMSURF_CORNER(1), az = FDMSURF_CORNER(2);
-        const __m256d bx = FDMSURF_CORNER(3), by = FDMSURF_CORNER(4), bz = FDMSURF_CORNER(5);
-        const __m256d dx = FDMSURF_CORNER(6), dy = FDMSURF_CORNER(7), dz = FDMSURF_CORNER(8);
-        const __m256d t0 =
-            _mm256_mul_pd(ax, _mm256_sub_pd(_mm256_mul_pd(by, dz), _mm256_mul_pd(bz, dy)));
-        const __m256d t1 =
-            _mm256_mul_pd(ay, _mm256_sub_pd(_mm256_mul_pd(bz, dx), _mm256_mul_pd(bx, dz)));
-        const __m256d t2 =
-            _mm256_mul_pd(az, _mm256_sub_pd(_mm256_mul_pd(bx, dy), _mm256_mul_pd(by, dx)));
-        _mm256_store_pd(&b.volume[i], _mm256_div_pd(_mm256_add_pd(_mm256_add_pd(t0, t1), t2), six));
-        const std::size_t lanes = std::min<std::size_t>(4, n - i);
-        for (std::size_t l = 0; l < lanes; ++l) volume += b.volume[i + l];
-        if (!area) continue;
-        const __m256d ux = _mm256_sub_pd(bx, ax), uy = _mm256_sub_pd(by, ay),
-                      uz = _mm256_sub_pd(bz, az);
-        const __m256d wx = _mm256_sub_pd(dx, ax), wy = _mm256_sub_pd(dy, ay),
-                      wz = _mm256_sub_pd(dz, az);
-        const __m256d c0 = _mm256_sub_pd(_mm256_mul_pd(uy, wz), _mm256_mul_pd(uz, wy));
-        const __m256d c1 = _mm256_sub_pd(_mm256_mul_pd(uz, wx), _mm256_mul_pd(ux, wz));
-        const __m256d c2 = _mm256_sub_pd(_mm256_mul_pd(ux, wy), _mm256_mul_pd(uy, wx));
-        const __m256d squares = _mm256_add_pd(
-            _mm256_add_pd(_mm256_mul_pd(c0, c0), _mm256_mul_pd(c1, c1)), _mm256_mul_pd(c2, c2));
-        _mm256_store_pd(&b.area[i], _mm256_mul_pd(half, _mm256_sqrt_pd(squares)));
-        for (std::size_t l = 0; l < lanes; ++l) area_sum += b.area[i + l];
-    }
-#undef FDMSURF_CORNER
-}
-#endif
-
-void batch_sums(TriangleBatch& b, std::size_t n, bool area, double& volume, double& area_sum) {
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-    if (has_avx2()) return batch_sums_avx2(b, n, area, volume, area_sum);
-#endif
-    batch_sums_plain(b, n, area, volume, area_sum);
+    return runs;
 }
 
 // The new numbers of the n (kept) vertices `from` into `to`, which may lie at or before `from`
@@ -890,20 +902,12 @@ struct TrianglePlaces {
 };
 
 // One new chunk of triangles, [begin, end), filled from the old triangles from `start` on
-// (dropped runs skipped whole) and written to `places`; with `positions` (the vertices' old
-// positions, not yet moved) its runs' sums taken as analyse_mesh takes them, area too with
-// `area`. A batch at a time: its corners read, then its vertices renumbered in place.
+// (dropped runs skipped whole) and written to `places`, a batch at a time renumbered.
 void move_chunk(const Index* idx, const MeshAnalysis& a, const std::vector<char>& drop,
-                const std::vector<Index>& renumber, const KeptVertices& kept,
-                const float* positions, bool area, ChunkStart start, std::size_t begin,
-                std::size_t end, const TrianglePlaces& places, PieceRuns<Sums>& runs) {
+                const KeptVertices& kept, ChunkStart start, std::size_t begin, std::size_t end,
+                const TrianglePlaces& places) {
     std::size_t t = start.triangle, run = start.run;
     Index offset = start.offset;
-    Index last = no_piece;
-    // The sums of the run of `last` (the chunk's last one), in locals, stored when it ends.
-    double area_sum = 0.0, volume = 0.0;
-    Index triangles = 0;
-    TriangleBatch batch;
     for (std::size_t o = begin; o < end;) {
         const TriangleRun& old = a.runs[run];
         if (drop[old.piece]) {
@@ -912,57 +916,29 @@ void move_chunk(const Index* idx, const MeshAnalysis& a, const std::vector<char>
             continue;
         }
         const std::size_t count = std::min<std::size_t>(old.triangles - offset, end - o);
-        const Index piece = renumber[old.piece];
-        if (piece != last) {
-            if (last != no_piece) {
-                Sums& s = piece_sum(runs, last);
-                s.area += area_sum, s.volume += volume, s.triangles += triangles;
-            }
-            last = piece, area_sum = 0.0, volume = 0.0, triangles = 0;
-        }
         for (std::size_t first = 0; first < count;) {
             const std::size_t n = places.together(o + first, std::min(kBatch, count - first));
-            const Index* from = idx + 3 * (t + first);
-            if (positions) {
-                for (std::size_t i = 0; i < n; ++i)
-                    for (int k = 0; k < 3; ++k) {
-                        const float* p = positions + 3 * std::size_t{from[3 * i + k]};
-                        for (int x = 0; x < 3; ++x) batch.corners[3 * k + x][i] = p[x];
-                    }
-                batch_sums(batch, n, area, volume, area_sum);
-            }
-            // After the corners were read: the new numbers may be written over the old ones.
-            remap(from, 3 * n, kept, places.at(o + first));
+            remap(idx + 3 * (t + first), 3 * n, kept, places.at(o + first));
             first += n;
         }
         t += count, o += count;
-        triangles += Index(count);
         offset += Index(count);
         if (offset == old.triangles) ++run, offset = 0;
     }
-    if (last != no_piece) {
-        Sums& s = piece_sum(runs, last);
-        s.area += area_sum, s.volume += volume, s.triangles += triangles;
-    }
 }
 
-// The kept triangles moved in place, their vertices renumbered, in one run of new chunks a
-// thread (move_chunk), with their runs' sums (`positions`: the vertices' old positions, not yet
-// moved). Chunk k writes [k C, (k + 1) C) from old triangles at or after each place; only a
-// thread's first places that lie before its own old triangles may hold old triangles of the
-// threads before it, not yet read (as many as the triangles dropped before it): those wait in
-// a buffer until every thread is done.
-std::vector<PieceRuns<Sums>> move_triangles(Mesh& mesh, const MeshAnalysis& a,
-                                            const std::vector<char>& drop,
-                                            const std::vector<Index>& renumber,
-                                            const KeptVertices& kept, const float* positions,
-                                            bool area, unsigned threads) {
+// The kept triangles moved in place and their vertices renumbered, in one run of new chunks a
+// thread (move_chunk). Chunk k writes [k C, (k + 1) C) from old triangles at or after each
+// place; only a thread's first places that lie before its own old triangles may hold old
+// triangles of the threads before it, not yet read (as many as the triangles dropped before
+// it): those wait in a buffer until every thread is done.
+void move_triangles(Mesh& mesh, const MeshAnalysis& a, const std::vector<char>& drop,
+                    const KeptVertices& kept, unsigned threads) {
     std::size_t nt = 0;
     const std::vector<ChunkStart> starts = new_chunks(a, drop, nt);
     Index* idx = mesh.indices.data();
     const std::size_t chunks = starts.size();
     const std::size_t parts = std::min<std::size_t>(threads, chunks);
-    std::vector<PieceRuns<Sums>> runs(chunks);
     std::vector<std::vector<Index>> held(parts);
     const auto part_start = [&](std::size_t r) { return r * chunks / parts; };
     parallel_chunks(parts, threads, [&](std::size_t r) {
@@ -975,39 +951,33 @@ std::vector<PieceRuns<Sums>> move_triangles(Mesh& mesh, const MeshAnalysis& a,
         for (std::size_t k = k0; k < k1; ++k) {
             const std::size_t begin = k * kTriangleChunk;
             const std::size_t end = std::min(nt, begin + kTriangleChunk);
-            move_chunk(idx, a, drop, renumber, kept, positions, area, starts[k], begin, end,
-                       places, runs[k]);
+            move_chunk(idx, a, drop, kept, starts[k], begin, end, places);
         }
     });
     for (std::size_t r = 0; r < parts; ++r)
         std::copy(held[r].begin(), held[r].end(), idx + 3 * part_start(r) * kTriangleChunk);
     mesh.indices.resize(3 * nt);
-    return runs;
 }
 
 }  // namespace
 
 void keep_pieces(Mesh& mesh, MeshAnalysis& a, const std::vector<char>& drop, bool update) {
     const std::size_t count = a.pieces.count;
-    // The kept pieces' new numbers and statistics (their sums taken again below).
+    // The kept pieces' new numbers and statistics: the same triangles, so the same sums
+    // (FixedSum: in any order and any chunks alike).
     std::vector<Index> renumber(count, no_piece);
     std::vector<MeshStats> stats;
     for (std::size_t q = 0; q < count; ++q) {
         if (drop[q]) continue;
         renumber[q] = Index(stats.size());
         stats.push_back(a.stats[q]);
-        stats.back().area = 0.0;
-        stats.back().volume = 0.0;
     }
     if (stats.size() == count) return;
     const unsigned threads = thread_count();
     const std::size_t nv = mesh.vertex_count();
     const KeptVertices kept = kept_vertices(a, drop, nv, threads);
     const std::size_t kept_count = kept.first_kept.back();
-    // The triangles first, while the positions they read for the sums are where they were.
-    const std::vector<PieceRuns<Sums>> runs =
-        move_triangles(mesh, a, drop, renumber, kept, update ? mesh.positions.data() : nullptr,
-                       a.topology, threads);
+    move_triangles(mesh, a, drop, kept, threads);
     trace("keep pieces: triangles moved");
     move_vertices(mesh, update ? &a.pieces.of_vertex : nullptr, renumber, kept, threads);
     mesh.positions.resize(3 * kept_count);
@@ -1027,14 +997,7 @@ void keep_pieces(Mesh& mesh, MeshAnalysis& a, const std::vector<char>& drop, boo
     }
     trace("keep pieces: vertices moved");
     if (!update) return;
-    a.runs.clear();
-    for (const PieceRuns<Sums>& of_chunk : runs)
-        for (const PieceRun<Sums>& run : of_chunk) {
-            stats[run.piece].area += run.sum.area;
-            stats[run.piece].volume += run.sum.volume;
-            a.runs.push_back({run.piece, run.sum.triangles});
-        }
-    for (MeshStats& s : stats) end_sums(s);
+    a.runs = kept_runs(a, drop, renumber);
     a.pieces.count = stats.size();
     a.stats = std::move(stats);
 }

@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <random>
+#include <array>
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -282,6 +284,47 @@ TEST(MeshStats, SameFiguresOnOneThreadAndMany) {
     EXPECT_EQ(g.nonmanifold_vertices, 1u);
     EXPECT_EQ(g.boundary_edges, 0u);
     EXPECT_NEAR(g.area, 2 * s.area, 1e-9 * s.area);
+}
+
+TEST(MeshStats, AreaAndVolumeAreTheSameBitsInAnyTriangleOrder) {
+    // The sums do not depend on the order of the triangles (base/fixed_sum.hpp): a removal of
+    // some pieces leaves the others' figures as they were. And they are the exact sums of the
+    // triangles' terms, rounded once: a compensated long double sum agrees to a few ulps.
+    const fdmsurf::Mesh ses =
+        fdmsurf::read_mesh_any(fdmsurf::test::data_path("1crn-ses-nanoshaper.ply.gz"));
+    fdmsurf::Mesh shuffled = ses;
+    std::vector<std::size_t> order(ses.triangle_count());
+    for (std::size_t t = 0; t < order.size(); ++t) order[t] = t;
+    std::shuffle(order.begin(), order.end(), std::mt19937(11));
+    for (std::size_t t = 0; t < order.size(); ++t)
+        for (int k = 0; k < 3; ++k) shuffled.indices[3 * t + k] = ses.indices[3 * order[t] + k];
+    const fdmsurf::MeshStats a = fdmsurf::compute_stats(ses);
+    const fdmsurf::MeshStats b = fdmsurf::compute_stats(shuffled);
+    EXPECT_EQ(a.area, b.area);
+    EXPECT_EQ(a.volume, b.volume);
+    long double area = 0.0L, volume = 0.0L, area_c = 0.0L, volume_c = 0.0L;
+    const auto add = [](long double& sum, long double& c, long double v) {
+        const long double t = sum + v;
+        c += std::abs(sum) >= std::abs(v) ? (sum - t) + v : (v - t) + sum;
+        sum = t;
+    };
+    for (std::size_t t = 0; t < ses.triangle_count(); ++t) {
+        std::array<double, 3> p[3];
+        for (int k = 0; k < 3; ++k)
+            for (int x = 0; x < 3; ++x) p[k][x] = ses.positions[3 * ses.indices[3 * t + k] + x];
+        const std::array<double, 3> u{p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
+        const std::array<double, 3> w{p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
+        const double c0 = u[1] * w[2] - u[2] * w[1], c1 = u[2] * w[0] - u[0] * w[2],
+                     c2 = u[0] * w[1] - u[1] * w[0];
+        add(area, area_c, 0.5 * std::sqrt(c0 * c0 + c1 * c1 + c2 * c2));
+        add(volume, volume_c,
+            (p[0][0] * (p[1][1] * p[2][2] - p[1][2] * p[2][1]) +
+             p[0][1] * (p[1][2] * p[2][0] - p[1][0] * p[2][2]) +
+             p[0][2] * (p[1][0] * p[2][1] - p[1][1] * p[2][0])) /
+                6.0);
+    }
+    EXPECT_NEAR(a.area, double(area + area_c), 4e-16 * a.area);
+    EXPECT_NEAR(a.volume, double(volume + volume_c), 4e-16 * a.volume);
 }
 
 namespace fdmsurf {
