@@ -633,7 +633,8 @@ struct FeatureBuilder {
     struct ArcScratch {
         std::vector<Interval> buried, cuts, gaps, parts;
         Row row, kept;                          // ball i's neighbours; the cell's kept ones
-        std::vector<std::uint32_t> kept_entry;  // per row entry, its place in `kept` (or none)
+        // Per row entry, its place in `kept`; none when its circle has no point in the cell.
+        std::vector<std::uint32_t> kept_entry;
         PowerCell cell;
         std::vector<CellPlane> planes;
         std::vector<std::uint32_t> plane_entry;  // per plane, its row entry
@@ -648,8 +649,9 @@ struct FeatureBuilder {
     // outside every other ball, so no circle of i has an exposed point; Filtered when only the
     // balls of `kept_entry` can shape the exposed part: an exposed point of circle (i, j) is on
     // j's plane and inside the others', so j is one of them, and the others bury on the sphere
-    // only what those do. Unknown (the plain cut) for a twin centre, a cap all but whole or
-    // empty, or rounding the cell gives up on.
+    // only what those do. Nor has circle (i, j) when j's face of the cell lies inside the ball
+    // (PowerCell::face_in_ball), though j is kept for the other circles. Unknown (the plain cut)
+    // for a twin centre, a cap all but whole or empty, or rounding the cell gives up on.
     CellVerdict cell_of(const Ball& bi, const std::uint32_t* nb, ArcScratch& w) const {
         const Row& row = w.row;
         w.planes.clear();
@@ -677,7 +679,7 @@ struct FeatureBuilder {
         kept.resize(w.keep.size());
         for (std::size_t k = 0; k < w.keep.size(); ++k) {
             const std::uint32_t p = w.plane_entry[w.keep[k]];
-            w.kept_entry[p] = std::uint32_t(k);
+            w.kept_entry[p] = w.cell.face_in_ball(w.keep[k]) ? kNotKept : std::uint32_t(k);
             kept.x[k] = row.x[p], kept.y[k] = row.y[p], kept.z[k] = row.z[p];
             kept.R2[k] = row.R2[p];
             kept.atom[k] = row.atom[p];
