@@ -144,8 +144,8 @@ PowerCell::Clip PowerCell::clip(const CellPlane& plane, std::int32_t id) {
             const std::int32_t a = planes_[v][(k + 1) % 3], b = planes_[v][(k + 2) % 3];
             planes_[n] = {id, a, b};
             next_[n][0] = w;
-            for (std::uint32_t s = 0; s < 3; ++s)
-                if (next_[w][s] == v) next_[w][s] = n;
+            // Selects, not branches: which slot of w leads back to v is anyone's guess.
+            for (std::uint32_t s = 0; s < 3; ++s) next_[w][s] = next_[w][s] == v ? n : next_[w][s];
             // Leaving a (slot 1) runs along the new face and face b to the other new vertex on
             // b; leaving b (slot 2), to the other on a.
             if (!wait_or_join(b, n, 1) || !wait_or_join(a, n, 2)) return Clip::Broken;
