@@ -144,8 +144,8 @@ PowerCell::Clip PowerCell::clip(const CellPlane& plane, std::int32_t id) {
             const std::int32_t a = planes_[v][(k + 1) % 3], b = planes_[v][(k + 2) % 3];
             planes_[n] = {id, a, b};
             next_[n][0] = w;
-            for (std::uint32_t s = 0; s < 3; ++s)
-                if (next_[w][s] == v) next_[w][s] = n;
+            // Selects, not branches: which slot of w leads back to v is anyone's guess.
+            for (std::uint32_t s = 0; s < 3; ++s) next_[w][s] = next_[w][s] == v ? n : next_[w][s];
             // Leaving a (slot 1) runs along the new face and face b to the other new vertex on
             // b; leaving b (slot 2), to the other on a.
             if (!wait_or_join(b, n, 1) || !wait_or_join(a, n, 2)) return Clip::Broken;
@@ -192,6 +192,7 @@ CellVerdict PowerCell::filter(const std::vector<CellPlane>& planes,
     std::vector<std::uint8_t>& wanted = wanted_;
     wanted.assign(touched_.begin(), touched_.end());
     present_.assign(planes.size(), 0);
+    in_ball_.assign(planes.size(), 1);
     bool any = false;
     constexpr double kLimit = 1.0 + kReach;
     dist_.resize(x_.size());  // each vertex's squared distance from the centre
@@ -199,9 +200,13 @@ CellVerdict PowerCell::filter(const std::vector<CellPlane>& planes,
         dist_[v] = x_[v] * x_[v] + y_[v] * y_[v] + z_[v] * z_[v];
     for (std::size_t v = 0; v < x_.size(); ++v) {
         if (std::isnan(x_[v])) continue;
+        const bool vertex_inside = dist_[v] < 1.0 - kReach;  // as beyond_ball counts it
         for (std::uint32_t k = 0; k < 3; ++k) {
             const std::int32_t face = planes_[v][k];
-            if (face >= 0) present_[std::size_t(face)] = 1;
+            if (face >= 0) {
+                present_[std::size_t(face)] = 1;
+                in_ball_[std::size_t(face)] &= std::uint8_t(vertex_inside);
+            }
             const std::uint16_t w = next_[v][k];
             if (w < v) continue;  // each edge once
             // The edge comes into the ball when an end does or, both ends outside, its point
@@ -234,6 +239,10 @@ CellVerdict PowerCell::filter(const std::vector<CellPlane>& planes,
             any = true;
         }
     }
+    // Only a face of P counts: a plane never clipped (missed, or touched within rounding) has
+    // no vertex to go by.
+    for (std::size_t j = 0; j < planes.size(); ++j)
+        in_ball_[j] &= std::uint8_t(present_[j] & !touched_[j]);
     // No face in the ball: the ball is wholly inside P or wholly outside, and each plane cuts
     // it (a cap is a proper part of the sphere), so outside.
     if (!any) return CellVerdict::Buried;

@@ -60,6 +60,10 @@ public:
     // outside it (those that can cross the sphere), as the planes' indices.
     bool touched() const { return touched_any_; }
     const std::vector<std::array<std::uint32_t, 2>>& edges_in_ball() const { return edges_; }
+    // After a Filtered verdict: whether plane p is a face of P whose every vertex is inside the
+    // ball (by the margin of a Buried verdict). Its circle then has no point in P: each point of
+    // it is beyond another face's plane, i.e. inside that neighbour's ball.
+    bool face_in_ball(std::uint32_t p) const { return in_ball_[p] != 0; }
 
 private:
     enum class Clip { Missed, Touched, Cut, Emptied, Broken };
@@ -90,6 +94,7 @@ private:
     std::vector<std::uint8_t> touched_;  // per plane: within rounding of touching P
     std::vector<std::uint8_t> wanted_;   // per plane: to keep
     std::vector<std::uint8_t> present_;  // per plane: a face of P
+    std::vector<std::uint8_t> in_ball_;  // per plane: a face of P inside the ball
     bool touched_any_ = false;
     std::vector<std::array<std::uint32_t, 2>> edges_;
 };

@@ -29,25 +29,19 @@ Vec3 perpendicular(const Vec3& u) {
     return scale(p, 1.0 / std::sqrt(dot(p, p)));
 }
 
-// A pseudo-angle of the direction (x, y) in [0, 4): increasing with its angle from +x like the
-// angle itself (the "diamond angle"), without trigonometry; antipodal directions differ by 2.
-// By quadrant y / (x + y), 1 - x / (y - x), 2 - y / (-x - y), 3 + x / (x - y): each
-// denominator is |x| + |y|, and offset + sign * q the same sum (-0 + q is q), so without a
-// branch the same bits.
-double pseudo_angle(double x, double y) {
-    static constexpr double kOffset[4] = {-0.0, 1.0, 2.0, 3.0};
-    static constexpr double kSign[4] = {1.0, -1.0, -1.0, 1.0};
-    const bool up = y >= 0.0, right = x >= 0.0;
-    const int quadrant = 2 * !up + (up != right);
-    const double num[2] = {y, x};
-    const double q = num[up != right] / (std::abs(x) + std::abs(y));
-    return kOffset[quadrant] + kSign[quadrant] * q;
-}
+// The cut loops in two versions where GCC can pick one at run time: AVX2 (four doubles a vector;
+// it does not enable fused multiply-adds, so every lane rounds as before) and the portable one.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define CUT_LOOP_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define CUT_LOOP_CLONES
+#endif
 
 // What balls 0..k-1 (centres x, y, z, squared inflated radii R2) do to the circle of centre m,
 // radius^2 rho2 in the plane of e1, e2: with w = m - c, the circle's points are inside a ball
 // where 2 rho M cos(theta - phi) < E, A = w.e1, B = w.e2, M = |(A, B)|, E = R^2 - |w|^2 - rho2
 // (phi the angle of (A, B)). One vectorised loop.
+CUT_LOOP_CLONES
 void circle_cuts(std::size_t k, const double* __restrict x, const double* __restrict y,
                  const double* __restrict z, const double* __restrict R2, const Vec3& m,
                  const Vec3& e1, const Vec3& e2, double rho2, double* __restrict A,
@@ -66,26 +60,48 @@ void circle_cuts(std::size_t k, const double* __restrict x, const double* __rest
     }
 }
 
-// The interval of pseudo-angle [from, from + len) that a ball (its A, B, E, M, cutting the
-// circle of radius rho: neither missing nor covering it) buries; len 0: none.
-void buried_interval(double A, double B, double E, double M, double rho, double& from,
-                     double& len) {
-    // Buried where cos(theta - phi) < t: from phi + open to phi - open + 2 pi, open = acos t.
-    // The ends as directions (rotations of (A, B) / M by +-open), ordered by their
-    // pseudo-angles: no trigonometry for the circles that end up buried (nine in ten).
-    const double t_cos = std::clamp(E / (2.0 * rho * M), -1.0, 1.0);
-    const double sin_open = std::sqrt(std::max(0.0, 1.0 - t_cos * t_cos));
-    const double ca = A / M, sa = B / M;
-    from = pseudo_angle(ca * t_cos - sa * sin_open, sa * t_cos + ca * sin_open);
-    const double to = pseudo_angle(ca * t_cos + sa * sin_open, sa * t_cos - ca * sin_open);
-    len = to - from;
-    if (len < 0.0) len += 4.0;
-    // At least half a turn (t >= 0) is at least 2 in pseudo-angle, less is less than 2. Past
-    // that, rounding has swapped the ends of an all but full or all but empty interval (a
-    // length near 0 or 4), or of a half turn (t near 0: the ends antipodal, a length a hair
-    // off 2); an all but empty one is dropped.
-    if (t_cos >= 0.0 && len < 2.0) len = len < 1.0 ? 4.0 : 2.0;
-    if (t_cos < 0.0 && len > 2.0) len = len > 3.0 ? 0.0 : 2.0;
+// A pseudo-angle of the direction (x, y) in [0, 4): increasing with its angle from +x like the
+// angle itself (the "diamond angle"), without trigonometry; antipodal directions differ by 2.
+// By quadrant y / (x + y), 1 - x / (y - x), 2 - y / (-x - y), 3 + x / (x - y): each
+// denominator is |x| + |y|, and offset -0, 1, 2, 3 plus q or -q the same sum (-0 + q is q).
+// Selects, so that it vectorises.
+inline double pseudo_angle(double x, double y) {
+    const bool up = y >= 0.0, right = x >= 0.0, swap = up != right;
+    const double q = (swap ? x : y) / (std::abs(x) + std::abs(y));
+    const double offset = up ? (swap ? 1.0 : -0.0) : (swap ? 3.0 : 2.0);
+    return offset + (right ? q : -q);
+}
+
+// The intervals of pseudo-angle [from, from + len) that balls 0..k-1 (their A, B, M and
+// t = E / (2 rho M), cutting the circle of radius rho: neither missing nor covering it) bury;
+// len 0: none. One vectorised loop, selects for branches.
+CUT_LOOP_CLONES
+void buried_intervals(std::size_t k, const double* __restrict A, const double* __restrict B,
+                      const double* __restrict M, const double* __restrict T,
+                      double* __restrict from, double* __restrict len) {
+    for (std::size_t p = 0; p < k; ++p) {
+        // Buried where cos(theta - phi) < t: from phi + open to phi - open + 2 pi, open = acos t.
+        // The ends as directions (rotations of (A, B) / M by +-open), ordered by their
+        // pseudo-angles: no trigonometry for the circles that end up buried (nine in ten).
+        // std::clamp and std::max as selects on values (the same results), which vectorise.
+        const double t_lo = T[p] < -1.0 ? -1.0 : T[p];
+        const double t_cos = 1.0 < t_lo ? 1.0 : t_lo;
+        const double s2 = 1.0 - t_cos * t_cos;
+        const double sin_open = std::sqrt(0.0 < s2 ? s2 : 0.0);
+        const double ca = A[p] / M[p], sa = B[p] / M[p];
+        const double f = pseudo_angle(ca * t_cos - sa * sin_open, sa * t_cos + ca * sin_open);
+        const double to = pseudo_angle(ca * t_cos + sa * sin_open, sa * t_cos - ca * sin_open);
+        double l = to - f;
+        l = l < 0.0 ? l + 4.0 : l;
+        // At least half a turn (t >= 0) is at least 2 in pseudo-angle, less is less than 2. Past
+        // that, rounding has swapped the ends of an all but full or all but empty interval (a
+        // length near 0 or 4), or of a half turn (t near 0: the ends antipodal, a length a hair
+        // off 2); an all but empty one is dropped.
+        const double long_fix = l < 1.0 ? 4.0 : 2.0, short_fix = l > 3.0 ? 0.0 : 2.0;
+        l = t_cos >= 0.0 ? (l < 2.0 ? long_fix : l) : (l > 2.0 ? short_fix : l);
+        from[p] = f;
+        len[p] = l;
+    }
 }
 
 // The angle in [0, 2 pi) of the direction whose pseudo-angle is p (in [0, 4)).
@@ -161,7 +177,15 @@ void exposed_parts(const std::vector<Interval>& buried, std::vector<Interval>& c
             cuts.push_back({0.0, s + len - kTurn});
         }
     }
-    std::sort(cuts.begin(), cuts.end());
+    // By start only, by insertion (a circle has some twenty cuts): within one start the first
+    // cut makes any gap and every one after it starts at or before the cursor, which ends at
+    // their largest end, so their order does not change the gaps.
+    for (std::size_t c = 1; c < cuts.size(); ++c) {
+        const Interval cut = cuts[c];
+        std::size_t d = c;
+        for (; d > 0 && cut.first < cuts[d - 1].first; --d) cuts[d] = cuts[d - 1];
+        cuts[d] = cut;
+    }
     gaps.clear();  // [a, b]
     double cursor = 0.0;
     for (auto [a, b] : cuts) {
@@ -450,26 +474,32 @@ struct FeatureBuilder {
         std::vector<double> x, y, z, R2;            // centres, squared inflated radii
         std::vector<std::uint32_t> atom;            // atom indices
         std::vector<double> A, B, E, M;             // by row entry, for the current circle
-        std::vector<std::uint32_t> cutting, which;  // the balls that cut it, and in depth order
+        std::vector<std::uint32_t> cutting;         // the balls that cut it
         std::vector<std::uint8_t> depth;            // their depth classes
-        std::vector<double> from, len;              // their buried intervals
+        std::vector<double> t;                      // their E / 2 rho M
+        std::vector<double> sA, sB, sM, sT;         // their A, B, M, t in depth order
+        std::vector<double> from, len;              // their buried intervals, in depth order
         std::size_t size = 0;
         void resize(std::size_t k) {
             size = k;
             if (atom.size() >= k) return;
-            for (auto* v : {&x, &y, &z, &R2, &A, &B, &E, &M, &from, &len}) v->resize(k);
-            for (auto* v : {&atom, &cutting, &which}) v->resize(k);
+            for (auto* v : {&x, &y, &z, &R2, &A, &B, &E, &M, &t, &sA, &sB, &sM, &sT, &from, &len})
+                v->resize(k);
+            for (auto* v : {&atom, &cutting}) v->resize(k);
             depth.resize(k);
         }
     };
+
+    // Cutting balls' intervals computed at once before the cover bins see them.
+    static constexpr std::size_t kIntervalBlock = 8;
 
     // Whether the neighbours of i other than row entry q (ball j) bury the circle whole; else
     // the buried intervals of pseudo-angle into `buried`. The ball that buried the last circle
     // of i whole often buries the next (`last_burier`, a row entry): tried first (two circles in
     // five are buried by one ball). Then every ball's cut in one vectorised loop, and the
-    // cutting balls' intervals, the deeper first, into the cover bins until they are full. The
-    // verdict and the intervals depend on the set of balls, not on the order they are tried in
-    // (exposed_parts sorts them).
+    // cutting balls' intervals, the deeper first, a block at a time, into the cover bins until
+    // they are full. The verdict and the intervals depend on the set of balls, not on the order
+    // they are tried in (exposed_parts sorts them).
     static bool buried_whole(const Circle& circle, std::size_t q, std::size_t& last_burier,
                              Row& row, std::vector<Interval>& buried) {
         const double two_rho = 2.0 * circle.rho, minus_two_rho = -2.0 * circle.rho;
@@ -510,24 +540,35 @@ struct FeatureBuilder {
         // kDepths classes): a few bury most circles.
         constexpr int kDepths = 8;
         std::uint8_t* depth = row.depth.data();
-        std::uint32_t* which = row.which.data();
+        double* t = row.t.data();
         std::uint32_t first[kDepths + 1] = {};
         for (std::size_t h = 0; h < n_cut; ++h) {
             const std::uint32_t p = cutting[h];
-            const double t = E[p] / (two_rho * M[p]);
-            const int c = std::clamp(static_cast<int>((1.0 - t) * (0.5 * kDepths)), 0, kDepths - 1);
+            t[h] = E[p] / (two_rho * M[p]);
+            const int c =
+                std::clamp(static_cast<int>((1.0 - t[h]) * (0.5 * kDepths)), 0, kDepths - 1);
             depth[h] = static_cast<std::uint8_t>(c);
             ++first[c + 1];
         }
         for (int c = 0; c < kDepths; ++c) first[c + 1] += first[c];
-        for (std::size_t h = 0; h < n_cut; ++h) which[first[depth[h]]++] = cutting[h];
+        double* sA = row.sA.data();
+        double* sB = row.sB.data();
+        double* sM = row.sM.data();
+        double* sT = row.sT.data();
+        for (std::size_t h = 0; h < n_cut; ++h) {
+            const std::uint32_t p = cutting[h], slot = first[depth[h]]++;
+            sA[slot] = A[p], sB[slot] = B[p], sM[slot] = M[p], sT[slot] = t[h];
+        }
+        // The intervals a block at a time (one vectorised loop each), into the cover bins until
+        // they are full: most circles buried by several balls are found so within a block or two.
         double* from = row.from.data();
         double* len = row.len.data();
         CoverBins cover;
-        for (std::size_t h = 0; h < n_cut; ++h) {
-            const std::uint32_t p = which[h];
-            buried_interval(A[p], B[p], E[p], M[p], circle.rho, from[h], len[h]);
-            if (len[h] > 0.0 && cover.add(from[h], len[h])) return true;
+        for (std::size_t h0 = 0; h0 < n_cut; h0 += kIntervalBlock) {
+            const std::size_t h1 = std::min(n_cut, h0 + kIntervalBlock);
+            buried_intervals(h1 - h0, sA + h0, sB + h0, sM + h0, sT + h0, from + h0, len + h0);
+            for (std::size_t h = h0; h < h1; ++h)
+                if (len[h] > 0.0 && cover.add(from[h], len[h])) return true;
         }
         for (std::size_t h = 0; h < n_cut; ++h)
             if (len[h] > 0.0) buried.push_back({from[h], len[h]});
@@ -592,7 +633,8 @@ struct FeatureBuilder {
     struct ArcScratch {
         std::vector<Interval> buried, cuts, gaps, parts;
         Row row, kept;                          // ball i's neighbours; the cell's kept ones
-        std::vector<std::uint32_t> kept_entry;  // per row entry, its place in `kept` (or none)
+        // Per row entry, its place in `kept`; none when its circle has no point in the cell.
+        std::vector<std::uint32_t> kept_entry;
         PowerCell cell;
         std::vector<CellPlane> planes;
         std::vector<std::uint32_t> plane_entry;  // per plane, its row entry
@@ -607,8 +649,9 @@ struct FeatureBuilder {
     // outside every other ball, so no circle of i has an exposed point; Filtered when only the
     // balls of `kept_entry` can shape the exposed part: an exposed point of circle (i, j) is on
     // j's plane and inside the others', so j is one of them, and the others bury on the sphere
-    // only what those do. Unknown (the plain cut) for a twin centre, a cap all but whole or
-    // empty, or rounding the cell gives up on.
+    // only what those do. Nor has circle (i, j) when j's face of the cell lies inside the ball
+    // (PowerCell::face_in_ball), though j is kept for the other circles. Unknown (the plain cut)
+    // for a twin centre, a cap all but whole or empty, or rounding the cell gives up on.
     CellVerdict cell_of(const Ball& bi, const std::uint32_t* nb, ArcScratch& w) const {
         const Row& row = w.row;
         w.planes.clear();
@@ -636,7 +679,7 @@ struct FeatureBuilder {
         kept.resize(w.keep.size());
         for (std::size_t k = 0; k < w.keep.size(); ++k) {
             const std::uint32_t p = w.plane_entry[w.keep[k]];
-            w.kept_entry[p] = std::uint32_t(k);
+            w.kept_entry[p] = w.cell.face_in_ball(w.keep[k]) ? kNotKept : std::uint32_t(k);
             kept.x[k] = row.x[p], kept.y[k] = row.y[p], kept.z[k] = row.z[p];
             kept.R2[k] = row.R2[p];
             kept.atom[k] = row.atom[p];

@@ -65,6 +65,35 @@ CellVerdict check_filter(PowerCell& cell, const std::vector<CellPlane>& planes,
         else wrong += buried != buried_by_kept;
     }
     EXPECT_EQ(wrong, 0u) << what;
+    // A plane whose face is inside the ball: its circle (where the plane meets the sphere) has
+    // no exposed point, 360 points of it checked.
+    if (verdict == CellVerdict::Filtered) {
+        std::size_t exposed = 0;
+        for (std::size_t j = 0; j < planes.size(); ++j) {
+            if (!cell.face_in_ball(std::uint32_t(j))) continue;
+            const Vec3& u = planes[j].u;
+            const Vec3 t = std::abs(u[0]) < 0.6 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+            Vec3 e1 = fdmsurf::detail::cross(u, t);
+            e1 = fdmsurf::detail::scale(e1, 1.0 / std::sqrt(fdmsurf::detail::dot(e1, e1)));
+            const Vec3 e2 = fdmsurf::detail::cross(u, e1);
+            const double rho = std::sqrt(1.0 - planes[j].h * planes[j].h);
+            for (int a = 0; a < 360; ++a) {
+                const double theta = 2.0 * std::numbers::pi * a / 360.0;
+                Vec3 n = fdmsurf::detail::scale(u, planes[j].h);
+                n = fdmsurf::detail::add(n, fdmsurf::detail::scale(e1, rho * std::cos(theta)));
+                n = fdmsurf::detail::add(n, fdmsurf::detail::scale(e2, rho * std::sin(theta)));
+                bool near = false, buried = false;
+                for (std::size_t p = 0; p < planes.size(); ++p) {
+                    if (p == j) continue;
+                    const double d = fdmsurf::detail::dot(n, planes[p].u) - planes[p].h;
+                    near = near || std::abs(d) < margin;
+                    buried = buried || d > 0.0;
+                }
+                exposed += !near && !buried;
+            }
+        }
+        EXPECT_EQ(exposed, 0u) << what << ": exposed points on circles of faces inside the ball";
+    }
     return verdict;
 }
 
@@ -229,3 +258,19 @@ TEST(PowerCell, EveryExposedCrossingIsOnAnEdgeHandedOn) {
     EXPECT_GT(checked, 500);
 }
 
+// A box of planes |y|, |z| <= 0.2 capped by x <= 0.3: the face x = 0.3 lies inside the ball (its
+// corners 0.41 from the centre), so its circle is buried though the plane is kept; the side
+// faces run out of the ball and are not inside it.
+TEST(PowerCell, AFaceInsideTheBallIsFlagged) {
+    const std::vector<CellPlane> planes = {plane({1, 0, 0}, 0.3), plane({0, 1, 0}, 0.2),
+                                           plane({0, -1, 0}, 0.2), plane({0, 0, 1}, 0.2),
+                                           plane({0, 0, -1}, 0.2)};
+    PowerCell cell;
+    std::size_t kept = 0;
+    const CellVerdict verdict =
+        check_filter(cell, planes, sphere_points(4000), kept, "a face inside the ball");
+    ASSERT_EQ(verdict, CellVerdict::Filtered);
+    EXPECT_EQ(kept, planes.size());
+    EXPECT_TRUE(cell.face_in_ball(0));
+    for (std::uint32_t j = 1; j < planes.size(); ++j) EXPECT_FALSE(cell.face_in_ball(j)) << j;
+}
