@@ -9,6 +9,7 @@
 #include <memory>
 #include <mutex>
 #include <numeric>
+#include <optional>
 #include <string>
 
 #include "base/parallel.hpp"
@@ -41,13 +42,6 @@ inline void prefetch(const void* p) {
 #else
     (void)p;
 #endif
-}
-
-// Is `angle` (radians) within the arc [start, start + length] (mod 2 pi)?
-bool on_arc(double angle, double start, double length) {
-    double rel = angle - start;
-    rel -= kTwoPi * std::floor(rel / kTwoPi);
-    return rel <= length;
 }
 
 // The first index i in [0, n) with lo + h * i >= v (float grid points; n when none), and the
@@ -186,59 +180,68 @@ struct SesHostField::ScratchPool {
 // by cross products against the ends' in-plane directions, the distance off the arc to the
 // nearer end in space (the nearer in angle, as ses_features.cpp's arc_distance takes it: the
 // chord grows with the angle), so no atan2 and no sine per point.
+//
+// Only what takes trigonometry is kept beside the stored circle: the axis and the end points
+// are recomputed where they are needed, from the same doubles by the same operations (the
+// build has no fused multiply-add), so bit for bit the values that were kept before; the
+// arc's ball is arc_ball_'s alone; the field's float copies are made per arc by its arcs step
+// (FloatArc). 80 bytes, not 240: on the 2.43 M-atom shell at 1 Å (5 M arcs) 0.8 GB fewer fresh
+// pages, on a VM where a fresh page costs more than the work on it.
 struct SesHostField::Arc {
-    // The circle (centre, in-plane basis, radius) as the features store it, in float: the double
-    // arithmetic below converts these exactly, so they serve both it and the field's row kernel
-    // (1.5 GB of arcs on the 2.43 M-atom shell at 1 Å before the double copies were dropped, on
-    // a VM where a fresh page costs more than the work on it).
-    double axis[3];
     double start_dir[2], end_dir[2];  // cos, sin of the ends' angles
-    double start_point[3], end_point[3];
-    // What the field's arcs step reads (Slab::arcs fetches it ahead, from here on):
+    // The circle (centre, in-plane basis, radius) as the features store it, in float: the double
+    // arithmetic below converts these exactly, so they serve both it and the field's row kernel.
+    float fm[3], fe1[3], fe2[3], frho;
     bool longer_than_half;  // length > pi: the test is on the complement
     // The whole circle (length float(2 pi), just above 2 pi, or rounded to it): every direction
     // is on it, as arc_distance has it; the ends' test would cut a wedge of the rounding's width.
     bool full;
-    // A ball holding the arc: up to half a turn, around its chord's midpoint with the half-chord
-    // as radius (the arc's middle is rho (1 - cos(L/2)) <= rho sin(L/2) from there); else the
-    // circle's. Widened by 1e-9 Å relative for rounding.
-    double ball[3], ball_radius;
-    // The stored circle, and float copies for the field's row kernel, positions relative to fm
-    // (the shader's precision).
-    float fm[3], fe1[3], fe2[3], frho;
-    float faxis[3], fstart_dir[2], fend_dir[2], fstart[3], fend[3];
 
     Arc() = default;  // uninitialised: filled by assignment, on all threads
     explicit Arc(const SesArc& a) {
         const double end = double(a.start) + double(a.length);
         start_dir[0] = std::cos(double(a.start)), start_dir[1] = std::sin(double(a.start));
         end_dir[0] = std::cos(end), end_dir[1] = std::sin(end);
-        const double rho = a.rho;
-        double m[3], e1[3], e2[3];
-        for (int k = 0; k < 3; ++k) {
-            m[k] = a.m[k], e1[k] = a.e1[k], e2[k] = a.e2[k];
-            start_point[k] = m[k] + rho * (start_dir[0] * e1[k] + start_dir[1] * e2[k]);
-            end_point[k] = m[k] + rho * (end_dir[0] * e1[k] + end_dir[1] * e2[k]);
-        }
-        axis[0] = e1[1] * e2[2] - e1[2] * e2[1];
-        axis[1] = e1[2] * e2[0] - e1[0] * e2[2];
-        axis[2] = e1[0] * e2[1] - e1[1] * e2[0];
+        for (int k = 0; k < 3; ++k) fm[k] = a.m[k], fe1[k] = a.e1[k], fe2[k] = a.e2[k];
+        frho = a.rho;
         longer_than_half = double(a.length) > 0.5 * kTwoPi;
         full = double(a.length) >= kTwoPi;
-        if (longer_than_half) {
-            for (int k = 0; k < 3; ++k) ball[k] = m[k];
-            ball_radius = rho;
-        } else {
-            for (int k = 0; k < 3; ++k) ball[k] = 0.5 * (start_point[k] + end_point[k]);
-            ball_radius = rho * std::sin(0.5 * double(a.length));
-        }
-        ball_radius += 1e-9 * (rho + std::abs(m[0]) + std::abs(m[1]) + std::abs(m[2]));
+    }
+
+    // The circle's axis, e1 x e2 in double.
+    void axis(double out[3]) const {
+        const double e1[3] = {fe1[0], fe1[1], fe1[2]}, e2[3] = {fe2[0], fe2[1], fe2[2]};
+        out[0] = e1[1] * e2[2] - e1[2] * e2[1];
+        out[1] = e1[2] * e2[0] - e1[0] * e2[2];
+        out[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    }
+
+    // The arc's end points, m + rho (cos t e1 + sin t e2) at its start and end angles.
+    void end_points(double start_point[3], double end_point[3]) const {
+        const double rho = frho;
         for (int k = 0; k < 3; ++k) {
-            fm[k] = a.m[k], faxis[k] = float(axis[k]), fe1[k] = a.e1[k], fe2[k] = a.e2[k];
-            fstart[k] = float(start_point[k] - m[k]), fend[k] = float(end_point[k] - m[k]);
+            const double m = fm[k], e1 = fe1[k], e2 = fe2[k];
+            start_point[k] = m + rho * (start_dir[0] * e1 + start_dir[1] * e2);
+            end_point[k] = m + rho * (end_dir[0] * e1 + end_dir[1] * e2);
         }
-        frho = a.rho;
-        for (int k = 0; k < 2; ++k) fstart_dir[k] = float(start_dir[k]), fend_dir[k] = float(end_dir[k]);
+    }
+
+    // A ball holding the arc: up to half a turn, around its chord's midpoint with the half-chord
+    // as radius (the arc's middle is rho (1 - cos(L/2)) <= rho sin(L/2) from there); else the
+    // circle's. Widened by 1e-9 Å relative for rounding. `length` the stored arc's.
+    std::array<double, 4> ball(float length) const {
+        const double m[3] = {fm[0], fm[1], fm[2]}, rho = frho;
+        std::array<double, 4> out;
+        if (longer_than_half) {
+            out = {m[0], m[1], m[2], rho};
+        } else {
+            double s[3], e[3];
+            end_points(s, e);
+            out = {0.5 * (s[0] + e[0]), 0.5 * (s[1] + e[1]), 0.5 * (s[2] + e[2]),
+                   rho * std::sin(0.5 * double(length))};
+        }
+        out[3] += 1e-9 * (rho + std::abs(m[0]) + std::abs(m[1]) + std::abs(m[2]));
+        return out;
     }
 
     // Whether the in-plane direction (a, b) lies on the arc: after its start and before its
@@ -264,6 +267,8 @@ struct SesHostField::Arc {
             for (int k = 0; k < 3; ++k) q[k] = m[k] + rho * (a * e1[k] + b * e2[k]) / r;
             return;
         }
+        double start_point[3], end_point[3];
+        end_points(start_point, end_point);
         if (r == 0.0) {
             for (int k = 0; k < 3; ++k) q[k] = start_point[k];
             return;
@@ -276,12 +281,25 @@ struct SesHostField::Arc {
         for (int k = 0; k < 3; ++k) q[k] = ds <= de ? start_point[k] : end_point[k];
     }
 
+    // The distance from p to the nearer end point.
+    double end_distance(const double p[3]) const {
+        double start_point[3], end_point[3];
+        end_points(start_point, end_point);
+        auto dist2 = [&](const double* q) {
+            const double dx = p[0] - q[0], dy = p[1] - q[1], dz = p[2] - q[2];
+            return dx * dx + dy * dy + dz * dz;
+        };
+        return std::sqrt(std::min(dist2(start_point), dist2(end_point)));
+    }
+
     // The distance from p, or `bound` when the arc is certainly not nearer.
     double distance(const double p[3], double bound) const {
         const double m[3] = {fm[0], fm[1], fm[2]}, rho = frho;
         const double e1[3] = {fe1[0], fe1[1], fe1[2]}, e2[3] = {fe2[0], fe2[1], fe2[2]};
         const double v[3] = {p[0] - m[0], p[1] - m[1], p[2] - m[2]};
-        const double height = v[0] * axis[0] + v[1] * axis[1] + v[2] * axis[2];
+        double n[3];
+        axis(n);
+        const double height = v[0] * n[0] + v[1] * n[1] + v[2] * n[2];
         if (std::abs(height) >= bound) return bound;
         const double a = v[0] * e1[0] + v[1] * e1[1] + v[2] * e1[2];
         const double b = v[0] * e2[0] + v[1] * e2[1] + v[2] * e2[2];
@@ -291,11 +309,7 @@ struct SesHostField::Arc {
             const double rr = r - rho;
             return std::sqrt(height * height + rr * rr);
         }
-        auto dist2 = [&](const double* q) {
-            const double dx = p[0] - q[0], dy = p[1] - q[1], dz = p[2] - q[2];
-            return dx * dx + dy * dy + dz * dz;
-        };
-        return std::sqrt(std::min(dist2(start_point), dist2(end_point)));
+        return end_distance(p);
     }
 
     // distance()'s values without a bound: the distance, |height| and |r - rho|. distance(p,
@@ -308,7 +322,9 @@ struct SesHostField::Arc {
         const double m[3] = {fm[0], fm[1], fm[2]}, rho = frho;
         const double e1[3] = {fe1[0], fe1[1], fe1[2]}, e2[3] = {fe2[0], fe2[1], fe2[2]};
         const double v[3] = {p[0] - m[0], p[1] - m[1], p[2] - m[2]};
-        const double height = v[0] * axis[0] + v[1] * axis[1] + v[2] * axis[2];
+        double n[3];
+        axis(n);
+        const double height = v[0] * n[0] + v[1] * n[1] + v[2] * n[2];
         const double a = v[0] * e1[0] + v[1] * e1[1] + v[2] * e1[2];
         const double b = v[0] * e2[0] + v[1] * e2[1] + v[2] * e2[2];
         const double r = std::sqrt(a * a + b * b);
@@ -316,16 +332,35 @@ struct SesHostField::Arc {
             const double rr = r - rho;
             return {std::sqrt(height * height + rr * rr), std::abs(height), std::abs(r - rho)};
         }
-        auto dist2 = [&](const double* q) {
-            const double dx = p[0] - q[0], dy = p[1] - q[1], dz = p[2] - q[2];
-            return dx * dx + dy * dy + dz * dz;
-        };
-        return {std::sqrt(std::min(dist2(start_point), dist2(end_point))), std::abs(height),
-                std::abs(r - rho)};
+        return {end_distance(p), std::abs(height), std::abs(r - rho)};
     }
 };
 
-static_assert(sizeof(SesHostField::Arc) <= 240, "an arc's bytes: every one is a fresh page's share");
+static_assert(sizeof(SesHostField::Arc) <= 80, "an arc's bytes: every one is a fresh page's share");
+
+// The field's row kernel's copy of an arc, in float, positions relative to fm (the shader's
+// precision): made by the arcs step for each arc it evaluates on some row (fewer than the arcs,
+// and once per task of planes, not per row).
+struct SesHostField::FloatArc {
+    float fm[3], fe1[3], fe2[3], frho;
+    float faxis[3], fstart_dir[2], fend_dir[2], fstart[3], fend[3];
+    bool longer_than_half, full;
+
+    explicit FloatArc(const Arc& a) {
+        double axis[3], start_point[3], end_point[3];
+        a.axis(axis);
+        a.end_points(start_point, end_point);
+        for (int k = 0; k < 3; ++k) {
+            const double m = a.fm[k];
+            fm[k] = a.fm[k], faxis[k] = float(axis[k]), fe1[k] = a.fe1[k], fe2[k] = a.fe2[k];
+            fstart[k] = float(start_point[k] - m), fend[k] = float(end_point[k] - m);
+        }
+        frho = a.frho;
+        for (int k = 0; k < 2; ++k)
+            fstart_dir[k] = float(a.start_dir[k]), fend_dir[k] = float(a.end_dir[k]);
+        longer_than_half = a.longer_than_half, full = a.full;
+    }
+};
 
 SesHostField::~SesHostField() = default;
 
@@ -333,7 +368,7 @@ void SesHostField::arc_row_distances(std::size_t arc, const float* xs, float y, 
                                      int xb, float* best) const {
     if (arc >= f_.arcs.size())
         throw Error(ErrorCode::InvalidArgument, "host SES field: no such arc");
-    arc_row(arcs_[arc], xs, y, z, xa, xb, best);
+    arc_row(FloatArc(arcs_[arc]), xs, y, z, xa, xb, best);
 }
 
 namespace {
@@ -343,7 +378,7 @@ namespace {
 // the angle test, with no branch, so that the compiler vectorises the row (four lanes on any
 // x86-64, eight where the CPU has AVX2: the same operations in each lane, no fused multiply-add).
 ROW_KERNEL_CLONES
-void arc_row_kernel(const SesHostField::Arc& arc, const float* xs, float y, float z, int xa,
+void arc_row_kernel(const SesHostField::FloatArc& arc, const float* xs, float y, float z, int xa,
                     int xb, float* best) {
     const float vy = y - arc.fm[1], vz = z - arc.fm[2];
     const float h0 = vy * arc.faxis[1] + vz * arc.faxis[2];
@@ -437,7 +472,7 @@ double arcs_result(const SesHostField::Arc* best_arc, double best, const double 
 
 }  // namespace
 
-void SesHostField::arc_row(const Arc& arc, const float* xs, float y, float z, int xa, int xb,
+void SesHostField::arc_row(const FloatArc& arc, const float* xs, float y, float z, int xa, int xb,
                            float* best) {
     arc_row_kernel(arc, xs, y, z, xa, xb, best);
 }
@@ -503,8 +538,12 @@ SesHostField::SesHostField(const SesFeatures& f, double d_max, unsigned threads)
 
     // Each arc's bounds: along axis a its points are m_a + rho A cos(theta - phi), A and phi from
     // (e1_a, e2_a); the extreme is reached where theta = phi (or phi + pi) lies on the arc, else
-    // at an end. Widened by 1e-4 Å for the float rounding of the stored arc. Chunks of arcs on
-    // all threads (their fresh pages too).
+    // at an end. Widened by 1e-4 Å for the float rounding of the stored arc. Whether phi lies on
+    // the arc is the arc's own cross-product test of the direction (e1_a, e2_a), not an atan2
+    // and the angles' test (three atan2 an arc were the step's costliest calls, three times its
+    // sines and cosines under perf on the 12-copy shell): the two can differ only for a
+    // direction at an end, within rounding, where the extreme is that end, so the bound moves by
+    // rounding, far inside the widening. Chunks of arcs on all threads (their fresh pages too).
     arcs_ = std::make_unique_for_overwrite<Arc[]>(n_arcs);
     arc_ball_ = std::make_unique_for_overwrite<std::array<double, 4>[]>(n_arcs);
     arc_box_ = std::make_unique_for_overwrite<Box[]>(n_arcs);
@@ -515,17 +554,19 @@ SesHostField::SesHostField(const SesFeatures& f, double d_max, unsigned threads)
             const SesArc& a = f.arcs[k];
             arcs_[k] = Arc(a);
             const Arc& added = arcs_[k];
-            arc_ball_[k] = {added.ball[0], added.ball[1], added.ball[2], added.ball_radius};
+            arc_ball_[k] = added.ball(a.length);
+            double start_point[3], end_point[3];
+            added.end_points(start_point, end_point);
             Box& box = arc_box_[k];
             for (int ax = 0; ax < 3; ++ax) {
                 const double e1 = a.e1[ax], e2 = a.e2[ax];
                 // The ends, m + rho (cos t e1 + sin t e2) at t = start and start + length, are
                 // the arc's own end points (the same arithmetic).
-                double lo = std::min(added.start_point[ax], added.end_point[ax]);
-                double hi = std::max(added.start_point[ax], added.end_point[ax]);
-                const double amp = std::hypot(e1, e2), phi = std::atan2(e2, e1);
-                if (on_arc(phi, a.start, a.length)) hi = a.m[ax] + a.rho * amp;
-                if (on_arc(phi + 0.5 * kTwoPi, a.start, a.length)) lo = a.m[ax] - a.rho * amp;
+                double lo = std::min(start_point[ax], end_point[ax]);
+                double hi = std::max(start_point[ax], end_point[ax]);
+                const double amp = std::hypot(e1, e2);
+                if (added.on_arc(e1, e2)) hi = a.m[ax] + a.rho * amp;
+                if (added.on_arc(-e1, -e2)) lo = a.m[ax] - a.rho * amp;
                 box.lo[ax] = static_cast<float>(lo - 1e-4);
                 box.hi[ax] = static_cast<float>(hi + 1e-4);
             }
@@ -1122,22 +1163,24 @@ struct SesHostField::Slab {
         const float* hi_z = field.arc_hi_z_.data();
         const std::uint32_t* by_z = field.arcs_by_z_.data();
         for (std::size_t j = j0; j < j1; ++j) {
-            // The arcs lie in the features' order, not by z: their boxes and rows are fetched
-            // kPrefetch arcs ahead (about a third of this step's time waited for them).
+            // The arcs lie in the features' order, not by z: their boxes, balls and rows are
+            // fetched kPrefetch arcs ahead (about a third of this step's time waited for them).
             if (j + kPrefetch < j1 && hi_z[j + kPrefetch] >= zlo) {
                 const std::uint32_t ahead = by_z[j + kPrefetch];
                 prefetch(&field.arc_box_[ahead]);
-                // The members from the flags on (the doubles before them are distance()'s).
+                prefetch(&field.arc_ball_[ahead]);
                 const char* a = reinterpret_cast<const char*>(&field.arcs_[ahead]);
-                for (std::size_t at = offsetof(Arc, longer_than_half); at < sizeof(Arc); at += 64)
-                    prefetch(a + at);
+                prefetch(a);
                 prefetch(a + sizeof(Arc) - 1);
             }
             if (hi_z[j] < zlo) continue;
             const std::uint32_t k = by_z[j];
             const Box& box = field.arc_box_[k];
-            const Arc& arc = field.arcs_[k];
-            const double reach = arc.ball_radius + d_max, reach2 = reach * reach;
+            const std::array<double, 4>& ball = field.arc_ball_[k];
+            // The kernel's float copy, made at the first row that needs it (most arcs have no
+            // waiting point in their box).
+            std::optional<FloatArc> arc;
+            const double reach = ball[3] + d_max, reach2 = reach * reach;
             const int x0 = first_at_or_above(box.lo[0] - d_max, xs[0], h, nx);
             const int x1 = last_at_or_below(box.hi[0] + d_max, xs[0], h, nx);
             const int y0 = first_at_or_above(box.lo[1] - d_max, ys[0], h, ny);
@@ -1149,14 +1192,14 @@ struct SesHostField::Slab {
             const std::uint64_t last_mask = ~std::uint64_t(0) >> (63 - (x1 & 63));
             for (std::uint32_t z = za; z < zb; ++z) {
                 if (zs[z] < box.lo[2] - d_max || zs[z] > box.hi[2] + d_max) continue;
-                const double dz = zs[z] - arc.ball[2];
+                const double dz = zs[z] - ball[2];
                 // The plane's rows that meet the ball: rem below is at most reach2 - dz * dz
                 // (rounding is monotonic), so none past the plane's chord (and its margin).
                 const double rem_z = reach2 - dz * dz;
                 if (rem_z <= 0.0) continue;
                 const double half_y = std::sqrt(rem_z);
-                const int ya = std::max(y0, first_at_or_above(arc.ball[1] - half_y, ys[0], h, ny));
-                const int yb = std::min(y1, last_at_or_below(arc.ball[1] + half_y, ys[0], h, ny));
+                const int ya = std::max(y0, first_at_or_above(ball[1] - half_y, ys[0], h, ny));
+                const int yb = std::min(y1, last_at_or_below(ball[1] + half_y, ys[0], h, ny));
                 for (int y = ya; y <= yb; ++y) {
                     // The first and last point waiting in the box's range, before any
                     // arithmetic: none in most rows (the waiting points are the reentrant ones).
@@ -1179,10 +1222,11 @@ struct SesHostField::Slab {
                     // as much farther than d_max from the arc: far above the float kernel's
                     // error (1e-4 Å), it keeps its value. A row that does not meet the ball is
                     // left out as before (its points can lie within that error of reach).
-                    const double dy = ys[y] - arc.ball[1];
+                    const double dy = ys[y] - ball[1];
                     const double rem = reach2 - dy * dy - dz * dz;
                     if (rem <= 0.0) continue;
-                    arc_row(arc, xs.data(), ys[y], zs[z], wa, wb, &arc_best[at(z, y)]);
+                    if (!arc) arc.emplace(field.arcs_[k]);
+                    arc_row(*arc, xs.data(), ys[y], zs[z], wa, wb, &arc_best[at(z, y)]);
                 }
             }
         }

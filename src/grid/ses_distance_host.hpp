@@ -60,7 +60,8 @@ public:
 
     const SesFeatures& features() const { return f_; }
 
-    struct Arc;  // an exposed arc, precomputed (ses_distance_host.cpp)
+    struct Arc;       // an exposed arc, precomputed (ses_distance_host.cpp)
+    struct FloatArc;  // its float copy for the field's row kernel
 
     // distance() for one thread's run of nearby points (the snap's vertices and their Newton
     // steps): keeps the balls of the last block of bins and the arcs of the last bin, copied
@@ -107,7 +108,7 @@ private:
     struct Slab;  // one task of evaluate: a few planes and their scratch (ses_distance_host.cpp)
     struct Scratch;
     struct ScratchPool;
-    static void arc_row(const Arc& arc, const float* xs, float y, float z, int xa, int xb,
+    static void arc_row(const FloatArc& arc, const float* xs, float y, float z, int xa, int xb,
                         float* best);
     const SesFeatures& f_;
     unsigned threads_;

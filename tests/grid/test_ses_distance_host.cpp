@@ -179,6 +179,65 @@ TEST(SesDistanceHost, EveryArcOnEveryRowGivesTheSameField) {
     EXPECT_GT(decided, 10000u);
 }
 
+// The field's row kernel takes its float copy of an arc from the arc's kept doubles (the end
+// directions) and the stored circle, recomputing the axis and the end points: the same floats,
+// bit for bit, as copies made straight from the features' arc (double cosines and sines of its
+// angles, the ends m + rho (cos e1 + sin e2), the axis e1 x e2, rounded to float), so the same
+// distances as this scalar form of the kernel, on every arc of random atoms.
+TEST(SesDistanceHost, TheRowKernelsArcIsTheStoredCirclesBitForBit) {
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<float> pos(0.0f, 8.0f), rad(1.0f, 2.0f), u(-3.0f, 3.0f);
+    Atoms atoms;
+    for (int i = 0; i < 60; ++i) {
+        atoms.xyz.insert(atoms.xyz.end(), {pos(rng) - 20.0f, pos(rng) + 35.0f, pos(rng)});
+        atoms.radius.push_back(rad(rng));
+    }
+    const auto features = build_ses_features(atoms, 1.4f);
+    ASSERT_GT(features.arcs.size(), 50u);
+    const SesHostField field(features, 3.4);
+    std::size_t checked = 0;
+    for (std::size_t k = 0; k < features.arcs.size(); ++k) {
+        const fdmsurf::detail::SesArc& a = features.arcs[k];
+        const double start = a.start, end = double(a.start) + double(a.length);
+        const double sd[2] = {std::cos(start), std::sin(start)}, ed[2] = {std::cos(end), std::sin(end)};
+        float fs[3], fe[3], fa[3];
+        for (int c = 0; c < 3; ++c) {
+            const double m = a.m[c], rho = a.rho, e1 = a.e1[c], e2 = a.e2[c];
+            fs[c] = float(m + rho * (sd[0] * e1 + sd[1] * e2) - m);
+            fe[c] = float(m + rho * (ed[0] * e1 + ed[1] * e2) - m);
+            const int c1 = (c + 1) % 3, c2 = (c + 2) % 3;
+            fa[c] = float(double(a.e1[c1]) * double(a.e2[c2]) - double(a.e1[c2]) * double(a.e2[c1]));
+        }
+        const bool longer = double(a.length) > 0.5 * 6.283185307179586,
+                   full = double(a.length) >= 6.283185307179586;
+        for (int row = 0; row < 4; ++row) {
+            const float y = a.m[1] + u(rng), z = a.m[2] + u(rng);
+            float xs[16], best[16];
+            for (int x = 0; x < 16; ++x) xs[x] = a.m[0] - 3.0f + 0.4f * float(x), best[x] = 5.0f;
+            field.arc_row_distances(k, xs, y, z, 0, 15, best);
+            for (int x = 0; x < 16; ++x) {
+                const float v[3] = {xs[x] - a.m[0], y - a.m[1], z - a.m[2]};
+                const float hh = v[0] * fa[0] + (v[1] * fa[1] + v[2] * fa[2]);
+                const float aa = v[0] * a.e1[0] + (v[1] * a.e1[1] + v[2] * a.e1[2]);
+                const float bb = v[0] * a.e2[0] + (v[1] * a.e2[1] + v[2] * a.e2[2]);
+                const float rr = std::sqrt(aa * aa + bb * bb) - a.rho;
+                const bool after = float(sd[0]) * bb - float(sd[1]) * aa >= 0.0f;
+                const bool before = aa * float(ed[1]) - bb * float(ed[0]) >= 0.0f;
+                const bool on = full || (longer ? after || before : after && before);
+                auto end2 = [&](const float* q) {
+                    const float dy = v[1] - q[1], dz = v[2] - q[2], dx = v[0] - q[0];
+                    return dx * dx + (dy * dy + dz * dz);
+                };
+                const float ds = end2(fs), de = end2(fe);
+                const float d = std::sqrt(on ? hh * hh + rr * rr : (ds < de ? ds : de));
+                EXPECT_EQ(best[x], std::min(d, 5.0f)) << "arc " << k << " x " << x;
+                ++checked;
+            }
+        }
+    }
+    EXPECT_EQ(checked, features.arcs.size() * 64);
+}
+
 TEST(SesDistanceHost, PlaneRangesAndThreadCountsGiveTheSameValues) {
     const Atoms atoms = fdmsurf::read_structure(data_path("1crn.xyzr")).atoms;
     const SurfaceOptions options{.method = SesMethod::Edt, .spacing = 0.6f};
