@@ -108,6 +108,21 @@ void near_row(const double* __restrict x, const double* __restrict y, const doub
     }
 }
 
+// The cursor's depths of its kept balls at p, a vector at a time: depth[j] = r[j] - |p - c_j|
+// where the ball holds p (|p - c_j|² < r[j]², near_row's test), -infinity elsewhere, for j in
+// [0, n); the same operations in the same order as one ball's (no fused multiply-add).
+ROW_KERNEL_CLONES
+void depth_at(const double* __restrict x, const double* __restrict y, const double* __restrict z,
+              const double* __restrict r, double px, double py, double pz, std::size_t n,
+              double* __restrict depth) {
+    for (std::size_t j = 0; j < n; ++j) {
+        const double dx = px - x[j], dy = py - y[j], dz = pz - z[j];
+        const double d = dx * dx + dy * dy + dz * dz, R = r[j];
+        const double v = R - std::sqrt(d);
+        depth[j] = d < R * R ? v : -std::numeric_limits<double>::infinity();
+    }
+}
+
 // What every task of one SesHostField::evaluate call shares: the grid's points as the shaders
 // compute them, the clamps, and where the planes go (row y of plane z at
 // out + ((z - z_begin) * ny + y) * pitch).
@@ -784,6 +799,7 @@ void SesHostField::Cursor::gather_balls(const int lo[3], const int hi[3]) {
                     ball_index_.push_back(i);
                 }
             }
+    ball_depth_.resize(ball_index_.size());
     for (int a = 0; a < 3; ++a) lo_[a] = lo[a], hi_[a] = hi[a];
 }
 
@@ -799,6 +815,11 @@ void SesHostField::Cursor::gather_arcs(std::size_t bin) {
     near_.resize(arc_index_.size());
     near_d2_.resize(arc_index_.size());
     arc_bin_ = bin;
+    // The last arc's place, for nearest_arc's first bound: the bins list their arcs in order
+    // (where one did not, the search would only miss it).
+    const auto at = std::lower_bound(arc_index_.begin(), arc_index_.end(), last_arc_);
+    last_at_ = at != arc_index_.end() && *at == last_arc_ ? std::size_t(at - arc_index_.begin())
+                                                          : kNoArc;
 }
 
 // distance()'s arc step, which ends at the first arc of the least distance, with fewer arcs
@@ -813,52 +834,93 @@ void SesHostField::Cursor::gather_arcs(std::size_t bin) {
 // to its own distance, so on reaching j it is at least the least of d_max, the distances
 // measured before j, and (above) U: where that lies above j's three values and passes j's
 // ball test, the loop takes j, and no arc after it goes below B. Else settled_ is false and
-// the caller runs the loop. Returns j's arc and `distance` B (null with settled_ true: no
-// arc near).
-const SesHostField::Arc* SesHostField::Cursor::nearest_arc(const double p[3], double d_max,
-                                                           std::size_t count, double& distance) {
+// the caller runs the loop. Returns j's place in the kept arcs and `distance` B (kNoArc with
+// settled_ true: no arc near). With the last point's arc the first, one pass over the kept
+// balls against U finds the arcs to measure, without the list of those within d_max.
+std::size_t SesHostField::Cursor::nearest_arc(const double p[3], double d_max, double& distance) {
     const SesHostField& h = field_;
     settled_ = false;
-    if (count == 0) {
-        settled_ = true;
-        return nullptr;
+    const std::size_t arcs = arc_index_.size();
+    // The first bound's arc: the last point's, where the kept list holds it and its ball comes
+    // within d_max of p (near_row's test, the same arithmetic), else the nearest ball's.
+    std::size_t first = kNoArc;
+    if (last_at_ < arcs) {
+        const std::size_t j = last_at_;
+        const double dx = p[0] - arc_x_[j], dy = p[1] - arc_y_[j], dz = p[2] - arc_z_[j];
+        const double d2 = dx * dx + dy * dy + dz * dz, reach = arc_r_[j] + d_max;
+        if (d2 < reach * reach) first = j;
     }
-    std::size_t first = count;
-    for (std::size_t j = 0; j < count; ++j)
-        if (arc_index_[near_[j]] == last_arc_) {
-            first = j;
-            break;
+    if (first == kNoArc) {
+        const std::size_t count = near_arcs(p, d_max);
+        if (count == 0) {
+            settled_ = true;
+            return kNoArc;
         }
-    if (first == count) {
         double least = std::numeric_limits<double>::infinity();
         for (std::size_t j = 0; j < count; ++j) {
             const double key = std::sqrt(near_d2_[j]) - arc_r_[near_[j]];
-            if (key < least) least = key, first = j;
+            if (key < least) least = key, first = near_[j];
         }
-        if (first == count) return nullptr;
+        if (first == kNoArc) return kNoArc;
     }
-    const Arc::Parts first_parts = h.arcs_[arc_index_[near_[first]]].distance_parts(p);
+    const Arc::Parts first_parts = h.arcs_[arc_index_[first]].distance_parts(p);
     const double bound = first_parts.distance;
-    if (!(bound < d_max)) return nullptr;
+    if (!(bound < d_max)) return kNoArc;
+    // The arcs whose balls come within the bound of p, in the kept order, a block's as bits:
+    // below d_max, the bound's test passes only arcs that the loop's (within d_max) passes too
+    // (its reach squared rounds to no more), so these are the arcs the loop measures.
     double least = std::numeric_limits<double>::infinity(), before = d_max, top = 0.0;
-    std::size_t at = count;
-    for (std::size_t j = 0; j < count; ++j) {
-        const double r = arc_r_[near_[j]] + bound;
-        if (j != first && !(near_d2_[j] < r * r)) continue;
-        const Arc::Parts parts =
-            j == first ? first_parts : h.arcs_[arc_index_[near_[j]]].distance_parts(p);
-        if (parts.distance < least) {
-            before = std::min(d_max, least);
-            least = parts.distance, at = j;
-            top = std::max({parts.distance, parts.height, parts.off_circle});
+    double at_d2 = 0.0;
+    std::size_t at = kNoArc;
+    constexpr std::size_t kBlock = 64;
+    double block_d2[kBlock];
+    std::uint64_t block_near[kBlock];
+    for (std::size_t n0 = 0; n0 < arcs; n0 += kBlock) {
+        const std::size_t n1 = std::min(n0 + kBlock, arcs);
+        near_row(&arc_x_[n0], &arc_y_[n0], &arc_z_[n0], &arc_r_[n0], bound, p[0], p[1], p[2],
+                 n1 - n0, block_d2, block_near);
+        std::uint64_t bits = 0;
+        for (std::size_t j = 0; j < n1 - n0; ++j) bits |= (block_near[j] & 1) << j;
+        if (first >= n0 && first < n1) bits |= std::uint64_t(1) << (first - n0);
+        for (; bits != 0; bits &= bits - 1) {
+            const std::size_t j = n0 + std::size_t(std::countr_zero(bits));
+            const Arc::Parts parts =
+                j == first ? first_parts : h.arcs_[arc_index_[j]].distance_parts(p);
+            if (parts.distance < least) {
+                before = std::min(d_max, least);
+                least = parts.distance, at = j, at_d2 = block_d2[j - n0];
+                top = std::max({parts.distance, parts.height, parts.off_circle});
+            }
         }
     }
     const double floor_bound = std::min(before, bound);
-    const double r = arc_r_[near_[at]] + floor_bound;
-    if (!(top < before && top <= bound && near_d2_[at] < r * r)) return nullptr;
+    const double r = arc_r_[at] + floor_bound;
+    if (!(top < before && top <= bound && at_d2 < r * r)) return kNoArc;
     settled_ = true;
     distance = least;
-    return &h.arcs_[arc_index_[near_[at]]];
+    return at;
+}
+
+// The kept arcs whose balls come within d_max of p, in the kept order (the others never reach
+// distance()'s bound test, whatever the bound): their places into near_, the squared distances
+// to their balls' centres into near_d2_; returns their count.
+std::size_t SesHostField::Cursor::near_arcs(const double p[3], double d_max) {
+    constexpr std::size_t kBlock = 64;
+    double block_d2[kBlock];
+    std::uint64_t block_near[kBlock];
+    const std::size_t arcs = arc_index_.size();
+    std::size_t count = 0;
+    for (std::size_t n0 = 0; n0 < arcs; n0 += kBlock) {
+        const std::size_t n1 = std::min(n0 + kBlock, arcs);
+        near_row(&arc_x_[n0], &arc_y_[n0], &arc_z_[n0], &arc_r_[n0], d_max, p[0], p[1], p[2],
+                 n1 - n0, block_d2, block_near);
+        for (std::size_t n = n0; n < n1; ++n) {
+            near_[count] = std::uint32_t(n);
+            near_d2_[count] = block_d2[n - n0];
+            count += std::size_t(block_near[n - n0] & 1);
+        }
+    }
+    return count;
 }
 
 // SesHostField::distance's steps on the kept copies: the balls holding p in the same order of
@@ -892,32 +954,35 @@ double SesHostField::Cursor::distance(const double p[3], double d_max, double* g
             narrow_to_cell(f, a, bin_[a], 0.0, margin, inner_lo_[a], inner_hi_[a]);
         }
     }
-    // In blocks: the balls holding p first, without a branch, then their depths in order.
-    double lb = -std::numeric_limits<double>::infinity();
+    // Every kept ball's depth, without a branch, then the greatest (four running maxima: max is
+    // exact, so their order does not matter) and the first ball of it: the loop's deepest, in
+    // the order of the bins. The loop's tie is whether a second ball has that depth (a deeper
+    // one clears it, an equal one sets it): any other ball holding p at the greatest depth.
+    const std::size_t balls = ball_index_.size();
+    double* depth = ball_depth_.data();
+    depth_at(ball_x_.data(), ball_y_.data(), ball_z_.data(), ball_r_.data(), p[0], p[1], p[2],
+             balls, depth);
+    constexpr double kNone = -std::numeric_limits<double>::infinity();
+    double most[4] = {kNone, kNone, kNone, kNone};
+    std::size_t j = 0;
+    for (; j + 4 <= balls; j += 4)
+        for (int k = 0; k < 4; ++k) most[k] = depth[j + k] > most[k] ? depth[j + k] : most[k];
+    for (; j < balls; ++j) most[0] = depth[j] > most[0] ? depth[j] : most[0];
+    const double lb = std::max(std::max(most[0], most[1]), std::max(most[2], most[3]));
+    if (!(lb > 0.0)) return ses_distance(f, p, d_max, gradient, false);
     std::uint32_t deepest = 0;
     bool tie = false;
-    constexpr std::size_t kBlock = 64;
-    std::uint32_t holding[kBlock];
-    double holding_d2[kBlock], block_d2[kBlock];
-    std::uint64_t block_near[kBlock];
-    const std::size_t balls = ball_index_.size();
-    for (std::size_t j0 = 0; j0 < balls; j0 += kBlock) {
-        const std::size_t j1 = std::min(j0 + kBlock, balls);
-        near_row(&ball_x_[j0], &ball_y_[j0], &ball_z_[j0], &ball_r_[j0], 0.0, p[0], p[1], p[2],
-                 j1 - j0, block_d2, block_near);
-        std::uint32_t count = 0;
-        for (std::size_t j = j0; j < j1; ++j) {
-            holding[count] = std::uint32_t(j);
-            holding_d2[count] = block_d2[j - j0];
-            count += std::uint32_t(block_near[j - j0] & 1);
+    for (j = 0; j < balls; ++j)
+        if (depth[j] == lb) {
+            deepest = ball_index_[j];
+            break;
         }
-        for (std::uint32_t c = 0; c < count; ++c) {
-            const double v = ball_r_[holding[c]] - std::sqrt(holding_d2[c]);
-            tie = v == lb || (tie && v < lb);
-            if (v > lb) lb = v, deepest = ball_index_[holding[c]];
+    for (++j; j < balls; ++j)
+        if (depth[j] == lb) {
+            tie = true;
+            break;
         }
-    }
-    if (!(lb > 0.0) || tie) return ses_distance(f, p, d_max, gradient, false);
+    if (tie) return ses_distance(f, p, d_max, gradient, false);
     if (lb >= d_max) {
         set_gradient(gradient, 0, 0, 0);
         return d_max;
@@ -940,33 +1005,23 @@ double SesHostField::Cursor::distance(const double p[3], double d_max, double* g
     }
     const std::size_t b = (std::size_t(bin_[2]) * f.dims[1] + bin_[1]) * f.dims[0] + bin_[0];
     if (b != arc_bin_) gather_arcs(b);
-    // The arcs whose balls come within d_max of p, in the kept order (the others never reach
-    // the bound test below, whatever the bound).
-    const std::size_t arcs = arc_index_.size();
-    std::size_t count = 0;
-    for (std::size_t n0 = 0; n0 < arcs; n0 += kBlock) {
-        const std::size_t n1 = std::min(n0 + kBlock, arcs);
-        near_row(&arc_x_[n0], &arc_y_[n0], &arc_z_[n0], &arc_r_[n0], d_max, p[0], p[1], p[2],
-                 n1 - n0, block_d2, block_near);
-        for (std::size_t n = n0; n < n1; ++n) {
-            near_[count] = std::uint32_t(n);
-            near_d2_[count] = block_d2[n - n0];
-            count += std::size_t(block_near[n - n0] & 1);
-        }
-    }
     double best = d_max;
-    const Arc* best_arc = nearest_arc(p, d_max, count, best);
-    if (best_arc == nullptr && !settled_) {
+    std::size_t best_at = nearest_arc(p, d_max, best);
+    if (best_at == kNoArc && !settled_) {
         // distance()'s rule: each arc in order against the bound so far.
-        for (std::size_t j = 0; j < count; ++j) {
-            const double r = arc_r_[near_[j]] + best;
-            if (near_d2_[j] >= r * r) continue;
-            const Arc& arc = h.arcs_[arc_index_[near_[j]]];
-            const double d = arc.distance(p, best);
-            if (d < best) best = d, best_arc = &arc;
+        const std::size_t count = near_arcs(p, d_max);
+        for (std::size_t n = 0; n < count; ++n) {
+            const double r = arc_r_[near_[n]] + best;
+            if (near_d2_[n] >= r * r) continue;
+            const double d = h.arcs_[arc_index_[near_[n]]].distance(p, best);
+            if (d < best) best = d, best_at = near_[n];
         }
     }
-    if (best_arc != nullptr) last_arc_ = std::uint32_t(best_arc - h.arcs_.get());
+    const Arc* best_arc = nullptr;
+    if (best_at != kNoArc) {
+        last_arc_ = arc_index_[best_at], last_at_ = best_at;
+        best_arc = &h.arcs_[last_arc_];
+    }
     return arcs_result(best_arc, best, p, gradient);
 }
 

@@ -73,10 +73,11 @@ public:
         double distance(const double p[3], double d_max, double* gradient = nullptr);
 
     private:
+        static constexpr std::size_t kNoArc = std::size_t(-1);
         void gather_balls(const int lo[3], const int hi[3]);
         void gather_arcs(std::size_t bin);
-        const Arc* nearest_arc(const double p[3], double d_max, std::size_t count,
-                               double& distance);
+        std::size_t nearest_arc(const double p[3], double d_max, double& distance);
+        std::size_t near_arcs(const double p[3], double d_max);
         const SesHostField& field_;
         int lo_[3] = {-1, -1, -1}, hi_[3] = {-1, -1, -1};  // the block of the balls kept
         int bin_[3] = {-1, -1, -1};                         // the last point's bin
@@ -85,13 +86,16 @@ public:
         double inner_lo_[3] = {0, 0, 0}, inner_hi_[3] = {0, 0, 0};
         std::vector<double> ball_x_, ball_y_, ball_z_, ball_r_;  // its balls, bin by bin
         std::vector<std::uint32_t> ball_index_;
+        std::vector<double> ball_depth_;  // their depths at the point (scratch)
         std::size_t arc_bin_ = std::size_t(-1);  // the bin of the arcs kept
         std::vector<double> arc_x_, arc_y_, arc_z_, arc_r_;  // their balls, in the bin's order
         std::vector<std::uint32_t> arc_index_;
         std::vector<std::uint32_t> near_;  // the arcs near the point: their places in the above
         std::vector<double> near_d2_;       // and the squared distances to their balls' centres
         std::uint32_t last_arc_ = std::uint32_t(-1);  // the arc the last point ended nearest to
-        bool settled_ = false;  // nearest_arc's answer is distance()'s (null: none within d_max)
+        std::size_t last_at_ = kNoArc;                 // its place in the kept arcs (or none)
+        // nearest_arc's answer is distance()'s (kNoArc: none within d_max).
+        bool settled_ = false;
         // burier_, one of ball burier_of_'s neighbours, held the last face of it tried.
         std::uint32_t burier_of_ = std::uint32_t(-1), burier_ = 0;
     };

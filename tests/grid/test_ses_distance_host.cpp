@@ -467,6 +467,45 @@ TEST(SesDistanceHost, CursorGivesTheSameValuesAsThePointDistance) {
     }
 }
 
+// The cursor finds the deepest ball and the loop's tie from all its balls' depths at once: on
+// the bisector planes of equal balls (two or three as deep, the reference's path), a hair off
+// them (one deeper: its face or the arcs), and where a tie lies below a deeper third ball (not
+// a tie of the deepest), against distance(), bit for bit.
+TEST(SesDistanceHost, CursorTakesTheDeepestAndItsTiesAsTheLoop) {
+    const Atoms atoms = fdmsurf_test::make_atoms({{0.0f, 0.0f, 0.0f, 1.5f},
+                                                  {3.0f, 0.0f, 0.0f, 1.5f},
+                                                  {1.5f, 2.5f, 0.0f, 1.5f},
+                                                  {1.5f, 1.0f, 2.5f, 1.5f},
+                                                  {1.5f, -1.5f, 0.0f, 1.9f}});
+    const float probe = 1.4f;
+    const auto features = build_ses_features(atoms, probe);
+    const double reach = probe + 1.0;
+    const SesHostField field(features, reach);
+    SesHostField::Cursor cursor(field);
+    std::size_t faces = 0, band = 0;
+    for (const double off : {0.0, 1e-12, -1e-9, 1e-6}) {
+        for (int yi = -16; yi <= 16; ++yi)
+            for (int zi = -16; zi <= 16; ++zi) {
+                // The plane x = 1.5 bisects the first two balls and holds the other centres
+                // (steps of 1/8 Å: exact, so the two depths are equal on it).
+                const double p[3] = {1.5 + off, 0.125 * yi, 0.125 * zi};
+                for (const double d_max : {reach, probe + 0.3}) {
+                    double g_ref[3] = {7, 7, 7}, g[3] = {9, 9, 9};
+                    const double ref = field.distance(p, d_max, g_ref);
+                    const double kept = cursor.distance(p, d_max, g);
+                    ASSERT_EQ(kept, ref) << "point " << p[0] << " " << p[1] << " " << p[2];
+                    for (int k = 0; k < 3; ++k) ASSERT_EQ(g[k], g_ref[k]) << "gradient";
+                    band += ref > 0.0 && ref < d_max;
+                    // On the plane, at a face's depth: the tie's or the fifth ball's.
+                    faces += off == 0.0 && ref > 0.0 && ref < d_max &&
+                             std::abs(ref - deepest_depth(atoms, probe, p)) < 1e-12;
+                }
+            }
+    }
+    EXPECT_GT(band, 1000u);
+    EXPECT_GT(faces, 10u);
+}
+
 // The cursor takes the last point's bins without bin_cell while a point stays more than the
 // bin margin inside them: points stepping across the bins' faces (where bin_cell's rounding
 // decides, and the block of bins p +- r_max changes with them), a hair to either side and
