@@ -1,7 +1,7 @@
 // Mesh statistics: area, signed volume, connected pieces, and the edge and vertex topology checks,
-// on all of the machine's threads (the sums are taken in a fixed order: the same figures for any
-// number of threads), piece by piece: the analysis the cavity removal shares, and its update
-// when pieces are removed.
+// on all of the machine's threads (the sums are exact integer sums, base/fixed_sum.hpp: the same
+// figures for any number of threads and any order of the triangles), piece by piece: the
+// analysis the cavity removal shares, and its update when pieces are removed.
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -180,8 +180,8 @@ CornerPlan plan_corners(const Mesh& mesh, const char* who, unsigned threads) {
 using Pieces = VertexPieces;
 constexpr Index no_piece = kNoPiece;
 
-// One chunk's contribution to one piece (sum_by_piece adds them up in chunk order): its
-// counts, and its area and volume as sums that any order of the triangles gives alike.
+// One chunk's contribution to one piece (sum_by_piece adds them up): its counts, and its area
+// and volume as sums that any order of the triangles gives alike.
 struct Partial {
     MeshStats stats;  // the counts
     FixedSum area, volume;

@@ -41,9 +41,9 @@ MeshAnalysis analyse_mesh(const Mesh& mesh, bool topology, const char* who, unsi
 // Removes the pieces q with drop[q] of `analysis` (of `mesh`): their triangles and vertices
 // (unreferenced vertices stay), keeping the order of the rest, on all threads. With `update`
 // the analysis is brought up to date: the kept pieces renumbered in order, their statistics
-// kept, and their volume (and area, with topology) summed again in the triangles' new chunks as
-// analyse_mesh would sum them, in the pass that moves the triangles; without, it no longer
-// describes the mesh. The per-vertex arrays must have their sizes (validate_attributes).
+// kept (their sums do not depend on where their triangles lie, so they are analyse_mesh's on
+// the mesh after, bit for bit) and the runs found again; without, it no longer describes the
+// mesh. The per-vertex arrays must have their sizes (validate_attributes).
 void keep_pieces(Mesh& mesh, MeshAnalysis& analysis, const std::vector<char>& drop, bool update);
 // The same, plainly: the kept vertices and triangles copied one by one, and (`update`) the
 // analysis found again on the mesh after. The reference of keep_pieces' tests.
