@@ -3,16 +3,18 @@
 // the rest in two steps of 2^-50), and integers add exactly. A mesh's area and volume summed so
 // are the same whatever the order of its triangles, so that removing some pieces leaves the
 // sums of the others as they were (mesh/mesh_stats.cpp), and they are more exact than a running
-// double sum: each term is rounded to 2^-100 at most, the total once.
+// double sum: each term is rounded to a multiple of 2^-100 at most, the total once.
 //
-// Terms of magnitude 2^49 or more, infinities and NaN are summed as doubles beside (in the order
-// given): no triangle of a molecular surface comes near.
+// Terms of magnitude 2^49 or more, infinities and NaN are summed as doubles beside, in the order
+// given: for those alone the order counts. No triangle of a molecular surface comes near.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <cstring>
+
+#include "base/cpu_features.hpp"
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <immintrin.h>
@@ -21,6 +23,7 @@
 namespace fdmsurf::detail {
 
 __extension__ typedef __int128 FixedInt;
+__extension__ typedef unsigned __int128 FixedUnsigned;
 
 class FixedSum {
 public:
@@ -40,7 +43,7 @@ public:
     // The terms x[0..n), the same as adding them one by one.
     void add(const double* x, std::size_t n) {
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-        if (avx2()) return add_avx2(x, n);
+        if (has_avx2()) return add_avx2(x, n);
 #endif
         for (std::size_t i = 0; i < n; ++i) add(x[i]);
     }
@@ -51,20 +54,43 @@ public:
         return *this;
     }
 
-    // The sum, rounded once from the exact one (twice where terms took the double path).
+    // The exact sum of the exact-path terms rounded once to the nearest double, plus the others.
     double value() const {
-        // Carries upwards, each lower level left in [0, 2^50).
-        constexpr FixedInt kMask = (FixedInt{1} << 50) - 1;
-        const FixedInt l1 = level_[1] + (level_[2] >> 50), f2 = level_[2] & kMask;
-        const FixedInt l0 = level_[0] + (l1 >> 50), f1 = l1 & kMask;
-        const double fraction = (double(f1) + double(f2) * 0x1p-50) * 0x1p-50;
-        return double(l0) + fraction + rest_;
+        // The sign first, so that the magnitude's levels carry into non-negative ones.
+        const bool negative = carried(level_[0], level_[1], level_[2]).whole < 0;
+        const Carried m = negative ? carried(-level_[0], -level_[1], -level_[2])
+                                   : carried(level_[0], level_[1], level_[2]);
+        // m.whole + m.f1 2^-50 + m.f2 2^-100, whole >= 0, f1 and f2 in [0, 2^50): as one integer
+        // where it fits in 128 bits, rounded by the conversion; else the bits below the
+        // conversion's rounding (at least 24 of them) folded into a sticky lowest bit.
+        const FixedUnsigned whole = FixedUnsigned(m.whole), f1 = FixedUnsigned(m.f1),
+                            f2 = FixedUnsigned(m.f2);
+        double magnitude;
+        if (whole < (FixedUnsigned{1} << 26))
+            magnitude = double((whole << 100) | (f1 << 50) | f2) * 0x1p-100;
+        else if (whole < (FixedUnsigned{1} << 76))
+            magnitude = double((whole << 50) | f1 | FixedUnsigned(f2 != 0)) * 0x1p-50;
+        else
+            magnitude = double(whole | FixedUnsigned((f1 | f2) != 0));
+        if (magnitude == 0.0) return 0.0 + rest_;
+        return (negative ? -magnitude : magnitude) + rest_;
     }
 
 private:
+    // Levels carried upwards: the lower two left in [0, 2^50).
+    struct Carried {
+        FixedInt whole, f1, f2;
+    };
+    static Carried carried(FixedInt l0, FixedInt l1, FixedInt l2) {
+        constexpr FixedInt kMask = (FixedInt{1} << 50) - 1;
+        l1 += l2 >> 50;  // floor division (C++20 shifts of negative values)
+        l0 += l1 >> 50;
+        return {l0, l1 & kMask, l2 & kMask};
+    }
+
     // x (|x| < 2^49) as r[0] + r[1] 2^-50 + r[2] 2^-100, each rounded to the nearest by adding
-    // and taking away 1.5 2^52 (its ulp is 1), every remainder exact; the last remainder (below
-    // 2^-101) is dropped.
+    // and taking away 1.5 2^52 (its ulp is 1), every remainder exact; the last remainder (at
+    // most 2^-101) is dropped.
     static void split(double x, std::int64_t r[3]) {
         constexpr double kMagic = 0x1.8p52;
         for (int k = 0; k < 3; ++k) {
@@ -75,14 +101,9 @@ private:
     }
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-    static bool avx2() {
-        static const bool has = __builtin_cpu_supports("avx2");
-        return has;
-    }
-
     // Four terms at a time: the same splits (the magic number's bits less its own are the
-    // nearest integer), the levels summed in 64-bit lanes for up to 2^12 terms a lane (each
-    // below 2^50 in magnitude), then into the 128-bit levels.
+    // nearest integer), the levels summed in 64-bit lanes over blocks of up to 2^12 terms (2^10
+    // a lane, each below 2^50 in magnitude), then into the 128-bit levels.
     __attribute__((target("avx2"))) void add_avx2(const double* x, std::size_t n) {
         const __m256d magic = _mm256_set1_pd(0x1.8p52), scale = _mm256_set1_pd(0x1p50);
         const __m256d limit = _mm256_set1_pd(kLimit);

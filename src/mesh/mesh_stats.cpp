@@ -19,6 +19,7 @@
 #include <immintrin.h>
 #endif
 
+#include "base/cpu_features.hpp"
 #include "base/fixed_sum.hpp"
 #include "base/parallel.hpp"
 #include "base/trace.hpp"
@@ -214,15 +215,6 @@ struct TriangleBatch {
     alignas(32) double volume[kBatch] = {};
     alignas(32) double area[kBatch] = {};
 };
-
-bool has_avx2() {
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-    static const bool avx2 = __builtin_cpu_supports("avx2");
-    return avx2;
-#else
-    return false;
-#endif
-}
 
 // triangle_volume and (with `area`) triangle_area of the batch's first n triangles, into its
 // `volume` and `area`.

@@ -97,12 +97,38 @@ TEST(FixedSum, IsNearerTheExactSumThanARunningDoubleSum) {
     EXPECT_EQ(small.value(), 0x1p-59 + 0x1p-99);
 }
 
+TEST(FixedSum, NegativeSumsAreRoundedOnceToo) {
+    // The sum is carried as a magnitude and a sign: a small negative total comes out exactly
+    // where it is a double on the grid of 2^-100, as a positive one does.
+    for (double t : {-0.1, -0x1p-60, -5e-4, -0.3, -0x1.8p-70, -123456.789}) {
+        FixedSum one;
+        one.add(t);
+        EXPECT_EQ(bits(one.value()), bits(t)) << t;
+        FixedSum around;  // the same total through cancelling terms
+        for (double v : {1.0, t, -1.0, 1e6, -1e6}) around.add(v);
+        EXPECT_EQ(bits(around.value()), bits(t)) << t;
+    }
+    FixedSum small;
+    for (double v : {3 * 0x1p-60, -1.0, 1.0, -0x1p-58}) small.add(v);
+    EXPECT_EQ(small.value(), -0x1p-60);
+}
+
 TEST(FixedSum, TermsOffTheExactPathAreStillAdded) {
-    FixedSum s;
+    // Large terms among full groups of four and near the end of a block of 4096 (the vectorised
+    // path flushes its lanes before them and starts again after): the small integers sum
+    // exactly, the large ones as doubles beside.
+    std::vector<double> x(6000);
+    for (std::size_t i = 0; i < x.size(); ++i) x[i] = double(i % 97) - 40.0;
     const double big = 3.0 * FixedSum::kLimit;
-    const double terms[] = {1.5, big, -0.25, 0.125, 7.0, 1.0, 2.0, 3.0};
-    s.add(terms, 8);  // the vectorised path meets the large term among its first four
-    EXPECT_EQ(s.value(), big + 14.375);
+    for (std::size_t at : {9u, 4095u, 5998u}) x[at] = big;
+    double small = 0.0;
+    for (std::size_t i = 0; i < x.size(); ++i)
+        if (x[i] != big) small += x[i];
+    FixedSum as_array, one_by_one;
+    as_array.add(x.data(), x.size());
+    for (double v : x) one_by_one.add(v);
+    EXPECT_EQ(as_array.value(), small + 3 * big);
+    EXPECT_EQ(bits(one_by_one.value()), bits(as_array.value()));
     FixedSum inf;
     inf.add(std::numeric_limits<double>::infinity());
     inf.add(1.0);

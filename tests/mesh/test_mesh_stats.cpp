@@ -2,11 +2,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <random>
 #include <array>
 #include <cmath>
 #include <map>
 #include <numbers>
+#include <random>
 #include <string>
 #include <utility>
 #include <vector>
@@ -288,8 +288,8 @@ TEST(MeshStats, SameFiguresOnOneThreadAndMany) {
 
 TEST(MeshStats, AreaAndVolumeAreTheSameBitsInAnyTriangleOrder) {
     // The sums do not depend on the order of the triangles (base/fixed_sum.hpp): a removal of
-    // some pieces leaves the others' figures as they were. And they are the exact sums of the
-    // triangles' terms, rounded once: a compensated long double sum agrees to a few ulps.
+    // some pieces leaves the others' figures as they were. And each piece's is the exact sum of
+    // its triangles' terms, rounded once: a compensated long double sum agrees to a few ulps.
     const fdmsurf::Mesh ses =
         fdmsurf::read_mesh_any(fdmsurf::test::data_path("1crn-ses-nanoshaper.ply.gz"));
     fdmsurf::Mesh shuffled = ses;
