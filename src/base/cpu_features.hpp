@@ -2,6 +2,14 @@
 // baseline x86-64 the library is built for (functions with __attribute__((target("avx2")))).
 #pragma once
 
+// A function compiled twice where GCC can pick one at run time: for AVX2 (which does not enable
+// fused multiply-adds, so every lane rounds as the portable version's) and the portable one.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define FDMSURF_AVX2_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define FDMSURF_AVX2_CLONES
+#endif
+
 namespace fdmsurf::detail {
 
 // Whether the CPU has AVX2 (false off x86-64 and for other compilers): asked once.

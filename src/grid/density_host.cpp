@@ -9,6 +9,7 @@
 #include <cstring>
 #include <vector>
 
+#include "base/cpu_features.hpp"
 #include "base/parallel.hpp"
 
 namespace fdmsurf::detail {
@@ -31,9 +32,7 @@ struct Candidates {
 // The least power over the candidates at the eight points (px[i], py, pz) into best[i]: the
 // shader's expression, and its min as a select. Eight lanes in GCC and Clang vector extensions
 // (two SSE vectors on any x86-64; one AVX2 vector where the CPU has it).
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-__attribute__((target_clones("avx2", "default")))
-#endif
+FDMSURF_AVX2_CLONES
 void least_powers(const float* px, float py, float pz, const Candidates& c, float* best) {
     using V8 = float __attribute__((vector_size(32)));
     V8 x, b = V8{} + 3.0e38f;

@@ -12,18 +12,13 @@
 #include <optional>
 #include <string>
 
+#include "base/cpu_features.hpp"
 #include "base/parallel.hpp"
 #include "base/trace.hpp"
 #include "fdmsurf/error.hpp"
 #include "grid/ses_distance_cpu.hpp"
 
-// The row kernels in two versions where GCC can pick one at run time: AVX2 (eight floats a vector;
-// it does not enable fused multiply-adds, so every lane rounds as before) and the portable one.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define ROW_KERNEL_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define ROW_KERNEL_CLONES
-#endif
+// The row kernels are FDMSURF_AVX2_CLONES: eight floats a vector where the CPU has AVX2.
 
 namespace fdmsurf::detail {
 
@@ -78,7 +73,7 @@ double bin_gap2(const SesFeatures& f, int a, int cell, double x, double margin, 
 // Ball i (centre x cx, radius R) in points x0 .. x1 of a row dyz² from its centre: each point's
 // depth, kept where it is the deepest (l: the depth, deep: the ball, t: whether another ties).
 // Selects, not branches: the row vectorises.
-ROW_KERNEL_CLONES
+FDMSURF_AVX2_CLONES
 void depth_row(const float* xs, float cx, float R, float dyz, std::uint32_t i, int x0, int x1,
                float* l, std::uint32_t* deep, std::uint32_t* t) {
     for (int x = x0; x <= x1; ++x) {
@@ -96,7 +91,7 @@ void depth_row(const float* xs, float cx, float R, float dyz, std::uint32_t i, i
 // The cursor's first test of each kept ball or arc, a vector at a time: d2[j] = |p - c_j|² and
 // near[j] all ones where d2[j] < (r[j] + add)² (add 0 for the balls: r + 0 is r), for j in
 // [0, n); the same operations in the same order as one point's (no fused multiply-add).
-ROW_KERNEL_CLONES
+FDMSURF_AVX2_CLONES
 void near_row(const double* __restrict x, const double* __restrict y, const double* __restrict z,
               const double* __restrict r, double add, double px, double py, double pz,
               std::size_t n, double* __restrict d2, std::uint64_t* __restrict near) {
@@ -111,7 +106,7 @@ void near_row(const double* __restrict x, const double* __restrict y, const doub
 // The cursor's depths of its kept balls at p, a vector at a time: depth[j] = r[j] - |p - c_j|
 // where the ball holds p (|p - c_j|² < r[j]², near_row's test), -infinity elsewhere, for j in
 // [0, n); the same operations in the same order as one ball's (no fused multiply-add).
-ROW_KERNEL_CLONES
+FDMSURF_AVX2_CLONES
 void depth_at(const double* __restrict x, const double* __restrict y, const double* __restrict z,
               const double* __restrict r, double px, double py, double pz, std::size_t n,
               double* __restrict depth) {
@@ -392,7 +387,7 @@ namespace {
 // float relative to the circle's centre: the on-arc distance and the nearer end's, selected by
 // the angle test, with no branch, so that the compiler vectorises the row (four lanes on any
 // x86-64, eight where the CPU has AVX2: the same operations in each lane, no fused multiply-add).
-ROW_KERNEL_CLONES
+FDMSURF_AVX2_CLONES
 void arc_row_kernel(const SesHostField::FloatArc& arc, const float* xs, float y, float z, int xa,
                     int xb, float* best) {
     const float vy = y - arc.fm[1], vz = z - arc.fm[2];

@@ -9,6 +9,7 @@
 #include <string>
 #include <utility>
 
+#include "base/cpu_features.hpp"
 #include "base/parallel.hpp"
 #include "base/power_cell.hpp"
 #include "base/trace.hpp"
@@ -29,19 +30,13 @@ Vec3 perpendicular(const Vec3& u) {
     return scale(p, 1.0 / std::sqrt(dot(p, p)));
 }
 
-// The cut loops in two versions where GCC can pick one at run time: AVX2 (four doubles a vector;
-// it does not enable fused multiply-adds, so every lane rounds as before) and the portable one.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define CUT_LOOP_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define CUT_LOOP_CLONES
-#endif
+// The cut loops are FDMSURF_AVX2_CLONES: four doubles a vector where the CPU has AVX2.
 
 // What balls 0..k-1 (centres x, y, z, squared inflated radii R2) do to the circle of centre m,
 // radius^2 rho2 in the plane of e1, e2: with w = m - c, the circle's points are inside a ball
 // where 2 rho M cos(theta - phi) < E, A = w.e1, B = w.e2, M = |(A, B)|, E = R^2 - |w|^2 - rho2
 // (phi the angle of (A, B)). One vectorised loop.
-CUT_LOOP_CLONES
+FDMSURF_AVX2_CLONES
 void circle_cuts(std::size_t k, const double* __restrict x, const double* __restrict y,
                  const double* __restrict z, const double* __restrict R2, const Vec3& m,
                  const Vec3& e1, const Vec3& e2, double rho2, double* __restrict A,
@@ -75,7 +70,7 @@ inline double pseudo_angle(double x, double y) {
 // The intervals of pseudo-angle [from, from + len) that balls 0..k-1 (their A, B, M and
 // t = E / (2 rho M), cutting the circle of radius rho: neither missing nor covering it) bury;
 // len 0: none. One vectorised loop, selects for branches.
-CUT_LOOP_CLONES
+FDMSURF_AVX2_CLONES
 void buried_intervals(std::size_t k, const double* __restrict A, const double* __restrict B,
                       const double* __restrict M, const double* __restrict T,
                       double* __restrict from, double* __restrict len) {

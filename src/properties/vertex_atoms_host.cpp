@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "base/fresh_pages.hpp"
+#include "base/cpu_features.hpp"
 #include "base/parallel.hpp"
 #include "base/trace.hpp"
 
@@ -131,9 +132,7 @@ AtomTable sort_atoms(const Atoms& atoms, const float vlo[3], const float vhi[3],
 // The least power over `count` candidates at each of `padded` (a multiple of 8) vertices, the
 // lower index on ties: vertex_atoms.comp's expression and rule, eight vertices a vector (two
 // SSE vectors on any x86-64; one AVX2 vector where the CPU has it).
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-__attribute__((target_clones("avx2", "default")))
-#endif
+FDMSURF_AVX2_CLONES
 void try_candidates(const float* vx, const float* vy, const float* vz, std::size_t padded,
                     const float* cx, const float* cy, const float* cz, const float* cr2,
                     const std::uint32_t* cidx, std::size_t count, std::uint32_t* best_atom) {
@@ -159,9 +158,7 @@ void try_candidates(const float* vx, const float* vy, const float* vz, std::size
 // For the `count` atoms at x, y, z with (r + radius_add)² r2: each one's least power over the
 // box [blo, bhi] into near[], and the least over them of their largest power over the box
 // (returned). Eight atoms a vector.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-__attribute__((target_clones("avx2", "default")))
-#endif
+FDMSURF_AVX2_CLONES
 float box_powers(const float* x, const float* y, const float* z, const float* r2,
                  std::size_t count, const float blo[3], const float bhi[3], float* near) {
     V8 lo[3], hi[3];
