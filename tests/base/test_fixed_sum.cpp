@@ -12,6 +12,8 @@
 #include <random>
 #include <vector>
 
+#include "support/compensated_sum.hpp"
+
 namespace {
 
 using fdmsurf::detail::FixedSum;
@@ -35,16 +37,10 @@ std::vector<double> mixed_terms(std::size_t n, unsigned seed) {
     return x;
 }
 
-// A compensated (Neumaier) sum in long double: within a small part of a double's ulp of the
-// exact sum of these terms.
 double reference_sum(const std::vector<double>& x) {
-    long double sum = 0.0L, c = 0.0L;
-    for (double v : x) {
-        const long double t = sum + v;
-        c += std::abs(sum) >= std::abs(static_cast<long double>(v)) ? (sum - t) + v : (v - t) + sum;
-        sum = t;
-    }
-    return static_cast<double>(sum + c);
+    fdmsurf::test::CompensatedSum sum;
+    for (double v : x) sum.add(v);
+    return sum.value();
 }
 
 double fixed_sum(const std::vector<double>& x) {

@@ -16,6 +16,7 @@
 #include "fdmsurf/mesh.hpp"
 #include "mesh/mesh_shapes.hpp"
 #include "mesh/mesh_stats_detail.hpp"
+#include "support/compensated_sum.hpp"
 #include "support/test_data.hpp"
 #include "support/mesh_checks.hpp"
 
@@ -302,12 +303,7 @@ TEST(MeshStats, AreaAndVolumeAreTheSameBitsInAnyTriangleOrder) {
     const fdmsurf::MeshStats b = fdmsurf::compute_stats(shuffled);
     EXPECT_EQ(a.area, b.area);
     EXPECT_EQ(a.volume, b.volume);
-    long double area = 0.0L, volume = 0.0L, area_c = 0.0L, volume_c = 0.0L;
-    const auto add = [](long double& sum, long double& c, long double v) {
-        const long double t = sum + v;
-        c += std::abs(sum) >= std::abs(v) ? (sum - t) + v : (v - t) + sum;
-        sum = t;
-    };
+    fdmsurf::test::CompensatedSum area, volume;
     for (std::size_t t = 0; t < ses.triangle_count(); ++t) {
         std::array<double, 3> p[3];
         for (int k = 0; k < 3; ++k)
@@ -316,15 +312,15 @@ TEST(MeshStats, AreaAndVolumeAreTheSameBitsInAnyTriangleOrder) {
         const std::array<double, 3> w{p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
         const double c0 = u[1] * w[2] - u[2] * w[1], c1 = u[2] * w[0] - u[0] * w[2],
                      c2 = u[0] * w[1] - u[1] * w[0];
-        add(area, area_c, 0.5 * std::sqrt(c0 * c0 + c1 * c1 + c2 * c2));
-        add(volume, volume_c,
+        area.add(0.5 * std::sqrt(c0 * c0 + c1 * c1 + c2 * c2));
+        volume.add(
             (p[0][0] * (p[1][1] * p[2][2] - p[1][2] * p[2][1]) +
              p[0][1] * (p[1][2] * p[2][0] - p[1][0] * p[2][2]) +
              p[0][2] * (p[1][0] * p[2][1] - p[1][1] * p[2][0])) /
                 6.0);
     }
-    EXPECT_NEAR(a.area, double(area + area_c), 4e-16 * a.area);
-    EXPECT_NEAR(a.volume, double(volume + volume_c), 4e-16 * a.volume);
+    EXPECT_NEAR(a.area, area.value(), 4e-16 * a.area);
+    EXPECT_NEAR(a.volume, volume.value(), 4e-16 * a.volume);
 }
 
 namespace fdmsurf {
