@@ -88,9 +88,11 @@ void depth_row(const float* xs, float cx, float R, float dyz, std::uint32_t i, i
     }
 }
 
-// The cursor's first test of each kept ball or arc, a vector at a time: d2[j] = |p - c_j|² and
-// near[j] all ones where d2[j] < (r[j] + add)² (add 0 for the balls: r + 0 is r), for j in
-// [0, n); the same operations in the same order as one point's (no fused multiply-add).
+// The cursor's first test of each kept arc, a vector at a time: d2[j] = |p - c_j|² and near[j]
+// all ones where d2[j] < (r[j] + add)² (c_j, r[j] the arc's ball), for j in [0, n); the same
+// operations in the same order as one point's (no fused multiply-add). Its callers take the
+// kept arcs in blocks of kNearBlock, whose results fit on the stack.
+constexpr std::size_t kNearBlock = 64;
 FDMSURF_AVX2_CLONES
 void near_row(const double* __restrict x, const double* __restrict y, const double* __restrict z,
               const double* __restrict r, double add, double px, double py, double pz,
@@ -867,11 +869,10 @@ std::size_t SesHostField::Cursor::nearest_arc(const double p[3], double d_max, d
     double least = std::numeric_limits<double>::infinity(), before = d_max, top = 0.0;
     double at_d2 = 0.0;
     std::size_t at = kNoArc;
-    constexpr std::size_t kBlock = 64;
-    double block_d2[kBlock];
-    std::uint64_t block_near[kBlock];
-    for (std::size_t n0 = 0; n0 < arcs; n0 += kBlock) {
-        const std::size_t n1 = std::min(n0 + kBlock, arcs);
+    double block_d2[kNearBlock];
+    std::uint64_t block_near[kNearBlock];
+    for (std::size_t n0 = 0; n0 < arcs; n0 += kNearBlock) {
+        const std::size_t n1 = std::min(n0 + kNearBlock, arcs);
         near_row(&arc_x_[n0], &arc_y_[n0], &arc_z_[n0], &arc_r_[n0], bound, p[0], p[1], p[2],
                  n1 - n0, block_d2, block_near);
         std::uint64_t bits = 0;
@@ -900,13 +901,12 @@ std::size_t SesHostField::Cursor::nearest_arc(const double p[3], double d_max, d
 // distance()'s bound test, whatever the bound): their places into near_, the squared distances
 // to their balls' centres into near_d2_; returns their count.
 std::size_t SesHostField::Cursor::near_arcs(const double p[3], double d_max) {
-    constexpr std::size_t kBlock = 64;
-    double block_d2[kBlock];
-    std::uint64_t block_near[kBlock];
+    double block_d2[kNearBlock];
+    std::uint64_t block_near[kNearBlock];
     const std::size_t arcs = arc_index_.size();
     std::size_t count = 0;
-    for (std::size_t n0 = 0; n0 < arcs; n0 += kBlock) {
-        const std::size_t n1 = std::min(n0 + kBlock, arcs);
+    for (std::size_t n0 = 0; n0 < arcs; n0 += kNearBlock) {
+        const std::size_t n1 = std::min(n0 + kNearBlock, arcs);
         near_row(&arc_x_[n0], &arc_y_[n0], &arc_z_[n0], &arc_r_[n0], d_max, p[0], p[1], p[2],
                  n1 - n0, block_d2, block_near);
         for (std::size_t n = n0; n < n1; ++n) {

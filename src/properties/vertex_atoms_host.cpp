@@ -15,8 +15,8 @@
 #include <memory>
 #include <vector>
 
-#include "base/fresh_pages.hpp"
 #include "base/cpu_features.hpp"
+#include "base/fresh_pages.hpp"
 #include "base/parallel.hpp"
 #include "base/trace.hpp"
 
