@@ -6,7 +6,10 @@
 #include <cstdlib>
 #include <cstring>
 #include <ctime>
+#include <unistd.h>
 #include <mutex>
+
+#include <sys/resource.h>
 
 namespace fdmsurf::detail {
 
@@ -27,6 +30,16 @@ double cpu_ms() {
     return double(t.tv_sec) * 1e3 + double(t.tv_nsec) / 1e6;
 }
 
+// The process's resident memory now, in MB (0 where /proc cannot tell).
+double resident_mb() {
+    std::FILE* f = std::fopen("/proc/self/statm", "r");
+    if (f == nullptr) return 0.0;
+    unsigned long long size = 0, resident = 0;
+    const int got = std::fscanf(f, "%llu %llu", &size, &resident);
+    std::fclose(f);
+    return got == 2 ? double(resident) * double(sysconf(_SC_PAGESIZE)) / 1e6 : 0.0;
+}
+
 }  // namespace
 
 bool trace_on() { return trace_enabled(); }
@@ -41,10 +54,15 @@ void trace(const char* what) {
     std::lock_guard<std::mutex> lock(mutex);
     const Clock::time_point now = Clock::now();
     const double cpu = cpu_ms();
-    std::fprintf(stderr, "fdmsurf: trace: %9.1f ms (+%7.1f, CPU +%7.1f) %s\n",
+    // Resident memory and the page faults so far: on a VM whose fresh pages cost more than the
+    // work on them (docs/performance.md), where a stage's memory comes from.
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    std::fprintf(stderr,
+                 "fdmsurf: trace: %9.1f ms (+%7.1f, CPU +%7.1f) rss %6.0f MB, faults %7ld %s\n",
                  std::chrono::duration<double, std::milli>(now - first).count(),
                  std::chrono::duration<double, std::milli>(now - last).count(), cpu - last_cpu,
-                 what);
+                 resident_mb(), usage.ru_minflt, what);
     last = now;
     last_cpu = cpu;
 }
