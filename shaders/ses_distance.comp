@@ -1,7 +1,8 @@
 // Exact SES field (--method edt; ALGORITHM.md §7, the closing of the atoms by the probe):
 // d(p) = distance from p to the region E outside every ball of radius R_i = r_i + r_s, signed
-// (-dist(p, balls) outside the balls), clamped to [d_min, d_max] = [r_s - 2h, r_s + 2h]. The SES
-// is d = r_s; marching cubes reads exact values only within 2h of it (grid_plan.cpp).
+// (-dist(p, balls) outside the balls), clamped to [d_min, d_max] = [r_s - b h, r_s + b h], b one
+// or two spacings (ses_band_steps, grid_plan.hpp). The SES is d = r_s; marching cubes reads exact
+// values only within 2h of it, and only within h where the snap replaces its normals.
 //
 // Inside the balls, the nearest point of E's boundary is (1) the radial projection of p onto a
 // sphere, if no other ball buries it, or (2) the nearest point of an exposed arc where two

@@ -21,8 +21,8 @@ void EngineImpl::refine(SurfaceResult& result, const Atoms& atoms, const Surface
     std::unique_ptr<SurfaceField> field;
     if (plan.exact_ses) {
         // edt: the exact distance itself, evaluated where each vertex goes (no interpolation),
-        // clamped like the grid's (plan.ses_d_max, two spacings beyond the level): the
-        // projection moves a vertex at most one spacing.
+        // clamped like the grid's (plan.ses_d_max, two spacings beyond the level with
+        // refinement: ses_band_steps): the projection moves a vertex at most one spacing.
         field = std::make_unique<SesDistanceField>(*ses, plan.iso, plan.ses_d_max);
     } else if (!plan.filtered) {
         // vdw and sas: the density T exp(-pi / sigma^2) is a function of the power distance pi,

@@ -161,6 +161,17 @@ std::string describe_atom(const Atoms& atoms, std::uint32_t i) {
     return text + " " + where;
 }
 
+}  // namespace
+
+float ses_band_steps(const SurfaceOptions& options) {
+    // Farther points only need their side, which the clamps keep; a narrower band also shrinks
+    // every box's candidates (boxes wholly beyond a clamp are not evaluated, ses_boxes.comp),
+    // the host's waiting points and the reach of its arcs and bins.
+    return options.snap && options.refine <= 0 ? 1.0f : 2.0f;
+}
+
+namespace {
+
 // The density's and the level's settings of `options` (h: the spacing, cutoff: the filter's).
 void set_field_settings(GridPlan& plan, const SurfaceOptions& options, float h, float cutoff) {
     plan.exact_ses = options.surface == SurfaceKind::Ses && options.method == SesMethod::Edt;
@@ -171,14 +182,10 @@ void set_field_settings(GridPlan& plan, const SurfaceOptions& options, float h, 
     plan.density.radius_add = options.surface == SurfaceKind::Sas ? options.probe : 0.0f;
     plan.iso = effective_level(options) * plan.density.level_t;
     if (plan.exact_ses) {
-        // Exact up to two grid steps on either side of the surface: every value the crossings
-        // and the central-difference normals read (a crossed edge's ends lie within h of the
-        // level r_s, d being 1-Lipschitz, and their neighbours within 2h). Farther points only
-        // need their side, which the clamps keep; a smaller d_max also shrinks every box's
-        // candidates, and boxes wholly beyond a clamp are not evaluated (ses_boxes.comp).
         plan.iso = options.probe;
-        plan.ses_d_min = options.probe - 2.0f * h;
-        plan.ses_d_max = options.probe + 2.0f * h;
+        const float band = ses_band_steps(options) * h;
+        plan.ses_d_min = options.probe - band;
+        plan.ses_d_max = options.probe + band;
     }
     plan.info.spacing = h;
     plan.info.cutoff = cutoff;

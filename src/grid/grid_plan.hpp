@@ -28,8 +28,8 @@ struct GridPlan {
     DensityParams density;
     float iso = 1.0f;  // iso-level of the field, absolute
     // --method edt: the field is the exact SES distance (ses_distance.comp), clamped to
-    // [ses_d_min, ses_d_max] = [probe - 2h, probe + 2h], iso = probe; not filtered, linear
-    // interpolation.
+    // [ses_d_min, ses_d_max] = [probe - b h, probe + b h] (b = ses_band_steps), iso = probe; not
+    // filtered, linear interpolation.
     bool exact_ses = false;
     float ses_d_min = 0.0f;
     float ses_d_max = 0.0f;
@@ -79,6 +79,16 @@ inline constexpr std::uint32_t kCanonicalGridSizes[] = {64, 80, 96, 112, 128, 14
 // kCanonicalGridSizes that holds every axis, unless the cube would have more than 2.5 times the
 // points and more than 96^3 (an elongated structure); 0 when none applies.
 std::uint32_t canonical_grid_size(const std::array<std::uint32_t, 3>& dims);
+
+// The exact SES's field is exact within b = ses_band_steps(options) spacings of the level r_s
+// and clamped beyond. Marching cubes' crossings read only points within one spacing of it (a
+// crossed edge's ends, d being 1-Lipschitz), its central-difference normals their neighbours,
+// within two. Where the snap follows without refinement, those normals only aim each vertex's
+// first Newton line and are then replaced by -grad d: b = 1 (the snap takes as many steps, the
+// meshes stay as close to NanoShaper's, and the field of the 12-copy shell costs a quarter
+// less: docs/performance.md). Else (the normals are the mesh's, or refinement moves vertices up
+// to a spacing) b = 2.
+float ses_band_steps(const SurfaceOptions& options);
 
 // Validates `options` (throws Error(InvalidArgument)) and places the grid around the atoms.
 GridPlan plan_grid(const Atoms& atoms, const SurfaceOptions& options);

@@ -50,7 +50,8 @@ TEST_F(SesDistanceGpu, MatchesCpuReferenceOnCrambin) {
     std::printf("  ses field: %zu points, %zu in the band, max |gpu - cpu| %.3g Å\n", r.points,
                 r.band, r.max_diff);
     EXPECT_EQ(r.bad, 0u) << "max |gpu - cpu| " << r.max_diff;
-    EXPECT_GT(r.band, r.points / 10);  // the comparison covers the surface band, not only clamps
+    EXPECT_GT(r.band, r.points / 20);  // the comparison covers the surface band (h each side) (one spacing
+                                       // each side: the snap follows), not only clamps
 }
 
 TEST_F(SesDistanceGpu, PerPointFallbackMatchesTheSharedLists) {

@@ -298,13 +298,26 @@ TEST(SesFeatures, ExactDepthTiesGiveTheSameDistanceAsEveryFace) {
     }
 }
 
+// Marching cubes on the exact SES field of `plan` (the whole grid, on the CPU reference).
+fdmsurf::Mesh ses_field_mesh(const std::vector<float>& field, const fdmsurf::detail::GridPlan& plan) {
+    const auto& d = plan.info.dims;
+    fdmsurf::detail::McParams mc;
+    for (int a = 0; a < 3; ++a) mc.origin[a] = plan.info.origin[a];
+    mc.spacing = plan.info.spacing;
+    mc.iso = plan.iso;
+    mc.z_end = d[2] - 1;
+    const fdmsurf::detail::FieldView view{field.data(), d[0], d[1], d[2], plan.pitch};
+    return fdmsurf::detail::marching_cubes_cpu(view, mc);
+}
+
 TEST(SesField, LowerClampLeavesTheMeshUnchanged) {
-    // The field is clamped to [r_s - 2h, r_s + 2h] (it was +-(r_s + 2h)): marching cubes reads
-    // the values at the ends of a crossed edge (within h of the level, d being 1-Lipschitz) and
-    // their neighbours for the normals (within 2h), so the mesh of crambin at 0.5 A is the same,
-    // positions, normals and indices, with either lower clamp.
+    // Without the snap the field is clamped to [r_s - 2h, r_s + 2h] (it was +-(r_s + 2h)):
+    // marching cubes reads the values at the ends of a crossed edge (within h of the level, d
+    // being 1-Lipschitz) and their neighbours for the normals (within 2h), so the mesh of
+    // crambin at 0.5 A is the same, positions, normals and indices, with either lower clamp.
     const Atoms atoms = fdmsurf::read_structure(data_path("1crn.xyzr")).atoms;
-    const fdmsurf::SurfaceOptions options{.method = fdmsurf::SesMethod::Edt, .spacing = 0.5f};
+    const fdmsurf::SurfaceOptions options{
+        .method = fdmsurf::SesMethod::Edt, .spacing = 0.5f, .snap = false};
     const fdmsurf::detail::GridPlan plan = fdmsurf::detail::plan_grid(atoms, options);
     ASSERT_TRUE(plan.exact_ses);
     ASSERT_FLOAT_EQ(plan.ses_d_min, options.probe - 2.0f * plan.info.spacing);
@@ -316,21 +329,42 @@ TEST(SesField, LowerClampLeavesTheMeshUnchanged) {
     std::size_t clamped = 0;
     for (std::size_t i = 0; i < tight.size(); ++i) clamped += tight[i] != old[i];
     EXPECT_GT(clamped, tight.size() / 10) << "the two clamps differ at few points";
-    auto mesh = [&](const std::vector<float>& field) {
-        const auto& d = plan.info.dims;
-        fdmsurf::detail::McParams mc;
-        for (int a = 0; a < 3; ++a) mc.origin[a] = plan.info.origin[a];
-        mc.spacing = plan.info.spacing;
-        mc.iso = plan.iso;
-        mc.z_end = d[2] - 1;
-        const fdmsurf::detail::FieldView view{field.data(), d[0], d[1], d[2], plan.pitch};
-        return fdmsurf::detail::marching_cubes_cpu(view, mc);
-    };
-    const fdmsurf::Mesh a = mesh(tight), b = mesh(old);
+    const fdmsurf::Mesh a = ses_field_mesh(tight, plan), b = ses_field_mesh(old, plan);
     EXPECT_GT(a.triangle_count(), 10000u);
     EXPECT_EQ(a.positions, b.positions);
     EXPECT_EQ(a.normals, b.normals);
     EXPECT_EQ(a.indices, b.indices);
+}
+
+TEST(SesField, WhereTheSnapFollowsOneSpacingGivesTheSameCrossings) {
+    // With the snap (and no refinement) the field is exact within one spacing of the level: the
+    // crossings read no farther, so marching cubes puts the same vertices in the same triangles
+    // as on the two-spacing field (crambin at 0.5 and 1 A); only the normals, whose central
+    // differences read clamped neighbours, differ, and the snap replaces those.
+    const Atoms atoms = fdmsurf::read_structure(data_path("1crn.xyzr")).atoms;
+    const SesFeatures f = build_ses_features(atoms, 1.4f);
+    for (const float spacing : {0.5f, 1.0f}) {
+        const fdmsurf::SurfaceOptions snapped{.method = fdmsurf::SesMethod::Edt,
+                                              .spacing = spacing};
+        fdmsurf::SurfaceOptions raw = snapped, refined = snapped;
+        raw.snap = false;
+        refined.refine = 1;
+        EXPECT_EQ(fdmsurf::detail::ses_band_steps(snapped), 1.0f);
+        EXPECT_EQ(fdmsurf::detail::ses_band_steps(raw), 2.0f);
+        EXPECT_EQ(fdmsurf::detail::ses_band_steps(refined), 2.0f);
+        const fdmsurf::detail::GridPlan narrow = fdmsurf::detail::plan_grid(atoms, snapped);
+        const fdmsurf::detail::GridPlan wide = fdmsurf::detail::plan_grid(atoms, raw);
+        ASSERT_FLOAT_EQ(narrow.ses_d_max, 1.4f + spacing);
+        ASSERT_FLOAT_EQ(narrow.ses_d_min, 1.4f - spacing);
+        ASSERT_FLOAT_EQ(wide.ses_d_max, 1.4f + 2.0f * spacing);
+        ASSERT_EQ(narrow.info.dims, wide.info.dims);
+        const fdmsurf::Mesh a = ses_field_mesh(fdmsurf::detail::ses_field_cpu(f, narrow), narrow);
+        const fdmsurf::Mesh b = ses_field_mesh(fdmsurf::detail::ses_field_cpu(f, wide), wide);
+        EXPECT_GT(a.triangle_count(), spacing < 0.75f ? 10000u : 2000u);
+        EXPECT_EQ(a.positions, b.positions);
+        EXPECT_EQ(a.indices, b.indices);
+        EXPECT_NE(a.normals, b.normals) << "no normal read a clamped neighbour";
+    }
 }
 
 TEST(SesFeatures, GradientIsTheUnitDirectionFromTheNearestPoint) {
