@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "base/fresh_pages.hpp"
 #include "base/trace.hpp"
 #include "fdmsurf/error.hpp"
 #include "fdmsurf_generated/mc_tables.hpp"
@@ -68,6 +69,14 @@ void grow_mesh_for_part(Mesh& mesh, std::size_t vertices, std::size_t indices,
         }
         trace("marching cubes: mesh arrays reserved");
     }
+    // The part's pages on all threads before resize writes them on one (fresh pages cost more
+    // than the zeros written to them: 0.9 GB of them on the 2.43 M-atom shell at 1 Å).
+    populate_pages({{mesh.positions.data() + mesh.positions.size(),
+                     (3 * v - mesh.positions.size()) * sizeof(float)},
+                    {mesh.normals.data() + mesh.normals.size(),
+                     (3 * v - mesh.normals.size()) * sizeof(float)},
+                    {mesh.indices.data() + mesh.indices.size(),
+                     (n - mesh.indices.size()) * sizeof(std::uint32_t)}});
     mesh.positions.resize(3 * v);
     mesh.normals.resize(3 * v);
     mesh.indices.resize(n);
