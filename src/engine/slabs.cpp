@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "base/fresh_pages.hpp"
 #include "engine/engine_impl.hpp"
 #include "fdmsurf/error.hpp"
 #include "engine/engine_steps.hpp"
@@ -338,7 +339,15 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
     for (std::uint32_t k = 0; k < slab.slabs; ++k) {
         const std::int64_t zc0 = std::int64_t(k) * slab.core;
         const std::int64_t zc1 = std::min<std::int64_t>(zc0 + slab.core, d[2]);
-        slab_core.resize(std::size_t(zc1 - zc0) * plane_floats);
+        const std::size_t core_floats = std::size_t(zc1 - zc0) * plane_floats;
+        if (slab_core.size() < core_floats) {
+            // Fresh pages (the first two cores, 125 MB each on the 2.43 M-atom shell at 1 Å)
+            // on all threads, before resize zeroes them on one.
+            slab_core.reserve(core_floats);
+            populate_pages({{slab_core.data() + slab_core.size(),
+                             (core_floats - slab_core.size()) * sizeof(float)}});
+        }
+        slab_core.resize(core_floats);
         fields.compute(k, slab_core);
         if (!full.empty())
             std::copy(slab_core.begin(), slab_core.end(), full.begin() + zc0 * plane_floats);

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "base/cpu_features.hpp"
+#include "base/fresh_pages.hpp"
 #include "base/parallel.hpp"
 #include "base/power_cell.hpp"
 #include "base/trace.hpp"
@@ -754,7 +755,11 @@ struct FeatureBuilder {
             f.rho_max = std::max(f.rho_max, chunk.rho_max);
             total += chunk.arcs.size();
         }
-        // The arcs' array (its fresh pages) beside the count of each bin's arcs.
+        // The arcs' array (its fresh pages, on all threads first: 210 MB on the 2.43 M-atom
+        // shell, which the resize alone took on one thread while the other counted) beside the
+        // count of each bin's arcs.
+        f.arcs.reserve(total);
+        populate_pages({{f.arcs.data(), total * sizeof(SesArc)}});
         parallel_chunks(2, threads, [&](std::size_t task) {
             if (task == 0) {
                 f.arcs.resize(total);
