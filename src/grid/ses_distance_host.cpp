@@ -8,7 +8,6 @@
 #include <limits>
 #include <memory>
 #include <mutex>
-#include <numeric>
 #include <optional>
 #include <string>
 
@@ -27,17 +26,6 @@ namespace {
 constexpr double kTwoPi = 6.283185307179586;
 // Planes per task: a ball spans about 13 planes at 0.5 Å, so each is set up about four times.
 constexpr std::uint32_t kChunkPlanes = 4;
-// Arcs ahead of the one whose rows are evaluated, whose data are fetched.
-constexpr std::size_t kPrefetch = 8;
-
-// A hint to fetch the cache line at p (nothing where the compiler has no such builtin).
-inline void prefetch(const void* p) {
-#if defined(__GNUC__)
-    __builtin_prefetch(p);
-#else
-    (void)p;
-#endif
-}
 
 // The first index i in [0, n) with lo + h * i >= v (float grid points; n when none), and the
 // last with lo + h * i <= v (-1 when none): a point range from coordinates, one spacing wider
@@ -491,36 +479,6 @@ void SesHostField::arc_row(const FloatArc& arc, const float* xs, float y, float 
 
 namespace {
 
-// Indices 0 .. count - 1 in the order of `less` (a strict total order: the result does not
-// depend on the thread count): parts sorted on all threads, then merged in pairs.
-template <class Less>
-std::vector<std::uint32_t> sorted_indices(std::size_t count, unsigned threads, Less less) {
-    std::vector<std::uint32_t> order(count);
-    std::iota(order.begin(), order.end(), 0u);
-    std::vector<std::size_t> bounds;
-    for (unsigned part = 0; part <= threads; ++part) bounds.push_back(count * part / threads);
-    parallel_chunks(threads, threads, [&](std::size_t part) {
-        std::sort(order.begin() + bounds[part], order.begin() + bounds[part + 1], less);
-    });
-    std::vector<std::uint32_t> merged(count);
-    while (bounds.size() > 2) {
-        std::vector<std::size_t> next;
-        const std::size_t pairs = (bounds.size() - 1) / 2;
-        parallel_chunks(pairs + (bounds.size() - 1) % 2, threads, [&](std::size_t k) {
-            const std::size_t lo = bounds[2 * k],
-                              mid = bounds[std::min(2 * k + 1, bounds.size() - 1)],
-                              hi = bounds[std::min(2 * k + 2, bounds.size() - 1)];
-            std::merge(order.begin() + lo, order.begin() + mid, order.begin() + mid,
-                       order.begin() + hi, merged.begin() + lo, less);
-        });
-        for (std::size_t k = 0; k < bounds.size(); k += 2) next.push_back(bounds[k]);
-        if (next.back() != count) next.push_back(count);
-        bounds = std::move(next);
-        order.swap(merged);
-    }
-    return order;
-}
-
 }  // namespace
 
 SesHostField::SesHostField(const SesFeatures& f, double d_max, unsigned threads)
@@ -529,7 +487,6 @@ SesHostField::SesHostField(const SesFeatures& f, double d_max, unsigned threads)
       reach_(d_max),
       scratch_(std::make_unique<ScratchPool>()) {
     const std::size_t n = f.sphere_count(), n_arcs = f.arcs.size();
-    const float* s = f.spheres.data();
     const std::size_t bins = f.bin_count();
     if (f.neighbour_start.size() != n + 1)
         throw Error(ErrorCode::InvalidArgument, "host SES field: features without neighbour lists");
@@ -541,12 +498,6 @@ SesHostField::SesHostField(const SesFeatures& f, double d_max, unsigned threads)
                                     std::abs(double(f.origin[a]) + double(f.bin_size) * f.dims[a]));
         bin_margin_ = std::max(bin_margin_, 1e-3 + 1e-6 * far);
     }
-
-    spheres_by_z_ = sorted_indices(n, threads_, [&](std::uint32_t a, std::uint32_t b) {
-        return s[4 * a + 2] != s[4 * b + 2] ? s[4 * a + 2] < s[4 * b + 2] : a < b;
-    });
-    sphere_z_.resize(n);
-    for (std::size_t k = 0; k < n; ++k) sphere_z_[k] = s[4 * spheres_by_z_[k] + 2];
 
     // Each arc's bounds: along axis a its points are m_a + rho A cos(theta - phi), A and phi from
     // (e1_a, e2_a); the extreme is reached where theta = phi (or phi + pi) lies on the arc, else
@@ -560,7 +511,6 @@ SesHostField::SesHostField(const SesFeatures& f, double d_max, unsigned threads)
     arc_ball_ = std::make_unique_for_overwrite<std::array<double, 4>[]>(n_arcs);
     arc_box_ = std::make_unique_for_overwrite<Box[]>(n_arcs);
     const std::size_t arc_chunks = (n_arcs + kChunk - 1) / kChunk;
-    std::vector<float> extent_z(arc_chunks, 0.0f);
     parallel_chunks(arc_chunks, threads_, [&](std::size_t chunk) {
         for (std::size_t k = chunk * kChunk; k < std::min(n_arcs, (chunk + 1) * kChunk); ++k) {
             const SesArc& a = f.arcs[k];
@@ -582,21 +532,9 @@ SesHostField::SesHostField(const SesFeatures& f, double d_max, unsigned threads)
                 box.lo[ax] = static_cast<float>(lo - 1e-4);
                 box.hi[ax] = static_cast<float>(hi + 1e-4);
             }
-            extent_z[chunk] = std::max(extent_z[chunk], box.hi[2] - box.lo[2]);
         }
     });
-    for (const float e : extent_z) arc_extent_z_ = std::max(arc_extent_z_, e);
     trace("ses host: arcs prepared");
-    arcs_by_z_ = sorted_indices(n_arcs, threads_, [&](std::uint32_t a, std::uint32_t b) {
-        return arc_box_[a].lo[2] != arc_box_[b].lo[2] ? arc_box_[a].lo[2] < arc_box_[b].lo[2]
-                                                      : a < b;
-    });
-    arc_lo_z_.resize(n_arcs);
-    arc_hi_z_.resize(n_arcs);
-    for (std::size_t k = 0; k < n_arcs; ++k) {
-        arc_lo_z_[k] = arc_box_[arcs_by_z_[k]].lo[2];
-        arc_hi_z_[k] = arc_box_[arcs_by_z_[k]].hi[2];
-    }
 
     // Each arc in every bin that its box widened by reach_ overlaps and whose box (widened by
     // bin_margin_; an outer bin's box reaching on outwards, since points beyond the bins are
@@ -616,6 +554,8 @@ SesHostField::SesHostField(const SesFeatures& f, double d_max, unsigned threads)
     auto gap2 = [&](int a, int cell, double c) {
         return bin_gap2(f, a, cell, c, bin_margin_, true);
     };
+    // The parts' first planes of bins, about as many arcs' lowest planes each (the arcs lie in
+    // their circles' bins, planes of bins in order).
     std::vector<int> part_plane(threads_ + 1, int(f.dims[2]));
     part_plane[0] = 0;
     for (unsigned part = 1; part < threads_; ++part)
@@ -623,7 +563,8 @@ SesHostField::SesHostField(const SesFeatures& f, double d_max, unsigned threads)
             n_arcs == 0
                 ? int(f.dims[2])
                 : std::max(part_plane[part - 1],
-                           bin_cell(f, 2, double(arc_lo_z_[n_arcs * part / threads_]) - reach_));
+                           bin_cell(f, 2,
+                                    double(arc_box_[n_arcs * part / threads_].lo[2]) - reach_));
     // body(k, b) for every bin b of arc k within the part's planes, arcs in order.
     auto each_bin = [&](std::size_t part, auto&& body) {
         double gap_x[64], gap_y[64];
@@ -656,7 +597,6 @@ SesHostField::SesHostField(const SesFeatures& f, double d_max, unsigned threads)
             }
         }
     };
-    trace("ses host: arcs sorted");
     bin_arc_start_.assign(bins + 1, 0);
     parallel_chunks(threads_, threads_, [&](std::size_t part) {
         each_bin(part, [&](std::size_t, std::size_t b) { ++bin_arc_start_[b + 1]; });
@@ -1068,12 +1008,14 @@ struct SesHostField::Slab {
         tie.resize(points);
         std::vector<std::uint8_t>& reached = scratch.row_reached;
         reached.assign(std::size_t(ny) * (zb - za), 0);
-        const std::vector<float>& sphere_z = field.sphere_z_;
+        // The balls whose centres can lie within r_max + reach_out of the planes: those of the
+        // planes of bins there, consecutive in the features' order (the planes' rows below skip
+        // the balls that do not reach them; a point's deepest ball and its ties do not depend
+        // on the order the balls come in).
         const float reach = field.f_.r_max + reach_out;
-        const auto first = std::lower_bound(sphere_z.begin(), sphere_z.end(), zs[za] - reach);
-        const auto last = std::upper_bound(sphere_z.begin(), sphere_z.end(), zs[zb - 1] + reach);
-        for (auto it = first; it != last; ++it) {
-            const std::uint32_t i = field.spheres_by_z_[std::size_t(it - sphere_z.begin())];
+        const auto [ball0, ball1] = field.in_planes_of_bins(
+            double(zs[za]) - reach, double(zs[zb - 1]) + reach, field.f_.sphere_start);
+        for (std::uint32_t i = ball0; i < ball1; ++i) {
             const float cx = s[4 * i], cy = s[4 * i + 1], cz = s[4 * i + 2], R = s[4 * i + 3];
             const float Rr = R + reach_out, Rr2 = Rr * Rr;
             // Each row that meets the ball takes the ball's whole x range, not its chord (the
@@ -1202,30 +1144,18 @@ struct SesHostField::Slab {
         const std::vector<float>& zs = grid.zs;
         const int nx = grid.nx, ny = grid.ny;
         const float h = grid.h, d_min = grid.d_min, d_max = grid.d_max;
-        const std::vector<float>& arc_lo_z = field.arc_lo_z_;
         std::vector<float>& arc_best = scratch.arc_best;  // d_max in the waiting points' rows
         const float zlo = zs[za] - d_max, zhi = zs[zb - 1] + d_max;
-        const auto first =
-            std::lower_bound(arc_lo_z.begin(), arc_lo_z.end(), zlo - field.arc_extent_z_);
-        const auto last = std::upper_bound(arc_lo_z.begin(), arc_lo_z.end(), zhi);
-        const std::size_t j0 = std::size_t(first - arc_lo_z.begin()),
-                          j1 = std::size_t(last - arc_lo_z.begin());
-        const float* hi_z = field.arc_hi_z_.data();
-        const std::uint32_t* by_z = field.arcs_by_z_.data();
-        for (std::size_t j = j0; j < j1; ++j) {
-            // The arcs lie in the features' order, not by z: their boxes, balls and rows are
-            // fetched kPrefetch arcs ahead (about a third of this step's time waited for them).
-            if (j + kPrefetch < j1 && hi_z[j + kPrefetch] >= zlo) {
-                const std::uint32_t ahead = by_z[j + kPrefetch];
-                prefetch(&field.arc_box_[ahead]);
-                prefetch(&field.arc_ball_[ahead]);
-                const char* a = reinterpret_cast<const char*>(&field.arcs_[ahead]);
-                prefetch(a);
-                prefetch(a + sizeof(Arc) - 1);
-            }
-            if (hi_z[j] < zlo) continue;
-            const std::uint32_t k = by_z[j];
+        // The arcs whose circles' centres can lie within rho_max of [zlo, zhi] (an arc's box
+        // lies within rho of its centre, widened by 1e-4 Å): those of the planes of bins there,
+        // consecutive in the features' order, read in it (a point's least distance does not
+        // depend on the order the arcs come in).
+        const double rho = double(field.f_.rho_max) + 1e-3;
+        const auto [k0, k1] = field.in_planes_of_bins(double(zlo) - rho, double(zhi) + rho,
+                                                      field.f_.arc_start);
+        for (std::uint32_t k = k0; k < k1; ++k) {
             const Box& box = field.arc_box_[k];
+            if (box.hi[2] < zlo || box.lo[2] > zhi) continue;
             const std::array<double, 4>& ball = field.arc_ball_[k];
             // The kernel's float copy, made at the first row that needs it (most arcs have no
             // waiting point in their box).
@@ -1294,6 +1224,14 @@ struct SesHostField::Slab {
             }
     }
 };
+
+std::pair<std::uint32_t, std::uint32_t> SesHostField::in_planes_of_bins(
+    double z_lo, double z_hi, const std::vector<std::uint32_t>& start) const {
+    // A margin for the rounding of the features' own binning of the centres.
+    const std::size_t plane = std::size_t(f_.dims[0]) * f_.dims[1];
+    const int b0 = bin_cell(f_, 2, z_lo - 1e-3), b1 = bin_cell(f_, 2, z_hi + 1e-3);
+    return {start[std::size_t(b0) * plane], start[std::size_t(b1 + 1) * plane]};
+}
 
 void SesHostField::evaluate(const GridPlan& plan, std::uint32_t z_begin, std::uint32_t z_end,
                             float* out, std::size_t pitch) const {

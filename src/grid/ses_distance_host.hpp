@@ -21,6 +21,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "grid/grid_plan.hpp"
@@ -112,19 +113,18 @@ private:
     struct Slab;  // one task of evaluate: a few planes and their scratch (ses_distance_host.cpp)
     struct Scratch;
     struct ScratchPool;
+    // The items (balls or arcs, by `start`: the features' sphere_start or arc_start) of the
+    // planes of bins that hold z in [z_lo, z_hi] (clamped to the bins, as the features bin):
+    // [first, end) in the features' order, where each plane's are consecutive.
+    std::pair<std::uint32_t, std::uint32_t> in_planes_of_bins(
+        double z_lo, double z_hi, const std::vector<std::uint32_t>& start) const;
     static void arc_row(const FloatArc& arc, const float* xs, float y, float z, int xa, int xb,
                         float* best);
     const SesFeatures& f_;
     unsigned threads_;
-    std::vector<std::uint32_t> spheres_by_z_;                  // ball indices by centre z
-    std::vector<float> sphere_z_;                              // their centres' z, ascending
     std::unique_ptr<Arc[]> arcs_;                              // f.arcs, precomputed
     std::unique_ptr<std::array<double, 4>[]> arc_ball_;        // each arc's ball: centre, radius
     std::unique_ptr<Box[]> arc_box_;                           // each arc's points' bounds
-    std::vector<std::uint32_t> arcs_by_z_;                     // arc indices by arc_box_ lo z
-    std::vector<float> arc_lo_z_;                              // ascending
-    std::vector<float> arc_hi_z_;  // arc_box_ hi z in the same order: evaluate skips without the box
-    float arc_extent_z_ = 0.0f;                                // the largest hi z - lo z
     double reach_ = 0.0;                                       // the constructor's d_max
     double bin_margin_ = 0.0;  // Å: a centre lies within this of its bin's box
     std::vector<std::uint32_t> bin_arc_start_;                 // arcs within reach_ of a bin:
