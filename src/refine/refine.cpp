@@ -558,23 +558,49 @@ ProjectOptions project_options_for_spacing(double spacing) {
 namespace {
 
 // Vertices [begin, end) in index order, or by_cell, by their cells of edge `cell` from `origin`
-// (z, then y, then x; cells below the origin count as the first).
+// (z, then y, then x; cells below the origin count as the first), in index order within a cell.
+// A chunk's vertices (marching cubes' order: a few planes) lie in a small box of cells: counted
+// into it (a stable counting sort, half the time of sorting (cell, index) pairs on the 12-copy
+// shell's snap chunks), else the pairs are sorted (the same order).
 std::vector<std::size_t> visit_order(const Mesh& mesh, std::size_t begin, std::size_t end,
                                      bool by_cell, const Vec3& origin, double cell) {
-    std::vector<std::size_t> order(end - begin);
+    const std::size_t n = end - begin;
+    std::vector<std::size_t> order(n);
     std::iota(order.begin(), order.end(), begin);
-    if (!by_cell) return order;
-    std::vector<std::pair<std::uint64_t, std::size_t>> keyed(end - begin);
-    for (std::size_t v = begin; v < end; ++v) {
-        std::uint64_t key = 0;
-        for (int a = 2; a >= 0; --a) {
-            const double t = std::floor((mesh.positions[3 * v + a] - origin[a]) / cell);
-            key = (key << 21) | std::uint64_t(std::clamp(t, 0.0, double((1 << 21) - 1)));
+    if (!by_cell || n == 0) return order;
+    constexpr double kTop = double((1 << 21) - 1);
+    std::vector<std::uint32_t> c(3 * n);  // the cells, x y z per vertex
+    std::uint32_t lo[3] = {~0u, ~0u, ~0u}, hi[3] = {0, 0, 0};
+    for (std::size_t v = 0; v < n; ++v)
+        for (int a = 0; a < 3; ++a) {
+            const double t =
+                std::floor((mesh.positions[3 * (begin + v) + a] - origin[a]) / cell);
+            const std::uint32_t k = std::uint32_t(std::clamp(t, 0.0, kTop));
+            c[3 * v + a] = k;
+            lo[a] = std::min(lo[a], k), hi[a] = std::max(hi[a], k);
         }
-        keyed[v - begin] = {key, v};
+    const std::size_t span[3] = {hi[0] - lo[0] + 1, hi[1] - lo[1] + 1, hi[2] - lo[2] + 1};
+    const double box = double(span[0]) * double(span[1]) * double(span[2]);
+    auto box_cell = [&](std::size_t v) {
+        return ((std::size_t(c[3 * v + 2] - lo[2]) * span[1] + (c[3 * v + 1] - lo[1])) *
+                    span[0] +
+                (c[3 * v] - lo[0]));
+    };
+    if (box <= 4.0 * double(n)) {
+        std::vector<std::uint32_t> first(std::size_t(box) + 1, 0);
+        for (std::size_t v = 0; v < n; ++v) ++first[box_cell(v) + 1];
+        for (std::size_t b = 0; b + 1 < first.size(); ++b) first[b + 1] += first[b];
+        for (std::size_t v = 0; v < n; ++v) order[first[box_cell(v)]++] = begin + v;
+        return order;
+    }
+    std::vector<std::pair<std::uint64_t, std::size_t>> keyed(n);
+    for (std::size_t v = 0; v < n; ++v) {
+        const std::uint64_t key = (std::uint64_t(c[3 * v + 2]) << 42) |
+                                  (std::uint64_t(c[3 * v + 1]) << 21) | c[3 * v];
+        keyed[v] = {key, begin + v};
     }
     std::sort(keyed.begin(), keyed.end());
-    for (std::size_t k = 0; k < keyed.size(); ++k) order[k] = keyed[k].second;
+    for (std::size_t k = 0; k < n; ++k) order[k] = keyed[k].second;
     return order;
 }
 
