@@ -31,9 +31,9 @@ namespace fdmsurf::detail {
 
 class SesHostField {
 public:
-    // Builds the z orders of the balls and arcs, and for distance() each bin's list of the arcs
-    // within `d_max` of it (the burial tests read the features' neighbour lists). `f` must outlive the object. threads 0:
-    // the hardware's.
+    // Prepares each arc (its ends' directions, a ball and a box holding it) and, for
+    // distance(), each bin's list of the arcs within `d_max` of it (the burial tests read the
+    // features' neighbour lists). `f` must outlive the object. threads 0: the hardware's.
     SesHostField(const SesFeatures& f, double d_max, unsigned threads = 0);
     ~SesHostField();
     SesHostField(const SesHostField&) = delete;
