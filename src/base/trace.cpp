@@ -6,10 +6,10 @@
 #include <cstdlib>
 #include <cstring>
 #include <ctime>
-#include <unistd.h>
 #include <mutex>
 
 #include <sys/resource.h>
+#include <unistd.h>
 
 namespace fdmsurf::detail {
 
@@ -54,12 +54,14 @@ void trace(const char* what) {
     std::lock_guard<std::mutex> lock(mutex);
     const Clock::time_point now = Clock::now();
     const double cpu = cpu_ms();
-    // Resident memory and the page faults so far: on a VM whose fresh pages cost more than the
-    // work on them (docs/performance.md), where a stage's memory comes from.
+    // Resident memory and the minor page faults so far (a fresh page is one): on a VM whose fresh
+    // pages cost more than the work on them (docs/performance.md), where a stage's memory comes
+    // from.
     rusage usage{};
     getrusage(RUSAGE_SELF, &usage);
     std::fprintf(stderr,
-                 "fdmsurf: trace: %9.1f ms (+%7.1f, CPU +%7.1f) rss %6.0f MB, faults %7ld %s\n",
+                 "fdmsurf: trace: %9.1f ms (+%7.1f, CPU +%7.1f) rss %6.0f MB, minor faults %7ld "
+                 "%s\n",
                  std::chrono::duration<double, std::milli>(now - first).count(),
                  std::chrono::duration<double, std::milli>(now - last).count(), cpu - last_cpu,
                  resident_mb(), usage.ru_minflt, what);

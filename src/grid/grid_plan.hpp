@@ -84,10 +84,11 @@ std::uint32_t canonical_grid_size(const std::array<std::uint32_t, 3>& dims);
 // and clamped beyond. Marching cubes' crossings read only points within one spacing of it (a
 // crossed edge's ends, d being 1-Lipschitz), its central-difference normals their neighbours,
 // within two. Where the snap follows without refinement, those normals only aim each vertex's
-// first Newton line and are then replaced by -grad d: b = 1 (the snap takes as many steps, the
-// meshes stay as close to NanoShaper's, and the field of the 12-copy shell costs a quarter
-// less: docs/performance.md). Else (the normals are the mesh's, or refinement moves vertices up
-// to a spacing) b = 2.
+// first Newton line and are then replaced by -grad d (a vertex the snap cannot project, under
+// 0.1% or a warning, keeps its own, from clamped neighbours): b = 1 (the snap takes as many
+// steps, the meshes stay as close to NanoShaper's, and the field of the 12-copy shell costs a
+// quarter less: docs/performance.md). Else (the normals are the mesh's, or refinement moves
+// vertices up to a spacing) b = 2.
 float ses_band_steps(const SurfaceOptions& options);
 
 // Validates `options` (throws Error(InvalidArgument)) and places the grid around the atoms.

@@ -477,10 +477,6 @@ void SesHostField::arc_row(const FloatArc& arc, const float* xs, float y, float 
     arc_row_kernel(arc, xs, y, z, xa, xb, best);
 }
 
-namespace {
-
-}  // namespace
-
 SesHostField::SesHostField(const SesFeatures& f, double d_max, unsigned threads)
     : f_(f),
       threads_(thread_count(threads)),
@@ -1227,9 +1223,11 @@ struct SesHostField::Slab {
 
 std::pair<std::uint32_t, std::uint32_t> SesHostField::in_planes_of_bins(
     double z_lo, double z_hi, const std::vector<std::uint32_t>& start) const {
-    // A margin for the rounding of the features' own binning of the centres.
+    // Widened by bin_margin_ (1e-3 Å and a millionth of the coordinates' size): the callers'
+    // reaches come from float values (the grid's planes, the arcs' boxes, widened by 1e-4 Å),
+    // whose rounding grows with the coordinates.
     const std::size_t plane = std::size_t(f_.dims[0]) * f_.dims[1];
-    const int b0 = bin_cell(f_, 2, z_lo - 1e-3), b1 = bin_cell(f_, 2, z_hi + 1e-3);
+    const int b0 = bin_cell(f_, 2, z_lo - bin_margin_), b1 = bin_cell(f_, 2, z_hi + bin_margin_);
     return {start[std::size_t(b0) * plane], start[std::size_t(b1 + 1) * plane]};
 }
 

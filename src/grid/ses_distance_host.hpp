@@ -114,8 +114,9 @@ private:
     struct Scratch;
     struct ScratchPool;
     // The items (balls or arcs, by `start`: the features' sphere_start or arc_start) of the
-    // planes of bins that hold z in [z_lo, z_hi] (clamped to the bins, as the features bin):
-    // [first, end) in the features' order, where each plane's are consecutive.
+    // planes of bins that hold z in [z_lo, z_hi] widened by bin_margin_ (clamped to the bins, as
+    // the features bin): [first, end) in the features' order, where the bins are z-major, so
+    // each plane's items are consecutive.
     std::pair<std::uint32_t, std::uint32_t> in_planes_of_bins(
         double z_lo, double z_hi, const std::vector<std::uint32_t>& start) const;
     static void arc_row(const FloatArc& arc, const float* xs, float y, float z, int xa, int xb,

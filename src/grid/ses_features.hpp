@@ -34,6 +34,8 @@ struct SesArc {
 static_assert(sizeof(SesArc) == 12 * sizeof(float));
 
 // Spheres and arcs sorted into cubic bins (counting sort), for the gather of each workgroup.
+// Bins are numbered z-major ((z * dims[1] + y) * dims[0] + x), so each plane of bins' spheres
+// (arcs) are one run of sphere_start (arc_start): SesHostField reads them by planes.
 struct SesFeatures {
     float r_max = 0.0f;    // largest inflated radius r + probe, Å
     float rho_max = 0.0f;  // largest arc circle radius, Å (0 without arcs)

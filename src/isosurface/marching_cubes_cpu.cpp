@@ -55,7 +55,8 @@ void grow_mesh_for_part(Mesh& mesh, std::size_t vertices, std::size_t indices,
     if (v > std::numeric_limits<std::uint32_t>::max() - 3)
         throw Error(ErrorCode::InvalidArgument,
                     "marching cubes: more than 2^32 vertices; use smaller slabs");
-    if (mesh.positions.capacity() < 3 * v || mesh.indices.capacity() < n) {
+    if (mesh.positions.capacity() < 3 * v || mesh.normals.capacity() < 3 * v ||
+        mesh.indices.capacity() < n) {
         const double scale = std::max(reserve_scale, 1.0);
         try {
             mesh.positions.reserve(std::size_t(double(3 * v) * scale));

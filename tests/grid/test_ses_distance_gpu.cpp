@@ -39,19 +39,21 @@ protected:
 
 TEST_F(SesDistanceGpu, MatchesCpuReferenceOnCrambin) {
     const Atoms atoms = fdmsurf::read_structure(data_path("1crn.xyzr")).atoms;
-    const SurfaceOptions options{.method = SesMethod::Edt, .spacing = 0.5f};
-    const GridPlan plan = plan_grid(atoms, options);
-    ASSERT_TRUE(plan.exact_ses);
-    const auto features = fdmsurf::detail::build_ses_features(atoms, options.probe);
-    const std::vector<float> cpu = fdmsurf::detail::ses_field_cpu(features, plan);
-    const std::vector<float> gpu = impl().compute_ses_field(atoms, plan, options.probe);
-    ASSERT_EQ(gpu.size(), cpu.size());
-    const FieldDiff r = compare_ses_fields(gpu, cpu, plan);
-    std::printf("  ses field: %zu points, %zu in the band, max |gpu - cpu| %.3g Å\n", r.points,
-                r.band, r.max_diff);
-    EXPECT_EQ(r.bad, 0u) << "max |gpu - cpu| " << r.max_diff;
-    EXPECT_GT(r.band, r.points / 20);  // the comparison covers the surface band (h each side) (one spacing
-                                       // each side: the snap follows), not only clamps
+    const auto features = fdmsurf::detail::build_ses_features(atoms, 1.4f);
+    // Both bands: one spacing each side where the snap follows, two without it.
+    for (const bool snap : {true, false}) {
+        const SurfaceOptions options{.method = SesMethod::Edt, .spacing = 0.5f, .snap = snap};
+        const GridPlan plan = plan_grid(atoms, options);
+        ASSERT_TRUE(plan.exact_ses);
+        const std::vector<float> cpu = fdmsurf::detail::ses_field_cpu(features, plan);
+        const std::vector<float> gpu = impl().compute_ses_field(atoms, plan, options.probe);
+        ASSERT_EQ(gpu.size(), cpu.size());
+        const FieldDiff r = compare_ses_fields(gpu, cpu, plan);
+        std::printf("  ses field (snap %d): %zu points, %zu in the band, max |gpu - cpu| %.3g Å\n",
+                    int(snap), r.points, r.band, r.max_diff);
+        EXPECT_EQ(r.bad, 0u) << "max |gpu - cpu| " << r.max_diff;
+        EXPECT_GT(r.band, r.points / (snap ? 20 : 10));  // the surface band, not only clamps
+    }
 }
 
 TEST_F(SesDistanceGpu, PerPointFallbackMatchesTheSharedLists) {

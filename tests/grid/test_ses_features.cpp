@@ -299,7 +299,8 @@ TEST(SesFeatures, ExactDepthTiesGiveTheSameDistanceAsEveryFace) {
 }
 
 // Marching cubes on the exact SES field of `plan` (the whole grid, on the CPU reference).
-fdmsurf::Mesh ses_field_mesh(const std::vector<float>& field, const fdmsurf::detail::GridPlan& plan) {
+fdmsurf::Mesh ses_field_mesh(const std::vector<float>& field,
+                             const fdmsurf::detail::GridPlan& plan) {
     const auto& d = plan.info.dims;
     fdmsurf::detail::McParams mc;
     for (int a = 0; a < 3; ++a) mc.origin[a] = plan.info.origin[a];
