@@ -18,4 +18,11 @@ struct FreshRange {
 // std::vector's elements are constructed on one thread: so that thread finds its pages there.
 void populate_pages(const std::vector<FreshRange>& ranges);
 
+// The room of `v` past its elements up to `n` of them (reserve n first: v.capacity() >= n), for
+// populate_pages before a resize to n writes it on one thread.
+template <class T>
+FreshRange room_up_to(std::vector<T>& v, std::size_t n) {
+    return {v.data() + v.size(), n > v.size() ? (n - v.size()) * sizeof(T) : 0};
+}
+
 }  // namespace fdmsurf::detail

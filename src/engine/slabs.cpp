@@ -344,8 +344,7 @@ SurfaceResult EngineImpl::run_in_slabs(const Atoms& atoms, const SurfaceOptions&
             // Fresh pages (the first two cores, 125 MB each on the 2.43 M-atom shell at 1 Å)
             // on all threads, before resize zeroes them on one.
             slab_core.reserve(core_floats);
-            populate_pages({{slab_core.data() + slab_core.size(),
-                             (core_floats - slab_core.size()) * sizeof(float)}});
+            populate_pages({room_up_to(slab_core, core_floats)});
         }
         slab_core.resize(core_floats);
         fields.compute(k, slab_core);

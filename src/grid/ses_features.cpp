@@ -759,7 +759,7 @@ struct FeatureBuilder {
         // shell, which the resize alone took on one thread while the other counted) beside the
         // count of each bin's arcs.
         f.arcs.reserve(total);
-        populate_pages({{f.arcs.data(), total * sizeof(SesArc)}});
+        populate_pages({room_up_to(f.arcs, total)});
         parallel_chunks(2, threads, [&](std::size_t task) {
             if (task == 0) {
                 f.arcs.resize(total);

@@ -72,12 +72,8 @@ void grow_mesh_for_part(Mesh& mesh, std::size_t vertices, std::size_t indices,
     }
     // The part's pages on all threads before resize writes them on one (fresh pages cost more
     // than the zeros written to them: 0.9 GB of them on the 2.43 M-atom shell at 1 Å).
-    populate_pages({{mesh.positions.data() + mesh.positions.size(),
-                     (3 * v - mesh.positions.size()) * sizeof(float)},
-                    {mesh.normals.data() + mesh.normals.size(),
-                     (3 * v - mesh.normals.size()) * sizeof(float)},
-                    {mesh.indices.data() + mesh.indices.size(),
-                     (n - mesh.indices.size()) * sizeof(std::uint32_t)}});
+    populate_pages({room_up_to(mesh.positions, 3 * v), room_up_to(mesh.normals, 3 * v),
+                    room_up_to(mesh.indices, n)});
     mesh.positions.resize(3 * v);
     mesh.normals.resize(3 * v);
     mesh.indices.resize(n);
