@@ -112,6 +112,13 @@ std::uint32_t r2c_axis_size(std::uint32_t n) {
     return n;
 }
 
+float ses_band_steps(const SurfaceOptions& options) {
+    // Farther points only need their side, which the clamps keep; a narrower band also shrinks
+    // every box's candidates (boxes wholly beyond a clamp are not evaluated, ses_boxes.comp),
+    // the host's waiting points and the reach of its arcs and bins.
+    return options.snap && options.refine <= 0 ? 1.0f : 2.0f;
+}
+
 std::uint32_t canonical_grid_size(const std::array<std::uint32_t, 3>& dims) {
     const std::uint32_t largest = std::max({dims[0], dims[1], dims[2]});
     for (std::uint32_t c : kCanonicalGridSizes) {
@@ -160,17 +167,6 @@ std::string describe_atom(const Atoms& atoms, std::uint32_t i) {
     }
     return text + " " + where;
 }
-
-}  // namespace
-
-float ses_band_steps(const SurfaceOptions& options) {
-    // Farther points only need their side, which the clamps keep; a narrower band also shrinks
-    // every box's candidates (boxes wholly beyond a clamp are not evaluated, ses_boxes.comp),
-    // the host's waiting points and the reach of its arcs and bins.
-    return options.snap && options.refine <= 0 ? 1.0f : 2.0f;
-}
-
-namespace {
 
 // The density's and the level's settings of `options` (h: the spacing, cutoff: the filter's).
 void set_field_settings(GridPlan& plan, const SurfaceOptions& options, float h, float cutoff) {
