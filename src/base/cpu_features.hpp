@@ -10,6 +10,15 @@
 #define FDMSURF_AVX2_CLONES
 #endif
 
+// A function compiled twice for the POPCNT instruction and without it: std::popcount is a call
+// into libgcc on the baseline x86-64 (marching cubes' vertex lookups make hundreds of millions).
+// The floating-point code is the same in both (no wider vectors, no fused multiply-adds).
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define FDMSURF_POPCNT_CLONES __attribute__((target_clones("popcnt", "default")))
+#else
+#define FDMSURF_POPCNT_CLONES
+#endif
+
 namespace fdmsurf::detail {
 
 // Whether the CPU has AVX2 (false off x86-64 and for other compilers): asked once.

@@ -10,6 +10,7 @@
 #include <bit>
 #include <limits>
 
+#include "base/cpu_features.hpp"
 #include "base/parallel.hpp"
 #include "fdmsurf/error.hpp"
 #include "fdmsurf_generated/mc_tables.hpp"
@@ -88,7 +89,7 @@ struct BitMarcher {
     // The cells of row (y, zi) whose corners are not all on one side, one word at a time;
     // body(k, j, cube) for each, in x order.
     template <class Body>
-    void for_cells(std::size_t zi, std::uint32_t y, const Body& body) const {
+    [[gnu::always_inline]] inline void for_cells(std::size_t zi, std::uint32_t y, const Body& body) const {
         const Word* r[4] = {&inside[row_of(zi, y) * words], &inside[row_of(zi, y + 1) * words],
                             &inside[row_of(zi + 1, y) * words],
                             &inside[row_of(zi + 1, y + 1) * words]};
@@ -121,31 +122,33 @@ struct BitMarcher {
         before.resize(rows * words);
         first_vertex.assign(rows + 1, 0);
         first_triangle.assign(rows + 1, 0);
-        parallel_chunks(planes, threads, [&](std::size_t zi) {
-            for (std::uint32_t y = 0; y < ny; ++y) {
-                const std::size_t row = row_of(zi, y);
-                const Word* b = &inside[row * words];
-                std::uint32_t count = 0;
-                for (std::size_t k = 0; k < words; ++k) {
-                    const std::size_t i = row * words + k;
-                    cross_x[i] =
-                        (b[k] ^ next_bits(b[k], k + 1 < words ? b[k + 1] & 1 : 0)) & below_last(k);
-                    cross_y[i] = y + 1 < ny ? b[k] ^ inside[row_of(zi, y + 1) * words + k] : 0;
-                    cross_z[i] = zi + 1 < planes ? b[k] ^ inside[row_of(zi + 1, y) * words + k] : 0;
-                    before[i] = count;
-                    count += std::uint32_t(std::popcount(cross_x[i]) + std::popcount(cross_y[i]) +
-                                           std::popcount(cross_z[i]));
-                }
-                first_vertex[row + 1] = count;
-                std::uint64_t triangles = 0;
-                if (zi + 1 < planes && y + 1 < ny) {
-                    for_cells(zi, y, [&](std::size_t, int, unsigned cube) {
-                        triangles += mc::kTriCount[cube];
-                    });
-                }
-                first_triangle[row + 1] = triangles;
+        parallel_chunks(planes, threads, [&](std::size_t zi) { count_plane(zi); });
+    }
+
+    FDMSURF_POPCNT_CLONES void count_plane(std::size_t zi) {
+        for (std::uint32_t y = 0; y < ny; ++y) {
+            const std::size_t row = row_of(zi, y);
+            const Word* b = &inside[row * words];
+            std::uint32_t count = 0;
+            for (std::size_t k = 0; k < words; ++k) {
+                const std::size_t i = row * words + k;
+                cross_x[i] =
+                    (b[k] ^ next_bits(b[k], k + 1 < words ? b[k + 1] & 1 : 0)) & below_last(k);
+                cross_y[i] = y + 1 < ny ? b[k] ^ inside[row_of(zi, y + 1) * words + k] : 0;
+                cross_z[i] = zi + 1 < planes ? b[k] ^ inside[row_of(zi + 1, y) * words + k] : 0;
+                before[i] = count;
+                count += std::uint32_t(std::popcount(cross_x[i]) + std::popcount(cross_y[i]) +
+                                       std::popcount(cross_z[i]));
             }
-        });
+            first_vertex[row + 1] = count;
+            std::uint64_t triangles = 0;
+            if (zi + 1 < planes && y + 1 < ny) {
+                for_cells(zi, y, [&](std::size_t, int, unsigned cube) {
+                    triangles += mc::kTriCount[cube];
+                });
+            }
+            first_triangle[row + 1] = triangles;
+        }
     }
 
     void prefix_sums() {
@@ -178,37 +181,42 @@ struct BitMarcher {
         const std::size_t v0 = mesh.vertex_count(), i0 = mesh.indices.size();
         grow_mesh_for_part(mesh, first_vertex[rows], 3 * first_triangle[rows], reserve_scale);
         const std::uint32_t base = std::uint32_t(v0);
-        parallel_chunks(planes, threads, [&](std::size_t zi) {
-            const std::uint32_t z = p.z_begin + std::uint32_t(zi);
-            for (std::uint32_t y = 0; y < ny; ++y) {
-                const std::size_t row = row_of(zi, y);
-                std::size_t v = v0 + first_vertex[row];
-                for (std::size_t k = 0; k < words; ++k) {
-                    const std::size_t i = row * words + k;
-                    const Word crossed[3] = {cross_x[i], cross_y[i], cross_z[i]};
-                    for (Word m = crossed[0] | crossed[1] | crossed[2]; m; m &= m - 1) {
-                        const int j = std::countr_zero(m);
-                        const std::uint32_t q[3] = {std::uint32_t(64 * k) + std::uint32_t(j), y, z};
-                        for (int a = 0; a < 3; ++a) {
-                            if (!((crossed[a] >> j) & 1)) continue;
-                            mc_vertex(f, q, a, p, &mesh.positions[3 * v], &mesh.normals[3 * v]);
-                            ++v;
-                        }
+        parallel_chunks(planes, threads,
+                        [&](std::size_t zi) { build_plane(mesh, zi, v0, i0, base); });
+    }
+
+    // Plane zi's vertices and triangles (build_mesh).
+    FDMSURF_POPCNT_CLONES void build_plane(Mesh& mesh, std::size_t zi, std::size_t v0,
+                                           std::size_t i0, std::uint32_t base) const {
+        const std::uint32_t z = p.z_begin + std::uint32_t(zi);
+        for (std::uint32_t y = 0; y < ny; ++y) {
+            const std::size_t row = row_of(zi, y);
+            std::size_t v = v0 + first_vertex[row];
+            for (std::size_t k = 0; k < words; ++k) {
+                const std::size_t i = row * words + k;
+                const Word crossed[3] = {cross_x[i], cross_y[i], cross_z[i]};
+                for (Word m = crossed[0] | crossed[1] | crossed[2]; m; m &= m - 1) {
+                    const int j = std::countr_zero(m);
+                    const std::uint32_t q[3] = {std::uint32_t(64 * k) + std::uint32_t(j), y, z};
+                    for (int a = 0; a < 3; ++a) {
+                        if (!((crossed[a] >> j) & 1)) continue;
+                        mc_vertex(f, q, a, p, &mesh.positions[3 * v], &mesh.normals[3 * v]);
+                        ++v;
                     }
                 }
-                if (zi + 1 >= planes || y + 1 >= ny) continue;
-                std::uint32_t* out = mesh.indices.data() + i0 + 3 * first_triangle[row];
-                for_cells(zi, y, [&](std::size_t k, int j, unsigned cube) {
-                    const std::uint32_t x = std::uint32_t(64 * k) + std::uint32_t(j);
-                    for (int c = 0; c < 3 * mc::kTriCount[cube]; ++c) {
-                        const int e = mc::kTriEdges[cube][c];
-                        *out++ = base + vertex_of(x + mc::kEdgeOwner[e][0],
-                                                  y + mc::kEdgeOwner[e][1],
-                                                  zi + mc::kEdgeOwner[e][2], mc::kEdgeAxis[e]);
-                    }
-                });
             }
-        });
+            if (zi + 1 >= planes || y + 1 >= ny) continue;
+            std::uint32_t* out = mesh.indices.data() + i0 + 3 * first_triangle[row];
+            for_cells(zi, y, [&](std::size_t k, int j, unsigned cube) __attribute__((always_inline)) {
+                const std::uint32_t x = std::uint32_t(64 * k) + std::uint32_t(j);
+                for (int c = 0; c < 3 * mc::kTriCount[cube]; ++c) {
+                    const int e = mc::kTriEdges[cube][c];
+                    *out++ = base + vertex_of(x + mc::kEdgeOwner[e][0],
+                                              y + mc::kEdgeOwner[e][1],
+                                              zi + mc::kEdgeOwner[e][2], mc::kEdgeAxis[e]);
+                }
+            });
+        }
     }
 };
 
