@@ -1,6 +1,8 @@
 // PowerCell: a ball's power cell clipped plane by plane, and the caps and edges it keeps.
 #include "base/power_cell.hpp"
 
+#include "base/cpu_features.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -82,6 +84,7 @@ void PowerCell::reset() {
     free_.clear();
 }
 
+FDMSURF_AVX2_CLONES
 PowerCell::Clip PowerCell::clip(const CellPlane& plane, std::int32_t id) {
     const std::size_t nv = x_.size();
     dist_.resize(nv);
@@ -171,6 +174,7 @@ PowerCell::Clip PowerCell::clip(const CellPlane& plane, std::int32_t id) {
     return Clip::Cut;
 }
 
+FDMSURF_AVX2_CLONES
 CellVerdict PowerCell::filter(const std::vector<CellPlane>& planes,
                               const std::vector<std::uint32_t>& order,
                               std::vector<std::uint32_t>& keep) {

@@ -770,6 +770,7 @@ void SesHostField::Cursor::gather_arcs(std::size_t bin) {
 // the caller runs the loop. Returns j's place in the kept arcs and `distance` B (kNoArc with
 // settled_ true: no arc near). With the last point's arc the first, one pass over the kept
 // balls against U finds the arcs to measure, without the list of those within d_max.
+FDMSURF_AVX2_CLONES
 std::size_t SesHostField::Cursor::nearest_arc(const double p[3], double d_max, double& distance) {
     const SesHostField& h = field_;
     settled_ = false;
@@ -857,6 +858,7 @@ std::size_t SesHostField::Cursor::near_arcs(const double p[3], double d_max) {
 // SesHostField::distance's steps on the kept copies: the balls holding p in the same order of
 // bins (the deepest is the first of the greatest depth, the tie whether two share it), the same
 // face test and the same arcs in the same order.
+FDMSURF_AVX2_CLONES
 double SesHostField::Cursor::distance(const double p[3], double d_max, double* gradient) {
     const SesHostField& h = field_;
     const SesFeatures& f = h.f_;
@@ -989,7 +991,7 @@ struct SesHostField::Slab {
     }
 
     // 1. Depths.
-    void depths() const {
+    FDMSURF_AVX2_CLONES void depths() const {
         const std::vector<float>& xs = grid.xs;
         const std::vector<float>& ys = grid.ys;
         const std::vector<float>& zs = grid.zs;
@@ -1052,7 +1054,7 @@ struct SesHostField::Slab {
 
     // 2. The deepest face. The points waiting for the arcs, a bit each, rows of whole words
     // (the arcs visit only these); returns their count.
-    std::size_t deepest_faces() const {
+    FDMSURF_AVX2_CLONES std::size_t deepest_faces() const {
         const std::vector<float>& xs = grid.xs;
         const std::vector<float>& ys = grid.ys;
         const std::vector<float>& zs = grid.zs;
@@ -1134,7 +1136,7 @@ struct SesHostField::Slab {
     // 3. Arcs, over the rows of waiting points within d_max of them: each row range in float
     // without a branch (vectorised), into `arc_best` (a value per point, read for the waiting
     // ones only); then the waiting points' values out.
-    void arcs() const {
+    FDMSURF_AVX2_CLONES void arcs() const {
         const std::vector<float>& xs = grid.xs;
         const std::vector<float>& ys = grid.ys;
         const std::vector<float>& zs = grid.zs;

@@ -698,7 +698,7 @@ struct FeatureBuilder {
     // The circles of the pairs i < j of chunk `chunk`'s atoms i, cut by the other neighbours of
     // i (for an atom with `cell_from` neighbours j > i or more, only by those its power cell
     // keeps): their exposed arcs into `out`.
-    void arcs_of_chunk(std::size_t chunk, std::size_t cell_from, ChunkArcs& out) const {
+    FDMSURF_AVX2_CLONES void arcs_of_chunk(std::size_t chunk, std::size_t cell_from, ChunkArcs& out) const {
         ArcScratch w;
         Row& row = w.row;
         for (std::size_t i = chunk * kChunk; i < std::min(n, (chunk + 1) * kChunk); ++i) {
