@@ -181,17 +181,15 @@ struct SesHostField::ScratchPool {
 // nearer end in space (the nearer in angle, as ses_features.cpp's arc_distance takes it: the
 // chord grows with the angle), so no atan2 and no sine per point.
 //
-// Only what takes trigonometry is kept beside the stored circle: the axis and the end points
-// are recomputed where they are needed, from the same doubles by the same operations (the
-// build has no fused multiply-add), so bit for bit the values that were kept before; the
-// arc's ball is arc_ball_'s alone; the field's float copies are made per arc by its arcs step
-// (FloatArc). 80 bytes, not 240: on the 2.43 M-atom shell at 1 Å (5 M arcs) 0.8 GB fewer fresh
-// pages, on a VM where a fresh page costs more than the work on it.
+// Only what takes trigonometry is kept beside the features' stored circle (SesArc, read with it
+// by ArcView): the axis and the end points are recomputed where they are needed, from the same
+// doubles by the same operations (the build has no fused multiply-add), so bit for bit the
+// values that were kept before; the arc's ball is arc_ball_'s alone; the field's float copies
+// are made per arc by its arcs step (FloatArc). 40 bytes, not 240: on the 2.43 M-atom shell at
+// 1 Å (4.4 M arcs) 0.9 GB fewer fresh pages, on a VM where a fresh page costs more than the
+// work on it.
 struct SesHostField::Arc {
     double start_dir[2], end_dir[2];  // cos, sin of the ends' angles
-    // The circle (centre, in-plane basis, radius) as the features store it, in float: the double
-    // arithmetic below converts these exactly, so they serve both it and the field's row kernel.
-    float fm[3], fe1[3], fe2[3], frho;
     bool longer_than_half;  // length > pi: the test is on the complement
     // The whole circle (length float(2 pi), just above 2 pi, or rounded to it): every direction
     // is on it, as arc_distance has it; the ends' test would cut a wedge of the rounding's width.
@@ -202,46 +200,8 @@ struct SesHostField::Arc {
         const double end = double(a.start) + double(a.length);
         start_dir[0] = std::cos(double(a.start)), start_dir[1] = std::sin(double(a.start));
         end_dir[0] = std::cos(end), end_dir[1] = std::sin(end);
-        for (int k = 0; k < 3; ++k) fm[k] = a.m[k], fe1[k] = a.e1[k], fe2[k] = a.e2[k];
-        frho = a.rho;
         longer_than_half = double(a.length) > 0.5 * kTwoPi;
         full = double(a.length) >= kTwoPi;
-    }
-
-    // The circle's axis, e1 x e2 in double.
-    void axis(double out[3]) const {
-        const double e1[3] = {fe1[0], fe1[1], fe1[2]}, e2[3] = {fe2[0], fe2[1], fe2[2]};
-        out[0] = e1[1] * e2[2] - e1[2] * e2[1];
-        out[1] = e1[2] * e2[0] - e1[0] * e2[2];
-        out[2] = e1[0] * e2[1] - e1[1] * e2[0];
-    }
-
-    // The arc's end points, m + rho (cos t e1 + sin t e2) at its start and end angles.
-    void end_points(double start_point[3], double end_point[3]) const {
-        const double rho = frho;
-        for (int k = 0; k < 3; ++k) {
-            const double m = fm[k], e1 = fe1[k], e2 = fe2[k];
-            start_point[k] = m + rho * (start_dir[0] * e1 + start_dir[1] * e2);
-            end_point[k] = m + rho * (end_dir[0] * e1 + end_dir[1] * e2);
-        }
-    }
-
-    // A ball holding the arc: up to half a turn, around its chord's midpoint with the half-chord
-    // as radius (the arc's middle is rho (1 - cos(L/2)) <= rho sin(L/2) from there); else the
-    // circle's. Widened by 1e-9 Å relative for rounding. `length` the stored arc's.
-    std::array<double, 4> ball(float length) const {
-        const double m[3] = {fm[0], fm[1], fm[2]}, rho = frho;
-        std::array<double, 4> out;
-        if (longer_than_half) {
-            out = {m[0], m[1], m[2], rho};
-        } else {
-            double s[3], e[3];
-            end_points(s, e);
-            out = {0.5 * (s[0] + e[0]), 0.5 * (s[1] + e[1]), 0.5 * (s[2] + e[2]),
-                   rho * std::sin(0.5 * double(length))};
-        }
-        out[3] += 1e-9 * (rho + std::abs(m[0]) + std::abs(m[1]) + std::abs(m[2]));
-        return out;
     }
 
     // Whether the in-plane direction (a, b) lies on the arc: after its start and before its
@@ -253,17 +213,66 @@ struct SesHostField::Arc {
         return longer_than_half ? !(after_start < 0.0 && before_end < 0.0)
                                 : after_start >= 0.0 && before_end >= 0.0;
     }
+};
+
+static_assert(sizeof(SesHostField::Arc) <= 40, "an arc's bytes: every one is a fresh page's share");
+
+namespace {
+
+// An arc read whole: its circle as the features store it (centre, in-plane basis, radius, in
+// float: the double arithmetic below converts these exactly, so they serve both it and the
+// field's row kernel) and what SesHostField::Arc keeps beside it. Both are found by the arc's
+// index, so their loads do not wait on each other.
+struct ArcView {
+    const SesHostField::Arc& x;
+    const SesArc& c;
+
+    // The circle's axis, e1 x e2 in double.
+    void axis(double out[3]) const {
+        const double e1[3] = {c.e1[0], c.e1[1], c.e1[2]}, e2[3] = {c.e2[0], c.e2[1], c.e2[2]};
+        out[0] = e1[1] * e2[2] - e1[2] * e2[1];
+        out[1] = e1[2] * e2[0] - e1[0] * e2[2];
+        out[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    }
+
+    // The arc's end points, m + rho (cos t e1 + sin t e2) at its start and end angles.
+    void end_points(double start_point[3], double end_point[3]) const {
+        const double rho = c.rho;
+        for (int k = 0; k < 3; ++k) {
+            const double m = c.m[k], e1 = c.e1[k], e2 = c.e2[k];
+            start_point[k] = m + rho * (x.start_dir[0] * e1 + x.start_dir[1] * e2);
+            end_point[k] = m + rho * (x.end_dir[0] * e1 + x.end_dir[1] * e2);
+        }
+    }
+
+    // A ball holding the arc: up to half a turn, around its chord's midpoint with the half-chord
+    // as radius (the arc's middle is rho (1 - cos(L/2)) <= rho sin(L/2) from there); else the
+    // circle's. Widened by 1e-9 Å relative for rounding.
+    std::array<double, 4> ball() const {
+        const double m[3] = {c.m[0], c.m[1], c.m[2]}, rho = c.rho;
+        std::array<double, 4> out;
+        if (x.longer_than_half) {
+            out = {m[0], m[1], m[2], rho};
+        } else {
+            double s[3], e[3];
+            end_points(s, e);
+            out = {0.5 * (s[0] + e[0]), 0.5 * (s[1] + e[1]), 0.5 * (s[2] + e[2]),
+                   rho * std::sin(0.5 * double(c.length))};
+        }
+        out[3] += 1e-9 * (rho + std::abs(m[0]) + std::abs(m[1]) + std::abs(m[2]));
+        return out;
+    }
 
     // The arc's point nearest to p: on the circle towards p, or the nearer end (the start
     // for a point on the axis, as arc_distance).
     void nearest(const double p[3], double q[3]) const {
-        const double m[3] = {fm[0], fm[1], fm[2]}, rho = frho;
-        const double e1[3] = {fe1[0], fe1[1], fe1[2]}, e2[3] = {fe2[0], fe2[1], fe2[2]};
+        const double m[3] = {c.m[0], c.m[1], c.m[2]}, rho = c.rho;
+        const double e1[3] = {c.e1[0], c.e1[1], c.e1[2]}, e2[3] = {c.e2[0], c.e2[1], c.e2[2]};
         const double v[3] = {p[0] - m[0], p[1] - m[1], p[2] - m[2]};
         const double a = v[0] * e1[0] + v[1] * e1[1] + v[2] * e1[2];
         const double b = v[0] * e2[0] + v[1] * e2[1] + v[2] * e2[2];
         const double r = std::sqrt(a * a + b * b);
-        if (r > 0.0 && on_arc(a, b)) {
+        if (r > 0.0 && x.on_arc(a, b)) {
             for (int k = 0; k < 3; ++k) q[k] = m[k] + rho * (a * e1[k] + b * e2[k]) / r;
             return;
         }
@@ -294,8 +303,8 @@ struct SesHostField::Arc {
 
     // The distance from p, or `bound` when the arc is certainly not nearer.
     double distance(const double p[3], double bound) const {
-        const double m[3] = {fm[0], fm[1], fm[2]}, rho = frho;
-        const double e1[3] = {fe1[0], fe1[1], fe1[2]}, e2[3] = {fe2[0], fe2[1], fe2[2]};
+        const double m[3] = {c.m[0], c.m[1], c.m[2]}, rho = c.rho;
+        const double e1[3] = {c.e1[0], c.e1[1], c.e1[2]}, e2[3] = {c.e2[0], c.e2[1], c.e2[2]};
         const double v[3] = {p[0] - m[0], p[1] - m[1], p[2] - m[2]};
         double n[3];
         axis(n);
@@ -305,7 +314,7 @@ struct SesHostField::Arc {
         const double b = v[0] * e2[0] + v[1] * e2[1] + v[2] * e2[2];
         const double r = std::sqrt(a * a + b * b);
         if (std::abs(r - rho) >= bound) return bound;
-        if (on_arc(a, b)) {
+        if (x.on_arc(a, b)) {
             const double rr = r - rho;
             return std::sqrt(height * height + rr * rr);
         }
@@ -319,8 +328,8 @@ struct SesHostField::Arc {
         double distance, height, off_circle;
     };
     Parts distance_parts(const double p[3]) const {
-        const double m[3] = {fm[0], fm[1], fm[2]}, rho = frho;
-        const double e1[3] = {fe1[0], fe1[1], fe1[2]}, e2[3] = {fe2[0], fe2[1], fe2[2]};
+        const double m[3] = {c.m[0], c.m[1], c.m[2]}, rho = c.rho;
+        const double e1[3] = {c.e1[0], c.e1[1], c.e1[2]}, e2[3] = {c.e2[0], c.e2[1], c.e2[2]};
         const double v[3] = {p[0] - m[0], p[1] - m[1], p[2] - m[2]};
         double n[3];
         axis(n);
@@ -328,7 +337,7 @@ struct SesHostField::Arc {
         const double a = v[0] * e1[0] + v[1] * e1[1] + v[2] * e1[2];
         const double b = v[0] * e2[0] + v[1] * e2[1] + v[2] * e2[2];
         const double r = std::sqrt(a * a + b * b);
-        if (on_arc(a, b)) {
+        if (x.on_arc(a, b)) {
             const double rr = r - rho;
             return {std::sqrt(height * height + rr * rr), std::abs(height), std::abs(r - rho)};
         }
@@ -336,7 +345,7 @@ struct SesHostField::Arc {
     }
 };
 
-static_assert(sizeof(SesHostField::Arc) <= 80, "an arc's bytes: every one is a fresh page's share");
+}  // namespace
 
 // The field's row kernel's copy of an arc, in float, positions relative to fm (the shader's
 // precision): made by the arcs step for each arc it evaluates on some row (fewer than the arcs,
@@ -346,19 +355,19 @@ struct SesHostField::FloatArc {
     float faxis[3], fstart_dir[2], fend_dir[2], fstart[3], fend[3];
     bool longer_than_half, full;
 
-    explicit FloatArc(const Arc& a) {
+    explicit FloatArc(const ArcView& a) {
         double axis[3], start_point[3], end_point[3];
         a.axis(axis);
         a.end_points(start_point, end_point);
         for (int k = 0; k < 3; ++k) {
-            const double m = a.fm[k];
-            fm[k] = a.fm[k], faxis[k] = float(axis[k]), fe1[k] = a.fe1[k], fe2[k] = a.fe2[k];
+            const double m = a.c.m[k];
+            fm[k] = a.c.m[k], faxis[k] = float(axis[k]), fe1[k] = a.c.e1[k], fe2[k] = a.c.e2[k];
             fstart[k] = float(start_point[k] - m), fend[k] = float(end_point[k] - m);
         }
-        frho = a.frho;
+        frho = a.c.rho;
         for (int k = 0; k < 2; ++k)
-            fstart_dir[k] = float(a.start_dir[k]), fend_dir[k] = float(a.end_dir[k]);
-        longer_than_half = a.longer_than_half, full = a.full;
+            fstart_dir[k] = float(a.x.start_dir[k]), fend_dir[k] = float(a.x.end_dir[k]);
+        longer_than_half = a.x.longer_than_half, full = a.x.full;
     }
 };
 
@@ -368,7 +377,7 @@ void SesHostField::arc_row_distances(std::size_t arc, const float* xs, float y, 
                                      int xb, float* best) const {
     if (arc >= f_.arcs.size())
         throw Error(ErrorCode::InvalidArgument, "host SES field: no such arc");
-    arc_row(FloatArc(arcs_[arc]), xs, y, z, xa, xb, best);
+    arc_row(FloatArc(ArcView{arcs_[arc], f_.arcs[arc]}), xs, y, z, xa, xb, best);
 }
 
 namespace {
@@ -456,7 +465,7 @@ bool inside_sphere(const float* s, std::uint32_t k, const double q[3]) {
 }
 
 // The end of the arcs' step: `best`, and the gradient from the nearest arc (none: 0).
-double arcs_result(const SesHostField::Arc* best_arc, double best, const double p[3],
+double arcs_result(const ArcView* best_arc, double best, const double p[3],
                    double* gradient) {
     if (best_arc == nullptr) {
         set_gradient(gradient, 0, 0, 0);
@@ -511,8 +520,8 @@ SesHostField::SesHostField(const SesFeatures& f, double d_max, unsigned threads)
         for (std::size_t k = chunk * kChunk; k < std::min(n_arcs, (chunk + 1) * kChunk); ++k) {
             const SesArc& a = f.arcs[k];
             arcs_[k] = Arc(a);
-            const Arc& added = arcs_[k];
-            arc_ball_[k] = added.ball(a.length);
+            const ArcView added{arcs_[k], a};
+            arc_ball_[k] = added.ball();
             double start_point[3], end_point[3];
             added.end_points(start_point, end_point);
             Box& box = arc_box_[k];
@@ -523,8 +532,8 @@ SesHostField::SesHostField(const SesFeatures& f, double d_max, unsigned threads)
                 double lo = std::min(start_point[ax], end_point[ax]);
                 double hi = std::max(start_point[ax], end_point[ax]);
                 const double amp = std::hypot(e1, e2);
-                if (added.on_arc(e1, e2)) hi = a.m[ax] + a.rho * amp;
-                if (added.on_arc(-e1, -e2)) lo = a.m[ax] - a.rho * amp;
+                if (added.x.on_arc(e1, e2)) hi = a.m[ax] + a.rho * amp;
+                if (added.x.on_arc(-e1, -e2)) lo = a.m[ax] - a.rho * amp;
                 box.lo[ax] = static_cast<float>(lo - 1e-4);
                 box.hi[ax] = static_cast<float>(hi + 1e-4);
             }
@@ -673,9 +682,9 @@ double SesHostField::distance(const double p[3], double d_max, double* gradient)
     const std::size_t b = (std::size_t(bin[2]) * f_.dims[1] + bin[1]) * f_.dims[0] + bin[0];
     // In blocks: first, without a branch, the arcs whose ball comes within d_max of p (the
     // others fail the test below whatever the bound, which only falls), then these alone, in
-    // order, against the bound so far: the same arcs reach Arc::distance as one loop would.
+    // order, against the bound so far: the same arcs reach ArcView::distance as one loop would.
     double best = d_max;
-    const Arc* best_arc = nullptr;
+    std::uint32_t best_k = std::uint32_t(-1);
     constexpr std::uint32_t kBlock = 64;
     std::uint32_t near[kBlock];
     double near_d2[kBlock];
@@ -694,12 +703,13 @@ double SesHostField::distance(const double p[3], double d_max, double* gradient)
             const std::uint32_t k = bin_arcs_[near[j]];
             const double r = arc_ball_[k][3] + best;
             if (near_d2[j] >= r * r) continue;
-            const Arc& arc = arcs_[k];
-            const double d = arc.distance(p, best);
-            if (d < best) best = d, best_arc = &arc;
+            const double d = ArcView{arcs_[k], f_.arcs[k]}.distance(p, best);
+            if (d < best) best = d, best_k = k;
         }
     }
-    return arcs_result(best_arc, best, p, gradient);
+    if (best_k == std::uint32_t(-1)) return arcs_result(nullptr, best, p, gradient);
+    const ArcView best_arc{arcs_[best_k], f_.arcs[best_k]};
+    return arcs_result(&best_arc, best, p, gradient);
 }
 
 namespace {
@@ -758,7 +768,7 @@ void SesHostField::Cursor::gather_arcs(std::size_t bin) {
 // distance()'s arc step, which ends at the first arc of the least distance, with fewer arcs
 // measured. That loop tries each arc in order against the bound so far (d_max at first):
 // an arc whose height over its plane or distance off its circle is at or above the bound
-// stops early (Arc::distance), and its distance to an end may round a hair below these, so
+// stops early (ArcView::distance), and its distance to an end may round a hair below these, so
 // the loop is followed exactly, not just its least. Here a first bound U comes from one arc:
 // the one the last point ended at (the next Newton step, the next vertex), else the near arc
 // of the nearest ball. An arc whose ball lies at U or beyond lies farther than U (the balls
@@ -797,7 +807,7 @@ std::size_t SesHostField::Cursor::nearest_arc(const double p[3], double d_max, d
         }
         if (first == kNoArc) return kNoArc;
     }
-    const Arc::Parts first_parts = h.arcs_[arc_index_[first]].distance_parts(p);
+    const ArcView::Parts first_parts = ArcView{h.arcs_[arc_index_[first]], h.f_.arcs[arc_index_[first]]}.distance_parts(p);
     const double bound = first_parts.distance;
     if (!(bound < d_max)) return kNoArc;
     // The arcs whose balls come within the bound of p, in the kept order, a block's as bits:
@@ -817,8 +827,9 @@ std::size_t SesHostField::Cursor::nearest_arc(const double p[3], double d_max, d
         if (first >= n0 && first < n1) bits |= std::uint64_t(1) << (first - n0);
         for (; bits != 0; bits &= bits - 1) {
             const std::size_t j = n0 + std::size_t(std::countr_zero(bits));
-            const Arc::Parts parts =
-                j == first ? first_parts : h.arcs_[arc_index_[j]].distance_parts(p);
+            const ArcView::Parts parts =
+                j == first ? first_parts
+                           : ArcView{h.arcs_[arc_index_[j]], h.f_.arcs[arc_index_[j]]}.distance_parts(p);
             if (parts.distance < least) {
                 before = std::min(d_max, least);
                 least = parts.distance, at = j, at_d2 = block_d2[j - n0];
@@ -946,16 +957,15 @@ double SesHostField::Cursor::distance(const double p[3], double d_max, double* g
         for (std::size_t n = 0; n < count; ++n) {
             const double r = arc_r_[near_[n]] + best;
             if (near_d2_[n] >= r * r) continue;
-            const double d = h.arcs_[arc_index_[near_[n]]].distance(p, best);
+            const std::uint32_t k = arc_index_[near_[n]];
+            const double d = ArcView{h.arcs_[k], f.arcs[k]}.distance(p, best);
             if (d < best) best = d, best_at = near_[n];
         }
     }
-    const Arc* best_arc = nullptr;
-    if (best_at != kNoArc) {
-        last_arc_ = arc_index_[best_at], last_at_ = best_at;
-        best_arc = &h.arcs_[last_arc_];
-    }
-    return arcs_result(best_arc, best, p, gradient);
+    if (best_at == kNoArc) return arcs_result(nullptr, best, p, gradient);
+    last_arc_ = arc_index_[best_at], last_at_ = best_at;
+    const ArcView best_arc{h.arcs_[last_arc_], f.arcs[last_arc_]};
+    return arcs_result(&best_arc, best, p, gradient);
 }
 
 // One task of evaluate: planes [za, zb) of the call's planes, on the call's grid, with the
@@ -1204,7 +1214,7 @@ struct SesHostField::Slab {
                     // centre than reach by h^2 / (2 reach + h) or more (0.02 Å at 0.5 Å), and
                     // as much farther than d_max from the arc: far above the float kernel's
                     // error (1e-4 Å), it keeps its value.
-                    if (!arc) arc.emplace(field.arcs_[k]);
+                    if (!arc) arc.emplace(ArcView{field.arcs_[k], field.f_.arcs[k]});
                     arc_row(*arc, xs.data(), ys[y], zs[z], wa, wb, &arc_best[at(z, y)]);
                 }
             }

@@ -61,7 +61,7 @@ public:
 
     const SesFeatures& features() const { return f_; }
 
-    struct Arc;       // an exposed arc, precomputed (ses_distance_host.cpp)
+    struct Arc;       // an exposed arc's precomputed part, beside f.arcs (ses_distance_host.cpp)
     struct FloatArc;  // its float copy for the field's row kernel
 
     // distance() for one thread's run of nearby points (the snap's vertices and their Newton
