@@ -609,26 +609,31 @@ std::vector<std::size_t> visit_order(const Mesh& mesh, std::size_t begin, std::s
 ProjectStats project_onto_field(Mesh& mesh, std::size_t first, const SurfaceField& base_field,
                                 const ProjectOptions& options) {
     // Vertices are independent: chunks of them on all threads, each chunk with its own counts.
-    // Visited cell by cell, a chunk should hold a bin's plane of marching-cubes vertices: on the
-    // 2.4 M-atom shell at 1 Å, 512 left a few per bin and the cursor no faster than the plain
-    // distance.
-    constexpr std::size_t kChunk = 16384;
+    // Visited cell by cell, a chunk should hold the marching-cubes vertices of a bin's planes,
+    // each bin's all at once: on the 2.43 M-atom shell at 1 Å (25 k vertices a plane, bins of
+    // 3.3 planes) chunks of 16 k vertices left 7 a bin's gathering and took 17.9-19.3 s of CPU,
+    // of 128 k 14.0-15.2 s (512 k no fewer); 512 had made the cursor no faster than the plain
+    // distance. Smaller meshes keep eight chunks a thread or more, down to 16 k.
     const std::size_t nv = mesh.vertex_count();
-    const std::size_t chunks = first < nv ? (nv - first + kChunk - 1) / kChunk : 0;
+    const unsigned threads = thread_count();
+    const std::size_t todo = first < nv ? nv - first : 0;
+    const std::size_t chunk_size =
+        std::clamp<std::size_t>(todo / (8 * std::size_t(threads)), 16384, 131072);
+    const std::size_t chunks = (todo + chunk_size - 1) / chunk_size;
     std::vector<ProjectStats> per_chunk(chunks);
     const bool along = options.along_normals && mesh.normals.size() == 3 * nv;
     Vec3 cell_origin{};
     double cell = 0.0;
     const bool by_cell = base_field.visit_cells(cell_origin, cell) && cell > 0.0;
-    parallel_chunks(chunks, thread_count(), [&](std::size_t c) {
+    parallel_chunks(chunks, threads, [&](std::size_t c) {
         // The chunk's vertices lie close together: a view keeping its last features serves them,
         // all the better when they come cell by cell.
         const std::unique_ptr<SurfaceField> local = base_field.local();
         const SurfaceField& field = local ? *local : base_field;
         ProjectStats& stats = per_chunk[c];
-        const std::size_t end = std::min(nv, first + (c + 1) * kChunk);
+        const std::size_t end = std::min(nv, first + (c + 1) * chunk_size);
         const std::vector<std::size_t> visit =
-            visit_order(mesh, first + c * kChunk, end, by_cell, cell_origin, cell);
+            visit_order(mesh, first + c * chunk_size, end, by_cell, cell_origin, cell);
         Vec3 g{};
         auto set_normal = [&](std::size_t v) {
             if (!options.set_normals || mesh.normals.size() != 3 * nv) return;
