@@ -1,5 +1,6 @@
 // What the CPU running the program can do, for the code paths compiled for more than the
-// baseline x86-64 the library is built for (functions with __attribute__((target("avx2")))).
+// baseline x86-64 the library is built for: functions cloned for AVX2 or POPCNT
+// (target_clones, the CPU's choice made at load) or marked __attribute__((target("avx2"))).
 #pragma once
 
 // A function compiled twice where GCC can pick one at run time: for AVX2 (which does not enable

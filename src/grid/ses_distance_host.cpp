@@ -17,7 +17,8 @@
 #include "fdmsurf/error.hpp"
 #include "grid/ses_distance_cpu.hpp"
 
-// The row kernels are FDMSURF_AVX2_CLONES: eight floats a vector where the CPU has AVX2.
+// The row kernels are FDMSURF_AVX2_CLONES: eight floats a vector where the CPU has AVX2; so are
+// the field's steps around them and the cursor's distance (VEX code, no fused multiply-add).
 
 namespace fdmsurf::detail {
 
@@ -807,7 +808,8 @@ std::size_t SesHostField::Cursor::nearest_arc(const double p[3], double d_max, d
         }
         if (first == kNoArc) return kNoArc;
     }
-    const ArcView::Parts first_parts = ArcView{h.arcs_[arc_index_[first]], h.f_.arcs[arc_index_[first]]}.distance_parts(p);
+    const ArcView::Parts first_parts =
+        ArcView{h.arcs_[arc_index_[first]], h.f_.arcs[arc_index_[first]]}.distance_parts(p);
     const double bound = first_parts.distance;
     if (!(bound < d_max)) return kNoArc;
     // The arcs whose balls come within the bound of p, in the kept order, a block's as bits:
@@ -828,8 +830,9 @@ std::size_t SesHostField::Cursor::nearest_arc(const double p[3], double d_max, d
         for (; bits != 0; bits &= bits - 1) {
             const std::size_t j = n0 + std::size_t(std::countr_zero(bits));
             const ArcView::Parts parts =
-                j == first ? first_parts
-                           : ArcView{h.arcs_[arc_index_[j]], h.f_.arcs[arc_index_[j]]}.distance_parts(p);
+                j == first
+                    ? first_parts
+                    : ArcView{h.arcs_[arc_index_[j]], h.f_.arcs[arc_index_[j]]}.distance_parts(p);
             if (parts.distance < least) {
                 before = std::min(d_max, least);
                 least = parts.distance, at = j, at_d2 = block_d2[j - n0];

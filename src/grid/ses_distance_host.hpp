@@ -123,7 +123,7 @@ private:
                         float* best);
     const SesFeatures& f_;
     unsigned threads_;
-    std::unique_ptr<Arc[]> arcs_;                              // f.arcs, precomputed
+    std::unique_ptr<Arc[]> arcs_;                              // beside f.arcs: ends, flags
     std::unique_ptr<std::array<double, 4>[]> arc_ball_;        // each arc's ball: centre, radius
     std::unique_ptr<Box[]> arc_box_;                           // each arc's points' bounds
     double reach_ = 0.0;                                       // the constructor's d_max

@@ -31,7 +31,8 @@ Vec3 perpendicular(const Vec3& u) {
     return scale(p, 1.0 / std::sqrt(dot(p, p)));
 }
 
-// The cut loops are FDMSURF_AVX2_CLONES: four doubles a vector where the CPU has AVX2.
+// The cut loops are FDMSURF_AVX2_CLONES: four doubles a vector where the CPU has AVX2; so is
+// arcs_of_chunk, which calls them (VEX code, no fused multiply-add).
 
 // What balls 0..k-1 (centres x, y, z, squared inflated radii R2) do to the circle of centre m,
 // radius^2 rho2 in the plane of e1, e2: with w = m - c, the circle's points are inside a ball
@@ -698,7 +699,8 @@ struct FeatureBuilder {
     // The circles of the pairs i < j of chunk `chunk`'s atoms i, cut by the other neighbours of
     // i (for an atom with `cell_from` neighbours j > i or more, only by those its power cell
     // keeps): their exposed arcs into `out`.
-    FDMSURF_AVX2_CLONES void arcs_of_chunk(std::size_t chunk, std::size_t cell_from, ChunkArcs& out) const {
+    FDMSURF_AVX2_CLONES void arcs_of_chunk(std::size_t chunk, std::size_t cell_from,
+                                           ChunkArcs& out) const {
         ArcScratch w;
         Row& row = w.row;
         for (std::size_t i = chunk * kChunk; i < std::min(n, (chunk + 1) * kChunk); ++i) {

@@ -9,6 +9,7 @@
 #include <limits>
 #include <new>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "base/fresh_pages.hpp"
@@ -55,40 +56,38 @@ void grow_mesh_for_part(Mesh& mesh, std::size_t vertices, std::size_t indices,
     if (v > std::numeric_limits<std::uint32_t>::max() - 3)
         throw Error(ErrorCode::InvalidArgument,
                     "marching cubes: more than 2^32 vertices; use smaller slabs");
-    if (mesh.positions.capacity() < 3 * v || mesh.normals.capacity() < 3 * v ||
-        mesh.indices.capacity() < n) {
-        // New arrays, their pages for what they hold after the part provided on all threads,
-        // then the mesh so far copied in: a vector's own reserve would copy it into fresh pages
-        // on one thread (0.3 GB, half a second on one core, when the 2.43 M-atom shell's parts
-        // outgrew the first guess).
-        const double scale = std::max(reserve_scale, 1.0);
-        decltype(mesh.positions) positions, normals;
-        decltype(mesh.indices) grown_indices;
+    // Each array too small for the part is copied into a new one of `scale` times the room,
+    // its pages up to the part's end provided on all threads first: a vector's own reserve
+    // would copy it into fresh pages on one thread (0.3 GB, half a second on one core, when the
+    // 2.43 M-atom shell's parts outgrew the first guess). One array at a time, so that the old
+    // one is freed before the next grows. The others' pages for the part likewise, before resize
+    // writes them on one thread (fresh pages cost more than the zeros written to them: 0.9 GB
+    // of them on the 2.43 M-atom shell at 1 Å).
+    const double scale = std::max(reserve_scale, 1.0);
+    std::vector<FreshRange> fresh;
+    bool grown = false;
+    auto room = [&](auto& array, std::size_t size) {
+        if (array.capacity() >= size) {
+            fresh.push_back(room_up_to(array, size));
+            return;
+        }
+        std::remove_reference_t<decltype(array)> bigger;
         try {
-            positions.reserve(std::max(std::size_t(double(3 * v) * scale), 3 * v));
-            normals.reserve(positions.capacity());
-            grown_indices.reserve(std::max(std::size_t(double(n) * scale), n));
+            bigger.reserve(std::max(std::size_t(double(size) * scale), size));
         } catch (const std::bad_alloc&) {
             // Address space refused (strict overcommit): what this part needs is enough.
-            positions = {}, normals = {}, grown_indices = {};
-            positions.reserve(3 * v);
-            normals.reserve(3 * v);
-            grown_indices.reserve(n);
+            bigger.reserve(size);
         }
-        populate_pages({room_up_to(positions, 3 * v), room_up_to(normals, 3 * v),
-                        room_up_to(grown_indices, n)});
-        positions.assign(mesh.positions.begin(), mesh.positions.end());
-        normals.assign(mesh.normals.begin(), mesh.normals.end());
-        grown_indices.assign(mesh.indices.begin(), mesh.indices.end());
-        mesh.positions.swap(positions);
-        mesh.normals.swap(normals);
-        mesh.indices.swap(grown_indices);
-        trace("marching cubes: mesh arrays reserved");
-    }
-    // The part's pages on all threads before resize writes them on one (fresh pages cost more
-    // than the zeros written to them: 0.9 GB of them on the 2.43 M-atom shell at 1 Å).
-    populate_pages({room_up_to(mesh.positions, 3 * v), room_up_to(mesh.normals, 3 * v),
-                    room_up_to(mesh.indices, n)});
+        populate_pages({room_up_to(bigger, size)});
+        bigger.assign(array.begin(), array.end());
+        array.swap(bigger);
+        grown = true;
+    };
+    room(mesh.positions, 3 * v);
+    room(mesh.normals, 3 * v);
+    room(mesh.indices, n);
+    if (grown) trace("marching cubes: mesh arrays reserved");
+    populate_pages(fresh);
     mesh.positions.resize(3 * v);
     mesh.normals.resize(3 * v);
     mesh.indices.resize(n);

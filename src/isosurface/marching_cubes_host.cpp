@@ -89,7 +89,8 @@ struct BitMarcher {
     // The cells of row (y, zi) whose corners are not all on one side, one word at a time;
     // body(k, j, cube) for each, in x order.
     template <class Body>
-    [[gnu::always_inline]] inline void for_cells(std::size_t zi, std::uint32_t y, const Body& body) const {
+    [[gnu::always_inline]] inline void for_cells(std::size_t zi, std::uint32_t y,
+                                                 const Body& body) const {
         const Word* r[4] = {&inside[row_of(zi, y) * words], &inside[row_of(zi, y + 1) * words],
                             &inside[row_of(zi + 1, y) * words],
                             &inside[row_of(zi + 1, y + 1) * words]};
@@ -163,7 +164,8 @@ struct BitMarcher {
     }
 
     // The vertex of the crossed edge from point (x, y, zi) along `axis`.
-    std::uint32_t vertex_of(std::uint32_t x, std::uint32_t y, std::size_t zi, int axis) const {
+    [[gnu::always_inline]] inline std::uint32_t vertex_of(std::uint32_t x, std::uint32_t y,
+                                                          std::size_t zi, int axis) const {
         const std::size_t i = row_of(zi, y) * words + x / 64;
         const Word low = (Word{1} << (x % 64)) - 1, bit = Word{1} << (x % 64);
         const Word crossed[3] = {cross_x[i], cross_y[i], cross_z[i]};
@@ -207,15 +209,16 @@ struct BitMarcher {
             }
             if (zi + 1 >= planes || y + 1 >= ny) continue;
             std::uint32_t* out = mesh.indices.data() + i0 + 3 * first_triangle[row];
-            for_cells(zi, y, [&](std::size_t k, int j, unsigned cube) __attribute__((always_inline)) {
-                const std::uint32_t x = std::uint32_t(64 * k) + std::uint32_t(j);
-                for (int c = 0; c < 3 * mc::kTriCount[cube]; ++c) {
-                    const int e = mc::kTriEdges[cube][c];
-                    *out++ = base + vertex_of(x + mc::kEdgeOwner[e][0],
-                                              y + mc::kEdgeOwner[e][1],
-                                              zi + mc::kEdgeOwner[e][2], mc::kEdgeAxis[e]);
-                }
-            });
+            for_cells(
+                zi, y, [&](std::size_t k, int j, unsigned cube) __attribute__((always_inline)) {
+                    const std::uint32_t x = std::uint32_t(64 * k) + std::uint32_t(j);
+                    for (int c = 0; c < 3 * mc::kTriCount[cube]; ++c) {
+                        const int e = mc::kTriEdges[cube][c];
+                        *out++ =
+                            base + vertex_of(x + mc::kEdgeOwner[e][0], y + mc::kEdgeOwner[e][1],
+                                             zi + mc::kEdgeOwner[e][2], mc::kEdgeAxis[e]);
+                    }
+                });
         }
     }
 };

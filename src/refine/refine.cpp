@@ -611,8 +611,9 @@ ProjectStats project_onto_field(Mesh& mesh, std::size_t first, const SurfaceFiel
     // Vertices are independent: chunks of them on all threads, each chunk with its own counts.
     // Visited cell by cell, a chunk should hold the marching-cubes vertices of a bin's planes,
     // each bin's all at once: on the 2.43 M-atom shell at 1 Å (25 k vertices a plane, bins of
-    // 3.3 planes) chunks of 16 k vertices left 7 a bin's gathering and took 17.9-19.3 s of CPU,
-    // of 128 k 14.0-15.2 s (512 k no fewer); 512 had made the cursor no faster than the plain
+    // 3.3 planes) chunks of 16 k vertices held less than a plane, so each bin's balls and arcs
+    // were gathered again in about five chunks, and the snap took 17.9-19.3 s of CPU; with
+    // 128 k, 14.6-15.2 s (512 k no better); 512 had made the cursor no faster than the plain
     // distance. Smaller meshes keep eight chunks a thread or more, down to 16 k.
     const std::size_t nv = mesh.vertex_count();
     const unsigned threads = thread_count();
