@@ -218,13 +218,11 @@ struct SesHostField::Arc {
 
 static_assert(sizeof(SesHostField::Arc) <= 40, "an arc's bytes: every one is a fresh page's share");
 
-namespace {
-
 // An arc read whole: its circle as the features store it (centre, in-plane basis, radius, in
 // float: the double arithmetic below converts these exactly, so they serve both it and the
 // field's row kernel) and what SesHostField::Arc keeps beside it. Both are found by the arc's
-// index, so their loads do not wait on each other.
-struct ArcView {
+// index (SesHostField::arc_view), so their loads do not wait on each other.
+struct SesHostField::ArcView {
     const SesHostField::Arc& x;
     const SesArc& c;
 
@@ -346,7 +344,7 @@ struct ArcView {
     }
 };
 
-}  // namespace
+SesHostField::ArcView SesHostField::arc_view(std::size_t k) const { return {arcs_[k], f_.arcs[k]}; }
 
 // The field's row kernel's copy of an arc, in float, positions relative to fm (the shader's
 // precision): made by the arcs step for each arc it evaluates on some row (fewer than the arcs,
@@ -378,7 +376,7 @@ void SesHostField::arc_row_distances(std::size_t arc, const float* xs, float y, 
                                      int xb, float* best) const {
     if (arc >= f_.arcs.size())
         throw Error(ErrorCode::InvalidArgument, "host SES field: no such arc");
-    arc_row(FloatArc(ArcView{arcs_[arc], f_.arcs[arc]}), xs, y, z, xa, xb, best);
+    arc_row(FloatArc(arc_view(arc)), xs, y, z, xa, xb, best);
 }
 
 namespace {
@@ -466,7 +464,7 @@ bool inside_sphere(const float* s, std::uint32_t k, const double q[3]) {
 }
 
 // The end of the arcs' step: `best`, and the gradient from the nearest arc (none: 0).
-double arcs_result(const ArcView* best_arc, double best, const double p[3],
+double arcs_result(const SesHostField::ArcView* best_arc, double best, const double p[3],
                    double* gradient) {
     if (best_arc == nullptr) {
         set_gradient(gradient, 0, 0, 0);
@@ -521,7 +519,7 @@ SesHostField::SesHostField(const SesFeatures& f, double d_max, unsigned threads)
         for (std::size_t k = chunk * kChunk; k < std::min(n_arcs, (chunk + 1) * kChunk); ++k) {
             const SesArc& a = f.arcs[k];
             arcs_[k] = Arc(a);
-            const ArcView added{arcs_[k], a};
+            const ArcView added = arc_view(k);
             arc_ball_[k] = added.ball();
             double start_point[3], end_point[3];
             added.end_points(start_point, end_point);
@@ -704,12 +702,12 @@ double SesHostField::distance(const double p[3], double d_max, double* gradient)
             const std::uint32_t k = bin_arcs_[near[j]];
             const double r = arc_ball_[k][3] + best;
             if (near_d2[j] >= r * r) continue;
-            const double d = ArcView{arcs_[k], f_.arcs[k]}.distance(p, best);
+            const double d = arc_view(k).distance(p, best);
             if (d < best) best = d, best_k = k;
         }
     }
     if (best_k == std::uint32_t(-1)) return arcs_result(nullptr, best, p, gradient);
-    const ArcView best_arc{arcs_[best_k], f_.arcs[best_k]};
+    const ArcView best_arc = arc_view(best_k);
     return arcs_result(&best_arc, best, p, gradient);
 }
 
@@ -808,8 +806,7 @@ std::size_t SesHostField::Cursor::nearest_arc(const double p[3], double d_max, d
         }
         if (first == kNoArc) return kNoArc;
     }
-    const ArcView::Parts first_parts =
-        ArcView{h.arcs_[arc_index_[first]], h.f_.arcs[arc_index_[first]]}.distance_parts(p);
+    const ArcView::Parts first_parts = h.arc_view(arc_index_[first]).distance_parts(p);
     const double bound = first_parts.distance;
     if (!(bound < d_max)) return kNoArc;
     // The arcs whose balls come within the bound of p, in the kept order, a block's as bits:
@@ -830,9 +827,7 @@ std::size_t SesHostField::Cursor::nearest_arc(const double p[3], double d_max, d
         for (; bits != 0; bits &= bits - 1) {
             const std::size_t j = n0 + std::size_t(std::countr_zero(bits));
             const ArcView::Parts parts =
-                j == first
-                    ? first_parts
-                    : ArcView{h.arcs_[arc_index_[j]], h.f_.arcs[arc_index_[j]]}.distance_parts(p);
+                j == first ? first_parts : h.arc_view(arc_index_[j]).distance_parts(p);
             if (parts.distance < least) {
                 before = std::min(d_max, least);
                 least = parts.distance, at = j, at_d2 = block_d2[j - n0];
@@ -961,13 +956,13 @@ double SesHostField::Cursor::distance(const double p[3], double d_max, double* g
             const double r = arc_r_[near_[n]] + best;
             if (near_d2_[n] >= r * r) continue;
             const std::uint32_t k = arc_index_[near_[n]];
-            const double d = ArcView{h.arcs_[k], f.arcs[k]}.distance(p, best);
+            const double d = h.arc_view(k).distance(p, best);
             if (d < best) best = d, best_at = near_[n];
         }
     }
     if (best_at == kNoArc) return arcs_result(nullptr, best, p, gradient);
     last_arc_ = arc_index_[best_at], last_at_ = best_at;
-    const ArcView best_arc{h.arcs_[last_arc_], f.arcs[last_arc_]};
+    const ArcView best_arc = h.arc_view(last_arc_);
     return arcs_result(&best_arc, best, p, gradient);
 }
 
@@ -1217,7 +1212,7 @@ struct SesHostField::Slab {
                     // centre than reach by h^2 / (2 reach + h) or more (0.02 Å at 0.5 Å), and
                     // as much farther than d_max from the arc: far above the float kernel's
                     // error (1e-4 Å), it keeps its value.
-                    if (!arc) arc.emplace(ArcView{field.arcs_[k], field.f_.arcs[k]});
+                    if (!arc) arc.emplace(field.arc_view(k));
                     arc_row(*arc, xs.data(), ys[y], zs[z], wa, wb, &arc_best[at(z, y)]);
                 }
             }

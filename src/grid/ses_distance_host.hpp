@@ -63,6 +63,7 @@ public:
 
     struct Arc;       // an exposed arc's precomputed part, beside f.arcs (ses_distance_host.cpp)
     struct FloatArc;  // its float copy for the field's row kernel
+    struct ArcView;   // an arc read whole: its circle in f.arcs and its Arc, by one index
 
     // distance() for one thread's run of nearby points (the snap's vertices and their Newton
     // steps): keeps the balls of the last block of bins and the arcs of the last bin, copied
@@ -119,6 +120,7 @@ private:
     // each plane's items are consecutive.
     std::pair<std::uint32_t, std::uint32_t> in_planes_of_bins(
         double z_lo, double z_hi, const std::vector<std::uint32_t>& start) const;
+    ArcView arc_view(std::size_t k) const;  // arc k of f.arcs with arcs_[k]
     static void arc_row(const FloatArc& arc, const float* xs, float y, float z, int xa, int xb,
                         float* best);
     const SesFeatures& f_;

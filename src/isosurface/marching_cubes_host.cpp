@@ -126,6 +126,7 @@ struct BitMarcher {
         parallel_chunks(planes, threads, [&](std::size_t zi) { count_plane(zi); });
     }
 
+    // Plane zi's crossed edges and its rows' counts (count_crossings).
     FDMSURF_POPCNT_CLONES void count_plane(std::size_t zi) {
         for (std::uint32_t y = 0; y < ny; ++y) {
             const std::size_t row = row_of(zi, y);
@@ -182,15 +183,14 @@ struct BitMarcher {
     void build_mesh(Mesh& mesh, double reserve_scale) const {
         const std::size_t v0 = mesh.vertex_count(), i0 = mesh.indices.size();
         grow_mesh_for_part(mesh, first_vertex[rows], 3 * first_triangle[rows], reserve_scale);
-        const std::uint32_t base = std::uint32_t(v0);
-        parallel_chunks(planes, threads,
-                        [&](std::size_t zi) { build_plane(mesh, zi, v0, i0, base); });
+        parallel_chunks(planes, threads, [&](std::size_t zi) { build_plane(mesh, zi, v0, i0); });
     }
 
-    // Plane zi's vertices and triangles (build_mesh).
+    // Plane zi's vertices and triangles (build_mesh), after the v0 vertices and i0 indices the
+    // mesh held before the part.
     FDMSURF_POPCNT_CLONES void build_plane(Mesh& mesh, std::size_t zi, std::size_t v0,
-                                           std::size_t i0, std::uint32_t base) const {
-        const std::uint32_t z = p.z_begin + std::uint32_t(zi);
+                                           std::size_t i0) const {
+        const std::uint32_t z = p.z_begin + std::uint32_t(zi), base = std::uint32_t(v0);
         for (std::uint32_t y = 0; y < ny; ++y) {
             const std::size_t row = row_of(zi, y);
             std::size_t v = v0 + first_vertex[row];
