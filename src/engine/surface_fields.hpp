@@ -23,8 +23,11 @@ bool sample_ses(Distance&& distance, const Vec3& p, double d_max, double& value,
 // inwards, the surface is d = probe; defined where it is not clamped.
 class SesDistanceField final : public SurfaceField {
 public:
+    // Has `ses` list its bins' arcs now (on all threads), before the projection's threads ask.
     SesDistanceField(const SesHostField& ses, double iso, double d_max)
-        : ses_(ses), iso_(iso), d_max_(d_max) {}
+        : ses_(ses), iso_(iso), d_max_(d_max) {
+        ses.list_arcs_by_bin();
+    }
     bool sample(const Vec3& p, double& value, Vec3& gradient) const override {
         // ses_distance(features, p, d_max, g, false) (ses_distance_cpu.hpp), faster.
         return sample_ses(

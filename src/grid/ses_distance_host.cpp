@@ -480,74 +480,21 @@ double arcs_result(const SesHostField::ArcView* best_arc, double best, const dou
 
 }  // namespace
 
-void SesHostField::arc_row(const FloatArc& arc, const float* xs, float y, float z, int xa, int xb,
-                           float* best) {
-    arc_row_kernel(arc, xs, y, z, xa, xb, best);
+void SesHostField::list_arcs_by_bin() const {
+    std::call_once(bins_listed_, [this] { fill_bin_lists(); });
 }
 
-SesHostField::SesHostField(const SesFeatures& f, double d_max, unsigned threads)
-    : f_(f),
-      threads_(thread_count(threads)),
-      reach_(d_max),
-      scratch_(std::make_unique<ScratchPool>()) {
-    const std::size_t n = f.sphere_count(), n_arcs = f.arcs.size();
-    const std::size_t bins = f.bin_count();
-    if (f.neighbour_start.size() != n + 1)
-        throw Error(ErrorCode::InvalidArgument, "host SES field: features without neighbour lists");
-    constexpr std::size_t kChunk = 4096;  // balls or arcs per task
-    // As the features' binning has it: more than the rounding of a centre's bin and of the bins'
-    // bounds.
-    for (int a = 0; a < 3; ++a) {
-        const double far = std::max(std::abs(double(f.origin[a])),
-                                    std::abs(double(f.origin[a]) + double(f.bin_size) * f.dims[a]));
-        bin_margin_ = std::max(bin_margin_, 1e-3 + 1e-6 * far);
-    }
-
-    // Each arc's bounds: along axis a its points are m_a + rho A cos(theta - phi), A and phi from
-    // (e1_a, e2_a); the extreme is reached where theta = phi (or phi + pi) lies on the arc, else
-    // at an end. Widened by 1e-4 Å for the float rounding of the stored arc. Whether phi lies on
-    // the arc is the arc's own cross-product test of the direction (e1_a, e2_a), not an atan2
-    // and the angles' test (three atan2 an arc were the step's costliest calls, three times its
-    // sines and cosines under perf on the 12-copy shell): the two can differ only for a
-    // direction at an end, within rounding, where the extreme is that end, so the bound moves by
-    // rounding, far inside the widening. Chunks of arcs on all threads (their fresh pages too).
-    arcs_ = std::make_unique_for_overwrite<Arc[]>(n_arcs);
-    arc_ball_ = std::make_unique_for_overwrite<std::array<double, 4>[]>(n_arcs);
-    arc_box_ = std::make_unique_for_overwrite<Box[]>(n_arcs);
-    const std::size_t arc_chunks = (n_arcs + kChunk - 1) / kChunk;
-    parallel_chunks(arc_chunks, threads_, [&](std::size_t chunk) {
-        for (std::size_t k = chunk * kChunk; k < std::min(n_arcs, (chunk + 1) * kChunk); ++k) {
-            const SesArc& a = f.arcs[k];
-            arcs_[k] = Arc(a);
-            const ArcView added = arc_view(k);
-            arc_ball_[k] = added.ball();
-            double start_point[3], end_point[3];
-            added.end_points(start_point, end_point);
-            Box& box = arc_box_[k];
-            for (int ax = 0; ax < 3; ++ax) {
-                const double e1 = a.e1[ax], e2 = a.e2[ax];
-                // The ends, m + rho (cos t e1 + sin t e2) at t = start and start + length, are
-                // the arc's own end points (the same arithmetic).
-                double lo = std::min(start_point[ax], end_point[ax]);
-                double hi = std::max(start_point[ax], end_point[ax]);
-                const double amp = std::hypot(e1, e2);
-                if (added.x.on_arc(e1, e2)) hi = a.m[ax] + a.rho * amp;
-                if (added.x.on_arc(-e1, -e2)) lo = a.m[ax] - a.rho * amp;
-                box.lo[ax] = static_cast<float>(lo - 1e-4);
-                box.hi[ax] = static_cast<float>(hi + 1e-4);
-            }
-        }
-    });
-    trace("ses host: arcs prepared");
-
-    // Each arc in every bin that its box widened by reach_ overlaps and whose box (widened by
-    // bin_margin_; an outer bin's box reaching on outwards, since points beyond the bins are
-    // clamped into it) comes nearer than ball_radius + reach_ to the arc's ball's centre: any
-    // other bin's points all fail distance()'s first test of the arc (its ball comes within
-    // d_max <= reach_ of p), so the lists give the same values, with a fifth fewer entries
-    // (the 12-copy shell). In arc order within a bin. Each part of the bins' planes (about as many arcs'
-    // lowest planes each) counted and filled on its own thread, every arc tried by its planes
-    // first.
+// Each arc in every bin that its box widened by reach_ overlaps and whose box (widened by
+// bin_margin_; an outer bin's box reaching on outwards, since points beyond the bins are
+// clamped into it) comes nearer than ball_radius + reach_ to the arc's ball's centre: any
+// other bin's points all fail distance()'s first test of the arc (its ball comes within
+// d_max <= reach_ of p), so the lists give the same values, with a fifth fewer entries
+// (the 12-copy shell). In arc order within a bin. Each part of the bins' planes (about as many
+// arcs' lowest planes each) counted and filled on its own thread, every arc tried by its
+// planes first.
+void SesHostField::fill_bin_lists() const {
+    const SesFeatures& f = f_;
+    const std::size_t n_arcs = f.arcs.size(), bins = f.bin_count();
     auto bin_range = [&](const Box& box, int lo[3], int hi[3]) {
         for (int a = 0; a < 3; ++a) {
             lo[a] = bin_cell(f, a, double(box.lo[a]) - reach_);
@@ -618,8 +565,69 @@ SesHostField::SesHostField(const SesFeatures& f, double d_max, unsigned threads)
     trace("ses host: arcs' bins listed");
 }
 
+void SesHostField::arc_row(const FloatArc& arc, const float* xs, float y, float z, int xa, int xb,
+                           float* best) {
+    arc_row_kernel(arc, xs, y, z, xa, xb, best);
+}
+
+SesHostField::SesHostField(const SesFeatures& f, double d_max, unsigned threads)
+    : f_(f),
+      threads_(thread_count(threads)),
+      reach_(d_max),
+      scratch_(std::make_unique<ScratchPool>()) {
+    const std::size_t n = f.sphere_count(), n_arcs = f.arcs.size();
+    if (f.neighbour_start.size() != n + 1)
+        throw Error(ErrorCode::InvalidArgument, "host SES field: features without neighbour lists");
+    constexpr std::size_t kChunk = 4096;  // balls or arcs per task
+    // As the features' binning has it: more than the rounding of a centre's bin and of the bins'
+    // bounds.
+    for (int a = 0; a < 3; ++a) {
+        const double far = std::max(std::abs(double(f.origin[a])),
+                                    std::abs(double(f.origin[a]) + double(f.bin_size) * f.dims[a]));
+        bin_margin_ = std::max(bin_margin_, 1e-3 + 1e-6 * far);
+    }
+
+    // Each arc's bounds: along axis a its points are m_a + rho A cos(theta - phi), A and phi from
+    // (e1_a, e2_a); the extreme is reached where theta = phi (or phi + pi) lies on the arc, else
+    // at an end. Widened by 1e-4 Å for the float rounding of the stored arc. Whether phi lies on
+    // the arc is the arc's own cross-product test of the direction (e1_a, e2_a), not an atan2
+    // and the angles' test (three atan2 an arc were the step's costliest calls, three times its
+    // sines and cosines under perf on the 12-copy shell): the two can differ only for a
+    // direction at an end, within rounding, where the extreme is that end, so the bound moves by
+    // rounding, far inside the widening. Chunks of arcs on all threads (their fresh pages too).
+    arcs_ = std::make_unique_for_overwrite<Arc[]>(n_arcs);
+    arc_ball_ = std::make_unique_for_overwrite<std::array<double, 4>[]>(n_arcs);
+    arc_box_ = std::make_unique_for_overwrite<Box[]>(n_arcs);
+    const std::size_t arc_chunks = (n_arcs + kChunk - 1) / kChunk;
+    parallel_chunks(arc_chunks, threads_, [&](std::size_t chunk) {
+        for (std::size_t k = chunk * kChunk; k < std::min(n_arcs, (chunk + 1) * kChunk); ++k) {
+            const SesArc& a = f.arcs[k];
+            arcs_[k] = Arc(a);
+            const ArcView added = arc_view(k);
+            arc_ball_[k] = added.ball();
+            double start_point[3], end_point[3];
+            added.end_points(start_point, end_point);
+            Box& box = arc_box_[k];
+            for (int ax = 0; ax < 3; ++ax) {
+                const double e1 = a.e1[ax], e2 = a.e2[ax];
+                // The ends, m + rho (cos t e1 + sin t e2) at t = start and start + length, are
+                // the arc's own end points (the same arithmetic).
+                double lo = std::min(start_point[ax], end_point[ax]);
+                double hi = std::max(start_point[ax], end_point[ax]);
+                const double amp = std::hypot(e1, e2);
+                if (added.x.on_arc(e1, e2)) hi = a.m[ax] + a.rho * amp;
+                if (added.x.on_arc(-e1, -e2)) lo = a.m[ax] - a.rho * amp;
+                box.lo[ax] = static_cast<float>(lo - 1e-4);
+                box.hi[ax] = static_cast<float>(hi + 1e-4);
+            }
+        }
+    });
+    trace("ses host: arcs prepared");
+}
+
 double SesHostField::distance(const double p[3], double d_max, double* gradient) const {
     if (!(d_max <= reach_)) return ses_distance(f_, p, d_max, gradient, false);
+    list_arcs_by_bin();
     const float* s = f_.spheres.data();
     int lo[3], hi[3], bin[3];
     for (int a = 0; a < 3; ++a) {
