@@ -19,9 +19,10 @@
 // probe, sphere patches: what Engine.trajectory computes per frame), without a surface.
 // --only ses-field: the exact SES field of STRUCTURE on the host (--method edt's ses-host stage:
 // SesHostField::evaluate over the whole grid), without a surface. --only ses-index: the host's
-// index of the features alone (SesHostField's constructor: the arcs prepared, sorted and listed
-// per bin; part of the CLI's ses-features stage). --only ses-snap: the exact SES
-// snap (--method edt's snap stage) of the vertices of --mesh, a surface written with --no-snap.
+// index of the features alone (SesHostField's constructor, the arcs prepared, part of the CLI's
+// ses-features stage; and its bins' lists of arcs, made at the CLI's snap). --only ses-snap: the
+// exact SES snap (--method edt's snap stage, the bins' lists included) of the vertices of
+// --mesh, a surface written with --no-snap.
 // Both print a hash of their output (the field, the snapped positions and normals) and the CPU
 // seconds beside the wall time, which a loaded machine spreads.
 // --only vertex-atoms: each vertex's atom on the host (the CLI's vertex-atoms stage on a CPU
@@ -140,7 +141,10 @@ int ses_stage(const Structure& structure, SurfaceOptions options, const std::str
                 reps);
     if (only == "ses-index") {
         const WallCpu t = median_wall_cpu(
-            reps, [] {}, [&] { const detail::SesHostField ses(f, plan.ses_d_max); });
+            reps, [] {}, [&] {
+                const detail::SesHostField ses(f, plan.ses_d_max);
+                ses.list_arcs_by_bin();
+            });
         std::printf("| %s | %.1f | %.1f | (none) |\n", only.c_str(), t.wall, t.cpu);
         return 0;
     }

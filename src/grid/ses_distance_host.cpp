@@ -761,6 +761,10 @@ void SesHostField::Cursor::gather_arcs(std::size_t bin) {
         const std::array<double, 4>& ball = field_.arc_ball_[k];
         arc_x_.push_back(ball[0]), arc_y_.push_back(ball[1]), arc_z_.push_back(ball[2]);
         arc_r_.push_back(ball[3]), arc_index_.push_back(k);
+        // The arc's circle and ends, which nearest_arc reads for the arcs it measures: their
+        // first loads were its costliest (the lists hold arcs of some 27 bins' runs).
+        __builtin_prefetch(&field_.f_.arcs[k]);
+        __builtin_prefetch(&field_.arcs_[k]);
     }
     near_.resize(arc_index_.size());
     near_d2_.resize(arc_index_.size());
