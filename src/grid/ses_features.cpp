@@ -4,8 +4,10 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <limits>
+#include <new>
 #include <string>
 #include <utility>
 
@@ -611,11 +613,16 @@ struct FeatureBuilder {
         }
     }
 
+    // One thread's arcs, chunk after chunk.
     struct ChunkArcs {
         std::vector<SesArc> arcs;
-        std::vector<std::size_t> bins;  // each arc's bin (of its circle's centre)
+        std::vector<std::uint32_t> bins;  // each arc's bin (of its circle's centre)
         std::size_t circles = 0, buried_circles = 0;
         float rho_max = 0.0f;
+    };
+    // Where a chunk's arcs went: the thread's arrays and the run in them.
+    struct ChunkRun {
+        std::size_t part = 0, first = 0, count = 0;
     };
 
     // Where balls i and j meet: their centres' distance d, the circle's distance a from c_i and
@@ -698,10 +705,9 @@ struct FeatureBuilder {
 
     // The circles of the pairs i < j of chunk `chunk`'s atoms i, cut by the other neighbours of
     // i (for an atom with `cell_from` neighbours j > i or more, only by those its power cell
-    // keeps): their exposed arcs into `out`.
+    // keeps): their exposed arcs appended to `out`, with the thread's scratch `w`.
     FDMSURF_AVX2_CLONES void arcs_of_chunk(std::size_t chunk, std::size_t cell_from,
-                                           ChunkArcs& out) const {
-        ArcScratch w;
+                                           ArcScratch& w, ChunkArcs& out) const {
         Row& row = w.row;
         for (std::size_t i = chunk * kChunk; i < std::min(n, (chunk + 1) * kChunk); ++i) {
             const std::size_t s = sphere_of[i];
@@ -743,31 +749,49 @@ struct FeatureBuilder {
         }
     }
 
-    // Circles of the pairs i < j, cut by the other neighbours of i: chunks of atoms on all
-    // threads, each with its own arcs. The arcs by the bin of their circle's centre (on the
-    // segment between two centres: in range), in atom order within a bin (the result does not
-    // depend on the thread count): each part of the bins, with about as many arcs as the
-    // others, filled on its own thread.
+    // Circles of the pairs i < j, cut by the other neighbours of i: chunks of atoms taken in
+    // turn by all threads, each thread's arcs in arrays of its own (reserved for about three
+    // arcs an atom, the shell's two and a half times; a protein's fewer), so that they are a
+    // few large blocks of huge pages rather than a vector per chunk grown in the allocator's
+    // arenas, and are freed just before the host's index of them takes as many pages again.
+    // The arcs by the bin of their circle's centre (on the segment between two centres: in
+    // range), in atom order within a bin (the result does not depend on the thread count):
+    // each part of the bins, with about as many arcs as the others, filled on its own thread.
     void cut_circles(std::size_t cell_from) {
-        std::vector<ChunkArcs> chunks(chunk_count);
-        parallel_chunks(chunk_count, threads, [&](std::size_t chunk) {
-            ChunkArcs& out = chunks[chunk];
-            arcs_of_chunk(chunk, cell_from, out);
+        const std::size_t parts = std::max<std::size_t>(
+            1, std::min<std::size_t>(threads, std::max<std::size_t>(chunk_count, 1)));
+        std::vector<ChunkArcs> part_arcs(parts);
+        std::vector<ChunkRun> runs(chunk_count);
+        std::atomic<std::size_t> next_chunk{0};
+        parallel_chunks(parts, unsigned(parts), [&](std::size_t part) {
+            ChunkArcs& out = part_arcs[part];
+            try {
+                out.arcs.reserve(3 * n / parts + 1024);
+            } catch (const std::bad_alloc&) {
+                // Address space refused (strict overcommit): grown as the arcs come.
+            }
+            ArcScratch scratch;
+            for (std::size_t chunk; (chunk = next_chunk++) < chunk_count;) {
+                const std::size_t first = out.arcs.size();
+                arcs_of_chunk(chunk, cell_from, scratch, out);
+                runs[chunk] = {part, first, out.arcs.size() - first};
+            }
             out.bins.resize(out.arcs.size());
             for (std::size_t k = 0; k < out.arcs.size(); ++k) {
                 const SesArc& arc = out.arcs[k];
                 int cell[3];
-                out.bins[k] = bin_index(Vec3{arc.m[0], arc.m[1], arc.m[2]}, cell);
+                out.bins[k] =
+                    std::uint32_t(bin_index(Vec3{arc.m[0], arc.m[1], arc.m[2]}, cell));
                 out.rho_max = std::max(out.rho_max, arc.rho);
             }
         });
         const std::size_t bins = f.bin_count();
         std::size_t total = 0;
-        for (const ChunkArcs& chunk : chunks) {
-            f.circles += chunk.circles;
-            f.buried_circles += chunk.buried_circles;
-            f.rho_max = std::max(f.rho_max, chunk.rho_max);
-            total += chunk.arcs.size();
+        for (const ChunkArcs& part : part_arcs) {
+            f.circles += part.circles;
+            f.buried_circles += part.buried_circles;
+            f.rho_max = std::max(f.rho_max, part.rho_max);
+            total += part.arcs.size();
         }
         // The arcs' array (its fresh pages, on all threads first: 210 MB on the 2.43 M-atom
         // shell, which the resize alone took on one thread while the other counted) beside the
@@ -780,8 +804,8 @@ struct FeatureBuilder {
                 return;
             }
             f.arc_start.assign(bins + 1, 0);
-            for (const ChunkArcs& chunk : chunks)
-                for (const std::size_t b : chunk.bins) ++f.arc_start[b + 1];
+            for (const ChunkArcs& part : part_arcs)
+                for (const std::uint32_t b : part.bins) ++f.arc_start[std::size_t(b) + 1];
             for (std::size_t b = 0; b < bins; ++b) f.arc_start[b + 1] += f.arc_start[b];
         });
         std::vector<std::size_t> part_start(threads + 1, bins);
@@ -792,10 +816,12 @@ struct FeatureBuilder {
                             f.arc_start.begin());
         parallel_chunks(threads, threads, [&](std::size_t part) {
             const std::size_t first = part_start[part], end = part_start[part + 1];
-            for (const ChunkArcs& chunk : chunks)
-                for (std::size_t k = 0; k < chunk.arcs.size(); ++k)
-                    if (chunk.bins[k] >= first && chunk.bins[k] < end)
-                        f.arcs[f.arc_start[chunk.bins[k]]++] = chunk.arcs[k];
+            for (const ChunkRun& run : runs) {
+                const ChunkArcs& from = part_arcs[run.part];
+                for (std::size_t k = run.first; k < run.first + run.count; ++k)
+                    if (from.bins[k] >= first && from.bins[k] < end)
+                        f.arcs[f.arc_start[from.bins[k]]++] = from.arcs[k];
+            }
         });
         unshift(f.arc_start);
     }
