@@ -48,6 +48,20 @@ Sum& piece_sum(PieceRuns<Sum>& runs, std::uint32_t piece) {
     return runs.back().sum;
 }
 
+// The same for sums whose additions do not depend on their order (counts, FixedSum): the run of
+// any of the last kRecentRuns pieces serves, so a chunk whose elements alternate between a few
+// pieces keeps a run per piece, not one per switch (each plane's rows cross every copy of a
+// capsid's shell: its runs were 0.1 GB of fresh pages).
+inline constexpr std::size_t kRecentRuns = 8;
+template <class Sum>
+Sum& piece_sum_any_order(PieceRuns<Sum>& runs, std::uint32_t piece) {
+    const std::size_t n = runs.size();
+    for (std::size_t k = n; k > 0 && k + kRecentRuns > n; --k)
+        if (runs[k - 1].piece == piece) return runs[k - 1].sum;
+    runs.push_back({piece, Sum{}});
+    return runs.back().sum;
+}
+
 // Runs chunk(k, runs) for k in [0, chunks) on `threads` threads, each chunk with runs of its own,
 // then add(piece, sum) for every run, chunk after chunk: sums taken this way come out the same
 // for any number of threads.

@@ -189,6 +189,12 @@ struct Partial {
     long faces = 0;  // non-degenerate triangles
 };
 using Runs = PieceRuns<Partial>;
+// A chunk of triangles: its sums per piece (in any order) and its runs of one piece's
+// triangles, in order (MeshAnalysis::runs, which the cavity removal moves by).
+struct TriangleChunk {
+    Runs sums;
+    std::vector<TriangleRun> runs;
+};
 
 // The signed volume (divergence theorem) and the area of triangle (a, b, d).
 double triangle_volume(const std::array<double, 3>& a, const std::array<double, 3>& b,
@@ -275,7 +281,7 @@ void batch_terms(TriangleBatch& b, std::size_t n, bool area) {
 // A run of one piece's triangles a batch at a time: corners gathered, terms computed together,
 // added to the run's sums.
 template <bool kStats>
-void triangle_chunk(const Mesh& mesh, const Pieces& pieces, std::size_t k, Runs& runs) {
+void triangle_chunk(const Mesh& mesh, const Pieces& pieces, std::size_t k, TriangleChunk& out) {
     const Index* idx = mesh.indices.data();
     const float* positions = mesh.positions.data();
     const std::size_t first = k * kTriangleChunk;
@@ -283,7 +289,8 @@ void triangle_chunk(const Mesh& mesh, const Pieces& pieces, std::size_t k, Runs&
     TriangleBatch batch;
     for (std::size_t t = first; t < end;) {
         const Index piece = pieces.of_vertex[idx[3 * t]];
-        Partial& part = piece_sum(runs, piece);
+        Partial& part = piece_sum_any_order(out.sums, piece);
+        if (out.runs.empty() || out.runs.back().piece != piece) out.runs.push_back({piece, 0});
         std::size_t n = 0;
         while (t + n < end && n < kBatch && pieces.of_vertex[idx[3 * (t + n)]] == piece) {
             const Index* tri = idx + 3 * (t + n);
@@ -300,6 +307,7 @@ void triangle_chunk(const Mesh& mesh, const Pieces& pieces, std::size_t k, Runs&
         }
         batch_terms(batch, n, kStats);
         part.stats.triangles += n;
+        out.runs.back().triangles += std::uint32_t(n);
         part.volume.add(batch.volume, n);
         if constexpr (kStats) part.area.add(batch.area, n);
         t += n;
@@ -559,25 +567,33 @@ MeshAnalysis analyse_mesh(const Mesh& mesh, bool topology, const char* who,
     stats.resize(pieces.count);
     std::vector<long> face_count(pieces.count, 0);
     std::vector<FixedSum> area(pieces.count), volume(pieces.count);
-    // The triangles' sums, chunk after chunk (their runs kept).
-    sum_by_piece<Partial>(
-        chunk_count(mesh.triangle_count(), kTriangleChunk), threads,
-        [&](std::size_t k, Runs& runs) {
+    // The triangles' sums, chunk after chunk, and their runs in order.
+    {
+        std::vector<TriangleChunk> chunks(chunk_count(mesh.triangle_count(), kTriangleChunk));
+        parallel_chunks(chunks.size(), threads, [&](std::size_t k) {
             if (topology) {
-                triangle_chunk<true>(mesh, pieces, k, runs);
+                triangle_chunk<true>(mesh, pieces, k, chunks[k]);
             } else {
-                triangle_chunk<false>(mesh, pieces, k, runs);
+                triangle_chunk<false>(mesh, pieces, k, chunks[k]);
             }
-        },
-        [&](Index piece, const Partial& part) {
-            MeshStats& s = stats[piece];
-            s.triangles += part.stats.triangles;
-            area[piece] += part.area;
-            volume[piece] += part.volume;
-            s.degenerate_triangles += part.stats.degenerate_triangles;
-            face_count[piece] += part.faces;
-            a.runs.push_back({piece, Index(part.stats.triangles)});
         });
+        std::size_t runs = 0;
+        for (const TriangleChunk& chunk : chunks) runs += chunk.runs.size();
+        a.runs.reserve(runs);
+        for (const TriangleChunk& chunk : chunks) {
+            for (const PieceRun<Partial>& run : chunk.sums) {
+                const Index piece = run.piece;
+                const Partial& part = run.sum;
+                MeshStats& s = stats[piece];
+                s.triangles += part.stats.triangles;
+                area[piece] += part.area;
+                volume[piece] += part.volume;
+                s.degenerate_triangles += part.stats.degenerate_triangles;
+                face_count[piece] += part.faces;
+            }
+            a.runs.insert(a.runs.end(), chunk.runs.begin(), chunk.runs.end());
+        }
+    }
     trace("mesh analysis: triangles");
     // The referenced vertices (integers: in any order), for the statistics.
     if (topology)
@@ -586,7 +602,8 @@ MeshAnalysis analyse_mesh(const Mesh& mesh, bool topology, const char* who,
             [&](std::size_t k, PieceRuns<std::size_t>& runs) {
                 for (std::size_t v = k * kVertexChunk;
                      v < std::min(mesh.vertex_count(), (k + 1) * kVertexChunk); ++v)
-                    if (pieces.of_vertex[v] != no_piece) ++piece_sum(runs, pieces.of_vertex[v]);
+                    if (pieces.of_vertex[v] != no_piece)
+                        ++piece_sum_any_order(runs, pieces.of_vertex[v]);
             },
             [&](Index piece, std::size_t vertices) { stats[piece].vertices += vertices; });
     // Each piece's edges: every edge at a vertex whose corners close one fan is used twice, so
