@@ -616,7 +616,9 @@ struct FeatureBuilder {
     // One thread's arcs, chunk after chunk.
     struct ChunkArcs {
         std::vector<SesArc> arcs;
-        std::vector<std::uint32_t> bins;  // each arc's bin (of its circle's centre)
+        // Each arc's bin (of its circle's centre); bins number fewer than 2^32 (their spheres'
+        // starts alone would take 16 GB).
+        std::vector<std::uint32_t> bins;
         std::size_t circles = 0, buried_circles = 0;
         float rho_max = 0.0f;
     };
@@ -750,10 +752,10 @@ struct FeatureBuilder {
     }
 
     // Circles of the pairs i < j, cut by the other neighbours of i: chunks of atoms taken in
-    // turn by all threads, each thread's arcs in arrays of its own (reserved for about three
-    // arcs an atom, the shell's two and a half times; a protein's fewer), so that they are a
-    // few large blocks of huge pages rather than a vector per chunk grown in the allocator's
-    // arenas, and are freed just before the host's index of them takes as many pages again.
+    // turn by all threads, each thread's arcs in arrays of its own (reserved for three arcs an
+    // atom: the 2.43 M-atom shell has two; more only grow them), so that they are a few large
+    // blocks of huge pages rather than a vector per chunk grown in the allocator's arenas, and
+    // are freed just before the host's index of them takes as many pages again.
     // The arcs by the bin of their circle's centre (on the segment between two centres: in
     // range), in atom order within a bin (the result does not depend on the thread count):
     // each part of the bins, with about as many arcs as the others, filled on its own thread.
