@@ -253,6 +253,24 @@ TEST(StructureErrors, ZeroRadiusAtomsAreLeftOutWithAWarning) {
     EXPECT_NE(x.info.warnings[0].find("2 atom(s) with radius 0 left out (the first at line 3)"),
               std::string::npos)
         << x.info.warnings[0];
+    // A radius that rounds to 0 as a float is one of them (the fuzzer's 1.0e-70 had been kept
+    // as a ball of radius 0); one above half of float's least (1.4e-45) is kept.
+    for (const char* tiny : {"1.0e-70", "1e-46"}) {
+        SCOPED_TRACE(tiny);
+        const fdmsurf::Structure t = fdmsurf::read_structure_from_memory(
+            std::string("1 2 3 1.5\n4 5 6 ") + tiny + "\n", "tiny.xyzr");
+        EXPECT_EQ(t.atoms.size(), 1u);
+        EXPECT_EQ(t.info.zero_radius_skipped, 1u);
+        const fdmsurf::Structure q = fdmsurf::read_structure_from_memory(
+            std::string("ATOM 1 N MET A 1 1.0 2.0 3.0 -0.3 1.8\nATOM 2 H MET A 1 1.5 2.0 3.0 0.3 ") +
+                tiny + "\n",
+            "tiny.pqr");
+        EXPECT_EQ(q.atoms.size(), 1u);
+    }
+    const fdmsurf::Structure small =
+        fdmsurf::read_structure_from_memory("1 2 3 1.5\n4 5 6 1e-44\n", "small.xyzr");
+    ASSERT_EQ(small.atoms.size(), 2u);
+    EXPECT_GT(small.atoms.radius[1], 0.0f);
 }
 
 TEST(StructureErrors, XyzrLinesWithTooFewOrBadFields) {
@@ -265,6 +283,14 @@ TEST(StructureErrors, XyzrLinesWithTooFewOrBadFields) {
                         {"NaN or infinite z coordinate 'nan' at line 1"});
     expect_memory_error("1 2 3 NaN\n", "nanr.xyzr", ErrorCode::Format, {"NaN or infinite radius"});
     expect_memory_error("1 2 3 1e39\n", "big.xyzr", ErrorCode::Format, {"out of range"});
+    // Plain decimals that the fast path reads (19 digits, an exponent up to 22) but a float
+    // cannot hold: refused as the general route refuses them, not stored as infinite.
+    expect_memory_error("1000000000000000000e22 2 3 1.5\n", "bigx.xyzr", ErrorCode::Format,
+                        {"out of range", "x coordinate"});
+    expect_memory_error("1 2 3 1000000000000000000e22\n", "bigr.xyzr", ErrorCode::Format,
+                        {"out of range", "radius"});
+    expect_memory_error("ATOM 1 N MET A 1 1000000000000000000e22 2.0 3.0 -0.3 1.8\n", "big.pqr",
+                        ErrorCode::Format, {"out of range"});
     expect_memory_error("1 2,5 3 1.5\n", "comma.xyzr", ErrorCode::Format,
                         {"non-numeric y coordinate '2,5' at line 1"});
     expect_memory_error("# only comments\n", "none.xyzr", ErrorCode::Format,
