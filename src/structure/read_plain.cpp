@@ -36,12 +36,10 @@ double number_field(std::string_view field, const char* what, const std::string&
 
 const char* const kCoordinate[] = {"x coordinate", "y coordinate", "z coordinate"};
 
-// Whether `v` stays finite as the float it is stored as (number_field refuses the others; the
-// fast paths below leave them to it).
-bool fits_float(double v) { return std::isfinite(static_cast<float>(v)); }
-
 // A radius as the atoms keep it: one that rounds to 0 as a float (1e-70) is 0, so that it is
-// left out with the radius-0 atoms rather than kept as a ball of no size.
+// left out with the radius-0 atoms rather than kept as a ball of no size. Only the general
+// route below can read one: the plain decimals' fast path gives 0 or at least 1e-22, within
+// float's range (parse_decimal_fast's own bounds).
 double stored_radius(double r) { return static_cast<float>(r) == 0.0f ? 0.0 : r; }
 
 // x, y, z and the radius of one line (four fields); a negative radius is refused.
@@ -130,10 +128,8 @@ bool xyzr_line_fast(std::string_view line, float xyz[3], double& r, std::size_t*
             return false;
     }
     if (v[3] < 0.0) return false;
-    for (double value : v)
-        if (!fits_float(value)) return false;
     for (int i = 0; i < 3; ++i) xyz[i] = static_cast<float>(v[i]);
-    r = stored_radius(v[3]);
+    r = v[3];
     if (rest) *rest = std::size_t(p - line.data());
     return true;
 }
@@ -398,7 +394,6 @@ void pqr_record(std::string_view line, std::size_t number, const std::string& na
     bool fast = f.size() >= 10;
     for (std::size_t i = 0; fast && i < 5; ++i) fast = parse_decimal_fast(f[f.size() - 5 + i], v[i]);
     fast = fast && v[4] >= 0.0;
-    for (std::size_t i = 0; fast && i < 5; ++i) fast = fits_float(v[i]);
     in_columns = false;
     if (!fast && (f.size() < 10 || !numbers(f, f.size() - 5))) {
         std::vector<std::string_view> columns = pqr_columns(line);
@@ -419,7 +414,7 @@ void pqr_record(std::string_view line, std::size_t number, const std::string& na
     m.residue_name = std::string(f[3]);
     m.hetero = iequals(f[0], "HETATM");
     pqr_residue(f, m, name, number);
-    r = stored_radius(v[4]);
+    r = v[4];
     if (fast)
         for (int i = 0; i < 3; ++i) xyz[i] = static_cast<float>(v[i]);
     else

@@ -283,8 +283,9 @@ TEST(StructureErrors, XyzrLinesWithTooFewOrBadFields) {
                         {"NaN or infinite z coordinate 'nan' at line 1"});
     expect_memory_error("1 2 3 NaN\n", "nanr.xyzr", ErrorCode::Format, {"NaN or infinite radius"});
     expect_memory_error("1 2 3 1e39\n", "big.xyzr", ErrorCode::Format, {"out of range"});
-    // Plain decimals that the fast path reads (19 digits, an exponent up to 22) but a float
-    // cannot hold: refused as the general route refuses them, not stored as infinite.
+    // Plain decimals of 19 digits and an exponent of 22, past float's range (and past the fast
+    // path's mantissa of 2^53, so the general route reads them): refused, not stored as
+    // infinite.
     expect_memory_error("1000000000000000000e22 2 3 1.5\n", "bigx.xyzr", ErrorCode::Format,
                         {"out of range", "x coordinate"});
     expect_memory_error("1 2 3 1000000000000000000e22\n", "bigr.xyzr", ErrorCode::Format,
