@@ -760,8 +760,8 @@ struct FeatureBuilder {
     // range), in atom order within a bin (the result does not depend on the thread count):
     // each part of the bins, with about as many arcs as the others, filled on its own thread.
     void cut_circles(std::size_t cell_from) {
-        const std::size_t parts = std::max<std::size_t>(
-            1, std::min<std::size_t>(threads, std::max<std::size_t>(chunk_count, 1)));
+        const std::size_t parts =
+            std::max<std::size_t>(1, std::min<std::size_t>(threads, chunk_count));
         std::vector<ChunkArcs> part_arcs(parts);
         std::vector<ChunkRun> runs(chunk_count);
         std::atomic<std::size_t> next_chunk{0};

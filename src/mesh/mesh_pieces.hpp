@@ -30,8 +30,11 @@ inline std::size_t chunk_count(std::size_t count, std::size_t chunk) {
     return (count + chunk - 1) / chunk;
 }
 
-// One chunk's running sums per piece: a new run whenever the piece changes (the vertices and
-// triangles of one piece mostly come together, so runs stay few).
+// One chunk's running sums per piece: a new run when the piece is none of the last
+// kRecentRuns runs' (the vertices and triangles of one piece mostly come together, and a chunk
+// that alternates between a few pieces, as each plane's rows cross every copy of a capsid's
+// shell, keeps a run per piece, not one per switch: those runs were 0.1 GB of fresh pages).
+// Sums must therefore add the same in any order (counts, FixedSum).
 template <class Sum>
 struct PieceRun {
     std::uint32_t piece;
@@ -40,18 +43,8 @@ struct PieceRun {
 template <class Sum>
 using PieceRuns = std::vector<PieceRun<Sum>>;
 
-// The sum of `piece` in a chunk's `runs`: the last run's, or a new run's (Sum{}) when the piece
-// differs from the last.
-template <class Sum>
-Sum& piece_sum(PieceRuns<Sum>& runs, std::uint32_t piece) {
-    if (runs.empty() || runs.back().piece != piece) runs.push_back({piece, Sum{}});
-    return runs.back().sum;
-}
-
-// The same for sums whose additions do not depend on their order (counts, FixedSum): the run of
-// any of the last kRecentRuns pieces serves, so a chunk whose elements alternate between a few
-// pieces keeps a run per piece, not one per switch (each plane's rows cross every copy of a
-// capsid's shell: its runs were 0.1 GB of fresh pages).
+// The sum of `piece` in a chunk's `runs`: one of the last kRecentRuns runs', or a new run's
+// (Sum{}).
 inline constexpr std::size_t kRecentRuns = 8;
 template <class Sum>
 Sum& piece_sum_any_order(PieceRuns<Sum>& runs, std::uint32_t piece) {

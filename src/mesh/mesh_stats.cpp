@@ -279,7 +279,7 @@ void batch_terms(TriangleBatch& b, std::size_t n, bool area) {
 // Signed volume and triangle counts of the triangles in chunk k, and (kStats, for the
 // statistics) their area and the degenerate ones; the cavity removal alone needs the volumes.
 // A run of one piece's triangles a batch at a time: corners gathered, terms computed together,
-// added to the run's sums.
+// added to the piece's sums; the run itself kept in order.
 template <bool kStats>
 void triangle_chunk(const Mesh& mesh, const Pieces& pieces, std::size_t k, TriangleChunk& out) {
     const Index* idx = mesh.indices.data();
